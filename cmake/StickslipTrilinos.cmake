@@ -1,0 +1,1 @@
+# Trilinos from Debian (13.2): placeholder, filled by the bridge work.

@@ -1,0 +1,102 @@
+/* stickslip — finite elements: shape functions, quadrature, materials, total-Lagrangian solid kernels, mass.
+ *
+ * Conventions
+ * - Node ordering of every element type follows gmsh's (docs: "Node ordering"); sk_mesh_load keeps it.
+ * - Element vectors are node-major: entry a*dim + i is component i of node a; element matrices are row-major
+ *   (nen*dim) x (nen*dim).
+ * - dim is the spatial dimension: 2 (plane strain) or 3. Coordinates X and displacements u are packed nen*dim.
+ * - Materials always work with 3x3 tensors (row-major); plane strain sets the out-of-plane stretch to 1.
+ * - Parametric coordinates: lines, quads, hexes on [-1, 1]^d; triangles and tets on the unit simplex. */
+#ifndef STICKSLIP_FE_H
+#define STICKSLIP_FE_H
+
+#include "stickslip/error.h"
+#include "stickslip/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { SK_MAX_NEN = 27, SK_MAX_QP = 64 };
+
+/* ---- element types ---------------------------------------------------------------------------------------- */
+int sk_elem_nen(sk_elem_type type);           /* nodes per element */
+int sk_elem_pdim(sk_elem_type type);          /* parametric dimension */
+const char *sk_elem_name(sk_elem_type type);  /* "hex8", ... */
+/* Shape functions N[a] and parametric derivatives dN[a*pdim + k] at xi (length pdim). Either output may be NULL. */
+void sk_elem_shape(sk_elem_type type, const double *xi, double *N, double *dN);
+/* Second parametric derivatives ddN[(a*pdim + k)*pdim + l] (needed for surface curvature). */
+void sk_elem_shape_hessian(sk_elem_type type, const double *xi, double *ddN);
+/* Quadrature exact for the element's mass matrix on an affine element: n points xi[q*pdim + k], weights w[q]. */
+void sk_elem_quadrature(sk_elem_type type, int *n, const double **xi, const double **w);
+/* Parametric coordinates of the element's nodes, xi[a*pdim + k]. */
+const double *sk_elem_node_coords(sk_elem_type type);
+/* Boundary faces: the face type and, for face f, its local node list (ordered so that the face normal from
+ * sk_surface geometry points out of the element). Returns the number of faces. */
+int sk_elem_faces(sk_elem_type type, sk_elem_type *face_type, const int **face_nodes, int *face_nen);
+
+/* ---- materials -------------------------------------------------------------------------------------------- */
+typedef enum {
+  SK_MAT_HOOKE = 0,   /* small-strain linear elasticity: linearised kinematics, W = lambda/2 (tr eps)^2 + mu eps:eps */
+  SK_MAT_SVK,         /* Saint Venant-Kirchhoff: W = lambda/2 (tr E)^2 + mu E:E, E = (C - I)/2 */
+  SK_MAT_NEOHOOKE     /* compressible Neo-Hooke: W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2 */
+} sk_material_model;
+
+typedef struct {
+  sk_material_model model;
+  double E, nu;        /* Young's modulus, Poisson's ratio */
+  double lambda, mu;   /* Lame constants, derived by sk_material_init */
+  double density;      /* reference mass density rho0 */
+} sk_material;
+
+/* Checks E > 0, -1 < nu < 0.5, density >= 0 and fills the Lame constants. */
+sk_status sk_material_init(sk_material *mat, sk_material_model model, double E, double nu, double density);
+sk_status sk_material_model_from_name(const char *name, sk_material_model *model); /* hooke | svk | neo-hooke */
+/* Strain energy density W(C). Returns SK_ERR_INVERTED if det C <= 0 (Neo-Hooke). For HOOKE, C is not used:
+ * call the Hooke kernel through the solid routines. */
+sk_status sk_material_energy(const sk_material *mat, const double C[9], double *W);
+/* Second Piola-Kirchhoff stress S = 2 dW/dC. */
+sk_status sk_material_stress(const sk_material *mat, const double C[9], double S[9]);
+/* Material tangent CC[((I*3+J)*3+K)*3+L] = 4 d2W/dC_IJ dC_KL (= dS_IJ / dE_KL), with minor and major symmetry. */
+sk_status sk_material_tangent(const sk_material *mat, const double C[9], double CC[81]);
+
+/* ---- solid elements (total Lagrangian) -------------------------------------------------------------------- */
+typedef struct {
+  sk_elem_type type;
+  int dim;                    /* 2: plane strain, unit thickness; 3 */
+  const sk_material *mat;
+} sk_solid;
+
+/* Strain energy `W` (may be NULL), internal force f = dW/du (nen*dim, may be NULL) and stiffness K = df/du
+ * ((nen*dim)^2 row-major, may be NULL) of one element at displacement u. HOOKE uses linearised kinematics.
+ * Returns SK_ERR_INVERTED when det F <= 0 at a quadrature point (nothing else written then). */
+sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u, double *W, double *f, double *K);
+
+/* Energy-momentum internal force of the midpoint scheme: f = integral of F_mid S_algo : Grad(dphi) with
+ * F_mid = (F(u0) + F(u1))/2 and the Gonzalez discrete gradient
+ *   S_algo = S(C_mid) + 2 [W(C1) - W(C0) - 1/2 S(C_mid):dC] dC / (dC:dC),  dC = C1 - C0,  C_mid = (C0 + C1)/2,
+ * so that f.(u1 - u0) = W(u1) - W(u0) exactly. K = df/du1 (exact). For small |dC| the correction term is dropped
+ * (it is O(|dC|^2)). HOOKE reduces to the midpoint force of the quadratic energy (already exact). */
+sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const double *u0, const double *u1,
+                                     double *f, double *K);
+
+/* Consistent mass matrix, scalar form M[a*nen + b] = integral rho0 N_a N_b (expand per component). */
+sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M);
+
+/* Element volume (area in 2D) in the reference configuration. */
+double sk_solid_volume(const sk_solid *el, const double *X);
+
+/* Cauchy stress (3x3) averaged over the element's quadrature points, for output. */
+sk_status sk_solid_cauchy(const sk_solid *el, const double *X, const double *u, double sigma[9]);
+
+/* ---- surface (face) elements ------------------------------------------------------------------------------ */
+/* Consistent load vector of a traction t (dim components, per unit reference area/length) on a face element of
+ * type `type` (LINE2/LINE3 in 2D, TRI3/QUAD4/QUAD9 in 3D), X packed nen*dim. f is nen*dim. */
+void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f);
+/* Reference area (length in 2D) of a face. */
+double sk_face_area(sk_elem_type type, int dim, const double *X);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

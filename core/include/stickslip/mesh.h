@@ -1,0 +1,74 @@
+/* stickslip — meshes: nodes plus named element groups (gmsh physical groups).
+ *
+ * A group of the mesh dimension is a body; a group of one dimension lower is a boundary or a contact surface;
+ * a group of dimension 0 is a node set. Node ids are 0-based and shared by all groups. */
+#ifndef STICKSLIP_MESH_H
+#define STICKSLIP_MESH_H
+
+#include <stddef.h>
+
+#include "stickslip/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+  SK_POINT1 = 0,
+  SK_LINE2,
+  SK_LINE3,
+  SK_TRI3,
+  SK_QUAD4,
+  SK_QUAD9,
+  SK_TET4,
+  SK_HEX8,
+  SK_HEX27,
+  SK_ELEM_TYPE_COUNT
+} sk_elem_type;
+
+typedef struct {
+  char name[64];       /* physical group name */
+  int dim;             /* topological dimension of its elements */
+  sk_elem_type type;   /* one element type per group */
+  int nen;             /* nodes per element */
+  int n_elems;
+  int *conn;           /* n_elems * nen node ids, gmsh node ordering converted to stickslip ordering (see fe.h) */
+} sk_group;
+
+typedef struct {
+  int dim;             /* 2 (plane strain, z = 0) or 3 */
+  int n_nodes;
+  double *x;           /* reference coordinates, 3 per node (z = 0 in 2D) */
+  int n_groups;
+  sk_group *groups;
+  char source[512];    /* file the mesh came from, for messages */
+} sk_mesh;
+
+typedef struct {
+  const char *name;
+  double value;
+} sk_mesh_param;
+
+/* Loads a mesh. A `.geo` script is meshed through the gmsh C API after its parameters (DefineConstant names, e.g.
+ * `refine`, `radius`) are set from `params`; a `.msh` file is read directly. `dim` 0 means: the highest dimension
+ * that carries a physical group. Errors name the file. */
+sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh);
+void sk_mesh_free(sk_mesh *mesh);
+
+/* The group of that name, or NULL. */
+const sk_group *sk_mesh_find_group(const sk_mesh *mesh, const char *name);
+/* Like sk_mesh_find_group but records "mesh FILE has no physical group NAME (it has: a, b, c)" when missing. */
+sk_status sk_mesh_require_group(const sk_mesh *mesh, const char *name, int dim, const sk_group **group);
+
+/* Sorted unique node ids used by a group; caller frees *nodes. */
+sk_status sk_group_nodes(const sk_group *group, int **nodes, int *n_nodes);
+
+/* METIS partition of the elements of `n_bodies` groups into `n_parts` parts (k-way on the dual graph).
+ * part[e] is the part of the e-th element counted through the groups in order. Deterministic. n_parts == 1 puts
+ * everything in part 0 without calling METIS. */
+sk_status sk_mesh_partition(const sk_mesh *mesh, const sk_group *const *bodies, int n_bodies, int n_parts, int *part);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
