@@ -1,0 +1,139 @@
+/* stickslip — contact services of the core: surfaces, surface geometry, search, projection, rigid obstacles.
+ *
+ * Plugins reach these through the host table (plugin.h: sk_host.contact); the structs below are plain data so a
+ * plugin can read them without linking the core.
+ *
+ * Positions. Functions take the current nodal positions q as the global unknown layout: q[node*dim + i]. A surface
+ * of a 3D body has 2D faces (TRI3, QUAD4, QUAD9) with parameters xi[2]; in 2D faces are LINE2/LINE3 with xi[1] and
+ * the second tangent is e_z (so a1 x e_z is the in-plane outward normal). Normals point out of the body. */
+#ifndef STICKSLIP_CONTACT_H
+#define STICKSLIP_CONTACT_H
+
+#include "stickslip/error.h"
+#include "stickslip/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- surfaces ----------------------------------------------------------------------------------------------- */
+typedef struct {
+  char name[64];          /* physical group name */
+  int dim;                /* spatial dimension (2 or 3) */
+  sk_elem_type face_type; /* LINE2, LINE3, TRI3, QUAD4, QUAD9 */
+  int nen;                /* nodes per face */
+  int n_faces;
+  int *conn;              /* n_faces * nen global node ids, oriented so normals point out of the body */
+  int n_nodes;            /* distinct nodes of the surface */
+  int *nodes;             /* their global ids, sorted */
+  int *face_neighbors;    /* n_faces * n_edges: face across each face edge (edge e joins corner e and e+1), -1 at a
+                             border; in 2D the two "edges" are the end points */
+  int n_edges;            /* edges per face (2 in 2D, 3 tri, 4 quad) */
+  int body;               /* index of the body (volume group) the faces bound */
+} sk_surface;
+
+/* Builds a surface from a face group, orienting each face outward with the volume elements of `body` that carry
+ * it. Error if a face is not a face of that body (message names the group and the face). */
+sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_group *body, int body_index,
+                           sk_surface *surface);
+void sk_surface_free(sk_surface *surface);
+
+/* ---- covariant geometry at a surface point ------------------------------------------------------------------ */
+typedef struct {
+  int face;
+  double xi[2];
+  double x[3];            /* position */
+  double a[2][3];         /* covariant tangents a_alpha = dx/dxi^alpha (2D: a[1] = e_z) */
+  double n[3];            /* unit normal a1 x a2 / |a1 x a2| (outward) */
+  double m[2][2];         /* metric m_ab = a_a . a_b */
+  double m_inv[2][2];     /* its inverse m^ab */
+  double a_dual[2][3];    /* contravariant tangents a^a = m^ab a_b */
+  double a_ab[2][2][3];   /* second derivatives x,ab */
+  double h[2][2];         /* curvature h_ab = x,ab . n */
+  double christoffel[2][2][2]; /* Gamma^c_ab = x,ab . a^c, index [a][b][c] */
+  double jacobian;        /* |a1 x a2| (area element; length element in 2D) */
+  int nen;
+  double N[9];            /* face shape functions at xi */
+  double dN[9][2];        /* their parametric derivatives */
+} sk_surface_point;
+
+/* Geometry of face `face` at parameters xi for positions q. 2D faces fill only index 0 of the parametric
+ * quantities (and set a[1] = e_z, m[1][1] = 1 so that the 2D case reads as a 3D one). */
+void sk_surface_geometry(const sk_surface *surface, int face, const double *xi, const double *q,
+                         sk_surface_point *point);
+
+/* Averaged nodal normals: for each surface node (in surface->nodes order) the normalised area-weighted mean of the
+ * adjacent face normals. normals has 3 * n_nodes entries. */
+void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double *normals);
+
+/* ---- closest-point projection (narrow phase) ---------------------------------------------------------------- */
+typedef enum {
+  SK_PROJ_INTERIOR = 0, /* inside the face */
+  SK_PROJ_EDGE,         /* on a face edge (2D: an end point), including exactly on a shared edge */
+  SK_PROJ_VERTEX,       /* at a face corner */
+  SK_PROJ_OUTSIDE       /* closest point is on the border of the surface: the point lies beyond it */
+} sk_projection_kind;
+
+typedef struct {
+  int face;               /* -1 when nothing was found */
+  double xi[2];
+  double gap;             /* (x - x_closest) . n: positive outside the master, negative penetrating */
+  double distance;        /* |x - x_closest| */
+  sk_projection_kind kind;
+  int iterations;         /* Newton iterations of the local projection */
+} sk_projection;
+
+/* Projects point x onto the surface, trying the candidate faces (from the broad phase; all faces when
+ * candidates == NULL), using Newton with the full second-derivative term, clamping to the face and switching to
+ * the neighbouring face when the iterate leaves it. Picks the candidate with the smallest distance; ties on a
+ * shared edge pick the lowest face id (deterministic). */
+sk_status sk_surface_project(const sk_surface *surface, const double *q, const double *x, const int *candidates,
+                             int n_candidates, sk_projection *projection);
+
+/* ---- broad phase -------------------------------------------------------------------------------------------- */
+typedef struct sk_search sk_search;
+
+/* A bounding-volume tree over the faces of `surface`. */
+sk_status sk_search_create(const sk_surface *surface, sk_search **search);
+void sk_search_destroy(sk_search *search);
+/* Refits the face boxes to enclose each face at both q0 (start of step) and q1 (current predictor), inflated by
+ * `margin`: a face that cannot be reached during the step is never returned. */
+void sk_search_update(sk_search *search, const double *q0, const double *q1, double margin);
+/* Faces whose boxes overlap the box [lo, hi]; writes at most max_faces ids, returns how many overlap in total. */
+int sk_search_query(const sk_search *search, const double lo[3], const double hi[3], int *faces, int max_faces);
+
+/* ---- rigid analytical obstacles ----------------------------------------------------------------------------- */
+typedef enum {
+  SK_OBSTACLE_PLANE = 0,            /* through `point` with outward unit `normal` */
+  SK_OBSTACLE_SPHERE,               /* centre `point`, `radius` (2D: a circle) */
+  SK_OBSTACLE_CYLINDER,             /* axis through `point` along `axis`, `radius` */
+  SK_OBSTACLE_PARABOLIC_CYLINDER    /* z = c x^2 in the frame (point; axis = e_y direction of the generators;
+                                       normal = e_z): material on the side z < c x^2, outward normal up */
+} sk_obstacle_kind;
+
+enum { SK_OBSTACLE_MOTION_MAX = 64 };
+
+typedef struct {
+  sk_obstacle_kind kind;
+  char name[64];
+  double point[3];
+  double normal[3];       /* plane normal / parabolic cylinder "up" */
+  double axis[3];         /* cylinder axis / parabolic cylinder generator direction */
+  double radius;
+  double c;               /* parabolic coefficient */
+  int n_motion;           /* prescribed translation: piecewise linear in time through (t_k, d_k) */
+  double motion_t[SK_OBSTACLE_MOTION_MAX];
+  double motion_d[SK_OBSTACLE_MOTION_MAX][3];
+} sk_obstacle;
+
+/* Closest point on the obstacle at time t for point x: fills position, unit normal (out of the obstacle),
+ * tangents (orthonormal, a[0] x a[1] = n), metric (identity for these tangents), curvature h_ab and gap. */
+sk_status sk_obstacle_project(const sk_obstacle *obstacle, double t, const double *x, int dim,
+                              sk_surface_point *point, double *gap);
+/* Translation of the obstacle at time t. */
+void sk_obstacle_displacement(const sk_obstacle *obstacle, double t, double d[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
