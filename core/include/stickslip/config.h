@@ -1,0 +1,84 @@
+/* stickslip — scene configuration: a YAML tree (parsed with libyaml) that remembers where every node came from.
+ *
+ * Every node knows its key path ("contact.pairs[0].plugin") and its source position ("scenes/x.yaml:12:5", or
+ * "--set contact.mu" for nodes created by a command-line override), so every error can point at the culprit.
+ * Reading a child with sk_cfg_get / sk_cfg_at marks it as used; sk_cfg_check_unused then reports the first key
+ * nobody read, which catches typos ("densty") instead of silently using a default.
+ *
+ * Supported YAML: block and flow maps and sequences, scalars of any style. Anchors, aliases and multi-document
+ * streams are rejected with a clear error. Duplicate keys are errors. The root must be a map. */
+#ifndef STICKSLIP_CONFIG_H
+#define STICKSLIP_CONFIG_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "stickslip/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum { SK_CFG_SCALAR, SK_CFG_MAP, SK_CFG_SEQ } sk_cfg_kind;
+typedef struct sk_cfg sk_cfg; /* one node; the root owns the whole tree */
+
+/* Loads a YAML file. Errors: missing/unreadable file; malformed YAML ("FILE:LINE:COL: <libyaml problem>");
+ * root not a map; duplicate keys; anchors/aliases. */
+sk_status sk_cfg_load(const char *path, sk_cfg **root);
+/* Same from memory; `name` stands for the file in messages and in sk_cfg_resolve_path. */
+sk_status sk_cfg_parse_string(const char *text, const char *name, sk_cfg **root);
+void sk_cfg_free(sk_cfg *root);
+
+/* Applies one override "a.b.c=value". The value is parsed as YAML ("0.3", "true", "[1, 2, 3]", "{E: 1e9}").
+ * Sequence elements are addressed by index ("contact.pairs.0.plugin=x"; "pairs[0]" works too). Missing
+ * intermediate maps are created; an existing node (of any kind) at the path is replaced. */
+sk_status sk_cfg_set(sk_cfg *root, const char *assignment);
+
+sk_cfg_kind sk_cfg_kind_of(const sk_cfg *node);
+const char *sk_cfg_path(const sk_cfg *node);  /* "contact.pairs[0].plugin"; "" for the root */
+const char *sk_cfg_where(const sk_cfg *node); /* "scenes/x.yaml:12:5" or "--set contact.mu" */
+
+/* Child `key` of a map, or NULL (also when `map` is NULL or not a map). Marks the child as used. */
+const sk_cfg *sk_cfg_get(const sk_cfg *map, const char *key);
+int sk_cfg_size(const sk_cfg *node);                 /* entries of a map or sequence, 0 for scalars and NULL */
+const sk_cfg *sk_cfg_at(const sk_cfg *node, int i);  /* i-th element of a seq or i-th value of a map; marks used */
+const char *sk_cfg_key_at(const sk_cfg *map, int i); /* i-th key of a map, NULL otherwise */
+const char *sk_cfg_scalar(const sk_cfg *node);       /* text of a scalar, NULL otherwise */
+/* Marks a node and everything below it as used (for subtrees handed over verbatim, e.g. plugin parameters). */
+void sk_cfg_mark_used(const sk_cfg *node);
+
+/* Typed getters. `map` may be NULL (an absent optional section): then every key is absent.
+ * Absent key: *out = dflt and SK_OK, unless `required` (then "FILE:LINE: missing key 'a.b.key'").
+ * Wrong type: "FILE:LINE:COL: key 'a.b.key' expects a number, got 'abc'". Numbers accept YAML forms such as
+ * 1e-3, .inf, -.inf; integers accept integral values written as 1e3; booleans accept true/false/yes/no/on/off. */
+sk_status sk_cfg_double(const sk_cfg *map, const char *key, int required, double dflt, double *out);
+sk_status sk_cfg_int(const sk_cfg *map, const char *key, int required, int dflt, int *out);
+sk_status sk_cfg_bool(const sk_cfg *map, const char *key, int required, int dflt, int *out);
+/* *out points into the tree (valid until sk_cfg_free) or is dflt. */
+sk_status sk_cfg_string(const sk_cfg *map, const char *key, int required, const char *dflt, const char **out);
+/* A sequence of exactly n numbers ([30, 0, 23]). dflt may be NULL when required. */
+sk_status sk_cfg_vector(const sk_cfg *map, const char *key, int required, int n, const double *dflt, double *out);
+/* A string among `choices` (NULL-terminated); *out is its index (or dflt). Errors list the allowed values. */
+sk_status sk_cfg_choice(const sk_cfg *map, const char *key, int required, const char *const *choices, int dflt,
+                        int *out);
+
+/* Converts a scalar node itself (e.g. an element reached with sk_cfg_at); errors name the node's path. */
+sk_status sk_cfg_as_double(const sk_cfg *node, double *out);
+sk_status sk_cfg_as_int(const sk_cfg *node, int *out);
+
+/* First map key never read (document order): "FILE:LINE:COL: unknown key 'bodies[1].densty' (did you mean
+ * 'density'?)". The suggestion comes from keys the program asked for or read in the same map. */
+sk_status sk_cfg_check_unused(const sk_cfg *root);
+
+/* `relative` resolved against the directory of the file `node` came from (absolute paths are kept). */
+sk_status sk_cfg_resolve_path(const sk_cfg *node, const char *relative, char *out, size_t out_size);
+
+/* Writes the whole tree (overrides included) as YAML. */
+sk_status sk_cfg_write(const sk_cfg *root, FILE *out);
+/* Same into a file (created or truncated). */
+sk_status sk_cfg_write_file(const sk_cfg *root, const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
