@@ -1,0 +1,812 @@
+/* stickslip plugin "penalty-nts": node-to-surface penalty contact, frictionless or with penalty-regularised Coulomb
+ * friction, against a deformable master surface or a rigid analytical obstacle, in 2D and 3D.
+ *
+ * Normal part. For a slave node x_s and its closest point x_m = N_I(xi) x_I on the master, g = (x_s - x_m) . n and
+ * the energy W = eps/2 <-g>^2 gives the residual dW/dq = -p dg/dq with p = eps <-g>: the slave gets the force p n,
+ * master node I the force -N_I p n. The Jacobian is the exact derivative, including the variation of xi (from the
+ * closest-point condition, A_ab dxi^b = a_a . du + g n . da_a with A_ab = m_ab - g h_ab) and of the normal
+ * (dn = -a^a (n . da_a + h_ab dxi^b)).
+ *
+ * Friction (deformable master). The trial traction is convected in covariant components on the master:
+ *   t_a^trial = t_a,n - eps_t m_ab (xi^b - xi_n^b),
+ * with (xi_n, t_n) committed at the end of the previous step. xi and m_ab do not change under a superposed rigid
+ * motion, so the trial (and the return map on |t| = sqrt(t_a m^ab t_b) <= mu p) is frame indifferent; an
+ * incremental spatial slip vector would not be. The slave gets the force p n + t_a a^a, each master node -N_I times
+ * that, so linear momentum is conserved exactly; angular momentum only for frictionless contact (the tangential
+ * force acts at x_s on the slave and at x_m on the master, which differ by g n).
+ * Friction (rigid obstacle). The obstacle only translates, so the history is an anchor point fixed in the
+ * obstacle and a spatial traction: t^trial = P (t_n - eps_t (x_s - x_anchor(t))), P = I - n n.
+ *
+ * Every scheme is evaluated at t_{n+1} (q, state->t): the plugin does not claim the energy-momentum capability. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "stickslip/plugin.h"
+
+#define PNTS_EXPORT __attribute__((visibility("default")))
+
+enum { MAX_FACE_NODES = 9, MAX_LOCAL_DOFS = 3 * (1 + MAX_FACE_NODES) };
+enum { STATE_INACTIVE = 0, STATE_STICK = 1, STATE_SLIP = 2 };
+
+/* Friction history of one slave node (one step's anchor, or the committed one). */
+typedef struct {
+  int valid;            /* 0: no anchor (no friction force this step) */
+  int face;             /* deformable: master face and parameters of the anchor, covariant traction */
+  double xi[2];
+  double t[2];
+  double anchor[3];     /* obstacle: anchor point minus the obstacle translation, spatial traction */
+  double traction[3];
+} friction_history;
+
+/* Everything one evaluation of a slave node produces. */
+typedef struct {
+  int found;            /* a projection exists (gap and normal are meaningful) */
+  int state;            /* STATE_* */
+  int face;
+  double xi[2];
+  double gap, p;        /* p: normal force (penalty times the slave's area when area weighted) */
+  double x[3], normal[3];
+  double force[3];      /* total contact force on the slave node */
+  double traction[3];   /* its tangential part */
+  double t_cov[2];      /* covariant tangential traction (deformable master) */
+  double dissipation;   /* slip increment . traction of the step so far */
+  int nd;               /* local dofs: slave node, then the master face nodes */
+  int rows[MAX_LOCAL_DOFS];
+  double R[MAX_LOCAL_DOFS];
+  double K[MAX_LOCAL_DOFS * MAX_LOCAL_DOFS];
+} point_eval;
+
+struct sk_instance {
+  const sk_host *host;
+  const sk_pair *pair;
+  int dim;
+  double penalty, penalty_t, mu, margin;
+  int area_weighted;
+  int n_slave;
+  double *area;                 /* tributary reference area of each slave node (1 when not area weighted) */
+  sk_search *search;
+  int *cand_start, *cand_count; /* candidate master faces of each slave node, fixed during a step */
+  int *cand;
+  int cand_capacity;
+  friction_history *committed;  /* at the last accepted step */
+  friction_history *anchor;     /* used during the current step */
+  unsigned char *last_state;    /* for after_iteration's change detection */
+  double *scratch_q;            /* positions for the start-of-step projections */
+};
+
+static const char *const pnts_strategies[] = {"none", NULL};
+static const char *const pnts_parameters[] = {
+    "penalty: normal penalty eps_n > 0; pressure/length when area_weighted, force/length otherwise [required]",
+    "mu: Coulomb friction coefficient >= 0 [0]",
+    "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [required when mu > 0]",
+    "area_weighted: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
+    "stiffnesses [1]",
+    "search_margin: inflation of the search boxes (length); default half the mean master face size",
+    NULL};
+
+/* ---- small dense helpers --------------------------------------------------------------------------------------- */
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Inverse of the leading n x n block (n = 1 or 2) of a 2x2 matrix; returns 0 when singular. */
+static int invert_small(int n, double a[2][2], double inv[2][2]) {
+  if (n == 1) {
+    if (a[0][0] == 0.0) return 0;
+    inv[0][0] = 1.0 / a[0][0];
+    inv[0][1] = inv[1][0] = 0.0;
+    inv[1][1] = 1.0;
+    return 1;
+  }
+  double det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+  if (det == 0.0) return 0;
+  inv[0][0] = a[1][1] / det;
+  inv[1][1] = a[0][0] / det;
+  inv[0][1] = -a[0][1] / det;
+  inv[1][0] = -a[1][0] / det;
+  return 1;
+}
+
+static void slave_position(const sk_instance *in, const double *q, int k, double x[3]) {
+  int node = in->pair->slave->nodes[k];
+  x[2] = 0.0;
+  for (int i = 0; i < in->dim; ++i) x[i] = q[node * in->dim + i];
+}
+
+/* Prescribed obstacle translation at time t: piecewise linear through (t_k, d_k), constant beyond the ends. The
+ * host offers only obstacle_project, so the plugin reads the plain-data motion table itself. */
+static void obstacle_translation(const sk_obstacle *ob, double t, double d[3]) {
+  d[0] = d[1] = d[2] = 0.0;
+  int n = ob->n_motion;
+  if (n <= 0) return;
+  if (t <= ob->motion_t[0] || n == 1) {
+    memcpy(d, ob->motion_d[0], 3 * sizeof(double));
+    return;
+  }
+  if (t >= ob->motion_t[n - 1]) {
+    memcpy(d, ob->motion_d[n - 1], 3 * sizeof(double));
+    return;
+  }
+  for (int k = 0; k + 1 < n; ++k) {
+    if (t <= ob->motion_t[k + 1]) {
+      double span = ob->motion_t[k + 1] - ob->motion_t[k];
+      double s = span > 0.0 ? (t - ob->motion_t[k]) / span : 1.0;
+      for (int i = 0; i < 3; ++i) d[i] = (1.0 - s) * ob->motion_d[k][i] + s * ob->motion_d[k + 1][i];
+      return;
+    }
+  }
+}
+
+/* Metric, its inverse and the dual tangents from the tangents alone (obstacles need not fill them). */
+static int complete_metric(int pdim, sk_surface_point *pt) {
+  double m[2][2] = {{1.0, 0.0}, {0.0, 1.0}};
+  for (int a = 0; a < pdim; ++a)
+    for (int b = 0; b < pdim; ++b) m[a][b] = dot3(pt->a[a], pt->a[b]);
+  double inv[2][2];
+  if (!invert_small(pdim, m, inv)) return 0;
+  memcpy(pt->m, m, sizeof m);
+  memcpy(pt->m_inv, inv, sizeof inv);
+  for (int a = 0; a < pdim; ++a)
+    for (int i = 0; i < 3; ++i) {
+      pt->a_dual[a][i] = 0.0;
+      for (int b = 0; b < pdim; ++b) pt->a_dual[a][i] += inv[a][b] * pt->a[b][i];
+    }
+  return 1;
+}
+
+/* ---- evaluation of one slave node ------------------------------------------------------------------------------- */
+
+/* Coulomb return map on covariant components with metric `m_inv` (pdim x pdim; identity for spatial vectors given
+ * as n components). Fills t and its derivative Dt (n x nd) from the trial and its derivative; returns the state. */
+static int return_map(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
+                      double p, const double *Dp, int nd, double eps_t, double *t, double *Dt, double *dissipation) {
+  double norm2 = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) norm2 += trial[a] * metric_inv[a][b] * trial[b];
+  double norm = sqrt(norm2), limit = mu * p;
+  if (norm <= limit) {
+    for (int a = 0; a < n; ++a) t[a] = trial[a];
+    memcpy(Dt, Dtrial, (size_t)(n * nd) * sizeof(double));
+    *dissipation = 0.0;
+    return STATE_STICK;
+  }
+  /* Slip: t = mu p trial/|trial|. dissipation = slip increment . t = mu p (|trial| - mu p) / eps_t >= 0. */
+  for (int a = 0; a < n; ++a) t[a] = limit * trial[a] / norm;
+  for (int c = 0; c < nd; ++c) {
+    double dnorm2 = 0.0; /* metric derivative terms are added by the caller (covariant case) */
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) dnorm2 += 2.0 * trial[a] * metric_inv[a][b] * Dtrial[b * nd + c];
+    for (int a = 0; a < n; ++a)
+      Dt[a * nd + c] = mu * Dp[c] * trial[a] / norm + limit * Dtrial[a * nd + c] / norm -
+                       limit * trial[a] * dnorm2 / (2.0 * norm2 * norm);
+  }
+  *dissipation = limit * (norm - limit) / eps_t;
+  return STATE_SLIP;
+}
+
+/* Evaluates slave node k at state->q and state->t: gap, forces and, when want_jacobian, the local Jacobian. */
+static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int want_jacobian, point_eval *e) {
+  const sk_host *host = in->host;
+  const sk_contact_services *cs = host->contact;
+  const int dim = in->dim, pdim = dim - 1;
+  const int slave_node = in->pair->slave->nodes[k];
+  const sk_surface *master = in->pair->master;
+  double xs[3];
+  slave_position(in, st->q, k, xs);
+
+  e->found = 0;
+  e->state = STATE_INACTIVE;
+  e->face = -1;
+  e->gap = NAN;
+  e->p = 0.0;
+  e->dissipation = 0.0;
+  e->nd = 0;
+  memcpy(e->x, xs, sizeof xs);
+  memset(e->normal, 0, sizeof e->normal);
+  memset(e->force, 0, sizeof e->force);
+  memset(e->traction, 0, sizeof e->traction);
+  memset(e->t_cov, 0, sizeof e->t_cov);
+
+  sk_surface_point pt;
+  double g;
+  int nen = 0;
+  const int *conn = NULL;
+  if (master) {
+    if (in->cand_count[k] == 0) return SK_OK;
+    sk_projection proj;
+    SK_TRY(cs->project(master, st->q, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+    if (proj.face < 0) return SK_OK;
+    cs->geometry(master, proj.face, proj.xi, st->q, &pt);
+    if (!complete_metric(pdim, &pt)) return SK_OK; /* degenerate face: no contact there */
+    nen = master->nen;
+    conn = master->conn + proj.face * nen;
+    for (int I = 0; I < nen; ++I)
+      if (conn[I] == slave_node) return SK_OK; /* a node never contacts a face it belongs to */
+    double d[3] = {xs[0] - pt.x[0], xs[1] - pt.x[1], xs[2] - pt.x[2]};
+    g = dot3(d, pt.n);
+    e->found = 1;
+    e->face = proj.face;
+    e->xi[0] = proj.xi[0];
+    e->xi[1] = proj.xi[1];
+    e->gap = g;
+    memcpy(e->normal, pt.n, sizeof pt.n);
+    if (proj.kind == SK_PROJ_OUTSIDE) return SK_OK; /* beyond the master's border */
+  } else {
+    SK_TRY(cs->obstacle_project(in->pair->obstacle, st->t, xs, dim, &pt, &g));
+    if (!complete_metric(pdim, &pt)) return host->error(host, SK_ERR_INTERNAL, "%s: degenerate obstacle tangents",
+                                                        in->pair->name);
+    e->found = 1;
+    e->gap = g;
+    memcpy(e->normal, pt.n, sizeof pt.n);
+  }
+  if (!(g < 0.0)) return SK_OK;
+
+  /* Local dofs: the slave node, then the master face nodes (none for an obstacle). */
+  const int nd = dim * (1 + nen);
+  e->nd = nd;
+  for (int i = 0; i < dim; ++i) e->rows[i] = slave_node * dim + i;
+  for (int I = 0; I < nen; ++I)
+    for (int i = 0; i < dim; ++i) e->rows[dim * (1 + I) + i] = conn[I] * dim + i;
+
+  const double eps_n = in->penalty * in->area[k], eps_t = in->penalty_t * in->area[k];
+  const double *n = pt.n;
+  const double p = -eps_n * g;
+  e->p = p;
+
+  /* First derivatives, as rows over the local dofs: G = dg/dq, C_a = a_a . (du at fixed xi), E_a = n . da_a. */
+  double G[MAX_LOCAL_DOFS] = {0}, C[2][MAX_LOCAL_DOFS] = {{0}}, E[2][MAX_LOCAL_DOFS] = {{0}};
+  for (int i = 0; i < dim; ++i) {
+    G[i] = n[i];
+    for (int a = 0; a < pdim; ++a) C[a][i] = pt.a[a][i];
+  }
+  for (int I = 0; I < nen; ++I)
+    for (int i = 0; i < dim; ++i) {
+      int c = dim * (1 + I) + i;
+      G[c] = -pt.N[I] * n[i];
+      for (int a = 0; a < pdim; ++a) {
+        C[a][c] = -pt.N[I] * pt.a[a][i];
+        E[a][c] = pt.dN[I][a] * n[i];
+      }
+    }
+  /* dxi = A^-1 (C + g E), A = m - g h: the closest-point condition (x_s - x_m) . a_a = 0 differentiated. */
+  double A[2][2] = {{1.0, 0.0}, {0.0, 1.0}}, Ainv[2][2];
+  for (int a = 0; a < pdim; ++a)
+    for (int b = 0; b < pdim; ++b) A[a][b] = pt.m[a][b] - g * pt.h[a][b];
+  if (!invert_small(pdim, A, Ainv))
+    return host->error(host, SK_ERR_DIVERGED, "%s: slave node %d sits at a focal point of the master (m - g h "
+                       "singular)", in->pair->name, slave_node);
+  double Dxi[2][MAX_LOCAL_DOFS] = {{0}}, Dn[3][MAX_LOCAL_DOFS] = {{0}};
+  for (int c = 0; c < nd; ++c) {
+    for (int a = 0; a < pdim; ++a)
+      for (int b = 0; b < pdim; ++b) Dxi[a][c] += Ainv[a][b] * (C[b][c] + g * E[b][c]);
+    /* dn = -a^a (n . da_a + h_ab dxi^b) */
+    for (int a = 0; a < pdim; ++a) {
+      double s = E[a][c];
+      for (int b = 0; b < pdim; ++b) s += pt.h[a][b] * Dxi[b][c];
+      for (int i = 0; i < 3; ++i) Dn[i][c] -= pt.a_dual[a][i] * s;
+    }
+  }
+  double Dp[MAX_LOCAL_DOFS];
+  for (int c = 0; c < nd; ++c) Dp[c] = -eps_n * G[c];
+
+  /* Tangential force T and its derivative DT. */
+  double T[3] = {0.0, 0.0, 0.0}, DT[3][MAX_LOCAL_DOFS] = {{0}};
+  e->state = STATE_STICK; /* frictionless contact reports as stick (no slip state to speak of) */
+  const friction_history *h = &in->anchor[k];
+  if (in->mu > 0.0 && h->valid && master) {
+    /* Increment of the master parameters since the anchor. A slave that moved onto another face gets the anchor
+     * carried over through the current tangent plane (frozen within the iteration: inexact tangent there only). */
+    double dxi[2] = {0.0, 0.0}, tn[2] = {0.0, 0.0};
+    if (h->face == e->face) {
+      for (int a = 0; a < pdim; ++a) {
+        dxi[a] = e->xi[a] - h->xi[a];
+        tn[a] = h->t[a];
+      }
+    } else {
+      sk_surface_point old;
+      cs->geometry(master, h->face, h->xi, st->q, &old);
+      complete_metric(pdim, &old);
+      double told[3] = {0.0, 0.0, 0.0}, rel[3];
+      for (int i = 0; i < 3; ++i) {
+        for (int a = 0; a < pdim; ++a) told[i] += h->t[a] * old.a_dual[a][i];
+        rel[i] = pt.x[i] - old.x[i];
+      }
+      for (int a = 0; a < pdim; ++a) {
+        dxi[a] = dot3(pt.a_dual[a], rel);
+        tn[a] = dot3(told, pt.a[a]);
+      }
+    }
+    /* Derivatives of the tangents (total: nodal part plus x,ab dxi^b), metric, inverse metric, dual tangents. */
+    double Da[2][3][MAX_LOCAL_DOFS] = {{{0}}}, Dm[2][2][MAX_LOCAL_DOFS] = {{{0}}};
+    double Dminv[2][2][MAX_LOCAL_DOFS] = {{{0}}}, Dadual[2][3][MAX_LOCAL_DOFS] = {{{0}}};
+    for (int a = 0; a < pdim; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < nd; ++c) {
+          double s = 0.0;
+          for (int b = 0; b < pdim; ++b) s += pt.a_ab[a][b][i] * Dxi[b][c];
+          Da[a][i][c] = s;
+        }
+    for (int a = 0; a < pdim; ++a)
+      for (int I = 0; I < nen; ++I)
+        for (int i = 0; i < dim; ++i) Da[a][i][dim * (1 + I) + i] += pt.dN[I][a];
+    for (int a = 0; a < pdim; ++a)
+      for (int b = 0; b < pdim; ++b)
+        for (int c = 0; c < nd; ++c)
+          for (int i = 0; i < 3; ++i) Dm[a][b][c] += pt.a[b][i] * Da[a][i][c] + pt.a[a][i] * Da[b][i][c];
+    for (int a = 0; a < pdim; ++a)
+      for (int b = 0; b < pdim; ++b)
+        for (int c = 0; c < nd; ++c) {
+          double s = 0.0;
+          for (int x = 0; x < pdim; ++x)
+            for (int y = 0; y < pdim; ++y) s -= pt.m_inv[a][x] * Dm[x][y][c] * pt.m_inv[y][b];
+          Dminv[a][b][c] = s;
+        }
+    for (int a = 0; a < pdim; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < nd; ++c) {
+          double s = 0.0;
+          for (int b = 0; b < pdim; ++b) s += Dminv[a][b][c] * pt.a[b][i] + pt.m_inv[a][b] * Da[b][i][c];
+          Dadual[a][i][c] = s;
+        }
+    /* Trial t_a = t_n,a - eps_t m_ab dxi^b. */
+    double trial[2] = {0.0, 0.0}, Dtrial[2 * MAX_LOCAL_DOFS] = {0};
+    for (int a = 0; a < pdim; ++a) {
+      trial[a] = tn[a];
+      for (int b = 0; b < pdim; ++b) trial[a] -= eps_t * pt.m[a][b] * dxi[b];
+      for (int c = 0; c < nd; ++c) {
+        double s = 0.0;
+        for (int b = 0; b < pdim; ++b) s += Dm[a][b][c] * dxi[b] + pt.m[a][b] * Dxi[b][c];
+        Dtrial[a * nd + c] = -eps_t * s;
+      }
+    }
+    double minv[3][3] = {{0}};
+    for (int a = 0; a < pdim; ++a)
+      for (int b = 0; b < pdim; ++b) minv[a][b] = pt.m_inv[a][b];
+    double t[2] = {0.0, 0.0}, Dt[2 * MAX_LOCAL_DOFS] = {0};
+    e->state = return_map(pdim, trial, Dtrial, minv, in->mu, p, Dp, nd, eps_t, t, Dt, &e->dissipation);
+    if (e->state == STATE_SLIP) {
+      /* The norm also depends on q through m^ab: add -mu p trial_a/|trial|^3 * (1/2) trial . Dm^-1 . trial. */
+      double norm2 = 0.0;
+      for (int a = 0; a < pdim; ++a)
+        for (int b = 0; b < pdim; ++b) norm2 += trial[a] * minv[a][b] * trial[b];
+      double norm = sqrt(norm2), limit = in->mu * p;
+      for (int c = 0; c < nd; ++c) {
+        double s = 0.0;
+        for (int a = 0; a < pdim; ++a)
+          for (int b = 0; b < pdim; ++b) s += trial[a] * Dminv[a][b][c] * trial[b];
+        for (int a = 0; a < pdim; ++a) Dt[a * nd + c] -= limit * trial[a] * s / (2.0 * norm2 * norm);
+      }
+    }
+    for (int a = 0; a < pdim; ++a) e->t_cov[a] = t[a];
+    for (int i = 0; i < 3; ++i)
+      for (int a = 0; a < pdim; ++a) {
+        T[i] += t[a] * pt.a_dual[a][i];
+        for (int c = 0; c < nd; ++c) DT[i][c] += Dt[a * nd + c] * pt.a_dual[a][i] + t[a] * Dadual[a][i][c];
+      }
+  } else if (in->mu > 0.0 && h->valid) {
+    /* Obstacle: trial = P w, w = t_n - eps_t (x_s - x_anchor(t)), P = I - n n; D(P w) = P Dw - Dn (n.w) - n (w.Dn). */
+    double d[3], w[3], nw;
+    obstacle_translation(in->pair->obstacle, st->t, d);
+    for (int i = 0; i < 3; ++i) w[i] = h->traction[i] - eps_t * (xs[i] - (h->anchor[i] + d[i]));
+    nw = dot3(n, w);
+    double trial[3], Dtrial[3 * MAX_LOCAL_DOFS];
+    for (int i = 0; i < 3; ++i) trial[i] = w[i] - n[i] * nw;
+    for (int c = 0; c < nd; ++c) {
+      double wDn = 0.0;
+      for (int j = 0; j < 3; ++j) wDn += w[j] * Dn[j][c];
+      for (int i = 0; i < 3; ++i) {
+        /* Dw = -eps_t I on the slave dofs (c < dim here: an obstacle has no other dofs). */
+        double Pdw = -eps_t * ((i == c ? 1.0 : 0.0) - n[i] * n[c]);
+        Dtrial[i * nd + c] = Pdw - Dn[i][c] * nw - n[i] * wDn;
+      }
+    }
+    const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    double Dt[3 * MAX_LOCAL_DOFS];
+    e->state = return_map(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, T, Dt, &e->dissipation);
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < nd; ++c) DT[i][c] = Dt[i * nd + c];
+  }
+
+  /* Force on the slave f = p n + T; residual: -f on the slave, +N_I f on master node I. */
+  double f[3], Df[3][MAX_LOCAL_DOFS];
+  for (int i = 0; i < 3; ++i) {
+    f[i] = p * n[i] + T[i];
+    for (int c = 0; c < nd; ++c) Df[i][c] = Dp[c] * n[i] + p * Dn[i][c] + DT[i][c];
+  }
+  memcpy(e->force, f, sizeof f);
+  memcpy(e->traction, T, sizeof T);
+  for (int i = 0; i < dim; ++i) e->R[i] = -f[i];
+  for (int I = 0; I < nen; ++I)
+    for (int i = 0; i < dim; ++i) e->R[dim * (1 + I) + i] = pt.N[I] * f[i];
+  if (!want_jacobian) return SK_OK;
+  for (int i = 0; i < dim; ++i)
+    for (int c = 0; c < nd; ++c) e->K[i * nd + c] = -Df[i][c];
+  for (int I = 0; I < nen; ++I) {
+    double DN[MAX_LOCAL_DOFS];
+    for (int c = 0; c < nd; ++c) {
+      DN[c] = 0.0;
+      for (int a = 0; a < pdim; ++a) DN[c] += pt.dN[I][a] * Dxi[a][c];
+    }
+    for (int i = 0; i < dim; ++i)
+      for (int c = 0; c < nd; ++c) e->K[(dim * (1 + I) + i) * nd + c] = pt.N[I] * Df[i][c] + f[i] * DN[c];
+  }
+  return SK_OK;
+}
+
+/* ---- creation ---------------------------------------------------------------------------------------------------- */
+
+/* Gauss rules for the tributary areas: 3 points on a line, 3x3 on a quad, 3 points (degree 2) on a triangle. */
+static int face_quadrature(sk_elem_type type, double xi[9][2], double w[9]) {
+  const double g3[3] = {-sqrt(0.6), 0.0, sqrt(0.6)}, w3[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  switch (type) {
+    case SK_LINE2:
+    case SK_LINE3:
+      for (int i = 0; i < 3; ++i) {
+        xi[i][0] = g3[i];
+        xi[i][1] = 0.0;
+        w[i] = w3[i];
+      }
+      return 3;
+    case SK_QUAD4:
+    case SK_QUAD9:
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          xi[3 * i + j][0] = g3[i];
+          xi[3 * i + j][1] = g3[j];
+          w[3 * i + j] = w3[i] * w3[j];
+        }
+      return 9;
+    case SK_TRI3: {
+      const double pts[3][2] = {{1.0 / 6.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 6.0}, {1.0 / 6.0, 2.0 / 3.0}};
+      for (int i = 0; i < 3; ++i) {
+        xi[i][0] = pts[i][0];
+        xi[i][1] = pts[i][1];
+        w[i] = 1.0 / 6.0;
+      }
+      return 3;
+    }
+    default:
+      return 0;
+  }
+}
+
+static int index_of(const int *sorted, int n, int value) {
+  int lo = 0, hi = n - 1;
+  while (lo <= hi) {
+    int mid = (lo + hi) / 2;
+    if (sorted[mid] == value) return mid;
+    if (sorted[mid] < value) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+static int face_type_fits(sk_elem_type type, int dim) {
+  if (dim == 2) return type == SK_LINE2 || type == SK_LINE3;
+  return type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9;
+}
+
+static void pnts_destroy(sk_instance *in) {
+  if (!in) return;
+  if (in->search) in->host->contact->search_destroy(in->search);
+  free(in->area);
+  free(in->cand_start);
+  free(in->cand_count);
+  free(in->cand);
+  free(in->committed);
+  free(in->anchor);
+  free(in->last_state);
+  free(in->scratch_q);
+  free(in);
+}
+
+static sk_status read_positive(const sk_host *host, const sk_pair *pair, const char *key, int required, double dflt,
+                               double *out) {
+  SK_TRY(host->param_double(host, pair->params, key, required, dflt, out));
+  if (!(*out > 0.0) || !isfinite(*out))
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter '%s' must be a finite number > 0, got %g",
+                       pair->name, key, *out);
+  return SK_OK;
+}
+
+static sk_status pnts_create_checked(const sk_host *host, const sk_pair *pair, sk_instance *in) {
+  in->host = host;
+  in->pair = pair;
+  in->dim = host->dim;
+  const sk_surface *slave = pair->slave, *master = pair->master;
+  if (in->dim != 2 && in->dim != 3)
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts works in 2D or 3D, not %dD", pair->name, in->dim);
+  if (!slave || (!master) == (!pair->obstacle))
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts needs a slave surface and either a master surface or an "
+                       "obstacle", pair->name);
+  if (!face_type_fits(slave->face_type, in->dim) || (master && !face_type_fits(master->face_type, in->dim)))
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/QUAD4/QUAD9 in "
+                       "3D", pair->name);
+
+  SK_TRY(read_positive(host, pair, "penalty", 1, 0.0, &in->penalty));
+  SK_TRY(host->param_double(host, pair->params, "mu", 0, 0.0, &in->mu));
+  if (!(in->mu >= 0.0) || !isfinite(in->mu))
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'mu' must be a finite number >= 0, got %g",
+                       pair->name, in->mu);
+  if (in->mu > 0.0) SK_TRY(read_positive(host, pair, "penalty_tangential", 1, 0.0, &in->penalty_t));
+  else SK_TRY(host->param_double(host, pair->params, "penalty_tangential", 0, in->penalty, &in->penalty_t));
+  SK_TRY(host->param_int(host, pair->params, "area_weighted", 0, 1, &in->area_weighted));
+  if (in->area_weighted != 0 && in->area_weighted != 1)
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
+                       pair->name, in->area_weighted);
+
+  /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
+  double mean_size = 0.0;
+  if (master && master->n_faces > 0) {
+    for (int f = 0; f < master->n_faces; ++f) {
+      const int *c = master->conn + f * master->nen;
+      double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, diag2 = 0.0;
+      for (int I = 0; I < master->nen; ++I)
+        for (int i = 0; i < in->dim; ++i) {
+          lo[i] = fmin(lo[i], host->X[c[I] * in->dim + i]);
+          hi[i] = fmax(hi[i], host->X[c[I] * in->dim + i]);
+        }
+      for (int i = 0; i < in->dim; ++i) diag2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
+      mean_size += sqrt(diag2);
+    }
+    mean_size /= master->n_faces;
+  }
+  SK_TRY(host->param_double(host, pair->params, "search_margin", 0, 0.5 * mean_size, &in->margin));
+  if (!(in->margin >= 0.0) || !isfinite(in->margin))
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'search_margin' must be a finite number >= 0, "
+                       "got %g", pair->name, in->margin);
+
+  in->n_slave = slave->n_nodes;
+  size_t ns = (size_t)in->n_slave > 0 ? (size_t)in->n_slave : 1;
+  in->area = calloc(ns, sizeof *in->area);
+  in->cand_start = calloc(ns, sizeof(int));
+  in->cand_count = calloc(ns, sizeof(int));
+  in->committed = calloc(ns, sizeof *in->committed);
+  in->anchor = calloc(ns, sizeof *in->anchor);
+  in->last_state = calloc(ns, 1);
+  in->scratch_q = calloc((size_t)host->n_dofs > 0 ? (size_t)host->n_dofs : 1, sizeof(double));
+  if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->anchor || !in->last_state ||
+      !in->scratch_q)
+    return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", pair->name);
+
+  /* Tributary areas A_I = integral of N_I over the slave faces in the reference configuration. */
+  if (in->area_weighted) {
+    double qxi[9][2], qw[9];
+    int nq = face_quadrature(slave->face_type, qxi, qw);
+    for (int f = 0; f < slave->n_faces; ++f)
+      for (int g = 0; g < nq; ++g) {
+        sk_surface_point pt;
+        host->contact->geometry(slave, f, qxi[g], host->X, &pt);
+        for (int I = 0; I < slave->nen; ++I) {
+          int k = index_of(slave->nodes, slave->n_nodes, slave->conn[f * slave->nen + I]);
+          if (k >= 0) in->area[k] += pt.N[I] * pt.jacobian * qw[g];
+        }
+      }
+  } else {
+    for (int k = 0; k < in->n_slave; ++k) in->area[k] = 1.0;
+  }
+  if (master) SK_TRY(host->contact->search_create(master, &in->search));
+  return SK_OK;
+}
+
+static sk_status pnts_create(const sk_host *host, const sk_pair *pair, sk_instance **instance) {
+  *instance = NULL;
+  if (host->abi_version != SK_PLUGIN_ABI_VERSION)
+    return host->error(host, SK_ERR_PLUGIN, "penalty-nts built for plugin ABI %u, host has %u",
+                       SK_PLUGIN_ABI_VERSION, host->abi_version);
+  sk_instance *in = calloc(1, sizeof *in);
+  if (!in) return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", pair->name);
+  sk_status status = pnts_create_checked(host, pair, in);
+  if (status != SK_OK) {
+    pnts_destroy(in);
+    return status;
+  }
+  *instance = in;
+  return SK_OK;
+}
+
+/* ---- step -------------------------------------------------------------------------------------------------------- */
+
+/* Candidate faces of every slave node from boxes swept between q_n and q, and the step's friction anchors: the
+ * committed history, or for a node without one the projection of its start-of-step position. */
+static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
+  const sk_host *host = in->host;
+  const sk_contact_services *cs = host->contact;
+  const sk_surface *master = in->pair->master;
+  const double big = 1e300;
+  if (master) {
+    cs->search_update(in->search, st->q_n, st->q, in->margin);
+    int used = 0;
+    for (int k = 0; k < in->n_slave; ++k) {
+      double x0[3], x1[3], lo[3] = {-big, -big, -big}, hi[3] = {big, big, big};
+      slave_position(in, st->q_n, k, x0);
+      slave_position(in, st->q, k, x1);
+      for (int i = 0; i < in->dim; ++i) {
+        lo[i] = fmin(x0[i], x1[i]) - in->margin;
+        hi[i] = fmax(x0[i], x1[i]) + in->margin;
+      }
+      int room = in->cand_capacity - used;
+      int count = cs->search_query(in->search, lo, hi, in->cand ? in->cand + used : NULL, room > 0 ? room : 0);
+      if (count > room) {
+        int capacity = 2 * (used + count) + 64;
+        int *grown = realloc(in->cand, (size_t)capacity * sizeof(int));
+        if (!grown) return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->pair->name);
+        in->cand = grown;
+        in->cand_capacity = capacity;
+        count = cs->search_query(in->search, lo, hi, in->cand + used, in->cand_capacity - used);
+      }
+      in->cand_start[k] = used;
+      in->cand_count[k] = count;
+      used += count;
+    }
+  }
+  for (int k = 0; k < in->n_slave; ++k) {
+    friction_history *a = &in->anchor[k];
+    *a = in->committed[k];
+    if (in->mu == 0.0 || a->valid) continue;
+    double x0[3];
+    slave_position(in, st->q_n, k, x0);
+    if (master) {
+      if (in->cand_count[k] == 0) continue;
+      sk_projection proj;
+      SK_TRY(cs->project(master, st->q_n, x0, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+      if (proj.face < 0 || proj.kind == SK_PROJ_OUTSIDE) continue;
+      a->valid = 1;
+      a->face = proj.face;
+      a->xi[0] = proj.xi[0];
+      a->xi[1] = proj.xi[1];
+    } else {
+      sk_surface_point pt;
+      double g, d[3];
+      SK_TRY(cs->obstacle_project(in->pair->obstacle, st->t_n, x0, in->dim, &pt, &g));
+      obstacle_translation(in->pair->obstacle, st->t_n, d);
+      a->valid = 1;
+      for (int i = 0; i < 3; ++i) a->anchor[i] = pt.x[i] - d[i];
+    }
+  }
+  memset(in->last_state, 0, (size_t)in->n_slave);
+  return SK_OK;
+}
+
+static sk_status pnts_layout(sk_instance *in, const sk_state *st, sk_layout *layout) {
+  layout->n_extra = 0;
+  layout->initial = NULL;
+  layout->eliminated = NULL;
+  return SK_OK;
+}
+
+static int owns_slave(const sk_instance *in, int k) {
+  return in->host->owns_node(in->host, in->pair->slave->nodes[k]);
+}
+
+static sk_status pnts_residual(sk_instance *in, const sk_state *st, sk_sink *sink) {
+  point_eval e;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!owns_slave(in, k)) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &e));
+    if (e.nd > 0) sink->add_vector(sink, e.nd, e.rows, e.R);
+  }
+  return SK_OK;
+}
+
+static sk_status pnts_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink) {
+  point_eval e;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!owns_slave(in, k)) continue;
+    SK_TRY(evaluate_point(in, st, k, 1, &e));
+    if (e.nd > 0) sink->add_matrix(sink, e.nd, e.rows, e.nd, e.rows, e.K);
+  }
+  return SK_OK;
+}
+
+/* The penalty problem is smooth in q apart from the kinks at g = 0 and |t| = mu p, so no active-set loop is needed;
+ * `changed` still reports whether any point changed state since the previous iteration. */
+static sk_status pnts_after_iteration(sk_instance *in, const sk_state *st, int *changed) {
+  point_eval e;
+  *changed = 0;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!owns_slave(in, k)) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &e));
+    if (e.state != in->last_state[k]) *changed = 1;
+    in->last_state[k] = (unsigned char)e.state;
+  }
+  return SK_OK;
+}
+
+static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
+  point_eval e;
+  for (int k = 0; k < in->n_slave; ++k) {
+    friction_history *c = &in->committed[k];
+    memset(c, 0, sizeof *c);
+    if (in->mu == 0.0) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &e));
+    if (e.state == STATE_INACTIVE) continue;
+    c->valid = 1;
+    if (in->pair->master) {
+      c->face = e.face;
+      c->xi[0] = e.xi[0];
+      c->xi[1] = e.xi[1];
+      c->t[0] = e.t_cov[0];
+      c->t[1] = e.t_cov[1];
+    } else {
+      double d[3];
+      obstacle_translation(in->pair->obstacle, st->t, d);
+      for (int i = 0; i < 3; ++i) {
+        c->anchor[i] = e.x[i] - e.gap * e.normal[i] - d[i]; /* the closest point, in the obstacle's frame */
+        c->traction[i] = e.traction[i];
+      }
+    }
+  }
+  return SK_OK;
+}
+
+/* History only changes in commit_step, and begin_step rebuilds the step's anchors from it: nothing to undo. */
+static void pnts_reject_step(sk_instance *in) { (void)in; }
+
+static sk_status pnts_report(sk_instance *in, const sk_state *st, sk_contact_report *r) {
+  memset(r, 0, sizeof *r);
+  point_eval e;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!owns_slave(in, k)) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &e));
+    if (e.state == STATE_INACTIVE) continue;
+    ++r->active;
+    if (e.state == STATE_STICK) ++r->stick;
+    else ++r->slip;
+    for (int i = 0; i < 3; ++i) r->force[i] += e.force[i];
+    r->moment[0] += e.x[1] * e.force[2] - e.x[2] * e.force[1];
+    r->moment[1] += e.x[2] * e.force[0] - e.x[0] * e.force[2];
+    r->moment[2] += e.x[0] * e.force[1] - e.x[1] * e.force[0];
+    r->dissipated += e.dissipation;
+    r->constraint_norm = fmax(r->constraint_norm, -e.gap);
+  }
+  if (in->mu == 0.0) r->stick = 0; /* frictionless points are neither stuck nor slipping */
+  return SK_OK;
+}
+
+static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callback callback, void *ctx) {
+  point_eval e;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!owns_slave(in, k)) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &e));
+    sk_contact_point cp;
+    memset(&cp, 0, sizeof cp);
+    memcpy(cp.x, e.x, sizeof cp.x);
+    memcpy(cp.normal, e.normal, sizeof cp.normal);
+    /* Pressure eps_n <-g> (force / area) when area weighted, the nodal force otherwise. */
+    double scale = in->area_weighted && in->area[k] > 0.0 ? 1.0 / in->area[k] : 1.0;
+    cp.pressure = e.p * scale;
+    for (int i = 0; i < 3; ++i) cp.traction[i] = e.traction[i] * scale;
+    cp.gap = e.gap; /* NaN when no master face is within the search margin */
+    cp.state = e.state; /* frictionless contact points report 1 (in contact) */
+    cp.slave_node = in->pair->slave->nodes[k];
+    callback(ctx, &cp);
+  }
+  return SK_OK;
+}
+
+static const sk_plugin pnts_plugin = {
+    .abi_version = SK_PLUGIN_ABI_VERSION,
+    .name = "penalty-nts",
+    .summary = "node-to-surface penalty contact with penalty-regularised Coulomb friction (baseline)",
+    .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
+            SK_CAP_DEFORMABLE_MASTER,
+    .strategies = pnts_strategies,
+    .parameters = pnts_parameters,
+    .create = pnts_create,
+    .destroy = pnts_destroy,
+    .begin_step = pnts_begin_step,
+    .layout = pnts_layout,
+    .residual = pnts_residual,
+    .jacobian = pnts_jacobian,
+    .recover = NULL,
+    .after_iteration = pnts_after_iteration,
+    .commit_step = pnts_commit_step,
+    .reject_step = pnts_reject_step,
+    .report = pnts_report,
+    .points = pnts_points,
+    .get_extension = NULL,
+};
+
+PNTS_EXPORT const sk_plugin *stickslip_plugin_entry(void);
+PNTS_EXPORT const sk_plugin *stickslip_plugin_entry(void) { return &pnts_plugin; }
