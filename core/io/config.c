@@ -176,7 +176,7 @@ static sk_status parser_failure(loader *ld) {
     return sk_error_set(SK_ERR_INPUT, "%s: malformed value: %s", ld->origin, problem);
   }
   if (p->context) {
-    return sk_error_set(SK_ERR_INPUT, "%s:%zu:%zu: %s %s (started at line %zu, column %zu)", ld->name,
+    return sk_error_set(SK_ERR_INPUT, "%s:%zu:%zu: %s (%s started at line %zu, column %zu)", ld->name,
                         p->problem_mark.line + 1, p->problem_mark.column + 1, problem, p->context,
                         p->context_mark.line + 1, p->context_mark.column + 1);
   }
