@@ -48,6 +48,9 @@ const char *sk_linear_solver_name(sk_linear_solver_kind kind);
 
 sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_linear_system **sys);
 void sk_linsys_destroy(sk_linear_system *sys);
+/* Unknowns per mesh node (default 1; the spatial dimension for elasticity): MueLu aggregates whole nodes and
+ * builds a block nullspace, and rows are distributed in whole nodes. Call before sk_linsys_set_pattern. */
+sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size);
 
 /* Sets (or replaces) the sparsity pattern: n unknowns, CSR row_ptr[n+1], cols[row_ptr[n]] sorted within rows,
  * identical on all ranks. `local_rows` (sorted, n_local_rows entries) lists the rows this rank writes into.

@@ -1,0 +1,512 @@
+// stickslip — sk_newton_solve: NOX's line-search Newton over the driver's C callbacks.
+//
+// NOX sees a replicated vector (std::vector<double>, identical on every rank: norms need no communication) and a
+// group whose computeF / computeJacobian / computeNewton call the callbacks. A residual callback that fails (for
+// instance an inverted element) does not surface as a NOX error, which NOX turns into `throw "NOX Error"`:
+// the group reports F = +inf instead, so a backtracking line search shortens the step and the FiniteValue test
+// stops a full-step Newton cleanly. The callback's message is kept and reported with SK_ERR_DIVERGED.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <NOX.H>
+#include <NOX_Abstract_Group.H>
+#include <NOX_Abstract_Vector.H>
+#include <NOX_Observer.hpp>
+#include <NOX_Solver_Factory.H>
+#include <NOX_Solver_Generic.H>
+#include <NOX_StatusTest_Combo.H>
+#include <NOX_StatusTest_FiniteValue.H>
+#include <NOX_StatusTest_MaxIters.H>
+#include <NOX_StatusTest_NormF.H>
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_oblackholestream.hpp>
+
+#include "bridge_internal.hpp"
+#include "stickslip/bridge.h"
+
+namespace {
+
+using Teuchos::RCP;
+using Teuchos::rcp;
+using stickslip::bridge::status_from_exception;
+
+// ||F|| reported for a failed residual evaluation. Finite on purpose: +inf turns the polynomial line search's
+// interpolation into NaN steps; 1e50 keeps its arithmetic finite while no real residual comes near it.
+constexpr double kFailedResidualNorm = 1e50;
+
+// What the callbacks share across the groups NOX clones: the callbacks, the first failure and the counters.
+struct NewtonState {
+  sk_newton_callbacks callbacks{};
+  int linear_solves = 0;
+  // which x the driver's Jacobian was last assembled at (groups carry the version of their x)
+  long jacobian_version = -1;
+  long next_version = 0;
+  sk_status callback_failure = SK_OK;  // a jacobian / solve / after_iteration failure: the solve must stop
+  std::string callback_message;
+  std::string residual_message;  // the last failed residual evaluation (the line search may recover from it)
+  int residual_failures = 0;
+
+  void record_callback_failure(sk_status status, const char *what) {
+    if (callback_failure != SK_OK) return;
+    callback_failure = status;
+    callback_message = std::string(what) + ": " + sk_error_message();
+  }
+};
+
+// A replicated vector: every rank holds the same n values.
+class ReplicatedVector : public NOX::Abstract::Vector {
+ public:
+  explicit ReplicatedVector(size_t n) : values_(n, 0.0) {}
+  ReplicatedVector(const double *data, size_t n) : values_(data, data + n) {}
+  ReplicatedVector(const ReplicatedVector &) = default;
+  // the implicit one would call the base's pure operator= non-virtually
+  ReplicatedVector &operator=(const ReplicatedVector &y) {
+    values_ = y.values_;
+    return *this;
+  }
+
+  std::vector<double> &values() { return values_; }
+  const std::vector<double> &values() const { return values_; }
+
+  NOX::Abstract::Vector &init(double gamma) override {
+    std::fill(values_.begin(), values_.end(), gamma);
+    return *this;
+  }
+  // Deterministic (same seed on every rank keeps the copies identical); NOX only uses it in some line searches.
+  NOX::Abstract::Vector &random(bool use_seed, int seed) override {
+    unsigned long state = use_seed ? static_cast<unsigned long>(seed) : 12345UL;
+    for (double &v : values_) {
+      state = state * 6364136223846793005UL + 1442695040888963407UL;
+      v = static_cast<double>(state >> 11) / static_cast<double>(1UL << 53) * 2.0 - 1.0;
+    }
+    return *this;
+  }
+  NOX::Abstract::Vector &abs(const NOX::Abstract::Vector &y) override {
+    const auto &o = cast(y);
+    for (size_t i = 0; i < values_.size(); ++i) values_[i] = std::fabs(o[i]);
+    return *this;
+  }
+  NOX::Abstract::Vector &operator=(const NOX::Abstract::Vector &y) override {
+    values_ = cast(y);
+    return *this;
+  }
+  NOX::Abstract::Vector &reciprocal(const NOX::Abstract::Vector &y) override {
+    const auto &o = cast(y);
+    for (size_t i = 0; i < values_.size(); ++i) values_[i] = 1.0 / o[i];
+    return *this;
+  }
+  NOX::Abstract::Vector &scale(double gamma) override {
+    for (double &v : values_) v *= gamma;
+    return *this;
+  }
+  NOX::Abstract::Vector &scale(const NOX::Abstract::Vector &a) override {
+    const auto &o = cast(a);
+    for (size_t i = 0; i < values_.size(); ++i) values_[i] *= o[i];
+    return *this;
+  }
+  NOX::Abstract::Vector &update(double alpha, const NOX::Abstract::Vector &a, double gamma) override {
+    const auto &o = cast(a);
+    for (size_t i = 0; i < values_.size(); ++i) values_[i] = alpha * o[i] + gamma * values_[i];
+    return *this;
+  }
+  NOX::Abstract::Vector &update(double alpha, const NOX::Abstract::Vector &a, double beta,
+                                const NOX::Abstract::Vector &b, double gamma) override {
+    const auto &oa = cast(a);
+    const auto &ob = cast(b);
+    for (size_t i = 0; i < values_.size(); ++i) values_[i] = alpha * oa[i] + beta * ob[i] + gamma * values_[i];
+    return *this;
+  }
+  RCP<NOX::Abstract::Vector> clone(NOX::CopyType type) const override {
+    auto copy = rcp(new ReplicatedVector(values_.size()));
+    if (type == NOX::DeepCopy) copy->values_ = values_;
+    return copy;
+  }
+  double norm(NOX::Abstract::Vector::NormType type) const override {
+    double result = 0;
+    switch (type) {
+      case NOX::Abstract::Vector::MaxNorm:
+        for (double v : values_) result = std::max(result, std::fabs(v));
+        return result;
+      case NOX::Abstract::Vector::OneNorm:
+        for (double v : values_) result += std::fabs(v);
+        return result;
+      case NOX::Abstract::Vector::TwoNorm:
+      default:
+        for (double v : values_) result += v * v;
+        return std::sqrt(result);
+    }
+  }
+  double norm(const NOX::Abstract::Vector &weights) const override {
+    const auto &w = cast(weights);
+    double result = 0;
+    for (size_t i = 0; i < values_.size(); ++i) result += w[i] * values_[i] * values_[i];
+    return std::sqrt(result);
+  }
+  double innerProduct(const NOX::Abstract::Vector &y) const override {
+    const auto &o = cast(y);
+    double result = 0;
+    for (size_t i = 0; i < values_.size(); ++i) result += values_[i] * o[i];
+    return result;
+  }
+  NOX::size_type length() const override { return static_cast<NOX::size_type>(values_.size()); }
+
+ private:
+  static const std::vector<double> &cast(const NOX::Abstract::Vector &v) {
+    return dynamic_cast<const ReplicatedVector &>(v).values_;
+  }
+  std::vector<double> values_;
+};
+
+class CallbackGroup : public NOX::Abstract::Group {
+ public:
+  CallbackGroup(const std::shared_ptr<NewtonState> &state, const double *x, size_t n)
+      : state_(state), x_(rcp(new ReplicatedVector(x, n))), f_(rcp(new ReplicatedVector(n))),
+        newton_(rcp(new ReplicatedVector(n))), version_(state->next_version++) {}
+
+  CallbackGroup(const CallbackGroup &) = delete;
+  CallbackGroup &operator=(const CallbackGroup &source) {
+    assign(source);
+    return *this;
+  }
+  NOX::Abstract::Group &operator=(const NOX::Abstract::Group &source) override {
+    assign(dynamic_cast<const CallbackGroup &>(source));
+    return *this;
+  }
+  void assign(const CallbackGroup &o) {
+    if (this == &o) return;
+    *x_ = *o.x_;
+    *f_ = *o.f_;
+    *newton_ = *o.newton_;
+    version_ = o.version_;  // same x, so the driver's Jacobian (if assembled there) is valid for it too
+    f_valid_ = o.f_valid_;
+    f_failed_ = o.f_failed_;
+    newton_valid_ = o.newton_valid_;
+    norm_f_ = o.norm_f_;
+  }
+
+  void setX(const NOX::Abstract::Vector &y) override {
+    *x_ = y;
+    reset();
+  }
+  void computeX(const NOX::Abstract::Group &grp, const NOX::Abstract::Vector &d, double step) override {
+    const auto &o = dynamic_cast<const CallbackGroup &>(grp);
+    x_->update(1.0, *o.x_, step, d, 0.0);
+    reset();
+  }
+
+  ReturnType computeF() override {
+    if (f_valid_) return Ok;
+    const sk_status status = state_->callbacks.residual(state_->callbacks.ctx, x_->values().data(), f_->values().data());
+    f_valid_ = true;
+    f_failed_ = status != SK_OK;
+    if (f_failed_) {
+      // a huge residual, not an error: line searches back off from it; ResidualFailureTest stops a full step
+      ++state_->residual_failures;
+      state_->residual_message = sk_error_message();
+      f_->init(kFailedResidualNorm / std::sqrt(static_cast<double>(x_->values().size())));
+      norm_f_ = kFailedResidualNorm;
+    } else {
+      norm_f_ = f_->norm(NOX::Abstract::Vector::TwoNorm);
+    }
+    return Ok;
+  }
+
+  ReturnType computeJacobian() override {
+    if (state_->callback_failure != SK_OK || !f_valid_ || f_failed_) return Failed;
+    if (isJacobianAssembled()) return Ok;
+    const sk_status status = state_->callbacks.jacobian(state_->callbacks.ctx, x_->values().data());
+    if (status != SK_OK) {
+      state_->record_callback_failure(status, "Jacobian");
+      return Failed;
+    }
+    state_->jacobian_version = version_;
+    return Ok;
+  }
+
+  ReturnType computeNewton(Teuchos::ParameterList &) override {
+    if (newton_valid_) return Ok;
+    if (!isJacobianAssembled() && computeJacobian() != Ok) return Failed;
+    ++state_->linear_solves;
+    const sk_status status = state_->callbacks.solve(state_->callbacks.ctx, x_->values().data(),
+                                                     f_->values().data(), newton_->values().data());
+    if (status != SK_OK) {
+      state_->record_callback_failure(status, "Newton direction");
+      return Failed;
+    }
+    newton_valid_ = true;
+    return Ok;
+  }
+
+  bool isF() const override { return f_valid_; }
+  // NOX's merit functions would call applyJacobian (not available through the callbacks) when this is true; they
+  // fall back to a finite-difference slope when it is false. computeJacobian tracks the real state.
+  bool isJacobian() const override { return false; }
+  bool isNewton() const override { return newton_valid_; }
+
+  const NOX::Abstract::Vector &getX() const override { return *x_; }
+  const NOX::Abstract::Vector &getF() const override { return *f_; }
+  double getNormF() const override { return norm_f_; }
+  const NOX::Abstract::Vector &getGradient() const override { return *newton_; }  // no gradient: isGradient false
+  const NOX::Abstract::Vector &getNewton() const override { return *newton_; }
+  RCP<const NOX::Abstract::Vector> getXPtr() const override { return x_; }
+  RCP<const NOX::Abstract::Vector> getFPtr() const override { return f_; }
+  RCP<const NOX::Abstract::Vector> getGradientPtr() const override { return newton_; }
+  RCP<const NOX::Abstract::Vector> getNewtonPtr() const override { return newton_; }
+
+  RCP<NOX::Abstract::Group> clone(NOX::CopyType type) const override {
+    auto copy = rcp(new CallbackGroup(state_, x_->values().data(), x_->values().size()));
+    if (type == NOX::DeepCopy) *copy = *this;
+    return copy;
+  }
+
+  bool residualFailed() const { return f_valid_ && f_failed_; }
+  const std::vector<double> &x() const { return x_->values(); }
+
+ private:
+  bool isJacobianAssembled() const { return state_->jacobian_version == version_; }
+  void reset() {
+    version_ = state_->next_version++;
+    f_valid_ = f_failed_ = newton_valid_ = false;
+    norm_f_ = 0;
+  }
+
+  std::shared_ptr<NewtonState> state_;
+  RCP<ReplicatedVector> x_, f_, newton_;
+  long version_;
+  bool f_valid_ = false, f_failed_ = false, newton_valid_ = false;
+  double norm_f_ = 0;
+};
+
+// ||x_k - x_{k-1}||_2 <= tol (1 + ||x_k||_2): the update test of sk_newton_options.
+class UpdateNormTest : public NOX::StatusTest::Generic {
+ public:
+  explicit UpdateNormTest(double tolerance) : tolerance_(tolerance) {}
+  NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic &solver, NOX::StatusTest::CheckType) override {
+    status_ = NOX::StatusTest::Unconverged;
+    if (solver.getNumIterations() == 0) return status_;
+    const auto &x = dynamic_cast<const ReplicatedVector &>(solver.getSolutionGroup().getX()).values();
+    const auto &x_old = dynamic_cast<const ReplicatedVector &>(solver.getPreviousSolutionGroup().getX()).values();
+    double dx = 0, xx = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      dx += (x[i] - x_old[i]) * (x[i] - x_old[i]);
+      xx += x[i] * x[i];
+    }
+    value_ = std::sqrt(dx);
+    if (value_ <= tolerance_ * (1.0 + std::sqrt(xx))) status_ = NOX::StatusTest::Converged;
+    return status_;
+  }
+  NOX::StatusTest::StatusType getStatus() const override { return status_; }
+  std::ostream &print(std::ostream &stream, int indent) const override {
+    stream << std::string(indent, ' ') << status_ << "||dx|| = " << value_ << " <= " << tolerance_
+           << " (1 + ||x||)\n";
+    return stream;
+  }
+
+ private:
+  double tolerance_;
+  double value_ = 0;
+  NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
+};
+
+// Fails the solve once a Jacobian / solve / after_iteration callback has failed, or when the accepted iterate's
+// residual evaluation failed (a full step, or a line search that gave up).
+class CallbackFailureTest : public NOX::StatusTest::Generic {
+ public:
+  explicit CallbackFailureTest(std::shared_ptr<NewtonState> state) : state_(std::move(state)) {}
+  NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic &solver, NOX::StatusTest::CheckType) override {
+    const auto &group = dynamic_cast<const CallbackGroup &>(solver.getSolutionGroup());
+    status_ = state_->callback_failure != SK_OK || group.residualFailed() ? NOX::StatusTest::Failed
+                                                                          : NOX::StatusTest::Unconverged;
+    return status_;
+  }
+  NOX::StatusTest::StatusType getStatus() const override { return status_; }
+  std::ostream &print(std::ostream &stream, int indent) const override {
+    stream << std::string(indent, ' ') << status_ << "callbacks succeeded\n";
+    return stream;
+  }
+
+ private:
+  std::shared_ptr<NewtonState> state_;
+  NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
+};
+
+// Records ||F|| after each iteration and runs the driver's after_iteration callback on the accepted iterate.
+class IterationObserver : public NOX::Observer {
+ public:
+  IterationObserver(std::shared_ptr<NewtonState> state, sk_newton_report *report)
+      : state_(std::move(state)), report_(report) {}
+  void runPostIterate(const NOX::Solver::Generic &solver) override {
+    const auto &group = dynamic_cast<const CallbackGroup &>(solver.getSolutionGroup());
+    const double norm_f = group.getNormF();
+    if (report_->n_history < SK_NEWTON_HISTORY_MAX) report_->residual_history[report_->n_history++] = norm_f;
+    if (state_->callbacks.after_iteration && state_->callback_failure == SK_OK && !group.residualFailed()) {
+      const sk_status status = state_->callbacks.after_iteration(state_->callbacks.ctx, solver.getNumIterations(),
+                                                                 group.x().data(), norm_f);
+      if (status != SK_OK) state_->record_callback_failure(status, "after_iteration");
+    }
+  }
+
+ private:
+  std::shared_ptr<NewtonState> state_;
+  sk_newton_report *report_;
+};
+
+const char *line_search_method(sk_line_search ls) {
+  switch (ls) {
+    case SK_LINE_SEARCH_BACKTRACK: return "Backtrack";
+    case SK_LINE_SEARCH_POLYNOMIAL: return "Polynomial";
+    case SK_LINE_SEARCH_FULL_STEP:
+    default: return "Full Step";
+  }
+}
+
+sk_status fail(sk_newton_report *report, const std::string &reason) {
+  std::snprintf(report->reason, sizeof report->reason, "%s", reason.c_str());
+  return sk_error_set(SK_ERR_DIVERGED, "Newton (NOX): %s", reason.c_str());
+}
+
+}  // namespace
+
+extern "C" {
+
+void sk_newton_options_default(sk_newton_options *options) {
+  options->residual_tolerance = 1e-8;
+  options->relative_tolerance = 1e-10;
+  options->update_tolerance = 1e-8;
+  options->max_iterations = 25;
+  options->line_search = SK_LINE_SEARCH_FULL_STEP;
+  options->verbose = 0;
+}
+
+sk_status sk_line_search_from_name(const char *name, sk_line_search *ls) {
+  static const struct {
+    const char *name;
+    sk_line_search ls;
+  } names[] = {{"full-step", SK_LINE_SEARCH_FULL_STEP},
+               {"backtrack", SK_LINE_SEARCH_BACKTRACK},
+               {"polynomial", SK_LINE_SEARCH_POLYNOMIAL}};
+  for (const auto &entry : names) {
+    if (name && std::strcmp(name, entry.name) == 0) {
+      *ls = entry.ls;
+      return SK_OK;
+    }
+  }
+  return sk_error_set(SK_ERR_INPUT, "unknown line search '%s' (expected full-step, backtrack or polynomial)",
+                      name ? name : "(null)");
+}
+
+sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const sk_newton_callbacks *callbacks,
+                          int n, double *x, sk_newton_report *report) {
+  sk_newton_report local_report;
+  if (!report) report = &local_report;
+  std::memset(report, 0, sizeof *report);
+  sk_newton_options opts;
+  if (options) {
+    opts = *options;
+  } else {
+    sk_newton_options_default(&opts);
+  }
+  if (!callbacks || !callbacks->residual || !callbacks->jacobian || !callbacks->solve)
+    return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: residual, jacobian and solve callbacks are required");
+  if (n <= 0 || !x) return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: empty problem (n = %d)", n);
+  if (opts.max_iterations < 1)
+    return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: max_iterations %d must be >= 1", opts.max_iterations);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+
+  auto state = std::make_shared<NewtonState>();
+  state->callbacks = *callbacks;
+  try {
+    auto group = rcp(new CallbackGroup(state, x, static_cast<size_t>(n)));
+    group->computeF();
+    if (group->residualFailed())
+      return fail(report, "residual evaluation failed at the initial guess: " + state->residual_message);
+    report->residual_history[report->n_history++] = group->getNormF();
+    if (!std::isfinite(group->getNormF())) return fail(report, "non-finite residual at the initial guess");
+
+    // converged = (absolute ||F|| or relative ||F||/||F0||) and the update test; stopped by failures and max iterations
+    auto norm_f_absolute = rcp(new NOX::StatusTest::NormF(opts.residual_tolerance, NOX::Abstract::Vector::TwoNorm,
+                                                          NOX::StatusTest::NormF::Unscaled));
+    auto norm_f_relative = rcp(new NOX::StatusTest::NormF(*group, opts.relative_tolerance,
+                                                          NOX::Abstract::Vector::TwoNorm,
+                                                          NOX::StatusTest::NormF::Unscaled));
+    auto residual_small = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR, norm_f_absolute, norm_f_relative));
+    auto update_small = rcp(new UpdateNormTest(opts.update_tolerance));
+    auto converged = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::AND, residual_small, update_small));
+    auto finite = rcp(new NOX::StatusTest::FiniteValue);
+    auto callbacks_ok = rcp(new CallbackFailureTest(state));
+    auto max_iterations = rcp(new NOX::StatusTest::MaxIters(opts.max_iterations));
+    auto tests = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));
+    tests->addStatusTest(finite);
+    tests->addStatusTest(callbacks_ok);
+    tests->addStatusTest(converged);
+    tests->addStatusTest(max_iterations);
+
+    auto params = rcp(new Teuchos::ParameterList);
+    params->set("Nonlinear Solver", "Line Search Based");
+    params->sublist("Printing").set("Output Information",
+                                    opts.verbose && rank == 0
+                                        ? NOX::Utils::Error + NOX::Utils::Warning + NOX::Utils::OuterIteration +
+                                              NOX::Utils::InnerIteration + NOX::Utils::OuterIterationStatusTest
+                                        : 0);
+    if (!(opts.verbose && rank == 0)) {
+      // some NOX classes print their errors whatever the print level: send them nowhere
+      auto silent = rcp(new Teuchos::oblackholestream);
+      params->sublist("Printing").set("Output Stream", RCP<std::ostream>(silent));
+      params->sublist("Printing").set("Error Stream", RCP<std::ostream>(silent));
+    }
+    params->sublist("Line Search").set("Method", line_search_method(opts.line_search));
+    params->sublist("Direction").set("Method", "Newton");
+    // a failed linear solve stops the solve instead of stepping along a wrong direction
+    params->sublist("Direction").sublist("Newton").set("Rescue Bad Newton Solve", false);
+    params->sublist("Solver Options").set("Observer", RCP<NOX::Observer>(rcp(new IterationObserver(state, report))));
+
+    auto solver = NOX::Solver::buildSolver(group, tests, params);
+    NOX::StatusTest::StatusType status = NOX::StatusTest::Unconverged;
+    std::string exception_text;
+    try {
+      status = solver->solve();
+    } catch (...) {
+      // NOX throws (`throw "NOX Error"`) when a direction or line search step fails; the reason is recorded below
+      status_from_exception(SK_ERR_DIVERGED, "NOX", std::current_exception());
+      exception_text = sk_error_message();
+      status = NOX::StatusTest::Failed;
+    }
+
+    const auto &solution = dynamic_cast<const CallbackGroup &>(solver->getSolutionGroup());
+    report->iterations = solver->getNumIterations();
+    report->linear_solves = state->linear_solves;
+    // the best iterate NOX has (the last accepted one), also on failure: the caller decides what to do with it
+    if (!solution.residualFailed()) std::copy(solution.x().begin(), solution.x().end(), x);
+
+    if (state->callback_failure != SK_OK) return fail(report, state->callback_message);
+    if (status == NOX::StatusTest::Converged) {
+      report->converged = 1;
+      return SK_OK;
+    }
+    if (solution.residualFailed() || callbacks_ok->getStatus() == NOX::StatusTest::Failed ||
+        finite->getStatus() == NOX::StatusTest::Failed) {
+      const std::string cause = state->residual_message.empty() ? "non-finite residual" : state->residual_message;
+      return fail(report, "residual evaluation failed (" + cause + ")");
+    }
+    if (max_iterations->getStatus() == NOX::StatusTest::Failed)
+      return fail(report, "no convergence in " + std::to_string(opts.max_iterations) + " iterations (||F|| = " +
+                              std::to_string(solution.getNormF()) + ")");
+    if (!exception_text.empty()) {
+      std::string reason = exception_text;
+      if (state->residual_failures > 0) reason += " after failed residual evaluations: " + state->residual_message;
+      return fail(report, reason);
+    }
+    return fail(report, "line search failed");
+  } catch (...) {
+    status_from_exception(SK_ERR_DIVERGED, "sk_newton_solve", std::current_exception());
+    return fail(report, sk_error_message());
+  }
+}
+
+}  // extern "C"

@@ -1,0 +1,174 @@
+/* sk_linsys_*: every solver kind against a known solution, pattern reuse, apply, and clean failures. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "bridge_systems.h"
+#include "sk_test.h"
+#include "stickslip/bridge.h"
+
+/* Fills the system from `a` (this rank writes every row) scaled by `scale`, with `shift` added to the diagonal. */
+static sk_status load(sk_linear_system *sys, const test_csr *a, double scale, double shift) {
+  sk_linsys_zero(sys);
+  double *values = sk_linsys_values(sys);
+  for (int i = 0; i < a->n; ++i) {
+    for (int64_t k = a->row_ptr[i]; k < a->row_ptr[i + 1]; ++k)
+      values[k] = scale * a->values[k] + (a->cols[k] == i ? shift : 0.0);
+  }
+  return sk_linsys_assemble(sys);
+}
+
+static sk_linear_system *create(sk_linear_solver_kind kind, double tolerance, int max_iterations, const test_csr *a) {
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.kind = kind;
+  options.tolerance = tolerance;
+  options.max_iterations = max_iterations;
+  sk_linear_system *sys = NULL;
+  if (sk_linsys_create(MPI_COMM_WORLD, &options, &sys) != SK_OK) return NULL;
+  int *all_rows = malloc(sizeof(int) * (size_t)a->n);
+  for (int i = 0; i < a->n; ++i) all_rows[i] = i;
+  const sk_status status = sk_linsys_set_pattern(sys, a->n, a->row_ptr, a->cols, a->n, all_rows);
+  free(all_rows);
+  if (status != SK_OK) {
+    sk_linsys_destroy(sys);
+    return NULL;
+  }
+  return sys;
+}
+
+/* Solves twice on one pattern (the second time with other values) and compares with the reference solution. */
+static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, double error_tolerance) {
+  test_csr a = test_laplacian_2d(20, 0.0);
+  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+  double *x = malloc(sizeof(double) * (size_t)a.n);
+  test_reference_solution(a.n, x_ref);
+  sk_linear_system *sys = create(kind, solver_tolerance, 500, &a);
+  SK_CHECK(sys != NULL);
+  if (!sys) return;
+
+  for (int pass = 0; pass < 2; ++pass) {
+    const double scale = pass == 0 ? 1.0 : 2.5, shift = pass == 0 ? 0.0 : 0.75;
+    SK_CHECK(load(sys, &a, scale, shift) == SK_OK);
+    /* b = (scale A + shift I) x_ref */
+    test_csr_multiply(&a, x_ref, b);
+    for (int i = 0; i < a.n; ++i) b[i] = scale * b[i] + shift * x_ref[i];
+    sk_linear_report report;
+    memset(x, 0, sizeof(double) * (size_t)a.n);
+    const sk_status status = sk_linsys_solve(sys, b, x, &report);
+    if (status != SK_OK) fprintf(stderr, "%s: %s\n", sk_linear_solver_name(kind), sk_error_message());
+    SK_CHECK(status == SK_OK);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= error_tolerance);
+    SK_CHECK(report.relative_residual <= solver_tolerance);
+    /* the symbolic factorisation / preconditioner structure is built once per pattern */
+    SK_CHECK(report.refactored_symbolic == (pass == 0));
+    if (kind == SK_LINEAR_DIRECT) SK_CHECK(report.iterations == 0);
+    if (kind == SK_LINEAR_GMRES_MUELU || kind == SK_LINEAR_GMRES_ILU) SK_CHECK(report.iterations > 0);
+    SK_CHECK(report.seconds >= 0);
+  }
+
+  /* apply: y = A x for the last values (2.5 A + 0.75 I) */
+  double *y = malloc(sizeof(double) * (size_t)a.n), *y_ref = malloc(sizeof(double) * (size_t)a.n);
+  SK_CHECK(sk_linsys_apply(sys, x_ref, y) == SK_OK);
+  test_csr_multiply(&a, x_ref, y_ref);
+  for (int i = 0; i < a.n; ++i) y_ref[i] = 2.5 * y_ref[i] + 0.75 * x_ref[i];
+  SK_CHECK(test_max_difference(a.n, y, y_ref) <= 1e-13);
+
+  /* a new pattern (a smaller grid) is a new symbolic factorisation */
+  test_csr small = test_laplacian_2d(7, 0.0);
+  int *rows = malloc(sizeof(int) * (size_t)small.n);
+  for (int i = 0; i < small.n; ++i) rows[i] = i;
+  SK_CHECK(sk_linsys_set_pattern(sys, small.n, small.row_ptr, small.cols, small.n, rows) == SK_OK);
+  SK_CHECK(load(sys, &small, 1.0, 0.0) == SK_OK);
+  test_reference_solution(small.n, x_ref);
+  test_csr_multiply(&small, x_ref, b);
+  sk_linear_report report;
+  SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+  SK_CHECK(report.refactored_symbolic == 1);
+  SK_CHECK(test_max_difference(small.n, x, x_ref) <= error_tolerance);
+
+  free(rows);
+  test_csr_free(&small);
+  sk_linsys_destroy(sys);
+  test_csr_free(&a);
+  free(x_ref);
+  free(b);
+  free(x);
+  free(y);
+  free(y_ref);
+}
+
+static void check_failures(void) {
+  test_csr a = test_laplacian_2d(30, 0.0);
+  double *b = malloc(sizeof(double) * (size_t)a.n), *x = malloc(sizeof(double) * (size_t)a.n);
+  for (int i = 0; i < a.n; ++i) b[i] = 1.0;
+
+  /* a singular matrix (a zero row) makes the direct solve fail with SK_ERR_DIVERGED, not crash */
+  sk_linear_system *sys = create(SK_LINEAR_DIRECT, 1e-10, 500, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    double *values = sk_linsys_values(sys);
+    for (int64_t k = a.row_ptr[17]; k < a.row_ptr[18]; ++k) values[k] = 0.0;
+    SK_CHECK(sk_linsys_assemble(sys) == SK_OK);
+    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_DIVERGED);
+    SK_CHECK(strstr(sk_error_message(), "direct solve") != NULL);
+    /* and the system recovers once the values are fixed */
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_OK);
+    sk_linsys_destroy(sys);
+  }
+
+  /* too few Krylov iterations for the tolerance */
+  sys = create(SK_LINEAR_GMRES_ILU, 1e-12, 3, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    sk_linear_report report;
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_ERR_DIVERGED);
+    SK_CHECK(strstr(sk_error_message(), "gmres-ilu") != NULL);
+    SK_CHECK(report.relative_residual > 1e-12);
+    sk_linsys_destroy(sys);
+  }
+
+  /* bad patterns are input errors */
+  sk_linear_system *bad = NULL;
+  SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, NULL, &bad) == SK_OK);
+  const int64_t row_ptr[3] = {0, 2, 3};
+  const int unsorted[3] = {1, 0, 1};
+  const int rows[2] = {0, 1};
+  SK_CHECK(sk_linsys_set_pattern(bad, 2, row_ptr, unsorted, 2, rows) == SK_ERR_INPUT);
+  SK_CHECK(sk_linsys_solve(bad, b, x, NULL) == SK_ERR_INTERNAL);
+  SK_CHECK(sk_linsys_set_block_size(bad, 0) == SK_ERR_INPUT);
+  sk_linsys_destroy(bad);
+
+  free(b);
+  free(x);
+  test_csr_free(&a);
+}
+
+static void check_names(void) {
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT, SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_AUTO};
+  for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; ++i) {
+    sk_linear_solver_kind parsed = SK_LINEAR_DIRECT;
+    SK_CHECK(sk_linear_solver_from_name(sk_linear_solver_name(kinds[i]), &parsed) == SK_OK);
+    SK_CHECK(parsed == kinds[i]);
+  }
+  sk_linear_solver_kind parsed;
+  SK_CHECK(sk_linear_solver_from_name("cholesky", &parsed) == SK_ERR_INPUT);
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  SK_CHECK(options.kind == SK_LINEAR_AUTO && options.tolerance == 1e-10 && options.max_iterations == 500);
+}
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  check_names();
+  check_kind(SK_LINEAR_DIRECT, 1e-10, 1e-10);
+  check_kind(SK_LINEAR_GMRES_MUELU, 1e-12, 1e-8);
+  check_kind(SK_LINEAR_GMRES_ILU, 1e-12, 1e-8);
+  check_kind(SK_LINEAR_AUTO, 1e-12, 1e-8);
+  check_failures();
+  const int result = sk_test_finish("bridge linear system");
+  MPI_Finalize();
+  return result;
+}

@@ -1,0 +1,236 @@
+/* sk_newton_solve: quadratic convergence on a coupled cubic system (Jacobian solved through the bridge's own
+ * linear system), callbacks that fail, and the iteration limit.
+ *
+ * F_i(x) = x_i^3 + a (x_i - x_{i+1}) - c_i, with c chosen so that x* (known) is the root. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "sk_test.h"
+#include "stickslip/bridge.h"
+
+enum { N = 12 };
+static const double coupling = 0.5;
+
+typedef struct {
+  double c[N];
+  double x_star[N];
+  sk_linear_system *sys;
+  int64_t row_ptr[N + 1];
+  int cols[2 * N];
+  double fail_above;      /* the residual "inverts" when some x_i exceeds this */
+  int fail_jacobian;      /* the Jacobian callback fails */
+  int after_calls;
+  int after_last_iteration;
+  int after_in_order;
+} problem;
+
+static sk_status residual(void *ctx, const double *x, double *F) {
+  problem *p = ctx;
+  for (int i = 0; i < N; ++i) {
+    if (x[i] > p->fail_above) return sk_error_set(SK_ERR_INVERTED, "element %d inverted (x = %g)", i, x[i]);
+    const double next = i + 1 < N ? x[i + 1] : 0.0;
+    F[i] = x[i] * x[i] * x[i] + coupling * (x[i] - next) - p->c[i];
+  }
+  return SK_OK;
+}
+
+static sk_status jacobian(void *ctx, const double *x) {
+  problem *p = ctx;
+  if (p->fail_jacobian) return sk_error_set(SK_ERR_INTERNAL, "assembly exploded");
+  sk_linsys_zero(p->sys);
+  double *values = sk_linsys_values(p->sys);
+  for (int i = 0; i < N; ++i) {
+    values[p->row_ptr[i]] = 3.0 * x[i] * x[i] + coupling;
+    if (i + 1 < N) values[p->row_ptr[i] + 1] = -coupling;
+  }
+  return sk_linsys_assemble(p->sys);
+}
+
+static sk_status solve(void *ctx, const double *x, const double *F, double *dx) {
+  problem *p = ctx;
+  double minus_f[N];
+  for (int i = 0; i < N; ++i) minus_f[i] = -F[i];
+  return sk_linsys_solve(p->sys, minus_f, dx, NULL);
+}
+
+static sk_status after_iteration(void *ctx, int iteration, const double *x, double residual_norm) {
+  problem *p = ctx;
+  ++p->after_calls;
+  if (iteration != p->after_last_iteration + 1 || !(residual_norm >= 0)) p->after_in_order = 0;
+  p->after_last_iteration = iteration;
+  return SK_OK;
+}
+
+static void problem_init(problem *p) {
+  memset(p, 0, sizeof *p);
+  for (int i = 0; i < N; ++i) p->x_star[i] = 1.0 + 0.1 * i;
+  for (int i = 0; i < N; ++i) {
+    const double next = i + 1 < N ? p->x_star[i + 1] : 0.0;
+    p->c[i] = p->x_star[i] * p->x_star[i] * p->x_star[i] + coupling * (p->x_star[i] - next);
+  }
+  int k = 0;
+  for (int i = 0; i < N; ++i) {
+    p->row_ptr[i] = k;
+    p->cols[k++] = i;
+    if (i + 1 < N) p->cols[k++] = i + 1;
+  }
+  p->row_ptr[N] = k;
+  p->fail_above = 1e300;
+  p->after_in_order = 1;
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.kind = SK_LINEAR_DIRECT;
+  int rows[N];
+  for (int i = 0; i < N; ++i) rows[i] = i;
+  SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &p->sys) == SK_OK);
+  SK_CHECK(sk_linsys_set_pattern(p->sys, N, p->row_ptr, p->cols, N, rows) == SK_OK);
+}
+
+static sk_newton_callbacks callbacks_for(problem *p) {
+  sk_newton_callbacks cb = {p, residual, jacobian, solve, after_iteration};
+  return cb;
+}
+
+static void check_quadratic_convergence(sk_line_search line_search) {
+  problem p;
+  problem_init(&p);
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  options.line_search = line_search;
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report);
+  if (status != SK_OK) fprintf(stderr, "newton: %s\n", sk_error_message());
+  SK_CHECK(status == SK_OK);
+  SK_CHECK(report.converged == 1);
+  for (int i = 0; i < N; ++i) SK_CHECK_CLOSE(x[i], p.x_star[i], 1e-10);
+  SK_CHECK(report.n_history == report.iterations + 1);
+  SK_CHECK(report.iterations >= 3 && report.iterations <= 10);
+  SK_CHECK(report.linear_solves == report.iterations);
+  SK_CHECK(report.residual_history[report.n_history - 1] <= options.residual_tolerance);
+  /* quadratic: ||F_{k+1}|| <= C ||F_k||^2 once in the asymptotic range, until round-off */
+  int quadratic_steps = 0;
+  for (int k = 0; k + 1 < report.n_history; ++k) {
+    const double e = report.residual_history[k], e_next = report.residual_history[k + 1];
+    if (e < 1.0 && e_next > 1e-13) {
+      SK_CHECK(e_next <= 0.1 * e * e); /* measured: about 0.02 */
+      ++quadratic_steps;
+    }
+  }
+  SK_CHECK(quadratic_steps >= 2);
+  /* after_iteration ran once per iteration, in order */
+  SK_CHECK(p.after_calls == report.iterations);
+  SK_CHECK(p.after_in_order);
+  sk_linsys_destroy(p.sys);
+}
+
+/* The full Newton step from x0 = 0.1 jumps to x ~ 30; a residual that "inverts" above 3 must not crash NOX. */
+static void check_residual_failure(void) {
+  for (int ls = SK_LINE_SEARCH_FULL_STEP; ls <= SK_LINE_SEARCH_POLYNOMIAL; ++ls) {
+    problem p;
+    problem_init(&p);
+    p.fail_above = 3.0;
+    sk_newton_options options;
+    sk_newton_options_default(&options);
+    options.line_search = (sk_line_search)ls;
+    double x[N];
+    for (int i = 0; i < N; ++i) x[i] = 0.1;
+    sk_newton_callbacks cb = callbacks_for(&p);
+    sk_newton_report report;
+    const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report);
+    if (ls == SK_LINE_SEARCH_FULL_STEP) {
+      /* nothing to fall back on: a clean failure that keeps the callback's message */
+      SK_CHECK(status == SK_ERR_DIVERGED);
+      SK_CHECK(report.converged == 0);
+      SK_CHECK(strstr(sk_error_message(), "inverted") != NULL);
+      SK_CHECK(strstr(report.reason, "inverted") != NULL);
+      for (int i = 0; i < N; ++i) SK_CHECK(x[i] <= 3.0); /* x is left at the last good iterate */
+    } else {
+      /* the line search shortens the step into the admissible region and converges */
+      if (status != SK_OK) fprintf(stderr, "line search %d: %s\n", ls, sk_error_message());
+      SK_CHECK(status == SK_OK);
+      for (int i = 0; i < N; ++i) SK_CHECK_CLOSE(x[i], p.x_star[i], 1e-10);
+    }
+    sk_linsys_destroy(p.sys);
+  }
+
+  /* failure at the initial guess */
+  problem p;
+  problem_init(&p);
+  p.fail_above = 0.0;
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 1.0;
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(strstr(sk_error_message(), "inverted") != NULL);
+  sk_linsys_destroy(p.sys);
+}
+
+static void check_jacobian_failure(void) {
+  problem p;
+  problem_init(&p);
+  p.fail_jacobian = 1;
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0;
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(strstr(sk_error_message(), "assembly exploded") != NULL);
+  SK_CHECK(report.converged == 0);
+  sk_linsys_destroy(p.sys);
+}
+
+static void check_max_iterations(void) {
+  problem p;
+  problem_init(&p);
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  options.max_iterations = 2;
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 10.0;
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(report.converged == 0);
+  SK_CHECK(report.iterations == 2);
+  SK_CHECK(report.n_history == 3);
+  SK_CHECK(strstr(report.reason, "2 iterations") != NULL);
+  SK_CHECK(strstr(sk_error_message(), "2 iterations") != NULL);
+  sk_linsys_destroy(p.sys);
+}
+
+static void check_names_and_defaults(void) {
+  const char *names[] = {"full-step", "backtrack", "polynomial"};
+  for (int i = 0; i < 3; ++i) {
+    sk_line_search ls;
+    SK_CHECK(sk_line_search_from_name(names[i], &ls) == SK_OK);
+    SK_CHECK((int)ls == i);
+  }
+  sk_line_search ls;
+  SK_CHECK(sk_line_search_from_name("trust-region", &ls) == SK_ERR_INPUT);
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  SK_CHECK(options.residual_tolerance == 1e-8 && options.relative_tolerance == 1e-10);
+  SK_CHECK(options.update_tolerance == 1e-8 && options.max_iterations == 25);
+  SK_CHECK(options.line_search == SK_LINE_SEARCH_FULL_STEP && options.verbose == 0);
+}
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  check_names_and_defaults();
+  check_quadratic_convergence(SK_LINE_SEARCH_FULL_STEP);
+  check_quadratic_convergence(SK_LINE_SEARCH_BACKTRACK);
+  check_residual_failure();
+  check_jacobian_failure();
+  check_max_iterations();
+  const int result = sk_test_finish("bridge newton");
+  MPI_Finalize();
+  return result;
+}
