@@ -1,0 +1,144 @@
+/* nts-augmented — the element kernel: one node-to-surface (NTS) element with coordinate augmentation
+ * (Franke, Hesch, Betsch 2013, Eqs 48-61 and App. B). Pure functions, no host: the facet's shape functions come
+ * in through callbacks (the plugin passes host->contact->shape, tests may pass their own).
+ *
+ * Element unknowns, local order: z = [q_s (3) | x_1 .. x_nen (3 each) | f1 f2] (the constraint arguments) and the
+ * element system adds the multipliers: u = [q_A (nq = 3 + 3 nen) | lambda_n | f1 f2 | lambda_aug1 lambda_aug2],
+ * the same order as the plugin's five extra unknowns per slave node [lambda_n, f1, f2, lambda_aug1, lambda_aug2].
+ *
+ * Constraints (k = 0, 1: Phi_aug (48); k = 2: Phi_n (49)), with r = q_s - x(f):
+ *   Phi_aug,a = r . a_a(f),   Phi_n = r . n(f),   n = a_1 x a_2 / |a_1 x a_2| (out of the master body).
+ * Facets: QUAD4 and TRI3 (shape functions at most bilinear, so third parametric derivatives vanish). */
+#ifndef NTS_AUGMENTED_KERNEL_H
+#define NTS_AUGMENTED_KERNEL_H
+
+#include "stickslip/mesh.h"
+
+enum {
+  NTS_MAX_NEN = 4,
+  NTS_MAX_NQ = 3 + 3 * NTS_MAX_NEN,  /* 15 */
+  NTS_MAX_NZ = NTS_MAX_NQ + 2,        /* q_A and f */
+  NTS_MAX_NU = NTS_MAX_NQ + 5,        /* q_A, lambda_n, f, lambda_aug */
+  NTS_PHI_AUG1 = 0,
+  NTS_PHI_AUG2 = 1,
+  NTS_PHI_N = 2
+};
+
+/* Same signatures as sk_contact_services.shape / shape_hessian (fe.h layout: dN[a*2 + k], ddN[(a*2 + k)*2 + l]). */
+typedef void (*nts_shape_fn)(sk_elem_type type, const double *xi, double *N, double *dN);
+typedef void (*nts_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
+
+typedef struct {
+  sk_elem_type type; /* SK_QUAD4 or SK_TRI3 */
+  int nen;
+  nts_shape_fn shape;
+  nts_shape_hessian_fn shape_hessian;
+} nts_facet;
+
+/* Fills a facet descriptor; returns -1 for a face type the kernel does not handle (curved faces). */
+int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian);
+
+/* Constraint values, gradients and the facet geometry at (q_A, f). */
+typedef struct {
+  int nen, nq, nz;
+  double N[NTS_MAX_NEN], dN[NTS_MAX_NEN][2], ddN[NTS_MAX_NEN][2][2];
+  double x[3], r[3];               /* master point x(f), r = q_s - x(f) */
+  double a[2][3], a_ab[2][2][3];   /* a_a = x,a ; a_ab = x,ab */
+  double c[3], c_norm, n[3];       /* c = a_1 x a_2, n = c / |c| */
+  double m[2][2];                  /* metric a_a . a_b */
+  double phi[3];                   /* Phi_aug1, Phi_aug2, Phi_n */
+  double grad[3][NTS_MAX_NZ];      /* d Phi_k / d z */
+} nts_geometry;
+
+void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f[2], nts_geometry *geo);
+
+/* H = sum_k lambda[k] d2 Phi_k / dz2 (nz x nz, row-major), lambda ordered like phi. */
+void nts_constraint_hessian(const nts_geometry *geo, const double lambda[3], double *H);
+
+/* Derivatives of the metric components (m11, m12, m22) with respect to z at geo: dm[3][nz]. */
+void nts_metric_gradient(const nts_geometry *geo, double dm[3][NTS_MAX_NZ]);
+
+/* ---- Coulomb friction (App. B), penalty-regularised return map --------------------------------------------------
+ * Evaluated with the metric at the evaluation configuration y_hat = (q_hat, f_hat) = alpha y_{n+1} + (1-alpha) y_n:
+ *   trial   t_tr = t_n + eps_T m_hat (f_{n+1} - f_n)                        (B.3, end-of-step form)
+ *   |t|^2 = t . m_hat^{-1} t; stick if |t_tr| <= mu |lambda_n|, else t_{n+1} = mu |lambda_n| t_tr / |t_tr|  (B.7)
+ *   force conjugate to f: t_used = (1 - theta) t_n + theta t_{n+1}, theta = alpha.
+ * Derivatives are with respect to the end-of-step unknowns (z_{n+1} and lambda_n): exact, stick and slip. */
+typedef struct {
+  double mu, epsilon_t;
+} nts_friction_params;
+
+typedef struct {
+  double t_next[2];                /* t_{n+1}, covariant */
+  double t_used[2];                /* traction conjugate to f in this step's equations */
+  double dt_dz[2][NTS_MAX_NZ];     /* d t_used / d z_{n+1} */
+  double dt_dlambda_n[2];          /* d t_used / d lambda_n (non-zero when slipping) */
+  double trial_norm;
+  int slip;
+} nts_friction;
+
+void nts_friction_eval(const nts_geometry *geo_hat, double alpha, const double f[2], const double f_start[2],
+                       const double t_start[2], double lambda_n, const nts_friction_params *params,
+                       nts_friction *out);
+
+/* ---- the element system ---------------------------------------------------------------------------------------
+ * Residual rows (u order) of an active element, y_hat = alpha y_{n+1} + (1 - alpha) y_n:
+ *   q_A:        grad_q Phi(y_hat)^T lambda                  (force in F = M + f_int + f_c - f_ext)
+ *   lambda_n:   Phi_n(y_{n+1})
+ *   f:          grad_f Phi(y_hat)^T lambda + t_used          (50)_2
+ *   lambda_aug: Phi_aug(y_{n+1})
+ * Inactive elements carry the trivial rows lambda_n = 0, f = f_frozen, lambda_aug = 0 (and no force).
+ * J = dR/du_{n+1} exactly (d y_hat / d y_{n+1} = alpha). */
+typedef struct {
+  double alpha;                    /* 1: backward Euler / quasi-static; 1/2: midpoint (energy-momentum) */
+  const double *q_A_start;         /* element positions at t_n (nq), used when alpha < 1 */
+  const double *q_A;               /* at t_{n+1} (current iterate) */
+  double f_start[2];               /* f at t_n in this facet's coordinates (friction reference, midpoint) */
+  double t_start[2];               /* committed tangential traction t_n (covariant, this facet) */
+  double f_frozen[2];              /* f of an inactive element */
+  double lambda_n, f[2], lambda_aug[2];
+  int active;
+} nts_element_input;
+
+typedef struct {
+  int nq, nu;                      /* nu = nq + 5 */
+  double R[NTS_MAX_NU];
+  double J[NTS_MAX_NU * NTS_MAX_NU]; /* row-major nu x nu */
+  nts_geometry geo_end;            /* at y_{n+1} */
+  nts_geometry geo_hat;            /* at y_hat */
+  nts_friction friction;
+} nts_element_system;
+
+void nts_element_build(const nts_facet *facet, const nts_element_input *in, const nts_friction_params *params,
+                       nts_element_system *sys);
+
+/* ---- exact static condensation (reduced strategy) -------------------------------------------------------------
+ * Eliminates e = [f, lambda_aug] (the last 4 unknowns) keeping k = [q_A, lambda_n]:
+ *   Jc = J_kk - J_ke J_ee^{-1} J_ek,  rhs = J_ke J_ee^{-1} R_e,  so that  Jc dk = -R_k + rhs,
+ *   and recovery  de = -J_ee^{-1} (R_e + J_ek dk)  (59, with the h_f . Delta f term kept).
+ * Jc is (nq+1)^2 row-major. Return 0, or -1 when J_ee is singular (degenerate facet). */
+int nts_condense(const nts_element_system *sys, double *Jc, double *rhs);
+int nts_recover(const nts_element_system *sys, const double *dk, double de[4]);
+
+/* The paper's projection P_A = -Gq^T inv(Gf^T) (54), nq x 2 row-major, at geo. Returns -1 if Gf is singular. */
+int nts_projection_matrix(const nts_geometry *geo, double *P);
+
+/* lambda_aug = -inv(Gf^T) (hf^T lambda_n + t)   (52), with Gf, hf at geo. */
+int nts_lambda_aug(const nts_geometry *geo, double lambda_n, const double t[2], double lambda_aug[2]);
+
+/* ---- direct approach --------------------------------------------------------------------------------------------
+ * Closest point on the (extended) facet: Newton on Phi_aug(q_A, f) = 0 in f (41), starting from f.
+ * Returns the iterations used, or -1 without convergence (|Phi_aug| <= tol * max(1, |a|^2) not reached). */
+int nts_closest_point(const nts_facet *facet, const double *q_A, double f[2], double tol, int max_iterations);
+
+/* The direct strategy's local elimination: f <- closest point of q_{n+1}, lambda_aug <- the root of the f rows
+ * (52 at y_hat), so that R_f = R_lambda_aug = 0 and the condensed Jacobian of the resulting system is the exact
+ * derivative of the direct residual (implicit function theorem: the consistent second variation, with (44)).
+ * Returns 0, or -1 if the local Newton fails. */
+int nts_direct_eliminate(const nts_facet *facet, nts_element_input *in, const nts_friction_params *params,
+                         double tol, int max_iterations);
+
+/* Small dense helpers shared with the plugin. */
+int nts_solve_dense(int n, double *A, double *b, int nrhs); /* A (n x n) overwritten, b (n x nrhs) <- A^{-1} b */
+
+#endif
