@@ -592,8 +592,14 @@ static void key_path(const sk_cfg *map, const char *key, char *buf, size_t n) {
 }
 
 /* Finds `key`; absent and required → error naming the map's position. *node NULL when absent. */
+static int is_null(const sk_cfg *node) {
+  return node->kind == SK_CFG_SCALAR && node->style == YAML_PLAIN_SCALAR_STYLE &&
+         (node->text[0] == '\0' || strcmp(node->text, "~") == 0 || strcmp(node->text, "null") == 0);
+}
+
 static sk_status lookup(const sk_cfg *map, const char *key, int required, const sk_cfg **node) {
   *node = NULL;
+  if (map && is_null(map)) map = NULL; /* "section:" with nothing below is an empty section */
   if (map && map->kind != SK_CFG_MAP) {
     return sk_error_set(SK_ERR_INPUT, "%s: '%s' should be a map (key: value), got %s", map->where,
                         map->path[0] ? map->path : "(root)", kind_text(map));

@@ -109,9 +109,32 @@ static sk_status remove_tree(const char *path) {
   return SK_OK;
 }
 
+/* An existing `dir` may be replaced only if it is empty or made by stickslip; `staging` names where the new
+ * results wait (NULL before the run). */
+static sk_status check_replaceable(const char *dir, const char *staging) {
+  struct stat st;
+  if (lstat(dir, &st) != 0) {
+    if (errno == ENOENT) return SK_OK;
+    return sk_error_set(SK_ERR_IO, "cannot inspect '%s': %s", dir, strerror(errno));
+  }
+  const char *kept = staging ? "; results are in " : "";
+  if (!S_ISDIR(st.st_mode)) {
+    return sk_error_set(SK_ERR_IO, "refusing to replace '%s': it exists and is not a directory%s%s", dir, kept,
+                        staging ? staging : "");
+  }
+  if (dir_is_empty(dir) != 1 && !is_stickslip_dir(dir)) {
+    return sk_error_set(SK_ERR_IO,
+                        "refusing to replace '%s': it is not empty and is not a stickslip output directory (no %s "
+                        "or stickslip summary.json); move it away or choose another output%s%s",
+                        dir, SK_OUTDIR_MARKER, kept, staging ? staging : "");
+  }
+  return SK_OK;
+}
+
 sk_status sk_outdir_begin(const char *dir, char *staging, size_t staging_size) {
   char clean[PATH_CAP];
   SK_TRY(clean_dir_name(dir, clean));
+  SK_TRY(check_replaceable(clean, NULL)); /* refuse before the run rather than after it */
   int n = snprintf(staging, staging_size, "%s.partial-%ld", clean, (long)getpid());
   if (n < 0 || (size_t)n >= staging_size) {
     return sk_error_set(SK_ERR_INTERNAL, "staging path for '%s' does not fit in %zu bytes", dir, staging_size);
@@ -147,19 +170,11 @@ sk_status sk_outdir_commit(const char *staging, const char *dir) {
     }
     return SK_OK;
   }
-  if (!S_ISDIR(st.st_mode)) {
-    return sk_error_set(SK_ERR_IO, "refusing to replace '%s': it exists and is not a directory; results are in '%s'",
-                        clean, staging);
-  }
-  if (dir_is_empty(clean) != 1 && !is_stickslip_dir(clean)) {
-    return sk_error_set(SK_ERR_IO,
-                        "refusing to replace '%s': it is not empty and is not a stickslip output directory (no %s "
-                        "or stickslip summary.json); move it away or choose another output; results are in '%s'",
-                        clean, SK_OUTDIR_MARKER, staging);
-  }
+  SK_TRY(check_replaceable(clean, staging));
   /* Move the old results aside first, so `dir` is never half old, half new. */
   char old[PATH_CAP + 32];
   snprintf(old, sizeof old, "%s.old-%ld", clean, (long)getpid());
+  SK_TRY(check_replaceable(old, staging)); /* a leftover of ours at worst; never someone else's */
   SK_TRY(remove_tree(old));
   if (rename(clean, old) != 0) {
     return sk_error_set(SK_ERR_IO, "cannot move '%s' aside to '%s': %s", clean, old, strerror(errno));

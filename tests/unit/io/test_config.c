@@ -97,9 +97,16 @@ static void test_parse_and_getters(void) {
   SK_CHECK(sk_cfg_get(root, "nothing") == NULL && sk_cfg_get(NULL, "x") == NULL);
   SK_CHECK(sk_cfg_scalar(pairs) == NULL);
 
-  /* Absent optional sections behave as empty maps. */
+  /* Absent and empty ("section:") optional sections behave as empty maps. */
   double tol = 0;
   SK_CHECK(sk_cfg_double(sk_cfg_get(root, "solver"), "tol", 0, 1e-8, &tol) == SK_OK && tol == 1e-8);
+  sk_cfg *sparse = NULL;
+  SK_CHECK(sk_cfg_parse_string("solver:\nname: x\n", "s.yaml", &sparse) == SK_OK);
+  tol = 0;
+  SK_CHECK(sk_cfg_double(sk_cfg_get(sparse, "solver"), "tol", 0, 1e-6, &tol) == SK_OK && tol == 1e-6);
+  SK_CHECK(sk_cfg_double(sk_cfg_get(sparse, "name"), "tol", 0, 1e-6, &tol) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "s.yaml:2:7: 'name' should be a map"));
+  sk_cfg_free(sparse);
 
   /* Getter errors name position and key path. */
   SK_CHECK(sk_cfg_double(time, "t_start", 1, 0, &t0) == SK_ERR_INPUT);

@@ -381,21 +381,28 @@ static void test_outdir(void) {
   SK_CHECK(access(staging, F_OK) != 0 && file_exists(out, "second.txt"));
   SK_CHECK(sk_outdir_abort(staging) == SK_OK); /* already gone: fine */
 
-  /* a foreign directory is never deleted */
+  /* a foreign directory is never deleted: refused before the run ... */
   char foreign[512];
   tmp_path(foreign, sizeof foreign, "runs/thesis");
   mkdir(foreign, 0777);
   write_file(foreign, "thesis.tex", "precious");
-  SK_CHECK(sk_outdir_begin(foreign, staging, sizeof staging) == SK_OK);
-  SK_CHECK(sk_outdir_commit(staging, foreign) == SK_ERR_IO);
+  SK_CHECK(sk_outdir_begin(foreign, staging, sizeof staging) == SK_ERR_IO);
   SK_CHECK(contains(sk_error_message(), "refusing to replace"));
   SK_CHECK(file_exists(foreign, "thesis.tex"));
+  /* ... and at commit, when it appeared during the run */
+  char late[512];
+  tmp_path(late, sizeof late, "runs/late");
+  SK_CHECK(sk_outdir_begin(late, staging, sizeof staging) == SK_OK);
+  mkdir(late, 0777);
+  write_file(late, "notes.txt", "precious");
+  SK_CHECK(sk_outdir_commit(staging, late) == SK_ERR_IO);
+  SK_CHECK(contains(sk_error_message(), "refusing to replace"));
+  SK_CHECK(contains(sk_error_message(), "results are in"));
+  SK_CHECK(file_exists(late, "notes.txt") && file_exists(staging, SK_OUTDIR_MARKER));
   SK_CHECK(sk_outdir_abort(staging) == SK_OK && access(staging, F_OK) != 0);
   /* a foreign summary.json does not count either; one from stickslip does */
   write_file(foreign, "summary.json", "{\"program\": \"other\"}\n");
-  SK_CHECK(sk_outdir_begin(foreign, staging, sizeof staging) == SK_OK);
-  SK_CHECK(sk_outdir_commit(staging, foreign) == SK_ERR_IO && file_exists(foreign, "thesis.tex"));
-  SK_CHECK(sk_outdir_abort(staging) == SK_OK);
+  SK_CHECK(sk_outdir_begin(foreign, staging, sizeof staging) == SK_ERR_IO && file_exists(foreign, "thesis.tex"));
   char legacy[512];
   tmp_path(legacy, sizeof legacy, "runs/legacy");
   mkdir(legacy, 0777);
@@ -413,10 +420,8 @@ static void test_outdir(void) {
   write_file(runs, "plain", "data");
   char plain[512];
   tmp_path(plain, sizeof plain, "runs/plain");
-  SK_CHECK(sk_outdir_begin(plain, staging, sizeof staging) == SK_OK);
-  SK_CHECK(sk_outdir_commit(staging, plain) == SK_ERR_IO);
+  SK_CHECK(sk_outdir_begin(plain, staging, sizeof staging) == SK_ERR_IO);
   SK_CHECK(contains(sk_error_message(), "not a directory"));
-  SK_CHECK(sk_outdir_abort(staging) == SK_OK);
   /* abort refuses to delete something that is not a staging directory */
   SK_CHECK(sk_outdir_abort(foreign) == SK_ERR_IO && file_exists(foreign, "thesis.tex"));
   SK_CHECK(sk_outdir_begin("", staging, sizeof staging) == SK_ERR_INPUT);
