@@ -23,7 +23,12 @@ sk_status sk_error_prefix(sk_status code, const char *fmt, ...) {
   vsnprintf(prefix, sizeof prefix, fmt, args);
   va_end(args);
   memcpy(previous, error_message, sizeof previous);
-  snprintf(error_message, sizeof error_message, "%s%s", prefix, previous);
+  /* concatenated by hand: truncation of an over-long message is intended */
+  size_t used = strnlen(prefix, sizeof error_message - 1);
+  memcpy(error_message, prefix, used);
+  size_t rest = strnlen(previous, sizeof error_message - 1 - used);
+  memcpy(error_message + used, previous, rest);
+  error_message[used + rest] = '\0';
   return code;
 }
 
