@@ -429,15 +429,25 @@ sk_status sk_cfg_set(sk_cfg *root, const char *assignment) {
   const char *begin = assignment, *end = eq;
   while (begin < end && (*begin == ' ' || *begin == '\t')) ++begin;
   while (end > begin && (end[-1] == ' ' || end[-1] == '\t')) --end;
-  for (const char *c = begin; c < end; ++c) {
+  int in_brackets = 0;
+  const char *bracket_error = NULL;
+  for (const char *c = begin; c < end && !bracket_error; ++c) {
     if (*c == '[') {
+      if (in_brackets) bracket_error = "nested '['";
+      in_brackets = 1;
       key[k++] = '.';
-    } else if (*c != ']') {
+    } else if (*c == ']') {
+      if (!in_brackets) bracket_error = "']' without '['";
+      if (c + 1 < end && c[1] != '.' && c[1] != '[') bracket_error = "expected '.' after ']'";
+      in_brackets = 0;
+    } else {
       key[k++] = *c;
-    } else if (c + 1 < end && c[1] != '.' && c[1] != '[') {
-      free(key);
-      return sk_error_set(SK_ERR_INPUT, "--set '%s': expected '.' after ']'", assignment);
     }
+  }
+  if (in_brackets && !bracket_error) bracket_error = "'[' without ']'";
+  if (bracket_error) {
+    free(key);
+    return sk_error_set(SK_ERR_INPUT, "--set '%s': %s in the key path", assignment, bracket_error);
   }
   key[k] = '\0';
   int bad = k == 0 || key[0] == '.' || key[k - 1] == '.' || strstr(key, "..") != NULL;

@@ -247,6 +247,9 @@ static void test_set(void) {
   SK_CHECK(sk_cfg_set(root, "a..b=3") == SK_ERR_INPUT);
   SK_CHECK(contains(sk_error_message(), "empty part"));
   SK_CHECK(sk_cfg_set(root, "contact.=3") == SK_ERR_INPUT);
+  SK_CHECK(sk_cfg_set(root, "bodies]0.E=3") == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "']' without '['"));
+  SK_CHECK(sk_cfg_set(root, "bodies[0.E=3") == SK_ERR_INPUT);
   SK_CHECK(sk_cfg_set(root, "contact.pairs.5.plugin=x") == SK_ERR_INPUT);
   SK_CHECK(contains(sk_error_message(), "index 5 is out of range: 'contact.pairs'"));
   SK_CHECK(sk_cfg_set(root, "contact.pairs.first.plugin=x") == SK_ERR_INPUT);
