@@ -99,8 +99,16 @@ void sk_search_destroy(sk_search *search);
 /* Refits the face boxes to enclose each face at both q0 (start of step) and q1 (current predictor), inflated by
  * `margin`: a face that cannot be reached during the step is never returned. */
 void sk_search_update(sk_search *search, const double *q0, const double *q1, double margin);
-/* Faces whose boxes overlap the box [lo, hi]; writes at most max_faces ids, returns how many overlap in total. */
+/* Faces whose boxes overlap the box [lo, hi]; writes at most max_faces ids, returns how many overlap in total.
+ * Before the first sk_search_update nothing is returned. */
 int sk_search_query(const sk_search *search, const double lo[3], const double hi[3], int *faces, int max_faces);
+/* The tree's split is made by the first update (create has no positions) and later updates only refit its boxes;
+ * this asks the next update for a new split, for a surface that has deformed a lot. Allocates nothing. */
+void sk_search_rebuild(sk_search *search);
+/* The same answer as sk_search_query by testing every face box (order: increasing face id): the reference for
+ * tests and benchmarks. */
+int sk_search_brute_force(const sk_search *search, const double lo[3], const double hi[3], int *faces,
+                          int max_faces);
 
 /* ---- rigid analytical obstacles ----------------------------------------------------------------------------- */
 typedef enum {

@@ -1,0 +1,330 @@
+/* Contact surfaces: building them from face groups (outward orientation, node list, edge adjacency), covariant
+ * geometry at a surface point and averaged nodal normals. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact_internal.h"
+#include "stickslip/contact.h"
+#include "stickslip/fe.h"
+
+static const sk_face_domain line_domain = {
+    .pdim = 1, .n_corners = 2, .corner = {{-1, 0}, {1, 0}}, .edge_w = {{1, 0}, {-1, 0}}, .edge_offset = {1, 1},
+    .centre = {0, 0}, .lebesgue = 1.0};
+static const sk_face_domain line3_domain = {
+    .pdim = 1, .n_corners = 2, .corner = {{-1, 0}, {1, 0}}, .edge_w = {{1, 0}, {-1, 0}}, .edge_offset = {1, 1},
+    .centre = {0, 0}, .lebesgue = 1.25};
+static const sk_face_domain tri_domain = {.pdim = 2,
+                                          .n_corners = 3,
+                                          .corner = {{0, 0}, {1, 0}, {0, 1}},
+                                          .edge_w = {{0, 1}, {-1, -1}, {1, 0}},
+                                          .edge_offset = {0, 1, 0},
+                                          .centre = {1.0 / 3.0, 1.0 / 3.0},
+                                          .lebesgue = 1.0};
+static const sk_face_domain quad_domain = {.pdim = 2,
+                                           .n_corners = 4,
+                                           .corner = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}},
+                                           .edge_w = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}},
+                                           .edge_offset = {1, 1, 1, 1},
+                                           .centre = {0, 0},
+                                           .lebesgue = 1.0};
+/* Biquadratic Lagrange on [-1,1]^2: the 1D Lebesgue constant 5/4 squared. */
+static const sk_face_domain quad9_domain = {.pdim = 2,
+                                            .n_corners = 4,
+                                            .corner = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}},
+                                            .edge_w = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}},
+                                            .edge_offset = {1, 1, 1, 1},
+                                            .centre = {0, 0},
+                                            .lebesgue = 1.5625};
+
+const sk_face_domain *sk_face_domain_of(sk_elem_type type) {
+  switch (type) {
+  case SK_LINE2: return &line_domain;
+  case SK_LINE3: return &line3_domain;
+  case SK_TRI3: return &tri_domain;
+  case SK_QUAD4: return &quad_domain;
+  case SK_QUAD9: return &quad9_domain;
+  default: return NULL;
+  }
+}
+
+/* ---- building ------------------------------------------------------------------------------------------------ */
+enum { SK_FACE_KEY_MAX = 9 };
+
+typedef struct {
+  int key[SK_FACE_KEY_MAX]; /* sorted node ids, padded with -1 */
+  int elem, local_face;
+} face_record;
+
+static int compare_int(const void *a, const void *b) {
+  int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
+static int compare_face_record(const void *a, const void *b) {
+  const face_record *r = a, *s = b;
+  for (int k = 0; k < SK_FACE_KEY_MAX; ++k)
+    if (r->key[k] != s->key[k]) return (r->key[k] > s->key[k]) - (r->key[k] < s->key[k]);
+  return 0;
+}
+
+static void sorted_key(const int *nodes, int nen, int *key) {
+  memcpy(key, nodes, (size_t)nen * sizeof *key);
+  qsort(key, (size_t)nen, sizeof *key, compare_int);
+  for (int k = nen; k < SK_FACE_KEY_MAX; ++k) key[k] = -1;
+}
+
+typedef struct {
+  int lo, hi; /* corner node ids of the edge, lo <= hi */
+  int face, edge;
+} edge_record;
+
+static int compare_edge_record(const void *a, const void *b) {
+  const edge_record *r = a, *s = b;
+  if (r->lo != s->lo) return (r->lo > s->lo) - (r->lo < s->lo);
+  if (r->hi != s->hi) return (r->hi > s->hi) - (r->hi < s->hi);
+  if (r->face != s->face) return (r->face > s->face) - (r->face < s->face);
+  return (r->edge > s->edge) - (r->edge < s->edge);
+}
+
+/* Global corner node ids of edge `edge` of a face (in 2D both are the end point). */
+static void edge_nodes(const sk_surface *s, int face, int edge, int *a, int *b) {
+  const int *c = s->conn + (size_t)face * s->nen;
+  if (s->dim == 2) {
+    *a = *b = c[edge];
+  } else {
+    *a = c[edge];
+    *b = c[(edge + 1) % s->n_edges];
+  }
+}
+
+static sk_status build_neighbors(sk_surface *s) {
+  size_t n = (size_t)s->n_faces * s->n_edges;
+  edge_record *records = malloc((n ? n : 1) * sizeof *records);
+  s->face_neighbors = malloc((n ? n : 1) * sizeof *s->face_neighbors);
+  if (!records || !s->face_neighbors) {
+    free(records);
+    return sk_error_set(SK_ERR_NOMEM, "surface %s: out of memory for face adjacency", s->name);
+  }
+  for (int f = 0; f < s->n_faces; ++f)
+    for (int e = 0; e < s->n_edges; ++e) {
+      int a, b;
+      edge_nodes(s, f, e, &a, &b);
+      edge_record *r = &records[(size_t)f * s->n_edges + e];
+      r->lo = a < b ? a : b;
+      r->hi = a < b ? b : a;
+      r->face = f;
+      r->edge = e;
+      s->face_neighbors[(size_t)f * s->n_edges + e] = -1;
+    }
+  qsort(records, n, sizeof *records, compare_edge_record);
+  /* Within a run of equal edges (sorted by face id), each face's neighbour is the lowest other face: a manifold
+   * edge has exactly two faces, a non-manifold one gets a deterministic choice. */
+  for (size_t i = 0; i < n;) {
+    size_t j = i;
+    while (j < n && records[j].lo == records[i].lo && records[j].hi == records[i].hi) ++j;
+    for (size_t k = i; k < j; ++k) {
+      int other = -1;
+      for (size_t l = i; l < j && other < 0; ++l)
+        if (records[l].face != records[k].face) other = records[l].face;
+      s->face_neighbors[(size_t)records[k].face * s->n_edges + records[k].edge] = other;
+    }
+    i = j;
+  }
+  free(records);
+  return SK_OK;
+}
+
+static sk_status build_nodes(sk_surface *s) {
+  size_t n = (size_t)s->n_faces * s->nen;
+  s->nodes = malloc((n ? n : 1) * sizeof *s->nodes);
+  if (!s->nodes) return sk_error_set(SK_ERR_NOMEM, "surface %s: out of memory for the node list", s->name);
+  memcpy(s->nodes, s->conn, n * sizeof *s->nodes);
+  qsort(s->nodes, n, sizeof *s->nodes, compare_int);
+  int count = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (count == 0 || s->nodes[count - 1] != s->nodes[i]) s->nodes[count++] = s->nodes[i];
+  s->n_nodes = count;
+  return SK_OK;
+}
+
+sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_group *body, int body_index,
+                           sk_surface *surface) {
+  memset(surface, 0, sizeof *surface);
+  if (!mesh || !faces || !body)
+    return sk_error_set(SK_ERR_INPUT, "contact surface: missing mesh, face group or body group");
+  snprintf(surface->name, sizeof surface->name, "%s", faces->name);
+  const sk_face_domain *domain = sk_face_domain_of(faces->type);
+  if (!domain || domain->pdim != mesh->dim - 1)
+    return sk_error_set(SK_ERR_INPUT, "contact surface %s: element type %d is not a face type of a %dD mesh",
+                        faces->name, (int)faces->type, mesh->dim);
+  sk_elem_type elem_face_type;
+  const int *elem_face_nodes;
+  int elem_face_nen;
+  int n_elem_faces = sk_elem_faces(body->type, &elem_face_type, &elem_face_nodes, &elem_face_nen);
+  if (n_elem_faces <= 0 || elem_face_type != faces->type || elem_face_nen != faces->nen)
+    return sk_error_set(SK_ERR_INPUT, "contact surface %s: its faces (%s) are not faces of the %s elements of body %s",
+                        faces->name, sk_elem_name(faces->type), sk_elem_name(body->type), body->name);
+
+  surface->dim = mesh->dim;
+  surface->face_type = faces->type;
+  surface->nen = faces->nen;
+  surface->n_faces = faces->n_elems;
+  surface->n_edges = domain->n_corners;
+  surface->body = body_index;
+
+  /* All element faces of the body, keyed by their sorted node sets. */
+  size_t n_records = (size_t)body->n_elems * n_elem_faces;
+  face_record *records = malloc((n_records ? n_records : 1) * sizeof *records);
+  surface->conn = malloc(((size_t)surface->n_faces * surface->nen + 1) * sizeof *surface->conn);
+  if (!records || !surface->conn) {
+    free(records);
+    sk_surface_free(surface);
+    return sk_error_set(SK_ERR_NOMEM, "contact surface %s: out of memory", faces->name);
+  }
+  for (int e = 0; e < body->n_elems; ++e)
+    for (int f = 0; f < n_elem_faces; ++f) {
+      face_record *r = &records[(size_t)e * n_elem_faces + f];
+      int nodes[SK_FACE_KEY_MAX];
+      for (int k = 0; k < faces->nen; ++k)
+        nodes[k] = body->conn[(size_t)e * body->nen + elem_face_nodes[f * elem_face_nen + k]];
+      sorted_key(nodes, faces->nen, r->key);
+      r->elem = e;
+      r->local_face = f;
+    }
+  qsort(records, n_records, sizeof *records, compare_face_record);
+
+  sk_status status = SK_OK;
+  for (int f = 0; f < faces->n_elems; ++f) {
+    face_record probe;
+    const int *face_conn = faces->conn + (size_t)f * faces->nen;
+    sorted_key(face_conn, faces->nen, probe.key);
+    const face_record *hit = bsearch(&probe, records, n_records, sizeof *records, compare_face_record);
+    if (!hit) {
+      char list[256] = "";
+      size_t used = 0;
+      for (int k = 0; k < faces->nen && used < sizeof list - 16; ++k)
+        used += (size_t)snprintf(list + used, sizeof list - used, "%s%d", k ? " " : "", face_conn[k]);
+      status = sk_error_set(SK_ERR_INPUT, "contact surface %s: face %d (nodes %s) is not a face of body %s",
+                            faces->name, f, list, body->name);
+      break;
+    }
+    /* The element's own face ordering is outward (fe.h), so it replaces the group's ordering. */
+    for (int k = 0; k < faces->nen; ++k)
+      surface->conn[(size_t)f * faces->nen + k] =
+          body->conn[(size_t)hit->elem * body->nen + elem_face_nodes[hit->local_face * elem_face_nen + k]];
+  }
+  free(records);
+  if (status == SK_OK) status = build_nodes(surface);
+  if (status == SK_OK) status = build_neighbors(surface);
+  if (status != SK_OK) sk_surface_free(surface);
+  return status;
+}
+
+void sk_surface_free(sk_surface *surface) {
+  if (!surface) return;
+  free(surface->conn);
+  free(surface->nodes);
+  free(surface->face_neighbors);
+  surface->conn = surface->nodes = surface->face_neighbors = NULL;
+  surface->n_faces = surface->n_nodes = 0;
+}
+
+/* ---- geometry ------------------------------------------------------------------------------------------------ */
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void cross3(const double *a, const double *b, double *c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+void sk_surface_geometry(const sk_surface *surface, int face, const double *xi, const double *q,
+                         sk_surface_point *point) {
+  memset(point, 0, sizeof *point);
+  const int dim = surface->dim, nen = surface->nen;
+  const int pdim = dim - 1;
+  const int *conn = surface->conn + (size_t)face * nen;
+  double dN[SK_MAX_NEN * 2], ddN[SK_MAX_NEN * 4];
+  point->face = face;
+  point->xi[0] = xi[0];
+  point->xi[1] = pdim == 2 ? xi[1] : 0.0;
+  point->nen = nen;
+  sk_elem_shape(surface->face_type, xi, point->N, dN);
+  sk_elem_shape_hessian(surface->face_type, xi, ddN);
+  for (int a = 0; a < nen; ++a) {
+    const double *xa = q + (size_t)conn[a] * dim;
+    for (int k = 0; k < pdim; ++k) point->dN[a][k] = dN[a * pdim + k];
+    for (int i = 0; i < dim; ++i) {
+      point->x[i] += point->N[a] * xa[i];
+      for (int k = 0; k < pdim; ++k) {
+        point->a[k][i] += dN[a * pdim + k] * xa[i];
+        for (int l = 0; l < pdim; ++l) point->a_ab[k][l][i] += ddN[(a * pdim + k) * pdim + l] * xa[i];
+      }
+    }
+  }
+  if (pdim == 1) point->a[1][2] = 1.0; /* e_z: the 2D case reads as a 3D one */
+
+  double normal[3];
+  cross3(point->a[0], point->a[1], normal);
+  point->jacobian = sqrt(dot3(normal, normal));
+  for (int k = 0; k < 2; ++k)
+    for (int l = 0; l < 2; ++l) point->m[k][l] = dot3(point->a[k], point->a[l]);
+  double det = point->m[0][0] * point->m[1][1] - point->m[0][1] * point->m[1][0];
+  /* A degenerate face (zero area) leaves n, m_inv and what depends on them zero instead of producing NaNs. */
+  if (point->jacobian <= 0.0 || det <= 0.0) return;
+  for (int i = 0; i < 3; ++i) point->n[i] = normal[i] / point->jacobian;
+  point->m_inv[0][0] = point->m[1][1] / det;
+  point->m_inv[1][1] = point->m[0][0] / det;
+  point->m_inv[0][1] = point->m_inv[1][0] = -point->m[0][1] / det;
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 3; ++i) point->a_dual[k][i] = point->m_inv[k][0] * point->a[0][i] + point->m_inv[k][1] * point->a[1][i];
+  for (int k = 0; k < 2; ++k)
+    for (int l = 0; l < 2; ++l) {
+      point->h[k][l] = dot3(point->a_ab[k][l], point->n);
+      for (int c = 0; c < 2; ++c) point->christoffel[k][l][c] = dot3(point->a_ab[k][l], point->a_dual[c]);
+    }
+}
+
+/* Position of surface node `node` (global id) in surface->nodes, or -1. */
+static int surface_node_index(const sk_surface *surface, int node) {
+  int lo = 0, hi = surface->n_nodes - 1;
+  while (lo <= hi) {
+    int mid = lo + (hi - lo) / 2;
+    if (surface->nodes[mid] == node) return mid;
+    if (surface->nodes[mid] < node) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double *normals) {
+  memset(normals, 0, (size_t)surface->n_nodes * 3 * sizeof *normals);
+  const double *node_xi = sk_elem_node_coords(surface->face_type);
+  const int pdim = surface->dim - 1;
+  int n_qp;
+  const double *qp_xi, *qp_w;
+  sk_elem_quadrature(surface->face_type, &n_qp, &qp_xi, &qp_w);
+  sk_surface_point point;
+  for (int f = 0; f < surface->n_faces; ++f) {
+    double area = 0.0;
+    for (int p = 0; p < n_qp; ++p) {
+      sk_surface_geometry(surface, f, qp_xi + p * pdim, q, &point);
+      area += qp_w[p] * point.jacobian;
+    }
+    /* Each node takes the face normal at its own parametric position (exact for curved quadratic faces), weighted
+     * by the face area. */
+    for (int a = 0; a < surface->nen; ++a) {
+      sk_surface_geometry(surface, f, node_xi + a * pdim, q, &point);
+      int index = surface_node_index(surface, surface->conn[(size_t)f * surface->nen + a]);
+      if (index < 0) continue;
+      for (int i = 0; i < 3; ++i) normals[3 * index + i] += area * point.n[i];
+    }
+  }
+  for (int k = 0; k < surface->n_nodes; ++k) {
+    double length = sqrt(dot3(normals + 3 * k, normals + 3 * k));
+    if (length > 0.0)
+      for (int i = 0; i < 3; ++i) normals[3 * k + i] /= length;
+  }
+}
