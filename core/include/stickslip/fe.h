@@ -53,7 +53,8 @@ typedef struct {
 sk_status sk_material_init(sk_material *mat, sk_material_model model, double E, double nu, double density);
 sk_status sk_material_model_from_name(const char *name, sk_material_model *model); /* hooke | svk | neo-hooke */
 /* Strain energy density W(C). Returns SK_ERR_INVERTED if det C <= 0 (Neo-Hooke). For HOOKE, C is not used:
- * call the Hooke kernel through the solid routines. */
+ * call the Hooke kernel through the solid routines. (If called anyway, HOOKE reads its argument as I + 2 eps with
+ * eps the small strain, i.e. the same quadratic function as SVK, and S is then the Cauchy stress.) */
 sk_status sk_material_energy(const sk_material *mat, const double C[9], double *W);
 /* Second Piola-Kirchhoff stress S = 2 dW/dC. */
 sk_status sk_material_stress(const sk_material *mat, const double C[9], double S[9]);
@@ -80,7 +81,9 @@ sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u
 sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const double *u0, const double *u1,
                                      double *f, double *K);
 
-/* Consistent mass matrix, scalar form M[a*nen + b] = integral rho0 N_a N_b (expand per component). */
+/* Consistent mass matrix, scalar form M[a*nen + b] = integral rho0 N_a N_b (expand per component). Integrated
+ * exactly also on distorted quads/hexes (3 or 5 Gauss points per direction), so sum_ab M_ab X_a X_b^T is the exact
+ * inertia integral rho0 X X^T. */
 sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M);
 
 /* Element volume (area in 2D) in the reference configuration. */

@@ -1,0 +1,444 @@
+/* Total-Lagrangian solid kernels: internal energy/force/stiffness, the energy-momentum (discrete-gradient)
+ * midpoint force, consistent mass, volume and Cauchy stress; surface traction loads.
+ *
+ * Every kernel runs in two passes: pass 1 evaluates all quadrature-point quantities (the only fallible part:
+ * inverted elements, bad geometry) into a stack cache, pass 2 assembles. So outputs are untouched on error. */
+#include <math.h>
+#include <string.h>
+
+#include "fe_internal.h"
+
+enum { MAX_DOF = SK_MAX_NEN * 3 };
+
+/* Voigt pairs (I, J) per dimension: 3D (00, 11, 22, 01, 12, 02); plane strain keeps (00, 11, 01). */
+static const int voigt3_i[6] = {0, 1, 2, 0, 1, 0}, voigt3_j[6] = {0, 1, 2, 1, 2, 2};
+static const int voigt2_i[3] = {0, 1, 0}, voigt2_j[3] = {0, 1, 1};
+static const int voigt2_of3[3] = {0, 1, 3}; /* position of the plane-strain components in the 3D Voigt order */
+
+static sk_status check_solid(const sk_solid *el, const double *X, const char *what) {
+  if (!el || !el->mat || !X) return sk_error_set(SK_ERR_INPUT, "%s: NULL element, material or coordinates", what);
+  if (el->dim != 2 && el->dim != 3)
+    return sk_error_set(SK_ERR_INPUT, "%s: dimension %d is not 2 or 3", what, el->dim);
+  if (sk_elem_pdim(el->type) != el->dim)
+    return sk_error_set(SK_ERR_INPUT, "%s: element type %s is not a %dD solid element", what,
+                        sk_elem_name(el->type), el->dim);
+  return SK_OK;
+}
+
+/* Reference gradients of the shape functions dNdX[a*dim + k] and weight * det J at one quadrature point. */
+static sk_status reference_gradients(sk_elem_type type, int dim, int nen, const double *X, const double *xi,
+                                     double weight, double *N, double *dNdX, double *wdet, int qp) {
+  double dN[SK_MAX_NEN * 3];
+  sk_elem_shape(type, xi, N, dN);
+  double J[9] = {0}; /* J[k*dim + l] = dX_k / dxi_l */
+  for (int a = 0; a < nen; ++a)
+    for (int k = 0; k < dim; ++k)
+      for (int l = 0; l < dim; ++l) J[k * dim + l] += X[a * dim + k] * dN[a * dim + l];
+  double detJ, Ji[9];
+  if (dim == 2) {
+    detJ = J[0] * J[3] - J[1] * J[2];
+    Ji[0] = J[3] / detJ, Ji[1] = -J[1] / detJ, Ji[2] = -J[2] / detJ, Ji[3] = J[0] / detJ;
+  } else {
+    detJ = sk_fe_det3(J);
+    if (detJ > 0.0) sk_fe_inverse3(J, detJ, Ji);
+  }
+  if (!(detJ > 0.0))
+    return sk_error_set(SK_ERR_INPUT,
+                        "%s element: reference Jacobian det J = %g <= 0 at quadrature point %d (degenerate or "
+                        "inside-out node ordering)",
+                        sk_elem_name(type), detJ, qp);
+  for (int a = 0; a < nen; ++a)
+    for (int k = 0; k < dim; ++k) {
+      double sum = 0.0;
+      for (int l = 0; l < dim; ++l) sum += dN[a * dim + l] * Ji[l * dim + k];
+      dNdX[a * dim + k] = sum;
+    }
+  *wdet = weight * detJ;
+  return SK_OK;
+}
+
+/* Displacement gradient H (3x3, zero out of plane in 2D). */
+static void displacement_gradient(int dim, int nen, const double *dNdX, const double *u, double H[9]) {
+  memset(H, 0, 9 * sizeof *H);
+  for (int a = 0; a < nen; ++a)
+    for (int i = 0; i < dim; ++i)
+      for (int k = 0; k < dim; ++k) H[i * 3 + k] += u[a * dim + i] * dNdX[a * dim + k];
+}
+
+/* Kinematics of one state: the gradient used in the B matrices (F, or I for Hooke) and the right Cauchy-Green
+ * tensor the material sees (C = F^T F, or I + 2 eps for Hooke). Checks det F > 0 for the finite-strain models. */
+static sk_status kinematics(const sk_solid *el, const double H[9], double Fb[9], double C[9], int qp) {
+  if (el->mat->model == SK_MAT_HOOKE) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        Fb[i * 3 + j] = (i == j);
+        C[i * 3 + j] = (i == j) + H[i * 3 + j] + H[j * 3 + i];
+      }
+    return SK_OK;
+  }
+  for (int i = 0; i < 9; ++i) Fb[i] = H[i];
+  Fb[0] += 1.0, Fb[4] += 1.0, Fb[8] += 1.0;
+  const double detF = sk_fe_det3(Fb);
+  if (!(detF > 0.0))
+    return sk_error_set(SK_ERR_INVERTED, "%s element inverted: det F = %g <= 0 at quadrature point %d",
+                        sk_elem_name(el->type), detF, qp);
+  for (int I = 0; I < 3; ++I)
+    for (int J = I; J < 3; ++J) {
+      const double c = Fb[I] * Fb[J] + Fb[3 + I] * Fb[3 + J] + Fb[6 + I] * Fb[6 + J];
+      C[I * 3 + J] = C[J * 3 + I] = c;
+    }
+  return SK_OK;
+}
+
+/* B[(a*dim + i)*nv + v] = (sym(F^T (e_i (x) dN_a)))_v in engineering Voigt form, so S_v . B = S : dE. */
+static void build_b(int dim, int nen, const double *dNdX, const double F[9], double *B) {
+  const int nv = dim == 3 ? 6 : 3;
+  const int *vi = dim == 3 ? voigt3_i : voigt2_i, *vj = dim == 3 ? voigt3_j : voigt2_j;
+  for (int a = 0; a < nen; ++a) {
+    const double *dN = dNdX + a * dim;
+    for (int i = 0; i < dim; ++i) {
+      const double *Fi = F + i * 3;
+      double *b = B + (a * dim + i) * nv;
+      for (int v = 0; v < nv; ++v) {
+        const int I = vi[v], J = vj[v];
+        b[v] = I == J ? Fi[I] * dN[I] : Fi[I] * dN[J] + Fi[J] * dN[I];
+      }
+    }
+  }
+}
+
+/* Stress and tangent restricted to the dimension's Voigt components. */
+static void compress_voigt(int dim, const double S[9], const double D[36], double *Sv, double *Dv) {
+  if (dim == 3) {
+    for (int v = 0; v < 6; ++v) Sv[v] = S[voigt3_i[v] * 3 + voigt3_j[v]];
+    if (D) memcpy(Dv, D, 36 * sizeof *D);
+    return;
+  }
+  for (int v = 0; v < 3; ++v) {
+    Sv[v] = S[voigt2_i[v] * 3 + voigt2_j[v]];
+    if (D)
+      for (int w = 0; w < 3; ++w) Dv[v * 3 + w] = D[voigt2_of3[v] * 6 + voigt2_of3[w]];
+  }
+}
+
+typedef struct {
+  double dNdX[SK_MAX_QP][SK_MAX_NEN * 3];
+  double wdet[SK_MAX_QP];
+  double F[SK_MAX_QP][9];  /* gradient of the B matrices (F, F_mid for the midpoint force, I for Hooke) */
+  double F1[SK_MAX_QP][9]; /* midpoint only: gradient of the end state, for dE1/du1 */
+  double S[SK_MAX_QP][9];  /* (algorithmic) second Piola-Kirchhoff stress */
+  double D[SK_MAX_QP][36]; /* (algorithmic) tangent, Voigt; not symmetric for the midpoint correction */
+} qp_cache;
+
+/* K(upper) += w (B^T D B1) over all dof pairs, plus the geometric part scale * dN_a.S.dN_b on equal components.
+ * symmetric: fill only c >= r (caller mirrors). */
+static void assemble_stiffness(int dim, int nen, double w, const double *B, const double *B1, const double *Dv,
+                               const double S[9], const double *dNdX, double geometric_scale, int symmetric,
+                               double *K) {
+  const int nv = dim == 3 ? 6 : 3, ndof = nen * dim;
+  double DB[MAX_DOF * 6];
+  for (int c = 0; c < ndof; ++c)
+    for (int v = 0; v < nv; ++v) {
+      double sum = 0.0;
+      for (int x = 0; x < nv; ++x) sum += Dv[v * nv + x] * B1[c * nv + x];
+      DB[c * nv + v] = w * sum;
+    }
+  for (int r = 0; r < ndof; ++r) {
+    const double *br = B + r * nv;
+    double *Kr = K + r * ndof;
+    for (int c = symmetric ? r : 0; c < ndof; ++c) {
+      const double *dbc = DB + c * nv;
+      double sum = 0.0;
+      for (int v = 0; v < nv; ++v) sum += br[v] * dbc[v];
+      Kr[c] += sum;
+    }
+  }
+  if (geometric_scale == 0.0) return;
+  for (int a = 0; a < nen; ++a) {
+    const double *dNa = dNdX + a * dim;
+    double SdNa[3] = {0, 0, 0};
+    for (int I = 0; I < dim; ++I)
+      for (int J = 0; J < dim; ++J) SdNa[J] += dNa[I] * S[I * 3 + J];
+    for (int b = symmetric ? a : 0; b < nen; ++b) {
+      const double *dNb = dNdX + b * dim;
+      double g = 0.0;
+      for (int J = 0; J < dim; ++J) g += SdNa[J] * dNb[J];
+      g *= w * geometric_scale;
+      for (int i = 0; i < dim; ++i) K[(a * dim + i) * ndof + b * dim + i] += g;
+    }
+  }
+}
+
+sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u, double *W, double *f, double *K) {
+  SK_TRY(check_solid(el, X, "sk_solid_internal"));
+  if (!u) return sk_error_set(SK_ERR_INPUT, "sk_solid_internal: NULL displacement");
+  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim, nv = dim == 3 ? 6 : 3;
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  qp_cache cache;
+  double energy = 0.0;
+  for (int q = 0; q < nq; ++q) {
+    double H[9], C[9], Wq;
+    SK_TRY(reference_gradients(el->type, dim, nen, X, qxi + q * dim, qw[q], NULL, cache.dNdX[q], &cache.wdet[q], q));
+    displacement_gradient(dim, nen, cache.dNdX[q], u, H);
+    SK_TRY(kinematics(el, H, cache.F[q], C, q));
+    SK_TRY(sk_fe_material_eval(el->mat, C, &Wq, cache.S[q], K ? cache.D[q] : NULL));
+    energy += cache.wdet[q] * Wq;
+  }
+  if (W) *W = energy;
+  if (!f && !K) return SK_OK;
+  if (f) memset(f, 0, (size_t)ndof * sizeof *f);
+  if (K) memset(K, 0, (size_t)ndof * ndof * sizeof *K);
+  const double geometric = el->mat->model == SK_MAT_HOOKE ? 0.0 : 1.0;
+  for (int q = 0; q < nq; ++q) {
+    double B[MAX_DOF * 6], Sv[6], Dv[36];
+    build_b(dim, nen, cache.dNdX[q], cache.F[q], B);
+    compress_voigt(dim, cache.S[q], K ? cache.D[q] : NULL, Sv, Dv);
+    if (f)
+      for (int r = 0; r < ndof; ++r) {
+        double sum = 0.0;
+        for (int v = 0; v < nv; ++v) sum += B[r * nv + v] * Sv[v];
+        f[r] += cache.wdet[q] * sum;
+      }
+    if (K) assemble_stiffness(dim, nen, cache.wdet[q], B, B, Dv, cache.S[q], cache.dNdX[q], geometric, 1, K);
+  }
+  if (K)
+    for (int r = 0; r < ndof; ++r)
+      for (int c = 0; c < r; ++c) K[r * ndof + c] = K[c * ndof + r];
+  return SK_OK;
+}
+
+/* Relative size of |dC|^2 below which the discrete-gradient correction is dropped. The remainder is computed
+ * without cancellation (sk_fe_material_midpoint_remainder), so the force stays accurate for tiny dC; the limit
+ * only keeps the O(eps / |dC|) round-off of the correction's derivative out of K. Dropping changes the
+ * energy balance by O(|dC|^3) = O(1e-24) relative, far below round-off. */
+static const double MIDPOINT_DROP_TOL = 1e-16;
+
+/* Algorithmic stress S_algo = S_m + beta dC and its derivative w.r.t. E1 (Voigt, not symmetric):
+ *   D_algo = CC_m/2 + dC (x) G + 2 beta II,  G = (2/q)(S1 - S_m - CC_m:dC/4 - 2 beta dC),  q = dC:dC. */
+static sk_status midpoint_stress(const sk_material *mat, const double C0[9], const double C1[9], double S[9],
+                                 double *D) {
+  double Cm[9], dC[9];
+  double q = 0.0, cc = 0.0;
+  for (int i = 0; i < 9; ++i) {
+    Cm[i] = 0.5 * (C0[i] + C1[i]);
+    dC[i] = C1[i] - C0[i];
+    q += dC[i] * dC[i];
+    cc += Cm[i] * Cm[i];
+  }
+  SK_TRY(sk_fe_material_eval(mat, Cm, NULL, S, D));
+  if (D)
+    for (int i = 0; i < 36; ++i) D[i] *= 0.5;
+  if (sk_fe_material_is_quadratic(mat) || q < MIDPOINT_DROP_TOL * (1.0 + cc)) return SK_OK;
+  const double beta = 2.0 * sk_fe_material_midpoint_remainder(mat, C0, C1, Cm) / q;
+  if (D) {
+    double S1[9], dCv[6], G[6];
+    SK_TRY(sk_fe_material_eval(mat, C1, NULL, S1, NULL));
+    for (int v = 0; v < 6; ++v) dCv[v] = dC[voigt3_i[v] * 3 + voigt3_j[v]];
+    for (int v = 0; v < 6; ++v) {
+      /* (CC_m : dC)_v = sum over Voigt of CC_m (engineering: shear components count twice); D holds CC_m/2. */
+      double CCdC = 0.0;
+      for (int x = 0; x < 6; ++x) CCdC += 2.0 * D[v * 6 + x] * dCv[x] * (x < 3 ? 1.0 : 2.0);
+      const int I = voigt3_i[v], J = voigt3_j[v];
+      G[v] = (2.0 / q) * (S1[I * 3 + J] - S[I * 3 + J] - 0.25 * CCdC - 2.0 * beta * dCv[v]);
+    }
+    for (int v = 0; v < 6; ++v) {
+      for (int x = 0; x < 6; ++x) D[v * 6 + x] += dCv[v] * G[x];
+      D[v * 6 + v] += v < 3 ? 2.0 * beta : beta;
+    }
+  }
+  for (int i = 0; i < 9; ++i) S[i] += beta * dC[i];
+  return SK_OK;
+}
+
+sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const double *u0, const double *u1,
+                                     double *f, double *K) {
+  SK_TRY(check_solid(el, X, "sk_solid_internal_midpoint"));
+  if (!u0 || !u1) return sk_error_set(SK_ERR_INPUT, "sk_solid_internal_midpoint: NULL displacement");
+  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim, nv = dim == 3 ? 6 : 3;
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  qp_cache cache;
+  for (int q = 0; q < nq; ++q) {
+    double H0[9], H1[9], F0[9], C0[9], C1[9];
+    SK_TRY(reference_gradients(el->type, dim, nen, X, qxi + q * dim, qw[q], NULL, cache.dNdX[q], &cache.wdet[q], q));
+    displacement_gradient(dim, nen, cache.dNdX[q], u0, H0);
+    displacement_gradient(dim, nen, cache.dNdX[q], u1, H1);
+    SK_TRY(kinematics(el, H0, F0, C0, q));
+    SK_TRY(kinematics(el, H1, cache.F1[q], C1, q));
+    for (int i = 0; i < 9; ++i) cache.F[q][i] = 0.5 * (F0[i] + cache.F1[q][i]);
+    SK_TRY(midpoint_stress(el->mat, C0, C1, cache.S[q], K ? cache.D[q] : NULL));
+  }
+  if (f) memset(f, 0, (size_t)ndof * sizeof *f);
+  if (K) memset(K, 0, (size_t)ndof * ndof * sizeof *K);
+  /* dF_mid/du1 = 1/2 dF1/du1: the geometric term carries a factor 1/2. */
+  const double geometric = el->mat->model == SK_MAT_HOOKE ? 0.0 : 0.5;
+  for (int q = 0; q < nq; ++q) {
+    double Bm[MAX_DOF * 6], B1[MAX_DOF * 6], Sv[6], Dv[36];
+    build_b(dim, nen, cache.dNdX[q], cache.F[q], Bm);
+    compress_voigt(dim, cache.S[q], K ? cache.D[q] : NULL, Sv, Dv);
+    if (f)
+      for (int r = 0; r < ndof; ++r) {
+        double sum = 0.0;
+        for (int v = 0; v < nv; ++v) sum += Bm[r * nv + v] * Sv[v];
+        f[r] += cache.wdet[q] * sum;
+      }
+    if (K) {
+      build_b(dim, nen, cache.dNdX[q], cache.F1[q], B1);
+      assemble_stiffness(dim, nen, cache.wdet[q], Bm, B1, Dv, cache.S[q], cache.dNdX[q], geometric, 0, K);
+    }
+  }
+  return SK_OK;
+}
+
+/* Gauss-Legendre points on [-1, 1] for the mass rule. */
+static const double gauss3_x[3] = {-0.77459666924148337704, 0.0, 0.77459666924148337704};
+static const double gauss3_w[3] = {0.55555555555555555556, 0.88888888888888888889, 0.55555555555555555556};
+static const double gauss5_x[5] = {-0.90617984593866399280, -0.53846931010568309104, 0.0, 0.53846931010568309104,
+                                   0.90617984593866399280};
+static const double gauss5_w[5] = {0.23692688505618908751, 0.47862867049936646804, 0.56888888888888888889,
+                                   0.47862867049936646804, 0.23692688505618908751};
+
+/* Mass integrand N_a N_b det J on a distorted (non-affine) tensor-product element has degree 4 (linear) or up
+ * to 9 (quadratic) per direction, beyond the stiffness rule, so the mass uses 3 or 5 Gauss points per direction
+ * to stay exact (total mass and inertia tensor reproduced). Simplices use their affine-exact rule. */
+sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M) {
+  SK_TRY(check_solid(el, X, "sk_solid_mass"));
+  if (!M) return sk_error_set(SK_ERR_INPUT, "sk_solid_mass: NULL output");
+  const int dim = el->dim, nen = sk_elem_nen(el->type);
+  const double rho = el->mat->density;
+  double Mloc[SK_MAX_NEN * SK_MAX_NEN] = {0};
+  const int simplex = el->type == SK_TRI3 || el->type == SK_TET4;
+  const int quadratic = el->type == SK_QUAD9 || el->type == SK_HEX27;
+  const int n1 = quadratic ? 5 : 3;
+  const double *gx = quadratic ? gauss5_x : gauss3_x, *gw = quadratic ? gauss5_w : gauss3_w;
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  if (!simplex) nq = dim == 2 ? n1 * n1 : n1 * n1 * n1;
+  for (int q = 0; q < nq; ++q) {
+    double xi[3], weight, N[SK_MAX_NEN], dNdX[SK_MAX_NEN * 3], wdet;
+    if (simplex) {
+      for (int k = 0; k < dim; ++k) xi[k] = qxi[q * dim + k];
+      weight = qw[q];
+    } else {
+      int rest = q;
+      weight = 1.0;
+      for (int k = 0; k < dim; ++k) {
+        xi[k] = gx[rest % n1];
+        weight *= gw[rest % n1];
+        rest /= n1;
+      }
+    }
+    SK_TRY(reference_gradients(el->type, dim, nen, X, xi, weight, N, dNdX, &wdet, q));
+    for (int a = 0; a < nen; ++a)
+      for (int b = a; b < nen; ++b) Mloc[a * nen + b] += rho * wdet * N[a] * N[b];
+  }
+  for (int a = 0; a < nen; ++a)
+    for (int b = 0; b < nen; ++b) M[a * nen + b] = b >= a ? Mloc[a * nen + b] : Mloc[b * nen + a];
+  return SK_OK;
+}
+
+double sk_solid_volume(const sk_solid *el, const double *X) {
+  if (!el || !X || (el->dim != 2 && el->dim != 3) || sk_elem_pdim(el->type) != el->dim) return 0.0;
+  const int dim = el->dim, nen = sk_elem_nen(el->type);
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  double volume = 0.0;
+  for (int q = 0; q < nq; ++q) {
+    double dN[SK_MAX_NEN * 3], J[9] = {0};
+    sk_elem_shape(el->type, qxi + q * dim, NULL, dN);
+    for (int a = 0; a < nen; ++a)
+      for (int k = 0; k < dim; ++k)
+        for (int l = 0; l < dim; ++l) J[k * dim + l] += X[a * dim + k] * dN[a * dim + l];
+    volume += qw[q] * (dim == 2 ? J[0] * J[3] - J[1] * J[2] : sk_fe_det3(J));
+  }
+  return volume;
+}
+
+sk_status sk_solid_cauchy(const sk_solid *el, const double *X, const double *u, double sigma[9]) {
+  SK_TRY(check_solid(el, X, "sk_solid_cauchy"));
+  if (!u || !sigma) return sk_error_set(SK_ERR_INPUT, "sk_solid_cauchy: NULL displacement or output");
+  const int dim = el->dim, nen = sk_elem_nen(el->type);
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  double sum[9] = {0}, volume = 0.0;
+  for (int q = 0; q < nq; ++q) {
+    double dNdX[SK_MAX_NEN * 3], wdet, H[9], F[9], C[9], S[9];
+    SK_TRY(reference_gradients(el->type, dim, nen, X, qxi + q * dim, qw[q], NULL, dNdX, &wdet, q));
+    displacement_gradient(dim, nen, dNdX, u, H);
+    SK_TRY(kinematics(el, H, F, C, q));
+    SK_TRY(sk_fe_material_eval(el->mat, C, NULL, S, NULL));
+    /* sigma = F S F^T / det F (F = I for Hooke, where S is already sigma). */
+    const double scale = wdet / sk_fe_det3(F);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double s = 0.0;
+        for (int I = 0; I < 3; ++I)
+          for (int J = 0; J < 3; ++J) s += F[i * 3 + I] * S[I * 3 + J] * F[j * 3 + J];
+        sum[i * 3 + j] += scale * s;
+      }
+    volume += wdet;
+  }
+  for (int i = 0; i < 9; ++i) sigma[i] = sum[i] / volume;
+  return SK_OK;
+}
+
+/* Surface measure sqrt(det(a^T a)) of the tangent vectors a_k = dX/dxi_k, and shape values, at one point. */
+static double face_measure(sk_elem_type type, int dim, const double *X, const double *xi, double *N) {
+  const int nen = sk_elem_nen(type), pdim = sk_elem_pdim(type);
+  double dN[SK_MAX_NEN * 3], a[2][3] = {{0}};
+  sk_elem_shape(type, xi, N, dN);
+  for (int k = 0; k < pdim; ++k)
+    for (int n = 0; n < nen; ++n)
+      for (int i = 0; i < dim; ++i) a[k][i] += X[n * dim + i] * dN[n * pdim + k];
+  if (pdim == 0) return 1.0;
+  double g11 = 0.0, g12 = 0.0, g22 = 0.0;
+  for (int i = 0; i < dim; ++i) {
+    g11 += a[0][i] * a[0][i];
+    g12 += a[0][i] * a[1][i];
+    g22 += a[1][i] * a[1][i];
+  }
+  return pdim == 1 ? sqrt(g11) : sqrt(fmax(g11 * g22 - g12 * g12, 0.0));
+}
+
+static int face_valid(sk_elem_type type, int dim, const double *X) {
+  const int pdim = sk_elem_pdim(type);
+  return X && (dim == 2 || dim == 3) && pdim >= 0 && pdim < dim && pdim <= 2;
+}
+
+void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f) {
+  if (!f) return;
+  const int valid = face_valid(type, dim, X) && t;
+  const int nen = sk_elem_nen(type);
+  for (int i = 0; i < nen * dim; ++i) f[i] = 0.0;
+  if (!valid) return;
+  const int pdim = sk_elem_pdim(type);
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(type, &nq, &qxi, &qw);
+  for (int q = 0; q < nq; ++q) {
+    double N[SK_MAX_NEN];
+    const double w = qw[q] * face_measure(type, dim, X, qxi + q * pdim, N);
+    for (int a = 0; a < nen; ++a)
+      for (int i = 0; i < dim; ++i) f[a * dim + i] += w * N[a] * t[i];
+  }
+}
+
+double sk_face_area(sk_elem_type type, int dim, const double *X) {
+  if (!face_valid(type, dim, X)) return 0.0;
+  const int pdim = sk_elem_pdim(type);
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(type, &nq, &qxi, &qw);
+  double area = 0.0;
+  for (int q = 0; q < nq; ++q) {
+    double N[SK_MAX_NEN];
+    area += qw[q] * face_measure(type, dim, X, qxi + q * pdim, N);
+  }
+  return area;
+}
