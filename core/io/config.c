@@ -437,8 +437,11 @@ sk_status sk_cfg_set(sk_cfg *root, const char *assignment) {
       in_brackets = 1;
       key[k++] = '.';
     } else if (*c == ']') {
-      if (!in_brackets) bracket_error = "']' without '['";
-      if (c + 1 < end && c[1] != '.' && c[1] != '[') bracket_error = "expected '.' after ']'";
+      if (!in_brackets) {
+        bracket_error = "']' without '['";
+      } else if (c + 1 < end && c[1] != '.' && c[1] != '[') {
+        bracket_error = "expected '.' after ']'";
+      }
       in_brackets = 0;
     } else {
       key[k++] = *c;
