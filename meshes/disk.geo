@@ -32,7 +32,7 @@ Curve Loop(1) = {1, 2, 3, 4};
 Plane Surface(1) = {1};
 For i In {0 : 3}
   j = (i + 1) % 4;
-  Curve Loop(2 + i) = {1 + i, 9 + j, -(5 + i), -(9 + i)};
+  Curve Loop(2 + i) = {9 + i, 5 + i, -(9 + j), -(1 + i)};   // counter-clockwise: positive quads
   Plane Surface(2 + i) = {2 + i};
 EndFor
 Transfinite Surface{1 : 5};

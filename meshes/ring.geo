@@ -27,7 +27,7 @@ For i In {0 : 3}
   j = (i + 1) % 4;
   Transfinite Curve{1 + i, 5 + i} = Floor((i + 1) * na / 4) - Floor(i * na / 4) + 1;
   Transfinite Curve{9 + i} = nw + 1;
-  Curve Loop(1 + i) = {1 + i, 9 + j, -(5 + i), -(9 + i)};
+  Curve Loop(1 + i) = {9 + i, 5 + i, -(9 + j), -(1 + i)};   // counter-clockwise: positive quads
   Plane Surface(1 + i) = {1 + i};
   Transfinite Surface{1 + i};
   Recombine Surface{1 + i};

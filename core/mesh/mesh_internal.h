@@ -10,4 +10,8 @@
 sk_status sk_geo_defined_constants(const char *path, char ***names, int *n_names);
 void sk_geo_names_free(char **names, int n_names);
 
+/* Makes body elements positively oriented and boundary elements face out of the body they bound (see
+ * mesh_orient.c). */
+sk_status sk_mesh_orient(sk_mesh *mesh);
+
 #endif

@@ -455,6 +455,7 @@ sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_para
   if (status == SK_OK && mesh->n_groups == 0)
     status = sk_error_set(SK_ERR_INPUT, "mesh %s: no physical groups of dimension %d or lower", path, dim);
   if (status == SK_OK && dim == 2) status = check_plane(path, mesh);
+  if (status == SK_OK) status = sk_mesh_orient(mesh);
   if (status != SK_OK) {
     char source[sizeof mesh->source];
     memcpy(source, mesh->source, sizeof source);
