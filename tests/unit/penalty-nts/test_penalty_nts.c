@@ -1,0 +1,921 @@
+/* Unit tests of the penalty-nts plugin through its ABI table, with a mock host whose contact services are the
+ * core's functions. Checks: residual = gradient of the penalty energy and Jacobian = derivative of the residual
+ * (central differences) for LINE2/LINE3, QUAD4 (warped, a point near an edge), QUAD9 (curved) masters and for
+ * plane/sphere/parabolic-cylinder/circle obstacles; friction stick and slip tangents with committed history; force
+ * and moment balance; frame indifference; the return map; parameter errors; tributary areas. */
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sk_test.h"
+#include "stickslip/contact.h"
+#include "stickslip/fe.h"
+#include "stickslip/plugin.h"
+
+const sk_plugin *stickslip_plugin_entry(void);
+
+enum { MAX_NODES = 32, MAX_DOFS = 3 * MAX_NODES, MAX_CONN = 64, MAX_PARAMS = 8 };
+
+/* ---- mock host ---------------------------------------------------------------------------------------------------- */
+struct sk_params {
+  int n;
+  const char *key[MAX_PARAMS];
+  double value[MAX_PARAMS];
+};
+
+static int mock_owns_node(const sk_host *host, int node) { return 1; }
+
+static int find_param(const sk_params *params, const char *key) {
+  for (int i = 0; i < params->n; ++i)
+    if (strcmp(params->key[i], key) == 0) return i;
+  return -1;
+}
+
+static sk_status mock_param_double(const sk_host *host, const sk_params *params, const char *key, int required,
+                                   double dflt, double *out) {
+  int i = find_param(params, key);
+  if (i < 0) {
+    if (required) return sk_error_set(SK_ERR_INPUT, "test scene: missing key '%s'", key);
+    *out = dflt;
+    return SK_OK;
+  }
+  *out = params->value[i];
+  return SK_OK;
+}
+
+static sk_status mock_param_int(const sk_host *host, const sk_params *params, const char *key, int required,
+                                int dflt, int *out) {
+  double v;
+  SK_TRY(mock_param_double(host, params, key, required, dflt, &v));
+  *out = (int)v;
+  return SK_OK;
+}
+
+static sk_status mock_param_string(const sk_host *host, const sk_params *params, const char *key, int required,
+                                   const char *dflt, const char **out) {
+  if (required) return sk_error_set(SK_ERR_INPUT, "test scene: missing key '%s'", key);
+  *out = dflt;
+  return SK_OK;
+}
+
+__attribute__((format(printf, 3, 4))) static sk_status mock_error(const sk_host *host, sk_status code,
+                                                                  const char *fmt, ...) {
+  char message[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(message, sizeof message, fmt, ap);
+  va_end(ap);
+  return sk_error_set(code, "%s", message);
+}
+
+__attribute__((format(printf, 3, 4))) static void mock_log(const sk_host *host, int level, const char *fmt, ...) {}
+
+static const void *mock_extension(const sk_host *host, const char *id) { return NULL; }
+
+static const sk_contact_services core_services = {
+    sk_surface_geometry, sk_surface_nodal_normals, sk_surface_project, sk_search_create, sk_search_destroy,
+    sk_search_update,    sk_search_query,          sk_obstacle_project, sk_elem_shape,   sk_elem_shape_hessian};
+
+/* ---- scenes ----------------------------------------------------------------------------------------------------- */
+typedef struct {
+  int dim, n_nodes, n_dofs;
+  double X[MAX_DOFS];
+  int slave_conn[MAX_CONN], slave_nodes[MAX_NODES], slave_nb[MAX_CONN];
+  int master_conn[MAX_CONN], master_nodes[MAX_NODES], master_nb[MAX_CONN];
+  sk_surface slave, master;
+  sk_obstacle obstacle;
+  sk_params params;
+  sk_host host;
+  sk_pair pair;
+  const sk_plugin *plugin;
+  sk_instance *inst;
+} scene;
+
+static int corners_of(sk_elem_type type) {
+  return type == SK_LINE2 || type == SK_LINE3 ? 2 : type == SK_TRI3 ? 3 : 4;
+}
+
+static int cmp_int(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
+
+/* Fills a surface from a connectivity: sorted node list and face neighbours through shared corners. */
+static void make_surface(sk_surface *s, int dim, sk_elem_type type, int nen, int n_faces, const int *conn,
+                         int *conn_store, int *nodes_store, int *nb_store) {
+  memset(s, 0, sizeof *s);
+  strcpy(s->name, "surface");
+  s->dim = dim;
+  s->face_type = type;
+  s->nen = nen;
+  s->n_faces = n_faces;
+  memcpy(conn_store, conn, (size_t)(n_faces * nen) * sizeof(int));
+  s->conn = conn_store;
+  int n = 0;
+  for (int i = 0; i < n_faces * nen; ++i) {
+    int seen = 0;
+    for (int j = 0; j < n; ++j) seen |= nodes_store[j] == conn[i];
+    if (!seen) nodes_store[n++] = conn[i];
+  }
+  qsort(nodes_store, (size_t)n, sizeof(int), cmp_int);
+  s->n_nodes = n;
+  s->nodes = nodes_store;
+  int nc = corners_of(type);
+  s->n_edges = nc;
+  for (int f = 0; f < n_faces; ++f)
+    for (int e = 0; e < nc; ++e) {
+      nb_store[f * nc + e] = -1;
+      int a = conn[f * nen + e], b = conn[f * nen + (e + 1) % nc];
+      for (int g = 0; g < n_faces; ++g) {
+        if (g == f) continue;
+        int has_a = 0, has_b = 0;
+        for (int c = 0; c < nc; ++c) {
+          has_a |= conn[g * nen + c] == a;
+          has_b |= conn[g * nen + c] == b;
+        }
+        if (dim == 2 ? has_a : (has_a && has_b)) nb_store[f * nc + e] = g;
+      }
+    }
+  s->face_neighbors = nb_store;
+}
+
+static void scene_init(scene *s, int dim, int n_nodes, const double *X) {
+  memset(s, 0, sizeof *s);
+  s->dim = dim;
+  s->n_nodes = n_nodes;
+  s->n_dofs = n_nodes * dim;
+  memcpy(s->X, X, (size_t)s->n_dofs * sizeof(double));
+  s->host.abi_version = SK_PLUGIN_ABI_VERSION;
+  s->host.dim = dim;
+  s->host.n_nodes = n_nodes;
+  s->host.n_dofs = s->n_dofs;
+  s->host.X = s->X;
+  s->host.n_ranks = 1;
+  s->host.contact = &core_services;
+  s->host.owns_node = mock_owns_node;
+  s->host.param_double = mock_param_double;
+  s->host.param_int = mock_param_int;
+  s->host.param_string = mock_param_string;
+  s->host.error = mock_error;
+  s->host.log = mock_log;
+  s->host.get_extension = mock_extension;
+  s->pair.name = "test pair";
+  s->pair.slave = &s->slave;
+  s->pair.params = &s->params;
+  s->plugin = stickslip_plugin_entry();
+}
+
+static void scene_param(scene *s, const char *key, double value) {
+  s->params.key[s->params.n] = key;
+  s->params.value[s->params.n++] = value;
+}
+
+static void scene_slave(scene *s, sk_elem_type type, int nen, int n_faces, const int *conn) {
+  make_surface(&s->slave, s->dim, type, nen, n_faces, conn, s->slave_conn, s->slave_nodes, s->slave_nb);
+}
+
+static void scene_master(scene *s, sk_elem_type type, int nen, int n_faces, const int *conn) {
+  make_surface(&s->master, s->dim, type, nen, n_faces, conn, s->master_conn, s->master_nodes, s->master_nb);
+  s->pair.master = &s->master;
+}
+
+static void scene_obstacle(scene *s, const sk_obstacle *ob) {
+  s->obstacle = *ob;
+  s->pair.obstacle = &s->obstacle;
+}
+
+static sk_status scene_create(scene *s) { return s->plugin->create(&s->host, &s->pair, &s->inst); }
+
+static void scene_destroy(scene *s) {
+  if (s->inst) s->plugin->destroy(s->inst);
+  s->inst = NULL;
+}
+
+static sk_state make_state(const scene *s, const double *q_n, const double *q, double t_n, double t) {
+  sk_state st;
+  memset(&st, 0, sizeof st);
+  st.scheme = SK_SCHEME_QUASISTATIC;
+  st.t_n = t_n;
+  st.t = t;
+  st.dt = t - t_n;
+  st.q_n = q_n;
+  st.q = q;
+  st.extra_offset = s->n_dofs;
+  return st;
+}
+
+/* ---- dense sinks and evaluations ---------------------------------------------------------------------------------- */
+typedef struct {
+  int n;
+  double *F, *K;
+} dense;
+
+static void dense_add_vector(sk_sink *sink, int n, const int *rows, const double *values) {
+  dense *d = sink->ctx;
+  for (int i = 0; i < n; ++i) d->F[rows[i]] += values[i];
+}
+
+static void dense_add_matrix(sk_sink *sink, int nr, const int *rows, int nc, const int *cols, const double *values) {
+  dense *d = sink->ctx;
+  for (int i = 0; i < nr; ++i)
+    for (int j = 0; j < nc; ++j) d->K[rows[i] * d->n + cols[j]] += values[i * nc + j];
+}
+
+static void residual_at(scene *s, const sk_state *step, const double *q, double *F) {
+  dense d = {s->n_dofs, F, NULL};
+  sk_sink sink = {&d, dense_add_vector, dense_add_matrix, NULL};
+  memset(F, 0, (size_t)s->n_dofs * sizeof(double));
+  sk_state st = *step;
+  st.q = q;
+  SK_CHECK(s->plugin->residual(s->inst, &st, &sink) == SK_OK);
+}
+
+static void jacobian_at(scene *s, const sk_state *step, const double *q, double *K) {
+  dense d = {s->n_dofs, NULL, K};
+  sk_sink sink = {&d, dense_add_vector, dense_add_matrix, NULL};
+  memset(K, 0, (size_t)(s->n_dofs * s->n_dofs) * sizeof(double));
+  sk_state st = *step;
+  st.q = q;
+  SK_CHECK(s->plugin->jacobian(s->inst, &st, &sink) == SK_OK);
+}
+
+typedef struct {
+  int n;
+  sk_contact_point p[MAX_NODES];
+} point_list;
+
+static void collect_point(void *ctx, const sk_contact_point *point) {
+  point_list *list = ctx;
+  if (list->n < MAX_NODES) list->p[list->n++] = *point;
+}
+
+static void points_at(scene *s, const sk_state *step, const double *q, point_list *list) {
+  list->n = 0;
+  sk_state st = *step;
+  st.q = q;
+  SK_CHECK(s->plugin->points(s->inst, &st, collect_point, list) == SK_OK);
+}
+
+static const sk_contact_point *point_of(const point_list *list, int node) {
+  for (int i = 0; i < list->n; ++i)
+    if (list->p[i].slave_node == node) return &list->p[i];
+  return NULL;
+}
+
+/* Penalty energy sum eps/2 <-g>^2 (scenes that use this set area_weighted = 0). */
+static double energy_at(scene *s, const sk_state *step, const double *q, double eps) {
+  point_list list;
+  points_at(s, step, q, &list);
+  double W = 0.0;
+  for (int i = 0; i < list.n; ++i)
+    if (list.p[i].state != 0) W += 0.5 * eps * list.p[i].gap * list.p[i].gap;
+  return W;
+}
+
+static double max_abs(const double *v, int n) {
+  double m = 0.0;
+  for (int i = 0; i < n; ++i) m = fmax(m, fabs(v[i]));
+  return m;
+}
+
+static const double fd_step = 1e-6;
+
+/* Residual against central differences of the energy; the relative error must be below tol. */
+static void check_residual_is_energy_gradient(scene *s, const sk_state *st, double eps, const char *label) {
+  double F[MAX_DOFS], q[MAX_DOFS], err = 0.0;
+  residual_at(s, st, st->q, F);
+  double scale = max_abs(F, s->n_dofs);
+  for (int j = 0; j < s->n_dofs; ++j) {
+    memcpy(q, st->q, (size_t)s->n_dofs * sizeof(double));
+    q[j] += fd_step;
+    double Wp = energy_at(s, st, q, eps);
+    q[j] -= 2.0 * fd_step;
+    double Wm = energy_at(s, st, q, eps);
+    err = fmax(err, fabs((Wp - Wm) / (2.0 * fd_step) - F[j]));
+  }
+  printf("%-40s residual vs energy: |F| %.3e, max error %.3e\n", label, scale, err);
+  SK_CHECK(scale > 0.0);
+  SK_CHECK(err <= 1e-6 * scale);
+}
+
+/* Jacobian against central differences of the residual. */
+static void check_jacobian_is_residual_derivative(scene *s, const sk_state *st, const char *label) {
+  int n = s->n_dofs;
+  static double K[MAX_DOFS * MAX_DOFS];
+  double Fp[MAX_DOFS], Fm[MAX_DOFS], q[MAX_DOFS], err = 0.0;
+  jacobian_at(s, st, st->q, K);
+  double scale = max_abs(K, n * n);
+  for (int j = 0; j < n; ++j) {
+    memcpy(q, st->q, (size_t)n * sizeof(double));
+    q[j] += fd_step;
+    residual_at(s, st, q, Fp);
+    q[j] -= 2.0 * fd_step;
+    residual_at(s, st, q, Fm);
+    for (int i = 0; i < n; ++i) err = fmax(err, fabs((Fp[i] - Fm[i]) / (2.0 * fd_step) - K[i * n + j]));
+  }
+  printf("%-40s jacobian vs FD: |K| %.3e, max error %.3e\n", label, scale, err);
+  SK_CHECK(scale > 0.0);
+  SK_CHECK(err <= 1e-6 * scale);
+}
+
+/* Sum of the residual's nodal forces and of their moments about the origin. */
+static void force_and_moment_sums(const scene *s, const double *q, const double *F, double sum[3], double moment[3]) {
+  int dim = s->dim;
+  for (int i = 0; i < 3; ++i) sum[i] = moment[i] = 0.0;
+  for (int a = 0; a < s->n_nodes; ++a) {
+    double x[3] = {0, 0, 0}, f[3] = {0, 0, 0};
+    for (int i = 0; i < dim; ++i) {
+      x[i] = q[a * dim + i];
+      f[i] = F[a * dim + i];
+      sum[i] += f[i];
+    }
+    moment[0] += x[1] * f[2] - x[2] * f[1];
+    moment[1] += x[2] * f[0] - x[0] * f[2];
+    moment[2] += x[0] * f[1] - x[1] * f[0];
+  }
+}
+
+static int count_state(const point_list *list, int state) {
+  int c = 0;
+  for (int i = 0; i < list->n; ++i) c += list->p[i].state == state;
+  return c;
+}
+
+/* ---- frictionless, deformable masters -------------------------------------------------------------------------- */
+
+/* 2D: a tilted LINE2 master (normal up) and a LINE2 slave with both nodes penetrating. */
+static void test_line2_frictionless(void) {
+  const double X[] = {2.0, 0.1, 0.0, -0.05, 0.6, -0.06, 1.5, 0.0};
+  scene s;
+  scene_init(&s, 2, 4, X);
+  const int master[] = {0, 1}, slave[] = {2, 3};
+  scene_master(&s, SK_LINE2, 2, 1, master);
+  scene_slave(&s, SK_LINE2, 2, 1, slave);
+  scene_param(&s, "penalty", 1e3);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  point_list list;
+  points_at(&s, &st, s.X, &list);
+  SK_CHECK(list.n == 2 && count_state(&list, 0) == 0);
+  check_residual_is_energy_gradient(&s, &st, 1e3, "2D line2 frictionless");
+  check_jacobian_is_residual_derivative(&s, &st, "2D line2 frictionless");
+
+  double F[MAX_DOFS], sum[3], moment[3];
+  residual_at(&s, &st, s.X, F);
+  force_and_moment_sums(&s, s.X, F, sum, moment);
+  double scale = max_abs(F, s.n_dofs);
+  SK_CHECK(fabs(sum[0]) + fabs(sum[1]) <= 1e-12 * scale);
+  SK_CHECK(fabs(moment[2]) <= 1e-12 * scale);
+
+  /* The report: force on the slave = -(slave rows of F), penetration = max(-g). */
+  sk_contact_report r;
+  SK_CHECK(s.plugin->report(s.inst, &st, &r) == SK_OK);
+  SK_CHECK(r.active == 2);
+  SK_CHECK_CLOSE(r.force[0], -(F[4] + F[6]), 1e-12);
+  SK_CHECK_CLOSE(r.force[1], -(F[5] + F[7]), 1e-12);
+  SK_CHECK_CLOSE(r.constraint_norm, fmax(-list.p[0].gap, -list.p[1].gap), 1e-12);
+  scene_destroy(&s);
+}
+
+/* 2D: a curved LINE3 master (nodes: end, end, middle). */
+static void test_line3_frictionless(void) {
+  const double X[] = {2.0, 0.0, 0.0, 0.0, 1.0, 0.2, 0.4, 0.05, 1.3, 0.12, 1.8, 0.5};
+  scene s;
+  scene_init(&s, 2, 6, X);
+  const int master[] = {0, 1, 2}, slave[] = {3, 4, 4, 5};
+  scene_master(&s, SK_LINE3, 3, 1, master);
+  scene_slave(&s, SK_LINE2, 2, 2, slave);
+  scene_param(&s, "penalty", 500.0);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  point_list list;
+  points_at(&s, &st, s.X, &list);
+  SK_CHECK(count_state(&list, 1) == 2); /* nodes 3 and 4 penetrate, node 5 is above */
+  check_residual_is_energy_gradient(&s, &st, 500.0, "2D line3 frictionless");
+  check_jacobian_is_residual_derivative(&s, &st, "2D line3 frictionless");
+  scene_destroy(&s);
+}
+
+/* 3D: a warped QUAD4 master; slave QUAD4 with a point near the master edge xi = 1 and one node outside contact. */
+static void test_quad4_frictionless(void) {
+  const double X[] = {0.0, 0.0, 0.0,  2.0, 0.0, 0.1,   2.0, 2.0, -0.05, 0.0, 2.0, 0.08,
+                      0.5, 0.7, -0.02, 1.97, 0.6, 0.03, 1.2, 1.6, -0.01, 0.4, 1.5, 0.3};
+  scene s;
+  scene_init(&s, 3, 8, X);
+  const int master[] = {0, 1, 2, 3}, slave[] = {4, 7, 6, 5};
+  scene_master(&s, SK_QUAD4, 4, 1, master);
+  scene_slave(&s, SK_QUAD4, 4, 1, slave);
+  scene_param(&s, "penalty", 1e3);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  point_list list;
+  points_at(&s, &st, s.X, &list);
+  SK_CHECK(count_state(&list, 1) == 3);
+  const sk_contact_point *p7 = point_of(&list, 7);
+  SK_CHECK(p7 && p7->state == 0 && p7->gap > 0.1);
+  check_residual_is_energy_gradient(&s, &st, 1e3, "3D quad4 frictionless (near edge)");
+  check_jacobian_is_residual_derivative(&s, &st, "3D quad4 frictionless (near edge)");
+
+  double F[MAX_DOFS], sum[3], moment[3];
+  residual_at(&s, &st, s.X, F);
+  force_and_moment_sums(&s, s.X, F, sum, moment);
+  double scale = max_abs(F, s.n_dofs);
+  for (int i = 0; i < 3; ++i) {
+    SK_CHECK(fabs(sum[i]) <= 1e-12 * scale);
+    SK_CHECK(fabs(moment[i]) <= 1e-12 * scale);
+  }
+  scene_destroy(&s);
+}
+
+/* 3D: a curved QUAD9 master z = 0.2 (x-1)^2 - 0.1 (y-1)^2 + 0.05 x y on [0,2]^2, TRI3 slave. */
+static void test_quad9_frictionless(void) {
+  const double node_xi[9][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}, {0, 0}};
+  double X[12 * 3];
+  for (int a = 0; a < 9; ++a) {
+    double x = 1.0 + node_xi[a][0], y = 1.0 + node_xi[a][1];
+    X[3 * a] = x;
+    X[3 * a + 1] = y;
+    X[3 * a + 2] = 0.2 * (x - 1) * (x - 1) - 0.1 * (y - 1) * (y - 1) + 0.05 * x * y;
+  }
+  const double slave_x[3][3] = {{0.3, 0.4, 0.03}, {1.6, 0.5, 0.05}, {1.1, 1.8, 0.0}};
+  for (int a = 0; a < 3; ++a) memcpy(X + 3 * (9 + a), slave_x[a], sizeof slave_x[a]);
+  scene s;
+  scene_init(&s, 3, 12, X);
+  const int master[] = {0, 1, 2, 3, 4, 5, 6, 7, 8}, slave[] = {9, 11, 10};
+  scene_master(&s, SK_QUAD9, 9, 1, master);
+  scene_slave(&s, SK_TRI3, 3, 1, slave);
+  scene_param(&s, "penalty", 2e3);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  point_list list;
+  points_at(&s, &st, s.X, &list);
+  SK_CHECK(count_state(&list, 1) == 3);
+  check_residual_is_energy_gradient(&s, &st, 2e3, "3D quad9 curved frictionless");
+  check_jacobian_is_residual_derivative(&s, &st, "3D quad9 curved frictionless");
+  scene_destroy(&s);
+}
+
+/* ---- friction ------------------------------------------------------------------------------------------------------ */
+
+/* Runs one step from q_n to q and commits it. */
+static void run_step(scene *s, const double *q_n, const double *q, double t_n, double t) {
+  sk_state st = make_state(s, q_n, q, t_n, t);
+  SK_CHECK(s->plugin->begin_step(s->inst, &st) == SK_OK);
+  SK_CHECK(s->plugin->commit_step(s->inst, &st) == SK_OK);
+}
+
+/* 2D flat master y = 0 (normal up), one slave node pressed in, then moved sideways by dx: the analytic stick
+ * traction is -eps_t dx, slip gives |t| = mu p with dissipation mu p (eps_t dx - mu p)/eps_t. */
+static void test_friction_2d_flat_return_map(void) {
+  const double X[] = {2.0, 0.0, -1.0, 0.0, 0.3, -0.01, 0.9, 0.5};
+  const double eps = 1e3, eps_t = 500.0, mu = 0.3;
+  for (int slip = 0; slip <= 1; ++slip) {
+    scene s;
+    scene_init(&s, 2, 4, X);
+    const int master[] = {0, 1}, slave[] = {2, 3};
+    scene_master(&s, SK_LINE2, 2, 1, master);
+    scene_slave(&s, SK_LINE2, 2, 1, slave);
+    scene_param(&s, "penalty", eps);
+    scene_param(&s, "mu", mu);
+    scene_param(&s, "penalty_tangential", eps_t);
+    scene_param(&s, "area_weighted", 0);
+    SK_CHECK(scene_create(&s) == SK_OK);
+    double q1[8], q2[8];
+    memcpy(q1, X, sizeof q1);
+    q1[5] = -0.02; /* step 1: pressed straight down, no tangential traction */
+    run_step(&s, X, q1, 0.0, 1.0);
+    memcpy(q2, q1, sizeof q2);
+    double dx = slip ? 0.02 : 0.002; /* mu p = 6; eps_t dx = 1 (stick) or 10 (slip) */
+    q2[4] += dx;
+    sk_state st = make_state(&s, q1, q2, 1.0, 2.0);
+    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    point_list list;
+    points_at(&s, &st, q2, &list);
+    const sk_contact_point *p = point_of(&list, 2);
+    SK_CHECK(p != NULL);
+    if (!p) continue;
+    double pressure = eps * 0.02;
+    SK_CHECK_CLOSE(p->pressure, pressure, 1e-12);
+    SK_CHECK_CLOSE(p->gap, -0.02, 1e-12);
+    double t_norm = hypot(p->traction[0], p->traction[1]);
+    SK_CHECK(t_norm <= mu * pressure * (1.0 + 1e-14));
+    sk_contact_report r;
+    SK_CHECK(s.plugin->report(s.inst, &st, &r) == SK_OK);
+    if (!slip) {
+      SK_CHECK(p->state == 1 && r.stick == 1 && r.slip == 0);
+      SK_CHECK_CLOSE(p->traction[0], -eps_t * dx, 1e-10);
+      SK_CHECK(fabs(p->traction[1]) <= 1e-12);
+      SK_CHECK(r.dissipated == 0.0);
+    } else {
+      SK_CHECK(p->state == 2 && r.slip == 1 && r.stick == 0);
+      SK_CHECK_CLOSE(p->traction[0], -mu * pressure, 1e-12);
+      SK_CHECK_CLOSE(r.dissipated, mu * pressure * (eps_t * dx - mu * pressure) / eps_t, 1e-12);
+    }
+    /* Force on the slave: p n + t. */
+    SK_CHECK_CLOSE(r.force[0], p->traction[0], 1e-12);
+    SK_CHECK_CLOSE(r.force[1], pressure, 1e-12);
+    check_jacobian_is_residual_derivative(&s, &st, slip ? "2D flat friction slip" : "2D flat friction stick");
+    scene_destroy(&s);
+  }
+}
+
+/* 3D warped QUAD4 with friction. Step 1 presses and shifts (history with a nonzero covariant traction), step 2
+ * moves the slave nodes further: small moves stick, large ones slip. The Jacobian (consistent tangent of the
+ * return map, metric and normal variations included) must match central differences; forces must balance. */
+static void quad4_friction_scene(scene *s, const double R[9], const double c[3], double q0[24], double q1[24],
+                                 double q2[24], double move) {
+  const double X[] = {0.0, 0.0, 0.0,  2.0, 0.0, 0.1,   2.0, 2.0, -0.05, 0.0, 2.0, 0.08,
+                      0.5, 0.7, 0.02, 1.5, 0.6, 0.08,  1.2, 1.6, 0.05,  0.4, 1.5, 0.3};
+  double Xr[24];
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      Xr[3 * a + i] = c[i] + R[3 * i] * X[3 * a] + R[3 * i + 1] * X[3 * a + 1] + R[3 * i + 2] * X[3 * a + 2];
+  scene_init(s, 3, 8, Xr);
+  const int master[] = {0, 1, 2, 3}, slave[] = {4, 7, 6, 5};
+  scene_master(s, SK_QUAD4, 4, 1, master);
+  scene_slave(s, SK_QUAD4, 4, 1, slave);
+  scene_param(s, "penalty", 1e3);
+  scene_param(s, "mu", 0.4);
+  scene_param(s, "penalty_tangential", 800.0);
+  scene_param(s, "area_weighted", 0);
+  /* Displacements in the unrotated frame: step 1 down by 0.08 with a small shift, step 2 sideways by `move`. */
+  double u1[3] = {0.004, -0.003, -0.08}, u2[3] = {move, 0.6 * move, 0.0};
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i) {
+      double d1 = a >= 4 ? R[3 * i] * u1[0] + R[3 * i + 1] * u1[1] + R[3 * i + 2] * u1[2] : 0.0;
+      double d2 = a >= 4 ? R[3 * i] * u2[0] + R[3 * i + 1] * u2[1] + R[3 * i + 2] * u2[2] : 0.0;
+      q0[3 * a + i] = Xr[3 * a + i];
+      q1[3 * a + i] = Xr[3 * a + i] + d1;
+      q2[3 * a + i] = Xr[3 * a + i] + d1 + d2;
+    }
+  /* A deformed master in step 2 as well, so the metric changes. */
+  for (int i = 0; i < 3; ++i) q2[3 * 2 + i] += 0.003 * R[3 * i] + 0.01 * R[3 * i + 2];
+}
+
+static const double identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+static const double origin3[3] = {0, 0, 0};
+
+static void test_friction_3d_quad4(void) {
+  for (int slip = 0; slip <= 1; ++slip) {
+    scene s;
+    double q0[24], q1[24], q2[24];
+    quad4_friction_scene(&s, identity3, origin3, q0, q1, q2, slip ? 0.08 : 0.0005);
+    SK_CHECK(scene_create(&s) == SK_OK);
+    run_step(&s, q0, q1, 0.0, 1.0);
+    sk_state st = make_state(&s, q1, q2, 1.0, 2.0);
+    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    point_list list;
+    points_at(&s, &st, q2, &list);
+    SK_CHECK(count_state(&list, slip ? 2 : 1) == 3);
+    for (int i = 0; i < list.n; ++i) {
+      const sk_contact_point *p = &list.p[i];
+      if (p->state == 0) continue;
+      double t_norm = sqrt(p->traction[0] * p->traction[0] + p->traction[1] * p->traction[1] +
+                           p->traction[2] * p->traction[2]);
+      SK_CHECK(t_norm > 0.0);
+      SK_CHECK(fabs(p->traction[0] * p->normal[0] + p->traction[1] * p->normal[1] + p->traction[2] * p->normal[2]) <=
+               1e-12 * t_norm);
+      if (slip) SK_CHECK_CLOSE(t_norm, 0.4 * p->pressure, 1e-12);
+      else SK_CHECK(t_norm < 0.4 * p->pressure);
+    }
+    check_jacobian_is_residual_derivative(&s, &st, slip ? "3D quad4 friction slip" : "3D quad4 friction stick");
+
+    /* Linear momentum: sum of forces = 0. Angular momentum: with friction the moment of the pair is
+     * -sum g n x t (tangential forces at x_s and x_m differ by g n), not zero. */
+    double F[MAX_DOFS], sum[3], moment[3], expected[3] = {0, 0, 0};
+    residual_at(&s, &st, q2, F);
+    force_and_moment_sums(&s, q2, F, sum, moment);
+    double scale = max_abs(F, s.n_dofs);
+    for (int i = 0; i < list.n; ++i) {
+      const sk_contact_point *p = &list.p[i];
+      if (p->state == 0) continue;
+      const double *n = p->normal, *t = p->traction;
+      double g = p->gap;
+      expected[0] -= g * (n[1] * t[2] - n[2] * t[1]);
+      expected[1] -= g * (n[2] * t[0] - n[0] * t[2]);
+      expected[2] -= g * (n[0] * t[1] - n[1] * t[0]);
+    }
+    for (int i = 0; i < 3; ++i) {
+      SK_CHECK(fabs(sum[i]) <= 1e-12 * scale);
+      SK_CHECK(fabs(moment[i] - expected[i]) <= 1e-12 * scale);
+    }
+    SK_CHECK(fabs(expected[0]) + fabs(expected[1]) + fabs(expected[2]) > 1e-6 * scale);
+    scene_destroy(&s);
+  }
+}
+
+/* Frame indifference: the same history and step in a rotated and translated frame give rotated forces and the
+ * same gaps, pressures and states. And a superposed rigid rotation of the whole pair after a stuck step (no
+ * relative motion) keeps the covariant traction: the spatial traction rotates with it and nothing slips. */
+static void rotation(double angle, const double axis_in[3], double R[9]) {
+  double n = sqrt(axis_in[0] * axis_in[0] + axis_in[1] * axis_in[1] + axis_in[2] * axis_in[2]);
+  double k[3] = {axis_in[0] / n, axis_in[1] / n, axis_in[2] / n}, c = cos(angle), s = sin(angle);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R[3 * i + j] = (i == j ? c : 0.0) + (1 - c) * k[i] * k[j];
+  R[1] -= s * k[2];
+  R[2] += s * k[1];
+  R[3] += s * k[2];
+  R[5] -= s * k[0];
+  R[6] -= s * k[1];
+  R[7] += s * k[0];
+}
+
+static void apply(const double R[9], const double c[3], const double *x, double *y) {
+  for (int i = 0; i < 3; ++i) y[i] = c[i] + R[3 * i] * x[0] + R[3 * i + 1] * x[1] + R[3 * i + 2] * x[2];
+}
+
+static void test_frame_indifference(void) {
+  const double axis[3] = {0.3, -0.5, 0.8}, shift[3] = {1.5, -2.0, 0.7};
+  double R[9];
+  rotation(0.9, axis, R);
+  for (int slip = 0; slip <= 1; ++slip) {
+    scene a, b;
+    double a0[24], a1[24], a2[24], b0[24], b1[24], b2[24];
+    double move = slip ? 0.08 : 0.0005;
+    quad4_friction_scene(&a, identity3, origin3, a0, a1, a2, move);
+    quad4_friction_scene(&b, R, shift, b0, b1, b2, move);
+    SK_CHECK(scene_create(&a) == SK_OK && scene_create(&b) == SK_OK);
+    run_step(&a, a0, a1, 0.0, 1.0);
+    run_step(&b, b0, b1, 0.0, 1.0);
+    sk_state sa = make_state(&a, a1, a2, 1.0, 2.0), sb = make_state(&b, b1, b2, 1.0, 2.0);
+    SK_CHECK(a.plugin->begin_step(a.inst, &sa) == SK_OK && b.plugin->begin_step(b.inst, &sb) == SK_OK);
+    double Fa[MAX_DOFS], Fb[MAX_DOFS];
+    residual_at(&a, &sa, a2, Fa);
+    residual_at(&b, &sb, b2, Fb);
+    double scale = max_abs(Fa, 24), err = 0.0;
+    for (int n = 0; n < 8; ++n) {
+      double rotated[3];
+      apply(R, origin3, Fa + 3 * n, rotated);
+      for (int i = 0; i < 3; ++i) err = fmax(err, fabs(rotated[i] - Fb[3 * n + i]));
+    }
+    printf("frame indifference (%s): |F| %.3e, max error %.3e\n", slip ? "slip" : "stick", scale, err);
+    SK_CHECK(scale > 0.0 && err <= 1e-10 * scale);
+    point_list la, lb;
+    points_at(&a, &sa, a2, &la);
+    points_at(&b, &sb, b2, &lb);
+    SK_CHECK(la.n == lb.n);
+    for (int i = 0; i < la.n && i < lb.n; ++i) {
+      SK_CHECK(la.p[i].state == lb.p[i].state);
+      if (la.p[i].state == 0) continue;
+      SK_CHECK_CLOSE(lb.p[i].gap, la.p[i].gap, 1e-10);
+      SK_CHECK_CLOSE(lb.p[i].pressure, la.p[i].pressure, 1e-10);
+    }
+    scene_destroy(&a);
+    scene_destroy(&b);
+  }
+
+  /* Superposed rigid rotation of a stuck configuration: a1 (committed, stuck with traction) -> R a1 + shift. */
+  scene s;
+  double q0[24], q1[24], q2[24], q3[24];
+  quad4_friction_scene(&s, identity3, origin3, q0, q1, q2, 0.0005);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  run_step(&s, q0, q1, 0.0, 1.0);
+  run_step(&s, q1, q2, 1.0, 2.0); /* stuck with a traction, committed */
+  sk_state st2 = make_state(&s, q1, q2, 1.0, 2.0);
+  point_list before, after;
+  points_at(&s, &st2, q2, &before); /* history now committed: evaluating at q2 again gives the same as the trial */
+  for (int n = 0; n < 8; ++n) apply(R, shift, q2 + 3 * n, q3 + 3 * n);
+  sk_state st3 = make_state(&s, q2, q3, 2.0, 3.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st3) == SK_OK);
+  points_at(&s, &st3, q3, &after);
+  SK_CHECK(before.n == after.n);
+  double tmax = 0.0;
+  for (int i = 0; i < before.n && i < after.n; ++i) {
+    if (before.p[i].state == 0) continue;
+    SK_CHECK(after.p[i].state == 1);
+    double rotated[3];
+    apply(R, origin3, before.p[i].traction, rotated);
+    for (int k = 0; k < 3; ++k) {
+      SK_CHECK(fabs(after.p[i].traction[k] - rotated[k]) <= 1e-9);
+      tmax = fmax(tmax, fabs(rotated[k]));
+    }
+    SK_CHECK_CLOSE(after.p[i].pressure, before.p[i].pressure, 1e-10);
+  }
+  SK_CHECK(tmax > 1e-3); /* the traction carried through the rotation is not trivial */
+  scene_destroy(&s);
+}
+
+/* ---- rigid obstacles ------------------------------------------------------------------------------------------------ */
+static void obstacle_scene(scene *s, int dim, const sk_obstacle *ob, double mu) {
+  if (dim == 3) {
+    const double X[] = {0.5, 0.2, 0.04, -0.4, 0.3, 0.01, 0.1, -0.5, 0.02};
+    scene_init(s, 3, 3, X);
+    const int slave[] = {0, 1, 2};
+    scene_slave(s, SK_TRI3, 3, 1, slave);
+  } else {
+    const double X[] = {0.3, 0.04, -0.4, 0.01, -0.9, 0.4};
+    scene_init(s, 2, 3, X);
+    const int slave[] = {0, 1, 1, 2};
+    scene_slave(s, SK_LINE2, 2, 2, slave);
+  }
+  scene_obstacle(s, ob);
+  scene_param(s, "penalty", 1e3);
+  scene_param(s, "area_weighted", 0);
+  if (mu > 0.0) {
+    scene_param(s, "mu", mu);
+    scene_param(s, "penalty_tangential", 700.0);
+  }
+}
+
+static void test_obstacles(void) {
+  sk_obstacle plane, sphere, parabola, circle;
+  memset(&plane, 0, sizeof plane);
+  plane.kind = SK_OBSTACLE_PLANE;
+  double nn = sqrt(0.01 + 0.04 + 1.0);
+  plane.normal[0] = 0.1 / nn;
+  plane.normal[1] = 0.2 / nn;
+  plane.normal[2] = 1.0 / nn;
+  plane.n_motion = 2;
+  plane.motion_t[1] = 1.0;
+  for (int i = 0; i < 3; ++i) plane.motion_d[1][i] = 0.2 * plane.normal[i]; /* rises: all penetrate at t = 1 */
+  sphere = plane;
+  sphere.kind = SK_OBSTACLE_SPHERE;
+  sphere.n_motion = 0;
+  sphere.point[2] = -1.0;
+  sphere.radius = 1.2;
+  parabola = sphere;
+  parabola.kind = SK_OBSTACLE_PARABOLIC_CYLINDER;
+  parabola.point[2] = 0.05;
+  parabola.axis[1] = 1.0;
+  parabola.normal[0] = parabola.normal[1] = 0.0;
+  parabola.normal[2] = 1.0;
+  parabola.c = 0.3;
+  circle = sphere;
+  circle.point[1] = -1.0;
+  circle.point[2] = 0.0;
+  const struct {
+    const char *label;
+    int dim;
+    const sk_obstacle *ob;
+  } cases[] = {{"plane (moving)", 3, &plane}, {"sphere", 3, &sphere}, {"parabolic cylinder", 3, &parabola},
+               {"2D circle", 2, &circle}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    char label[96];
+    scene s;
+    obstacle_scene(&s, cases[c].dim, cases[c].ob, 0.0);
+    SK_CHECK(scene_create(&s) == SK_OK);
+    sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    point_list list;
+    points_at(&s, &st, s.X, &list);
+    SK_CHECK(count_state(&list, 1) >= 2);
+    if (cases[c].ob == &plane) /* gap against the plane translated to t = 1 */
+      for (int i = 0; i < list.n; ++i) {
+        const double *x = list.p[i].x;
+        double g = x[0] * plane.normal[0] + x[1] * plane.normal[1] + x[2] * plane.normal[2] - 0.2;
+        SK_CHECK_CLOSE(list.p[i].gap, g, 1e-12);
+      }
+    if (cases[c].ob == &sphere)
+      for (int i = 0; i < list.n; ++i) {
+        const double *x = list.p[i].x;
+        SK_CHECK_CLOSE(list.p[i].gap, sqrt(x[0] * x[0] + x[1] * x[1] + (x[2] + 1.0) * (x[2] + 1.0)) - 1.2, 1e-12);
+      }
+    snprintf(label, sizeof label, "obstacle %s", cases[c].label);
+    check_residual_is_energy_gradient(&s, &st, 1e3, label);
+    check_jacobian_is_residual_derivative(&s, &st, label);
+    scene_destroy(&s);
+
+    /* Friction against the obstacle: commit a pressed state, then slide: mu = 0.3 with a tiny move sticks,
+     * mu = 0.02 with a move of 0.01 slips. */
+    for (int slip = 0; slip <= 1; ++slip) {
+      double mu = slip ? 0.02 : 0.3;
+      obstacle_scene(&s, cases[c].dim, cases[c].ob, mu);
+      SK_CHECK(scene_create(&s) == SK_OK);
+      double q1[9], q2[9];
+      int nd = s.n_dofs, dim = s.dim;
+      memcpy(q1, s.X, (size_t)nd * sizeof(double));
+      for (int a = 0; a < 3; ++a) q1[a * dim + dim - 1] -= 0.01;
+      run_step(&s, s.X, q1, 0.0, 0.5);
+      memcpy(q2, q1, (size_t)nd * sizeof(double));
+      for (int a = 0; a < 3; ++a) q2[a * dim] += slip ? 0.01 : 0.0003;
+      sk_state fs = make_state(&s, q1, q2, 0.5, 1.0);
+      SK_CHECK(s.plugin->begin_step(s.inst, &fs) == SK_OK);
+      points_at(&s, &fs, q2, &list);
+      int active = 0;
+      for (int i = 0; i < list.n; ++i) {
+        const sk_contact_point *p = &list.p[i];
+        if (p->state == 0) continue;
+        ++active;
+        SK_CHECK(p->state == (slip ? 2 : 1));
+        double t = sqrt(p->traction[0] * p->traction[0] + p->traction[1] * p->traction[1] +
+                        p->traction[2] * p->traction[2]);
+        if (slip) SK_CHECK_CLOSE(t, mu * p->pressure, 1e-12);
+        else SK_CHECK(t > 0.0 && t < mu * p->pressure);
+      }
+      SK_CHECK(active >= 2);
+      snprintf(label, sizeof label, "obstacle %s friction %s", cases[c].label, slip ? "slip" : "stick");
+      check_jacobian_is_residual_derivative(&s, &fs, label);
+      scene_destroy(&s);
+    }
+  }
+}
+
+/* ---- areas, parameters, history ----------------------------------------------------------------------------------- */
+
+/* Tributary areas: a 2D slave of two LINE2 faces of length 1 and 2 above a flat master; every node penetrates by
+ * 0.01, so the nodal forces are eps * A * 0.01 with A = 0.5, 1.5, 1 and the reported pressure is eps * 0.01. */
+static void test_area_weighting(void) {
+  const double X[] = {10.0, 0.0, -10.0, 0.0, 0.0, -0.01, 1.0, -0.01, 3.0, -0.01};
+  scene s;
+  scene_init(&s, 2, 5, X);
+  const int master[] = {0, 1}, slave[] = {2, 3, 3, 4};
+  scene_master(&s, SK_LINE2, 2, 1, master);
+  scene_slave(&s, SK_LINE2, 2, 2, slave);
+  scene_param(&s, "penalty", 200.0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  double F[MAX_DOFS];
+  residual_at(&s, &st, s.X, F);
+  const double area[3] = {0.5, 1.5, 1.0};
+  for (int k = 0; k < 3; ++k) SK_CHECK_CLOSE(-F[(2 + k) * 2 + 1], 200.0 * area[k] * 0.01, 1e-12);
+  point_list list;
+  points_at(&s, &st, s.X, &list);
+  SK_CHECK(list.n == 3);
+  for (int i = 0; i < list.n; ++i) SK_CHECK_CLOSE(list.p[i].pressure, 2.0, 1e-12);
+  scene_destroy(&s);
+}
+
+static void expect_create_error(const char *what, const char *key, double value, const char *key2, double value2,
+                                const char *needle) {
+  const double X[] = {1.0, 0.0, -1.0, 0.0, 0.0, 0.1, 0.5, 0.1};
+  scene s;
+  scene_init(&s, 2, 4, X);
+  const int master[] = {0, 1}, slave[] = {2, 3};
+  scene_master(&s, SK_LINE2, 2, 1, master);
+  scene_slave(&s, SK_LINE2, 2, 1, slave);
+  if (key) scene_param(&s, key, value);
+  if (key2) scene_param(&s, key2, value2);
+  sk_error_clear();
+  sk_status status = scene_create(&s);
+  if (status == SK_OK) fprintf(stderr, "%s: create succeeded\n", what);
+  SK_CHECK(status == SK_ERR_INPUT);
+  SK_CHECK(s.inst == NULL);
+  if (!strstr(sk_error_message(), needle)) fprintf(stderr, "%s: message '%s'\n", what, sk_error_message());
+  SK_CHECK(strstr(sk_error_message(), needle) != NULL);
+  scene_destroy(&s);
+}
+
+static void test_parameter_errors(void) {
+  expect_create_error("missing penalty", NULL, 0, NULL, 0, "penalty");
+  expect_create_error("negative penalty", "penalty", -1.0, NULL, 0, "'penalty'");
+  expect_create_error("friction without tangential penalty", "penalty", 1.0, "mu", 0.2, "penalty_tangential");
+  expect_create_error("negative mu", "penalty", 1.0, "mu", -0.2, "'mu'");
+  expect_create_error("bad area_weighted", "penalty", 1.0, "area_weighted", 2, "'area_weighted'");
+  expect_create_error("negative margin", "penalty", 1.0, "search_margin", -1, "'search_margin'");
+
+  const sk_plugin *pl = stickslip_plugin_entry();
+  SK_CHECK(pl->abi_version == SK_PLUGIN_ABI_VERSION);
+  SK_CHECK(strcmp(pl->name, "penalty-nts") == 0);
+  SK_CHECK(strcmp(pl->strategies[0], "none") == 0 && pl->strategies[1] == NULL);
+  uint64_t need = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS |
+                  SK_CAP_RIGID_OBSTACLE | SK_CAP_DEFORMABLE_MASTER;
+  SK_CHECK((pl->caps & need) == need);
+  SK_CHECK((pl->caps & (SK_CAP_MULTIPLIERS | SK_CAP_ENERGY_MOMENTUM)) == 0);
+}
+
+/* A rejected step leaves the committed history alone: redoing it gives the same tractions. */
+static void test_reject_keeps_history(void) {
+  scene s;
+  double q0[24], q1[24], q2[24];
+  quad4_friction_scene(&s, identity3, origin3, q0, q1, q2, 0.0005);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  run_step(&s, q0, q1, 0.0, 1.0);
+  sk_state st = make_state(&s, q1, q2, 1.0, 2.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  double F1[MAX_DOFS], F2[MAX_DOFS], far[24];
+  residual_at(&s, &st, q2, F1);
+  /* A failed attempt that went far (everything slipping), then the retry. */
+  memcpy(far, q2, sizeof far);
+  for (int a = 4; a < 8; ++a) far[3 * a] += 0.3;
+  sk_state bad = make_state(&s, q1, far, 1.0, 2.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &bad) == SK_OK);
+  int changed = 0;
+  SK_CHECK(s.plugin->after_iteration(s.inst, &bad, &changed) == SK_OK);
+  SK_CHECK(changed == 1);
+  s.plugin->reject_step(s.inst);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  residual_at(&s, &st, q2, F2);
+  for (int i = 0; i < 24; ++i) SK_CHECK(F1[i] == F2[i]);
+  scene_destroy(&s);
+}
+
+int main(void) {
+  test_line2_frictionless();
+  test_line3_frictionless();
+  test_quad4_frictionless();
+  test_quad9_frictionless();
+  test_friction_2d_flat_return_map();
+  test_friction_3d_quad4();
+  test_frame_indifference();
+  test_obstacles();
+  test_area_weighting();
+  test_parameter_errors();
+  test_reject_keeps_history();
+  return sk_test_finish("penalty-nts");
+}
