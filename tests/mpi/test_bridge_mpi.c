@@ -1,0 +1,155 @@
+/* The bridge on 2 ranks: every solver kind gives the one-rank answer, with contributions to a row split over
+ * ranks (summed by sk_linsys_assemble). The direct solve must match the serial KLU2 to 1e-12: Debian's Amesos2
+ * KLU2 on a distributed matrix does not (so this fails if the rank-0 gather were bypassed). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "bridge_systems.h"
+#include "sk_test.h"
+#include "stickslip/bridge.h"
+
+static int rank = 0, size = 1;
+
+/* Rank 0 writes rows r % 3 in {0, 1}, rank 1 rows r % 3 in {1, 2}; rows r % 3 == 1 are shared 25 % / 75 %. */
+static sk_linear_system *create_split(MPI_Comm comm, sk_linear_solver_kind kind, int block_size, const test_csr *a) {
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.kind = kind;
+  options.tolerance = 1e-12;
+  sk_linear_system *sys = NULL;
+  if (sk_linsys_create(comm, &options, &sys) != SK_OK) return NULL;
+  int comm_rank, comm_size;
+  MPI_Comm_rank(comm, &comm_rank);
+  MPI_Comm_size(comm, &comm_size);
+  int *rows = malloc(sizeof(int) * (size_t)a->n), n_rows = 0;
+  for (int i = 0; i < a->n; ++i) {
+    const int part = i % 3;
+    const int mine = comm_size == 1 || (comm_rank == 0 && part != 2) || (comm_rank == 1 && part != 0);
+    if (mine) rows[n_rows++] = i;
+  }
+  sk_status status = sk_linsys_set_block_size(sys, block_size);
+  if (status == SK_OK) status = sk_linsys_set_pattern(sys, a->n, a->row_ptr, a->cols, n_rows, rows);
+  if (status == SK_OK) {
+    sk_linsys_zero(sys);
+    double *values = sk_linsys_values(sys);
+    for (int j = 0; j < n_rows; ++j) {
+      const int i = rows[j];
+      const double share = comm_size == 1 || i % 3 != 1 ? 1.0 : (comm_rank == 0 ? 0.25 : 0.75);
+      for (int64_t k = a->row_ptr[i]; k < a->row_ptr[i + 1]; ++k) values[k] = share * a->values[k];
+    }
+    status = sk_linsys_assemble(sys);
+  }
+  free(rows);
+  if (status != SK_OK) {
+    fprintf(stderr, "rank %d: %s\n", rank, sk_error_message());
+    sk_linsys_destroy(sys);
+    return NULL;
+  }
+  return sys;
+}
+
+/* The vectors crossing the header are replicated: identical on every rank. */
+static int replicated(int n, const double *x) {
+  double *lo = malloc(sizeof(double) * (size_t)n), *hi = malloc(sizeof(double) * (size_t)n);
+  MPI_Allreduce(x, lo, n, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(x, hi, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  const int same = memcmp(lo, hi, sizeof(double) * (size_t)n) == 0;
+  free(lo);
+  free(hi);
+  return same;
+}
+
+static void check_system(const char *name, double convection) {
+  test_csr a = test_laplacian_2d(50, convection); /* 2500 unknowns: above MueLu's coarse size, so AMG has levels */
+  const int n = a.n;
+  double *x_ref = malloc(sizeof(double) * (size_t)n), *b = malloc(sizeof(double) * (size_t)n);
+  double *x_serial = malloc(sizeof(double) * (size_t)n), *x = malloc(sizeof(double) * (size_t)n);
+  test_reference_solution(n, x_ref);
+  test_csr_multiply(&a, x_ref, b);
+
+  /* the one-rank answer, computed on every rank with its own communicator */
+  sk_linear_system *serial = create_split(MPI_COMM_SELF, SK_LINEAR_DIRECT, 1, &a);
+  SK_CHECK(serial != NULL);
+  if (!serial) return;
+  SK_CHECK(sk_linsys_solve(serial, b, x_serial, NULL) == SK_OK);
+  SK_CHECK(test_max_difference(n, x_serial, x_ref) <= 1e-10);
+  sk_linsys_destroy(serial);
+
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT, SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU};
+  for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+    for (int block_size = 1; block_size <= 2; ++block_size) {
+      sk_linear_system *sys = create_split(MPI_COMM_WORLD, kinds[k], block_size, &a);
+      SK_CHECK(sys != NULL);
+      if (!sys) continue;
+      /* apply sums the split contributions exactly like the serial matrix */
+      double *y = malloc(sizeof(double) * (size_t)n);
+      SK_CHECK(sk_linsys_apply(sys, x_ref, y) == SK_OK);
+      SK_CHECK(test_max_difference(n, y, b) <= 1e-12);
+      SK_CHECK(replicated(n, y));
+      free(y);
+      /* two solves: the second re-uses the factorisation / preconditioner structure */
+      for (int pass = 0; pass < 2; ++pass) {
+        sk_linear_report report;
+        memset(x, 0, sizeof(double) * (size_t)n);
+        const sk_status status = sk_linsys_solve(sys, b, x, &report);
+        if (status != SK_OK) fprintf(stderr, "rank %d, %s: %s\n", rank, name, sk_error_message());
+        SK_CHECK(status == SK_OK);
+        SK_CHECK(replicated(n, x));
+        SK_CHECK(report.refactored_symbolic == (pass == 0));
+        const double difference = test_max_difference(n, x, x_serial);
+        const double tolerance = kinds[k] == SK_LINEAR_DIRECT ? 1e-12 : 1e-8;
+        if (difference > tolerance && rank == 0)
+          fprintf(stderr, "%s, %s, block %d: max |x - x_serial| = %.3g\n", name, sk_linear_solver_name(kinds[k]),
+                  block_size, difference);
+        SK_CHECK(difference <= tolerance);
+        if (rank == 0 && pass == 0)
+          printf("%-14s %-12s block %d: %3d iterations, relative residual %.2e, |x - x_serial| %.2e\n", name,
+                 sk_linear_solver_name(kinds[k]), block_size, report.iterations, report.relative_residual,
+                 difference);
+      }
+      sk_linsys_destroy(sys);
+    }
+  }
+  test_csr_free(&a);
+  free(x_ref);
+  free(b);
+  free(x_serial);
+  free(x);
+}
+
+/* A failure on the direct path is reported on every rank (not only on rank 0, which factorises). */
+static void check_singular(void) {
+  test_csr a = test_laplacian_2d(10, 0.0);
+  for (int64_t k = a.row_ptr[a.n - 1]; k < a.row_ptr[a.n]; ++k) a.values[k] = 0.0;
+  sk_linear_system *sys = create_split(MPI_COMM_WORLD, SK_LINEAR_DIRECT, 1, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
+    double *b = malloc(sizeof(double) * (size_t)a.n), *x = malloc(sizeof(double) * (size_t)a.n);
+    for (int i = 0; i < a.n; ++i) b[i] = 1.0;
+    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_DIVERGED);
+    SK_CHECK(strstr(sk_error_message(), "direct solve") != NULL);
+    free(b);
+    free(x);
+    sk_linsys_destroy(sys);
+  }
+  test_csr_free(&a);
+}
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  SK_CHECK(size == 2);
+  check_system("laplacian", 0.0);
+  check_system("nonsymmetric", 0.8);
+  check_singular();
+  /* every rank's verdict counts */
+  int failures = sk_test_failures, total = 0;
+  MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  sk_test_failures = total;
+  int result = 0;
+  if (rank == 0) result = sk_test_finish("bridge on 2 ranks");
+  MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return result;
+}
