@@ -117,7 +117,7 @@ sk_status sk_obstacle_project(const sk_obstacle *obstacle, double t, const doubl
     origin[i] = obstacle->point[i] + d[i];
     r[i] = (i < dim ? x[i] : 0.0) - origin[i];
   }
-  if (dim == 2) r[2] = 0.0;
+  if (dim == 2) origin[2] = r[2] = 0.0; /* 2D lives in z = 0 whatever the obstacle's z */
   double n[3], a[2][3], h[2][2] = {{0, 0}, {0, 0}}, foot[3];
 
   switch (obstacle->kind) {
