@@ -51,7 +51,10 @@ typedef struct {
 
 /* Loads a mesh. A `.geo` script is meshed through the gmsh C API after its parameters (DefineConstant names, e.g.
  * `refine`, `radius`) are set from `params`; a `.msh` file is read directly. `dim` 0 means: the highest dimension
- * that carries a physical group. Errors name the file. */
+ * that carries a physical group. Errors name the file. Only DefineConstant names of the script are accepted as
+ * parameters (others are an error naming them). Node ids are compact, in gmsh tag order; body elements are positively
+ * oriented (counter-clockwise in 2D) and boundary elements face out of the body element they lie on. On failure
+ * *mesh holds nothing to free. */
 sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh);
 void sk_mesh_free(sk_mesh *mesh);
 

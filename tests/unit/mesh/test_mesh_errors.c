@@ -65,7 +65,12 @@ int main(void) {
                    "Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1};\n");
   expect_failure(path, NULL, 0, SK_ERR_INPUT, "no-groups.geo", "no physical groups");
 
-  /* triangles and quads in one group */
+  /* triangles and quads in one group; loading hertz-2d.geo first checks that its mesh options (recombine all)
+   * do not outlive its load */
+  sk_mesh previous;
+  const sk_mesh_param coarse[] = {{"refine", 0.5}};
+  SK_CHECK(sk_mesh_load("meshes/hertz-2d.geo", coarse, 1, 0, &previous) == SK_OK);
+  sk_mesh_free(&previous);
   snprintf(path, sizeof path, "%s/mixed.geo", tmpdir);
   write_file(path, "DefineConstant[ h = 0.5 ];\n"
                    "Point(1) = {0, 0, 0, h}; Point(2) = {1, 0, 0, h}; Point(3) = {1, 1, 0, h}; Point(4) = {0, 1, 0, h};\n"
