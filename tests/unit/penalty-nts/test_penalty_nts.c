@@ -332,6 +332,13 @@ static void force_and_moment_sums(const scene *s, const double *q, const double 
   }
 }
 
+/* Runs one step from q_n to q and commits it. */
+static void run_step(scene *s, const double *q_n, const double *q, double t_n, double t) {
+  sk_state st = make_state(s, q_n, q, t_n, t);
+  SK_CHECK(s->plugin->begin_step(s->inst, &st) == SK_OK);
+  SK_CHECK(s->plugin->commit_step(s->inst, &st) == SK_OK);
+}
+
 static int count_state(const point_list *list, int state) {
   int c = 0;
   for (int i = 0; i < list->n; ++i) c += list->p[i].state == state;
@@ -458,16 +465,78 @@ static void test_quad9_frictionless(void) {
   check_residual_is_energy_gradient(&s, &st, 2e3, "3D quad9 curved frictionless");
   check_jacobian_is_residual_derivative(&s, &st, "3D quad9 curved frictionless");
   scene_destroy(&s);
+
+  /* Friction on the curved face (Christoffel terms x,ab . a^c enter the tangent through the metric variation). */
+  for (int slip = 0; slip <= 1; ++slip) {
+    scene_init(&s, 3, 12, X);
+    scene_master(&s, SK_QUAD9, 9, 1, master);
+    scene_slave(&s, SK_TRI3, 3, 1, slave);
+    scene_param(&s, "penalty", 2e3);
+    scene_param(&s, "area_weighted", 0);
+    scene_param(&s, "mu", 0.3);
+    scene_param(&s, "penalty_tangential", 1e3);
+    SK_CHECK(scene_create(&s) == SK_OK);
+    double q1[36], q2[36];
+    memcpy(q1, X, sizeof q1);
+    for (int a = 9; a < 12; ++a) {
+      q1[3 * a] += 0.003;
+      q1[3 * a + 2] -= 0.01;
+    }
+    run_step(&s, X, q1, 0.0, 1.0);
+    memcpy(q2, q1, sizeof q2);
+    for (int a = 9; a < 12; ++a) {
+      q2[3 * a] -= slip ? 0.05 : 0.0004;
+      q2[3 * a + 1] += slip ? 0.03 : 0.0002;
+    }
+    q2[3 * 8 + 2] += 0.02; /* the master's middle node rises: the face changes shape during the step */
+    sk_state fs = make_state(&s, q1, q2, 1.0, 2.0);
+    SK_CHECK(s.plugin->begin_step(s.inst, &fs) == SK_OK);
+    point_list fl;
+    points_at(&s, &fs, q2, &fl);
+    SK_CHECK(count_state(&fl, slip ? 2 : 1) == 3);
+    check_jacobian_is_residual_derivative(&s, &fs, slip ? "3D quad9 friction slip" : "3D quad9 friction stick");
+    scene_destroy(&s);
+  }
+}
+
+/* A stuck slave node carried across the shared end of two collinear LINE2 faces: the anchor moves to the new face
+ * through the tangent plane, so on a flat master the traction stays exactly -eps_t (total tangential move). */
+static void test_friction_face_crossing(void) {
+  const double X[] = {2.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.1, -0.01, 1.0, 0.5};
+  const double eps_t = 300.0;
+  scene s;
+  scene_init(&s, 2, 5, X);
+  const int master[] = {0, 1, 1, 2}, slave[] = {3, 4};
+  scene_master(&s, SK_LINE2, 2, 2, master);
+  scene_slave(&s, SK_LINE2, 2, 1, slave);
+  scene_param(&s, "penalty", 1e3);
+  scene_param(&s, "mu", 10.0);
+  scene_param(&s, "penalty_tangential", eps_t);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  double q1[10], q2[10], q3[10];
+  memcpy(q1, X, sizeof q1);
+  q1[7] = -0.02;
+  run_step(&s, X, q1, 0.0, 1.0);
+  memcpy(q2, q1, sizeof q2);
+  q2[6] -= 0.002;
+  run_step(&s, q1, q2, 1.0, 2.0);
+  memcpy(q3, q2, sizeof q3);
+  q3[6] -= 0.2; /* now at x = -0.102, on the second face */
+  sk_state st = make_state(&s, q2, q3, 2.0, 3.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  point_list list;
+  points_at(&s, &st, q3, &list);
+  const sk_contact_point *p = point_of(&list, 3);
+  SK_CHECK(p && p->state == 1);
+  if (p) {
+    SK_CHECK_CLOSE(p->traction[0], eps_t * 0.202, 1e-10);
+    SK_CHECK(fabs(p->traction[1]) <= 1e-12);
+  }
+  scene_destroy(&s);
 }
 
 /* ---- friction ------------------------------------------------------------------------------------------------------ */
-
-/* Runs one step from q_n to q and commits it. */
-static void run_step(scene *s, const double *q_n, const double *q, double t_n, double t) {
-  sk_state st = make_state(s, q_n, q, t_n, t);
-  SK_CHECK(s->plugin->begin_step(s->inst, &st) == SK_OK);
-  SK_CHECK(s->plugin->commit_step(s->inst, &st) == SK_OK);
-}
 
 /* 2D flat master y = 0 (normal up), one slave node pressed in, then moved sideways by dx: the analytic stick
  * traction is -eps_t dx, slip gives |t| = mu p with dissipation mu p (eps_t dx - mu p)/eps_t. */
@@ -912,6 +981,7 @@ int main(void) {
   test_quad9_frictionless();
   test_friction_2d_flat_return_map();
   test_friction_3d_quad4();
+  test_friction_face_crossing();
   test_frame_indifference();
   test_obstacles();
   test_area_weighting();
