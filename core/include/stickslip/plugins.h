@@ -1,0 +1,30 @@
+/* stickslip — finding and loading formulation plugins (dlopen). */
+#ifndef STICKSLIP_PLUGINS_H
+#define STICKSLIP_PLUGINS_H
+
+#include "stickslip/error.h"
+#include "stickslip/plugin.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Directories searched, in order: those of STICKSLIP_PLUGIN_PATH (':'-separated), then the build/install folder
+ * next to the running executable (<exe>/../lib/stickslip/plugins). Libraries are named libstickslip-<name>.so. */
+
+/* Loads the plugin called `name`. Errors: unknown name (the message lists the plugins found), a library without the
+ * entry symbol, a wrong ABI version. The library stays loaded for the process lifetime. */
+sk_status sk_plugin_load(const char *name, const sk_plugin **plugin);
+/* Calls `callback` for every loadable plugin; libraries that fail to load are reported through `broken`
+ * (path, message) and skipped. Returns the number of plugins found. */
+int sk_plugin_each(void (*callback)(void *ctx, const sk_plugin *plugin, const char *path),
+                   void (*broken)(void *ctx, const char *path, const char *message), void *ctx);
+/* Loads one library file (for tests): checks the symbol and ABI version. */
+sk_status sk_plugin_open_file(const char *path, const sk_plugin **plugin);
+/* Human-readable capability list: "2d 3d friction ..." */
+void sk_capabilities_string(uint64_t caps, char *out, int size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

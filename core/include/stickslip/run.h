@@ -1,0 +1,39 @@
+/* stickslip — running a scene: the time-stepping loop over NOX, contact plugins and result files. */
+#ifndef STICKSLIP_RUN_H
+#define STICKSLIP_RUN_H
+
+#include "stickslip/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+  const char *out_dir;     /* results folder (replaced atomically at the end), or NULL for none */
+  int progress;            /* progress line on stderr (rank 0) */
+  int verbose;             /* Newton details per step */
+  int max_steps;           /* stop after this many steps (0: run to the end) — for tests and quick looks */
+} sk_run_options;
+
+typedef struct {
+  int steps;
+  int newton_iterations;
+  int linear_solves;
+  int cuts;                /* step halvings */
+  int unknowns_max;        /* largest size of the nonlinear system over the run */
+  int linear_size_max;     /* largest size of the linear system actually solved (after condensation) */
+  double final_time;
+  double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
+  int failed;
+  char message[1024];
+} sk_run_summary;
+
+/* Runs the scene to its end time (collective). On a failure after the run started (a step that cannot be solved
+ * even after max_cuts halvings), the results up to the last converged step are still written, complete, with
+ * status "failed" in summary.json, and the failure status is returned. */
+sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary *summary);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
