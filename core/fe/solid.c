@@ -90,18 +90,23 @@ static sk_status kinematics(const sk_solid *el, const double H[9], double Fb[9],
   return SK_OK;
 }
 
-/* B[(a*dim + i)*nv + v] = (sym(F^T (e_i (x) dN_a)))_v in engineering Voigt form, so S_v . B = S : dE. */
-static void build_b(int dim, int nen, const double *dNdX, const double F[9], double *B) {
+/* Kernels below are inlined with dim as a literal so the Voigt loops unroll and the dof loops vectorise. */
+#define FE_HOT static inline __attribute__((always_inline))
+
+/* Bt[v*MAX_DOF + a*dim + i] = (sym(F^T (e_i (x) dN_a)))_v in engineering Voigt form, so S_v . B = S : dE.
+ * Stored transposed (Voigt-major) so loops over dofs are contiguous. */
+FE_HOT void build_bt(const int dim, int nen, const double *restrict dNdX, const double *restrict F,
+                     double *restrict Bt) {
   const int nv = dim == 3 ? 6 : 3;
   const int *vi = dim == 3 ? voigt3_i : voigt2_i, *vj = dim == 3 ? voigt3_j : voigt2_j;
   for (int a = 0; a < nen; ++a) {
     const double *dN = dNdX + a * dim;
     for (int i = 0; i < dim; ++i) {
       const double *Fi = F + i * 3;
-      double *b = B + (a * dim + i) * nv;
+      const int r = a * dim + i;
       for (int v = 0; v < nv; ++v) {
         const int I = vi[v], J = vj[v];
-        b[v] = I == J ? Fi[I] * dN[I] : Fi[I] * dN[J] + Fi[J] * dN[I];
+        Bt[v * MAX_DOF + r] = I == J ? Fi[I] * dN[I] : Fi[I] * dN[J] + Fi[J] * dN[I];
       }
     }
   }
@@ -130,26 +135,30 @@ typedef struct {
   double D[SK_MAX_QP][36]; /* (algorithmic) tangent, Voigt; not symmetric for the midpoint correction */
 } qp_cache;
 
-/* K(upper) += w (B^T D B1) over all dof pairs, plus the geometric part scale * dN_a.S.dN_b on equal components.
- * symmetric: fill only c >= r (caller mirrors). */
-static void assemble_stiffness(int dim, int nen, double w, const double *B, const double *B1, const double *Dv,
-                               const double S[9], const double *dNdX, double geometric_scale, int symmetric,
-                               double *K) {
+/* K += w Bt^T D B1t (only c >= r when symmetric; the caller mirrors), plus the geometric part
+ * w * geometric_scale * dN_a.S.dN_b on equal components. */
+FE_HOT void assemble_stiffness(const int dim, int nen, double w, const double *restrict Bt,
+                               const double *restrict B1t, const double *restrict Dv, const double *restrict S,
+                               const double *restrict dNdX, double geometric_scale, int symmetric,
+                               double *restrict K) {
   const int nv = dim == 3 ? 6 : 3, ndof = nen * dim;
-  double DB[MAX_DOF * 6];
-  for (int c = 0; c < ndof; ++c)
-    for (int v = 0; v < nv; ++v) {
-      double sum = 0.0;
-      for (int x = 0; x < nv; ++x) sum += Dv[v * nv + x] * B1[c * nv + x];
-      DB[c * nv + v] = w * sum;
+  double DBt[6 * MAX_DOF];
+  for (int v = 0; v < nv; ++v) {
+    double *db = DBt + v * MAX_DOF;
+    for (int c = 0; c < ndof; ++c) db[c] = 0.0;
+    for (int x = 0; x < nv; ++x) {
+      const double d = w * Dv[v * nv + x];
+      const double *b1 = B1t + x * MAX_DOF;
+      for (int c = 0; c < ndof; ++c) db[c] += d * b1[c];
     }
+  }
   for (int r = 0; r < ndof; ++r) {
-    const double *br = B + r * nv;
+    double b[6];
+    for (int v = 0; v < nv; ++v) b[v] = Bt[v * MAX_DOF + r];
     double *Kr = K + r * ndof;
     for (int c = symmetric ? r : 0; c < ndof; ++c) {
-      const double *dbc = DB + c * nv;
       double sum = 0.0;
-      for (int v = 0; v < nv; ++v) sum += br[v] * dbc[v];
+      for (int v = 0; v < nv; ++v) sum += b[v] * DBt[v * MAX_DOF + c];
       Kr[c] += sum;
     }
   }
@@ -169,10 +178,40 @@ static void assemble_stiffness(int dim, int nen, double w, const double *B, cons
   }
 }
 
+/* Assembly of one quadrature point: f += w B^T S, K += w (B^T D B1 + geometric). B1 = B unless the midpoint
+ * (F1 differs from the B matrices' F). */
+FE_HOT void assemble_qp(const int dim, int nen, double w, const double *dNdX, const double *F, const double *F1,
+                        const double *S, const double *D, double geometric_scale, int symmetric, double *f,
+                        double *K) {
+  const int nv = dim == 3 ? 6 : 3, ndof = nen * dim;
+  double Bt[6 * MAX_DOF], B1t[6 * MAX_DOF], Sv[6], Dv[36];
+  build_bt(dim, nen, dNdX, F, Bt);
+  compress_voigt(dim, S, K ? D : NULL, Sv, Dv);
+  if (f)
+    for (int v = 0; v < nv; ++v) {
+      const double s = w * Sv[v];
+      const double *b = Bt + v * MAX_DOF;
+      for (int r = 0; r < ndof; ++r) f[r] += s * b[r];
+    }
+  if (!K) return;
+  if (F1 != F) build_bt(dim, nen, dNdX, F1, B1t);
+  assemble_stiffness(dim, nen, w, Bt, F1 != F ? B1t : Bt, Dv, S, dNdX, geometric_scale, symmetric, K);
+}
+
+/* The dimension as a literal for the inlined kernels. */
+static void assemble_qp_any(int dim, int nen, double w, const double *dNdX, const double *F, const double *F1,
+                            const double *S, const double *D, double geometric_scale, int symmetric, double *f,
+                            double *K) {
+  if (dim == 3)
+    assemble_qp(3, nen, w, dNdX, F, F1, S, D, geometric_scale, symmetric, f, K);
+  else
+    assemble_qp(2, nen, w, dNdX, F, F1, S, D, geometric_scale, symmetric, f, K);
+}
+
 sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u, double *W, double *f, double *K) {
   SK_TRY(check_solid(el, X, "sk_solid_internal"));
   if (!u) return sk_error_set(SK_ERR_INPUT, "sk_solid_internal: NULL displacement");
-  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim, nv = dim == 3 ? 6 : 3;
+  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim;
   int nq;
   const double *qxi, *qw;
   sk_elem_quadrature(el->type, &nq, &qxi, &qw);
@@ -191,18 +230,9 @@ sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u
   if (f) memset(f, 0, (size_t)ndof * sizeof *f);
   if (K) memset(K, 0, (size_t)ndof * ndof * sizeof *K);
   const double geometric = el->mat->model == SK_MAT_HOOKE ? 0.0 : 1.0;
-  for (int q = 0; q < nq; ++q) {
-    double B[MAX_DOF * 6], Sv[6], Dv[36];
-    build_b(dim, nen, cache.dNdX[q], cache.F[q], B);
-    compress_voigt(dim, cache.S[q], K ? cache.D[q] : NULL, Sv, Dv);
-    if (f)
-      for (int r = 0; r < ndof; ++r) {
-        double sum = 0.0;
-        for (int v = 0; v < nv; ++v) sum += B[r * nv + v] * Sv[v];
-        f[r] += cache.wdet[q] * sum;
-      }
-    if (K) assemble_stiffness(dim, nen, cache.wdet[q], B, B, Dv, cache.S[q], cache.dNdX[q], geometric, 1, K);
-  }
+  for (int q = 0; q < nq; ++q)
+    assemble_qp_any(dim, nen, cache.wdet[q], cache.dNdX[q], cache.F[q], cache.F[q], cache.S[q], cache.D[q],
+                    geometric, 1, f, K);
   if (K)
     for (int r = 0; r < ndof; ++r)
       for (int c = 0; c < r; ++c) K[r * ndof + c] = K[c * ndof + r];
@@ -256,7 +286,7 @@ sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const 
                                      double *f, double *K) {
   SK_TRY(check_solid(el, X, "sk_solid_internal_midpoint"));
   if (!u0 || !u1) return sk_error_set(SK_ERR_INPUT, "sk_solid_internal_midpoint: NULL displacement");
-  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim, nv = dim == 3 ? 6 : 3;
+  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim;
   int nq;
   const double *qxi, *qw;
   sk_elem_quadrature(el->type, &nq, &qxi, &qw);
@@ -275,21 +305,9 @@ sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const 
   if (K) memset(K, 0, (size_t)ndof * ndof * sizeof *K);
   /* dF_mid/du1 = 1/2 dF1/du1: the geometric term carries a factor 1/2. */
   const double geometric = el->mat->model == SK_MAT_HOOKE ? 0.0 : 0.5;
-  for (int q = 0; q < nq; ++q) {
-    double Bm[MAX_DOF * 6], B1[MAX_DOF * 6], Sv[6], Dv[36];
-    build_b(dim, nen, cache.dNdX[q], cache.F[q], Bm);
-    compress_voigt(dim, cache.S[q], K ? cache.D[q] : NULL, Sv, Dv);
-    if (f)
-      for (int r = 0; r < ndof; ++r) {
-        double sum = 0.0;
-        for (int v = 0; v < nv; ++v) sum += Bm[r * nv + v] * Sv[v];
-        f[r] += cache.wdet[q] * sum;
-      }
-    if (K) {
-      build_b(dim, nen, cache.dNdX[q], cache.F1[q], B1);
-      assemble_stiffness(dim, nen, cache.wdet[q], Bm, B1, Dv, cache.S[q], cache.dNdX[q], geometric, 0, K);
-    }
-  }
+  for (int q = 0; q < nq; ++q)
+    assemble_qp_any(dim, nen, cache.wdet[q], cache.dNdX[q], cache.F[q], cache.F1[q], cache.S[q], cache.D[q],
+                    geometric, 0, f, K);
   return SK_OK;
 }
 
