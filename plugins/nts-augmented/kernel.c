@@ -231,7 +231,7 @@ static int inverse2(const double A[2][2], double Ai[2][2]) {
 
 void nts_friction_eval(const nts_geometry *geo_hat, double alpha, const double f[2], const double f_start[2],
                        const double t_start[2], double lambda_n, const nts_friction_params *params,
-                       nts_friction *out) {
+                       nts_friction_mode mode, nts_friction *out) {
   memset(out, 0, sizeof *out);
   const int nz = geo_hat->nz, nq = geo_hat->nq;
   const double theta = alpha;
@@ -264,8 +264,11 @@ void nts_friction_eval(const nts_geometry *geo_hat, double alpha, const double f
   const double nu = sqrt(fmax(0.0, tau[0] * t_tr[0] + tau[1] * t_tr[1]));
   const double cone = params->mu * fabs(lambda_n);
   out->trial_norm = nu;
+  out->cone = cone;
   double dt_next[2][NTS_MAX_NZ];
-  if (nu <= cone) {
+  const int stick = mode == NTS_FRICTION_STICK || (mode == NTS_FRICTION_RETURN_MAP && nu <= cone) ||
+                    (mode == NTS_FRICTION_SLIP && !(nu > 1e-300));
+  if (stick) {
     for (int a = 0; a < 2; ++a) {
       out->t_next[a] = t_tr[a];
       for (int j = 0; j < nz; ++j) dt_next[a][j] = dt_tr[a][j];
@@ -326,7 +329,8 @@ void nts_element_build(const nts_facet *facet, const nts_element_input *in, cons
   const double lambda[3] = {in->lambda_aug[0], in->lambda_aug[1], in->lambda_n};
   double H[NTS_MAX_NZ * NTS_MAX_NZ];
   nts_constraint_hessian(gh, lambda, H);
-  nts_friction_eval(gh, alpha, in->f, in->f_start, in->t_start, in->lambda_n, params, &sys->friction);
+  nts_friction_eval(gh, alpha, in->f, in->f_start, in->t_start, in->lambda_n, params, in->friction_mode,
+                    &sys->friction);
   const nts_friction *fr = &sys->friction;
 
   /* z index -> u index */
@@ -487,6 +491,7 @@ int nts_direct_eliminate(const nts_facet *facet, nts_element_input *in, const nt
     nts_geometry_eval(facet, q_hat, f_hat, &geo_hat);
   }
   nts_friction fr;
-  nts_friction_eval(&geo_hat, in->alpha, in->f, in->f_start, in->t_start, in->lambda_n, params, &fr);
+  nts_friction_eval(&geo_hat, in->alpha, in->f, in->f_start, in->t_start, in->lambda_n, params, in->friction_mode,
+                    &fr);
   return nts_lambda_aug(&geo_hat, in->lambda_n, fr.t_used, in->lambda_aug);
 }

@@ -68,18 +68,24 @@ typedef struct {
   double mu, epsilon_t;
 } nts_friction_params;
 
+/* Which branch of the return map to use: the trial decides (the map itself), or a branch fixed by the caller's
+ * stick/slip active set (Newton on the non-smooth map alone can cycle between slip directions when eps_T is stiff
+ * compared with the bulk). A fixed slip branch with a vanishing trial falls back to stick. */
+typedef enum { NTS_FRICTION_RETURN_MAP = 0, NTS_FRICTION_STICK, NTS_FRICTION_SLIP } nts_friction_mode;
+
 typedef struct {
   double t_next[2];                /* t_{n+1}, covariant */
   double t_used[2];                /* traction conjugate to f in this step's equations */
   double dt_dz[2][NTS_MAX_NZ];     /* d t_used / d z_{n+1} */
   double dt_dlambda_n[2];          /* d t_used / d lambda_n (non-zero when slipping) */
-  double trial_norm;
+  double trial_norm;               /* |t_tr| in the metric m_hat */
+  double cone;                     /* mu |lambda_n| */
   int slip;
 } nts_friction;
 
 void nts_friction_eval(const nts_geometry *geo_hat, double alpha, const double f[2], const double f_start[2],
                        const double t_start[2], double lambda_n, const nts_friction_params *params,
-                       nts_friction *out);
+                       nts_friction_mode mode, nts_friction *out);
 
 /* ---- the element system ---------------------------------------------------------------------------------------
  * Residual rows (u order) of an active element, y_hat = alpha y_{n+1} + (1 - alpha) y_n:
@@ -98,6 +104,7 @@ typedef struct {
   double f_frozen[2];              /* f of an inactive element */
   double lambda_n, f[2], lambda_aug[2];
   int active;
+  nts_friction_mode friction_mode; /* 0 (zero-initialised): the return map decides */
 } nts_element_input;
 
 typedef struct {

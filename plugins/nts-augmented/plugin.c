@@ -19,13 +19,14 @@ static const double LOCAL_NEWTON_TOL = 1e-13;
 typedef struct {
   int node;                    /* global slave node id */
   /* committed at the end of the last accepted step */
-  int c_facet, c_active;
+  int c_facet, c_active, c_slip;
   double c_f[2];               /* f at t_n */
   double c_t[2];               /* tangential traction t_n, covariant on c_facet */
   double c_t_vector[3];        /* the same traction as a spatial vector, to map it onto a new facet */
   double c_extra[N_EXTRA];
   /* this step */
   int facet, active, flips;
+  int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
   int nodes[1 + NTS_MAX_NEN];  /* slave node, then the facet's nodes */
   double f_start[2], t_start[2], f_frozen[2];
   double gap_estimate;         /* gap seen at begin_step (for output of inactive points) */
@@ -96,6 +97,7 @@ static sk_status evaluate(sk_instance *inst, int k, const sk_state *state, eleme
   in->q_A = e->q_A;
   in->q_A_start = e->q_A_start;
   in->active = p->active;
+  if (inst->friction.mu > 0.0) in->friction_mode = p->slip ? NTS_FRICTION_SLIP : NTS_FRICTION_STICK;
   in->lambda_n = x[0];
   in->f[0] = e->extra_f[0] = x[1];
   in->f[1] = e->extra_f[1] = x[2];
@@ -261,6 +263,7 @@ static sk_status begin_step(sk_instance *inst, const sk_state *state) {
       if (st != SK_OK) return st;
     }
     p->flips = 0;
+    p->slip = 0;
     memset(init, 0, sizeof(double) * N_EXTRA);
     if (proj.face < 0 || proj.kind == SK_PROJ_OUTSIDE) {
       /* nothing reachable this step (or beyond the master's border): trivial equations */
@@ -283,6 +286,7 @@ static sk_status begin_step(sk_instance *inst, const sk_state *state) {
         lambda_aug[a] = p->c_extra[3 + a];
       }
       lambda_n = p->c_extra[0];
+      p->slip = p->c_slip;
     } else {
       /* new contact or a new facet: f from the closest point of q_n on this facet; a committed traction is carried
        * over as a spatial vector (t_a = t . a_a on the new facet) */
@@ -425,28 +429,35 @@ static sk_status after_iteration(sk_instance *inst, const sk_state *state, int *
     if (p->facet < 0) continue;
     const double *x = state->extra + N_EXTRA * k;
     double f[2] = {x[1], x[2]}, gap;
-    if (p->active && inst->strategy != STRATEGY_DIRECT) {
-      double q_A[NTS_MAX_NQ];
-      nts_geometry geo;
-      gather(p, inst->facet.nen, state->q, q_A);
-      nts_geometry_eval(&inst->facet, q_A, f, &geo);
-      gap = geo.phi[NTS_PHI_N];
+    int want_slip = p->slip;
+    if (p->active) {
+      element_eval e;
+      SK_TRY(evaluate(inst, k, state, &e));
+      gap = e.sys.geo_end.phi[NTS_PHI_N];
+      /* the stick/slip set follows the return map's trial at this iterate */
+      if (inst->friction.mu > 0.0) want_slip = e.sys.friction.trial_norm > e.sys.friction.cone;
     } else {
-      if (!p->active) f[0] = p->f_frozen[0], f[1] = p->f_frozen[1];
+      f[0] = p->f_frozen[0];
+      f[1] = p->f_frozen[1];
       gap = gap_on_facet(inst, p, state->q, f);
     }
     const double lambda_n = p->active ? x[0] : 0.0;
-    const int want = -lambda_n - inst->c_n * gap > 0.0;
-    if (want == p->active) continue;
+    const int want_active = -lambda_n - inst->c_n * gap > 0.0;
+    if (want_active == p->active && want_slip == p->slip) continue;
     if (p->flips >= inst->max_flips) continue; /* chattering: keep the state for the rest of the step */
     if (++p->flips == inst->max_flips)
       inst->host->log(inst->host, 2, "%s: nts-augmented: slave node %d changed its contact state %d times; frozen "
                       "for this step", inst->pair->name, p->node, p->flips);
-    p->active = want;
-    if (!p->active) {
-      /* keep f where it is: its trivial equation f = f_frozen is then already satisfied */
-      p->f_frozen[0] = x[1];
-      p->f_frozen[1] = x[2];
+    if (want_active != p->active) {
+      p->active = want_active;
+      p->slip = 0; /* a new contact starts sticking */
+      if (!p->active) {
+        /* keep f where it is: its trivial equation f = f_frozen is then already satisfied */
+        p->f_frozen[0] = x[1];
+        p->f_frozen[1] = x[2];
+      }
+    } else {
+      p->slip = want_slip;
     }
     *changed = 1;
   }
@@ -459,6 +470,7 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     const double *x = state->extra + N_EXTRA * k;
     p->c_facet = p->facet;
     p->c_active = p->facet >= 0 && p->active;
+    p->c_slip = p->c_active && p->slip;
     memcpy(p->c_extra, x, sizeof p->c_extra);
     memset(p->c_t, 0, sizeof p->c_t);
     memset(p->c_t_vector, 0, sizeof p->c_t_vector);
@@ -489,6 +501,7 @@ static void reject_step(sk_instance *inst) {
   /* begin_step rebuilds everything of the step from the committed data; only forget this attempt's state */
   for (int k = 0; k < inst->n_points; ++k) {
     inst->points[k].active = 0;
+    inst->points[k].slip = 0;
     inst->points[k].flips = 0;
   }
 }
