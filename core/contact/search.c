@@ -22,12 +22,19 @@ typedef struct {
   int first, count; /* range of `order` (leaves: count > 0) */
 } bvh_node;
 
+typedef struct {
+  double centre[3];
+  int face;
+} split_item; /* box centre stored beside its face so the median selection walks contiguous memory */
+
 struct sk_search {
   const sk_surface *surface;
   const sk_face_domain *domain;
   int built;
   double *face_box;  /* 6 per face: lo[3], hi[3] */
+  split_item *items; /* scratch of the split, allocated once */
   int *order;        /* face ids, grouped by leaf */
+  double *slot_box;  /* face boxes in `order` (leaf) order: queries read them contiguously */
   int n_nodes;
   bvh_node *nodes;   /* preorder: children come after their parent */
 };
@@ -42,9 +49,11 @@ sk_status sk_search_create(const sk_surface *surface, sk_search **search) {
   if (s) {
     s->face_box = malloc(6 * n * sizeof *s->face_box);
     s->order = malloc(n * sizeof *s->order);
+    s->items = malloc(n * sizeof *s->items);
+    s->slot_box = malloc(6 * n * sizeof *s->slot_box);
     s->nodes = malloc(2 * n * sizeof *s->nodes);
   }
-  if (!s || !s->face_box || !s->order || !s->nodes) {
+  if (!s || !s->face_box || !s->order || !s->items || !s->slot_box || !s->nodes) {
     sk_search_destroy(s);
     return sk_error_set(SK_ERR_NOMEM, "contact search: out of memory for the tree of surface %s (%d faces)",
                         surface->name, surface->n_faces);
@@ -59,6 +68,8 @@ void sk_search_destroy(sk_search *search) {
   if (!search) return;
   free(search->face_box);
   free(search->order);
+  free(search->items);
+  free(search->slot_box);
   free(search->nodes);
   free(search);
 }
@@ -67,25 +78,20 @@ void sk_search_rebuild(sk_search *search) {
   if (search) search->built = 0;
 }
 
-static double box_centre(const sk_search *s, int face, int axis) {
-  const double *b = s->face_box + 6 * (size_t)face;
-  return 0.5 * (b[axis] + b[3 + axis]);
-}
-
-/* Reorders order[first, last) so that the element at `nth` is the one a full sort by centre would put there
+/* Reorders items[first, last) so that the element at `nth` is the one a full sort by centre would put there
  * (quickselect, expected linear time). */
-static void select_nth(const sk_search *s, int *order, int first, int last, int nth, int axis) {
+static void select_nth(split_item *items, int first, int last, int nth, int axis) {
   while (last - first > 1) {
     int mid = first + (last - first) / 2;
-    double pivot = box_centre(s, order[mid], axis);
+    double pivot = items[mid].centre[axis];
     int i = first, j = last - 1;
     while (i <= j) {
-      while (box_centre(s, order[i], axis) < pivot) ++i;
-      while (box_centre(s, order[j], axis) > pivot) --j;
+      while (items[i].centre[axis] < pivot) ++i;
+      while (items[j].centre[axis] > pivot) --j;
       if (i <= j) {
-        int tmp = order[i];
-        order[i] = order[j];
-        order[j] = tmp;
+        split_item tmp = items[i];
+        items[i] = items[j];
+        items[j] = tmp;
         ++i;
         --j;
       }
@@ -106,7 +112,7 @@ static int build_node(sk_search *s, int first, int count) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int k = first; k < first + count; ++k)
     for (int i = 0; i < 3; ++i) {
-      double c = box_centre(s, s->order[k], i);
+      double c = s->items[k].centre[i];
       lo[i] = fmin(lo[i], c);
       hi[i] = fmax(hi[i], c);
     }
@@ -114,7 +120,7 @@ static int build_node(sk_search *s, int first, int count) {
   for (int i = 1; i < 3; ++i)
     if (hi[i] - lo[i] > hi[axis] - lo[axis]) axis = i;
   int half = count / 2;
-  select_nth(s, s->order, first, first + count, first + half, axis);
+  select_nth(s->items, first, first + count, first + half, axis);
   int left = build_node(s, first, half);
   int right = build_node(s, first + half, count - half);
   node = &s->nodes[id]; /* (the array never moves, but keep the access obvious) */
@@ -156,9 +162,14 @@ void sk_search_update(sk_search *search, const double *q0, const double *q1, dou
   for (int f = 0; f < n; ++f) face_box(search, f, q0, q1, margin, search->face_box + 6 * (size_t)f);
   if (n == 0) return;
   if (!search->built) {
-    for (int f = 0; f < n; ++f) search->order[f] = f;
+    for (int f = 0; f < n; ++f) {
+      const double *b = search->face_box + 6 * (size_t)f;
+      for (int i = 0; i < 3; ++i) search->items[f].centre[i] = 0.5 * (b[i] + b[3 + i]);
+      search->items[f].face = f;
+    }
     search->n_nodes = 0;
     build_node(search, 0, n);
+    for (int k = 0; k < n; ++k) search->order[k] = search->items[k].face;
     search->built = 1;
   }
   /* Children follow their parent in preorder, so a reverse sweep refits bottom-up. */
@@ -170,7 +181,8 @@ void sk_search_update(sk_search *search, const double *q0, const double *q1, dou
     }
     if (node->count > 0) {
       for (int k = node->first; k < node->first + node->count; ++k) {
-        const double *b = search->face_box + 6 * (size_t)search->order[k];
+        double *b = search->slot_box + 6 * (size_t)k;
+        memcpy(b, search->face_box + 6 * (size_t)search->order[k], 6 * sizeof *b);
         for (int i = 0; i < 3; ++i) {
           node->lo[i] = fmin(node->lo[i], b[i]);
           node->hi[i] = fmax(node->hi[i], b[3 + i]);
@@ -200,10 +212,9 @@ int sk_search_query(const sk_search *search, const double lo[3], const double hi
     if (!overlaps(lo, hi, node->lo, node->hi)) continue;
     if (node->count > 0) {
       for (int k = node->first; k < node->first + node->count; ++k) {
-        int face = search->order[k];
-        const double *b = search->face_box + 6 * (size_t)face;
+        const double *b = search->slot_box + 6 * (size_t)k;
         if (!overlaps(lo, hi, b, b + 3)) continue;
-        if (found < max_faces && faces) faces[found] = face;
+        if (found < max_faces && faces) faces[found] = search->order[k];
         ++found;
       }
     } else if (top + 2 <= QUERY_STACK) {
