@@ -204,7 +204,7 @@ static void tensor_shape(const element_info *info, const double *xi, double *N, 
 
 void sk_elem_shape(sk_elem_type type, const double *xi, double *N, double *dN) {
   const element_info *info = element_lookup(type);
-  if (!info || (!N && !dN)) return;
+  if (!info || (!N && !dN) || (!xi && info->pdim > 0)) return;
   switch (type) {
     case SK_POINT1:
       if (N) N[0] = 1.0;
@@ -228,7 +228,7 @@ void sk_elem_shape(sk_elem_type type, const double *xi, double *N, double *dN) {
 
 void sk_elem_shape_hessian(sk_elem_type type, const double *xi, double *ddN) {
   const element_info *info = element_lookup(type);
-  if (!info || !ddN) return;
+  if (!info || !ddN || (!xi && info->pdim > 0)) return;
   if (!info->tensor_index) { /* simplices and the point are affine */
     for (int i = 0; i < info->nen * info->pdim * info->pdim; ++i) ddN[i] = 0.0;
     return;
