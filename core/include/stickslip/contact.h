@@ -83,10 +83,12 @@ typedef struct {
   int iterations;         /* Newton iterations of the local projection */
 } sk_projection;
 
-/* Projects point x onto the surface, trying the candidate faces (from the broad phase; all faces when
- * candidates == NULL), using Newton with the full second-derivative term, clamping to the face and switching to
- * the neighbouring face when the iterate leaves it. Picks the candidate with the smallest distance; ties on a
- * shared edge pick the lowest face id (deterministic). */
+/* Projects point x (dim entries) onto the surface, trying the candidate faces (from the broad phase; all faces
+ * when candidates == NULL), using Newton with the full second-derivative term, clamping to the face and switching
+ * to the neighbouring face when the iterate leaves it. Picks the candidate with the smallest distance; ties on a
+ * shared edge pick the lowest face id (deterministic). Classification tolerance 1e-10 in xi; a result reported on
+ * an edge lies exactly on it. SK_ERR_INPUT for a candidate id out of range, SK_ERR_DIVERGED (result still filled)
+ * when Newton did not converge. docs/contact-services.md has the details. */
 sk_status sk_surface_project(const sk_surface *surface, const double *q, const double *x, const int *candidates,
                              int n_candidates, sk_projection *projection);
 
@@ -97,7 +99,7 @@ typedef struct sk_search sk_search;
 sk_status sk_search_create(const sk_surface *surface, sk_search **search);
 void sk_search_destroy(sk_search *search);
 /* Refits the face boxes to enclose each face at both q0 (start of step) and q1 (current predictor), inflated by
- * `margin`: a face that cannot be reached during the step is never returned. */
+ * `margin`: a face that cannot be reached during the step is never returned. Either q may be NULL. */
 void sk_search_update(sk_search *search, const double *q0, const double *q1, double margin);
 /* Faces whose boxes overlap the box [lo, hi]; writes at most max_faces ids, returns how many overlap in total.
  * Before the first sk_search_update nothing is returned. */
