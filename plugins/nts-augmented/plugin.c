@@ -27,6 +27,7 @@ typedef struct {
   /* this step */
   int facet, active, flips;
   int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
+  int return_map;              /* after max_flips: the return map itself picks the branch at every evaluation */
   int nodes[1 + NTS_MAX_NEN];  /* slave node, then the facet's nodes */
   double f_start[2], t_start[2], f_frozen[2];
   double gap_estimate;         /* gap seen at begin_step (for output of inactive points) */
@@ -97,7 +98,8 @@ static sk_status evaluate(sk_instance *inst, int k, const sk_state *state, eleme
   in->q_A = e->q_A;
   in->q_A_start = e->q_A_start;
   in->active = p->active;
-  if (inst->friction.mu > 0.0) in->friction_mode = p->slip ? NTS_FRICTION_SLIP : NTS_FRICTION_STICK;
+  if (inst->friction.mu > 0.0 && !p->return_map)
+    in->friction_mode = p->slip ? NTS_FRICTION_SLIP : NTS_FRICTION_STICK;
   in->lambda_n = x[0];
   in->f[0] = e->extra_f[0] = x[1];
   in->f[1] = e->extra_f[1] = x[2];
@@ -264,6 +266,7 @@ static sk_status begin_step(sk_instance *inst, const sk_state *state) {
     }
     p->flips = 0;
     p->slip = 0;
+    p->return_map = 0;
     memset(init, 0, sizeof(double) * N_EXTRA);
     if (proj.face < 0 || proj.kind == SK_PROJ_OUTSIDE) {
       /* nothing reachable this step (or beyond the master's border): trivial equations */
@@ -444,10 +447,14 @@ static sk_status after_iteration(sk_instance *inst, const sk_state *state, int *
     const double lambda_n = p->active ? x[0] : 0.0;
     const int want_active = -lambda_n - inst->c_n * gap > 0.0;
     if (want_active == p->active && want_slip == p->slip) continue;
-    if (p->flips >= inst->max_flips) continue; /* chattering: keep the state for the rest of the step */
-    if (++p->flips == inst->max_flips)
+    /* chattering: after max_flips the contact state is kept for the rest of the step and the stick/slip branch
+     * is left to the return map (so Coulomb's law still holds exactly at convergence) */
+    if (p->flips >= inst->max_flips) continue;
+    if (++p->flips == inst->max_flips) {
+      p->return_map = 1;
       inst->host->log(inst->host, 2, "%s: nts-augmented: slave node %d changed its contact state %d times; frozen "
                       "for this step", inst->pair->name, p->node, p->flips);
+    }
     if (want_active != p->active) {
       p->active = want_active;
       p->slip = 0; /* a new contact starts sticking */
@@ -481,6 +488,10 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     }
     element_eval e;
     SK_TRY(evaluate(inst, k, state, &e));
+    if (e.in.lambda_n > 0.0)
+      inst->host->log(inst->host, 2, "%s: nts-augmented: slave node %d ends the step active with a tensile multiplier "
+                      "%g (its contact state was frozen)", inst->pair->name, p->node, e.in.lambda_n);
+    p->c_slip = e.sys.friction.slip;
     for (int a = 0; a < 2; ++a) {
       p->c_f[a] = e.in.f[a];
       p->c_t[a] = e.sys.friction.t_next[a];
@@ -502,6 +513,7 @@ static void reject_step(sk_instance *inst) {
   for (int k = 0; k < inst->n_points; ++k) {
     inst->points[k].active = 0;
     inst->points[k].slip = 0;
+    inst->points[k].return_map = 0;
     inst->points[k].flips = 0;
   }
 }
