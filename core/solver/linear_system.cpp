@@ -54,8 +54,12 @@ using Teuchos::rcp;
 
 using stickslip::bridge::status_from_exception;
 
-// AUTO's rule, from docs/linear-solvers.md (measured on this machine): KLU2 wins below this many unknowns.
-constexpr int kAutoDirectMaxUnknowns = 60000;
+// AUTO's rule, from docs/linear-solvers.md (elasticity benchmark on this machine): KLU2 wins up to about 12000
+// unknowns on 2D-like sparsity (<= 40 entries per row: quad4 elasticity has ~18) and up to about 2500 on 3D-like
+// sparsity (hex8 elasticity has ~81), where its fill grows much faster; GMRES + MueLu beyond.
+constexpr int kAutoSparseRowEntries = 40;
+constexpr int kAutoDirectMaxUnknownsSparse = 12000;
+constexpr int kAutoDirectMaxUnknownsDense = 2500;
 constexpr int kGmresRestart = 100;
 // A direct solve whose measured residual exceeds this is a (numerically) singular matrix, not round-off.
 constexpr double kDirectResidualLimit = 1e-6;
@@ -72,6 +76,8 @@ struct sk_linear_system {
   int size = 1;
   sk_linear_options options{};
   int block_size = 1;
+  int coordinate_dim = 0;            // 0: no coordinates (translations-only nullspace)
+  std::vector<double> coordinates;   // replicated, node-major
   RCP<const Teuchos::Comm<int>> tcomm;
 
   // replicated pattern and this rank's contributions
@@ -96,6 +102,8 @@ struct sk_linear_system {
   RCP<const Map> row_map;
   RCP<Matrix> matrix;
   bool assembled = false;
+  // AUTO chose GMRES + MueLu and it did not converge (e.g. a saddle-point contact system): direct for this pattern
+  bool auto_fell_back = false;
 
   // direct: on one rank the distributed matrix itself; on more, a serial copy on rank 0
   RCP<const Map> serial_map;
@@ -114,7 +122,10 @@ namespace {
 
 sk_linear_solver_kind resolve_kind(const sk_linear_system *sys) {
   if (sys->options.kind != SK_LINEAR_AUTO) return sys->options.kind;
-  return sys->n <= kAutoDirectMaxUnknowns ? SK_LINEAR_DIRECT : SK_LINEAR_GMRES_MUELU;
+  if (sys->auto_fell_back) return SK_LINEAR_DIRECT;
+  const double entries_per_row = sys->n > 0 ? static_cast<double>(sys->row_ptr[sys->n]) / sys->n : 0.0;
+  const int limit = entries_per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
+  return sys->n <= limit ? SK_LINEAR_DIRECT : SK_LINEAR_GMRES_MUELU;
 }
 
 // Drops everything derived from the pattern (maps, matrices, factorisations, preconditioners).
@@ -127,6 +138,7 @@ void release_pattern(sk_linear_system *sys) {
   sys->matrix = Teuchos::null;
   sys->row_map = Teuchos::null;
   sys->assembled = false;
+  sys->auto_fell_back = false;
 }
 
 // Copies the owned slice of a replicated array into a distributed vector on the row map.
@@ -307,6 +319,34 @@ RCP<Teuchos::ParameterList> muelu_parameters(const sk_linear_system *sys) {
   return p;
 }
 
+// Rigid-body modes on this rank's rows (coordinates centred, so the rotations are well scaled against the
+// translations): 2D (1,0) (0,1) (-y,x); 3D adds (0,0,1) and the rotations about x, y, z.
+RCP<MultiVector> rigid_body_modes(const sk_linear_system *sys) {
+  const int dim = sys->coordinate_dim;
+  const int n_modes = dim == 2 ? 3 : 6;
+  const size_t n_nodes = sys->coordinates.size() / static_cast<size_t>(dim);
+  double centre[3] = {0, 0, 0};
+  for (size_t node = 0; node < n_nodes; ++node)
+    for (int c = 0; c < dim; ++c) centre[c] += sys->coordinates[node * dim + c] / static_cast<double>(n_nodes);
+  auto modes = rcp(new MultiVector(sys->row_map, static_cast<size_t>(n_modes)));
+  const int first_row = sys->row_offsets[sys->rank], n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  for (int m = 0; m < n_modes; ++m) {
+    auto data = modes->getDataNonConst(static_cast<size_t>(m));
+    for (int i = 0; i < n_owned; ++i) {
+      const int row = first_row + i, node = row / dim, c = row % dim;
+      const double x = sys->coordinates[node * dim] - centre[0], y = sys->coordinates[node * dim + 1] - centre[1];
+      const double z = dim == 3 ? sys->coordinates[node * dim + 2] - centre[2] : 0.0;
+      double v = m == c ? 1.0 : 0.0;  // translations
+      if (dim == 2 && m == 2) v = c == 0 ? -y : x;
+      if (dim == 3 && m == 3) v = c == 0 ? -y : (c == 1 ? x : 0.0);  // about z
+      if (dim == 3 && m == 4) v = c == 1 ? -z : (c == 2 ? y : 0.0);  // about x
+      if (dim == 3 && m == 5) v = c == 2 ? -x : (c == 0 ? z : 0.0);  // about y
+      data[i] = v;
+    }
+  }
+  return modes;
+}
+
 sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                           sk_linear_report *report) {
   RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
@@ -315,6 +355,14 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   if (kind == SK_LINEAR_GMRES_MUELU) {
     if (sys->muelu.is_null()) {
       auto params = muelu_parameters(sys);
+      if (sys->coordinate_dim > 0) {
+        if (static_cast<size_t>(sys->n) != sys->coordinates.size() || sys->block_size != sys->coordinate_dim)
+          return sk_error_set(SK_ERR_INPUT,
+                              "gmres-muelu: coordinates give %zu unknowns with block size %d, the system has %d "
+                              "unknowns with block size %d",
+                              sys->coordinates.size(), sys->coordinate_dim, sys->n, sys->block_size);
+        params->sublist("user data").set("Nullspace", rigid_body_modes(sys));
+      }
       sys->muelu = MueLu::CreateTpetraPreconditioner(RCP<Operator>(sys->matrix), *params);
       report->refactored_symbolic = 1;
     } else {
@@ -446,6 +494,16 @@ sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size) {
   return SK_OK;
 }
 
+sk_status sk_linsys_set_coordinates(sk_linear_system *sys, int n_nodes, int dim, const double *coordinates) {
+  if ((dim != 2 && dim != 3) || n_nodes < 0 || (n_nodes > 0 && !coordinates))
+    return sk_error_set(SK_ERR_INPUT, "linear system: coordinates need dim 2 or 3 (got %d) and %d nodes", dim,
+                        n_nodes);
+  sys->coordinate_dim = dim;
+  sys->coordinates.assign(coordinates, coordinates + static_cast<size_t>(n_nodes) * dim);
+  sys->muelu = Teuchos::null;  // the nullspace changed
+  return SK_OK;
+}
+
 sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n, const int64_t *row_ptr, const int *cols,
                                 int n_local_rows, const int *local_rows) {
   sk_status status = check_pattern(n, row_ptr, cols, n_local_rows, local_rows);
@@ -574,7 +632,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     return SK_OK;
   }
   if (!std::isfinite(norm_b)) return sk_error_set(SK_ERR_DIVERGED, "sk_linsys_solve: non-finite right-hand side");
-  const sk_linear_solver_kind kind = resolve_kind(sys);
+  sk_linear_solver_kind kind = resolve_kind(sys);
   sk_status status;
   try {
     status = kind == SK_LINEAR_DIRECT ? solve_direct(sys, b, x, report) : solve_iterative(sys, kind, b, x, report);
@@ -582,6 +640,23 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     status = status_from_exception(SK_ERR_DIVERGED, sk_linear_solver_name(kind), std::current_exception());
   }
   status = agree(sys->comm, status, "sk_linsys_solve");
+  if (status == SK_ERR_DIVERGED && sys->options.kind == SK_LINEAR_AUTO && kind != SK_LINEAR_DIRECT) {
+    // AUTO promises an answer when one exists: fall back to the direct solver, for this pattern from now on
+    if (sys->options.verbose && sys->rank == 0)
+      std::printf("linear solve (auto): %s; falling back to direct\n", sk_error_message());
+    sys->auto_fell_back = true;
+    sys->muelu = Teuchos::null;
+    kind = SK_LINEAR_DIRECT;
+    const int iterations = report->iterations;
+    try {
+      status = solve_direct(sys, b, x, report);
+    } catch (...) {
+      status = status_from_exception(SK_ERR_DIVERGED, "direct", std::current_exception());
+    }
+    status = agree(sys->comm, status, "sk_linsys_solve");
+    report->iterations = iterations;
+    report->refactored_symbolic = 1;
+  }
   report->seconds = now_seconds() - start;
   if (sys->options.verbose && sys->rank == 0)
     std::printf("linear solve (%s): n = %d, %d iterations, relative residual %.3g, %.3f s\n",

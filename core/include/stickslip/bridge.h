@@ -51,6 +51,10 @@ void sk_linsys_destroy(sk_linear_system *sys);
 /* Unknowns per mesh node (default 1; the spatial dimension for elasticity): MueLu aggregates whole nodes and
  * builds a block nullspace, and rows are distributed in whole nodes. Call before sk_linsys_set_pattern. */
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size);
+/* Optional, for elasticity with GMRES_MUELU: the (replicated) coordinates of the n_nodes mesh nodes, dim per node,
+ * whose unknowns are numbered node-major (unknown = dim * node + component) with block size dim (2 or 3). MueLu then
+ * uses the rigid-body modes (3 in 2D, 6 in 3D) as its nullspace instead of translations only. Copied. */
+sk_status sk_linsys_set_coordinates(sk_linear_system *sys, int n_nodes, int dim, const double *coordinates);
 
 /* Sets (or replaces) the sparsity pattern: n unknowns, CSR row_ptr[n+1], cols[row_ptr[n]] sorted within rows,
  * identical on all ranks. `local_rows` (sorted, n_local_rows entries) lists the rows this rank writes into.

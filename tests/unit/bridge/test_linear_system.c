@@ -99,6 +99,32 @@ static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, doub
   free(y_ref);
 }
 
+/* AUTO: direct on small systems, GMRES + MueLu on large sparse ones, and direct again when the Krylov solve fails. */
+static void check_auto(void) {
+  test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns, 5 per row: above the sparse limit of 12000 */
+  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+  double *x = malloc(sizeof(double) * (size_t)a.n);
+  test_reference_solution(a.n, x_ref);
+  test_csr_multiply(&a, x_ref, b);
+  for (int max_iterations = 500; max_iterations >= 1; max_iterations -= 499) {
+    sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-12, max_iterations, &a);
+    SK_CHECK(sys != NULL);
+    if (!sys) continue;
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    sk_linear_report report;
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+    SK_CHECK(report.iterations > 0); /* GMRES ran (and, with one iteration allowed, failed over to direct) */
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= (max_iterations == 1 ? 1e-10 : 1e-8));
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+    if (max_iterations == 1) SK_CHECK(report.iterations == 0 && report.refactored_symbolic == 0); /* stays direct */
+    sk_linsys_destroy(sys);
+  }
+  free(x_ref);
+  free(b);
+  free(x);
+  test_csr_free(&a);
+}
+
 static void check_failures(void) {
   test_csr a = test_laplacian_2d(30, 0.0);
   double *b = malloc(sizeof(double) * (size_t)a.n), *x = malloc(sizeof(double) * (size_t)a.n);
@@ -129,6 +155,19 @@ static void check_failures(void) {
     SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_ERR_DIVERGED);
     SK_CHECK(strstr(sk_error_message(), "gmres-ilu") != NULL);
     SK_CHECK(report.relative_residual > 1e-12);
+    sk_linsys_destroy(sys);
+  }
+
+  /* coordinates that do not match the system are reported at preconditioner setup */
+  sys = create(SK_LINEAR_GMRES_MUELU, 1e-10, 100, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
+    double coordinates[3 * 7] = {0};
+    SK_CHECK(sk_linsys_set_coordinates(sys, 7, 4, coordinates) == SK_ERR_INPUT);
+    SK_CHECK(sk_linsys_set_coordinates(sys, 7, 3, coordinates) == SK_OK);
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_INPUT);
+    SK_CHECK(strstr(sk_error_message(), "coordinates") != NULL);
     sk_linsys_destroy(sys);
   }
 
@@ -169,6 +208,7 @@ int main(int argc, char **argv) {
   check_kind(SK_LINEAR_GMRES_MUELU, 1e-12, 1e-8);
   check_kind(SK_LINEAR_GMRES_ILU, 1e-12, 1e-8);
   check_kind(SK_LINEAR_AUTO, 1e-12, 1e-8);
+  check_auto();
   check_failures();
   const int result = sk_test_finish("bridge linear system");
   MPI_Finalize();
