@@ -63,8 +63,7 @@ static sk_status element_system(const sk_model *model, const sk_bulk_state *stat
   double c = sk_bulk_mass_coefficient(state);
   int need_mass = c != 0.0 || model->body_force[0] != 0 || model->body_force[1] != 0 || model->body_force[2] != 0;
   if (need_mass) {
-    double M[SK_MAX_NEN * SK_MAX_NEN];
-    SK_TRY(sk_solid_mass(&body->solid, X, M));
+    const double *M = model->element_mass + model->element_mass_offset[element];
     for (int a = 0; a < nen; ++a)
       for (int b = 0; b < nen; ++b) {
         double m = M[a * nen + b];

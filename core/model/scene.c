@@ -510,9 +510,17 @@ static sk_status build_mass(sk_model *model) {
   free(count);
   free(start);
 
-  double X[SK_MAX_NEN * 3], M[SK_MAX_NEN * SK_MAX_NEN];
+  double X[SK_MAX_NEN * 3];
   int dim = model->dim;
   model->total_mass = 0;
+  /* element mass matrices are kept: the inertia terms of every Newton iteration reuse them */
+  model->element_mass_offset = malloc(sizeof(int64_t) * ((size_t)model->n_elements + 1));
+  model->element_mass_offset[0] = 0;
+  for (int b = 0, e_global = 0; b < model->n_bodies; ++b)
+    for (int e = 0; e < model->bodies[b].group->n_elems; ++e, ++e_global)
+      model->element_mass_offset[e_global + 1] =
+          model->element_mass_offset[e_global] + model->bodies[b].group->nen * model->bodies[b].group->nen;
+  model->element_mass = malloc(sizeof(double) * (size_t)(model->element_mass_offset[model->n_elements] + 1));
   for (int b = 0; b < model->n_bodies; ++b) {
     const sk_body *body = &model->bodies[b];
     const sk_group *g = body->group;
@@ -520,6 +528,7 @@ static sk_status build_mass(sk_model *model) {
       const int *conn = g->conn + e * g->nen;
       for (int a = 0; a < g->nen; ++a)
         for (int i = 0; i < dim; ++i) X[a * dim + i] = model->mesh.x[3 * conn[a] + i];
+      double *M = model->element_mass + model->element_mass_offset[body->first_element + e];
       SK_TRY(sk_solid_mass(&body->solid, X, M));
       for (int a = 0; a < g->nen; ++a) {
         int row = conn[a];
@@ -625,6 +634,8 @@ void sk_model_free(sk_model *model) {
   free(model->mass_cols);
   free(model->mass_values);
   free(model->lumped_mass);
+  free(model->element_mass_offset);
+  free(model->element_mass);
   sk_mesh_free(&model->mesh);
   memset(model, 0, sizeof *model);
 }

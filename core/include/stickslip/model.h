@@ -103,6 +103,8 @@ typedef struct sk_model {
   double *mass_values;
   double *lumped_mass;
   double total_mass;
+  int64_t *element_mass_offset; /* per element: offset of its scalar mass matrix (nen x nen) in element_mass */
+  double *element_mass;
 } sk_model;
 
 void sk_model_free(sk_model *model);

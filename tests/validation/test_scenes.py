@@ -1,0 +1,134 @@
+"""Validation of whole scenes through the driver: invariants of the time schemes, closed-form solutions, MPI
+equality. Usage: python3 test_scenes.py CASE (see CASES at the bottom); exit code 0 when every check holds."""
+import math
+import sys
+
+from stickslip_results import Checks, read_vtu, relative_drift, run
+
+
+def vector_drift(rows, prefix, scale=None):
+    """Largest change of a 3-vector column group over the run, relative to its initial norm (or `scale`)."""
+    initial = [rows[0][prefix + c] for c in "xyz"]
+    norm = scale if scale is not None else max(math.sqrt(sum(v * v for v in initial)), 1e-300)
+    return max(math.sqrt(sum((row[prefix + c] - initial[i]) ** 2 for i, c in enumerate("xyz"))) for row in rows) / norm
+
+
+def conservation(c, results, tolerance, energy=True, angular=True):
+    rows = results.rows
+    if energy:
+        drift = relative_drift([r["total_energy"] for r in rows])
+        c.check(drift <= tolerance, "total energy constant: relative drift %.2e <= %.0e" % (drift, tolerance))
+    # momentum scale: |p| or, for a body at rest overall, total mass x a typical speed would be needed; every scene
+    # here moves, so |p0| is the natural scale
+    drift = vector_drift(rows, "momentum_")
+    c.check(drift <= tolerance, "linear momentum constant: relative drift %.2e <= %.0e" % (drift, tolerance))
+    if angular:
+        drift = vector_drift(rows, "angular_momentum_")
+        c.check(drift <= tolerance, "angular momentum constant: relative drift %.2e <= %.0e" % (drift, tolerance))
+
+
+def free_flight_blocks_midpoint(c):
+    results, _ = run("scenes/free-flight-blocks.yaml")
+    conservation(c, results, 1e-10)
+    strain = max(results.column("strain_energy"))
+    c.check(strain > 1.0, "the spinning block deforms (max strain energy %.3g > 1)" % strain)
+    c.check(results.summary["steps"] == 200, "200 steps to t = 2")
+
+
+def free_flight_blocks_table1(c):
+    results, _ = run("scenes/free-flight-blocks.yaml", "--set", "bodies.1.angular_velocity=[0, 0, 0]",
+                     "--set", "time.end=0.5")
+    first = results.rows[0]
+    for name, value in [("total_energy", 5.8), ("momentum_x", 0), ("momentum_y", 100), ("momentum_z", -40),
+                        ("angular_momentum_x", -140), ("angular_momentum_y", 0), ("angular_momentum_z", 0)]:
+        c.check(abs(first[name] - value) <= 1e-12 * max(1, abs(value)), "Table I: %s = %.15g (expected %g)"
+                % (name, first[name], value))
+    conservation(c, results, 1e-12)
+
+
+def free_flight_blocks_backward_euler(c):
+    results, _ = run("scenes/free-flight-blocks.yaml", "--set", "time.scheme=backward-euler")
+    energy = results.column("total_energy")
+    increases = sum(1 for a, b in zip(energy, energy[1:]) if b > a * (1 + 1e-13))
+    c.check(increases == 0, "backward Euler never adds energy (%d increases)" % increases)
+    loss = (energy[0] - energy[-1]) / energy[0]
+    c.check(loss > 1e-3, "backward Euler visibly dissipates: %.3f %% of the energy lost by t = 2" % (100 * loss))
+    drift = vector_drift(results.rows, "momentum_")
+    c.check(drift <= 1e-10, "backward Euler keeps linear momentum: drift %.2e" % drift)
+
+
+def free_flight_disk(c):
+    results, _ = run("scenes/free-flight-disk.yaml", "--set", "time.end=1")
+    conservation(c, results, 1e-10)
+    c.check(max(results.column("strain_energy")) > 0.01, "the spinning disk deforms")
+
+
+def free_flight_torus(c):
+    results, _ = run("scenes/free-flight-torus.yaml", "--set", "mesh.parameters.refine=0.25", "--steps", "20")
+    conservation(c, results, 1e-10)
+    c.check(max(results.column("strain_energy")) > 0, "the spinning torus deforms")
+
+
+def compressed_block(c):
+    """Hooke block on rollers under pressure p: u_z(top) = -p/E, u_x(x=1) = nu p/E, at every node, exactly."""
+    for refine in (1, 2):
+        results, _ = run("scenes/compressed-block.yaml", "--set", "mesh.parameters.refine=%d" % refine)
+        vtu = results.last_vtu()
+        p, E, nu = 10.0, 1000.0, 0.3
+        error = 0.0
+        # reference position = current - displacement
+        for x, u in zip(vtu["Points"], vtu["displacement"]):
+            X = [x[i] - u[i] for i in range(3)]
+            exact = [nu * p / E * X[0], nu * p / E * X[1], -p / E * X[2]]
+            error = max(error, max(abs(u[i] - exact[i]) for i in range(3)))
+        c.check(error <= 1e-12, "refine %d: uniaxial displacement field exact to %.2e <= 1e-12" % (refine, error))
+        reaction = results.rows[-1]["reaction_base_z"]
+        c.check(abs(reaction - p) <= 1e-9 * p, "refine %d: base reaction %.15g equals p*A = 10" % (refine, reaction))
+        stress = vtu["cauchy_stress"]
+        worst = max(abs(s[8] + p) for s in stress)
+        c.check(worst <= 1e-9, "refine %d: sigma_zz = -p in every element (worst error %.2e)" % (refine, worst))
+
+
+def compressed_block_neo_hooke(c):
+    """Neo-Hooke approaches the small-strain answer as p/E -> 0: the error of u_z(top) falls like (p/E)^2."""
+    errors = []
+    for p in (10.0, 5.0, 2.5):
+        results, _ = run("scenes/compressed-block.yaml", "--set", "bodies.0.material.model=neo-hooke",
+                         "--set", "boundary.3.traction=[0, 0, %g]" % -p)
+        vtu = results.last_vtu()
+        top = min(u[2] for u in vtu["displacement"])
+        errors.append(abs(top - (-p / 1000.0)))
+    ratios = [errors[i] / errors[i + 1] for i in range(2)]
+    c.check(all(3.5 < r < 4.5 for r in ratios), "error falls like (p/E)^2: ratios %s" % ratios)
+
+
+def mpi_free_flight_torus(c):
+    """1 and 2 ranks give the same history and displacements to round-off (METIS partition, distributed solve)."""
+    args = ("--set", "mesh.parameters.refine=0.25", "--steps", "5", "--set", "solver.linear.solver=direct")
+    one, _ = run("scenes/free-flight-torus.yaml", *args)
+    two, _ = run("scenes/free-flight-torus.yaml", *args, np=2)
+    c.check(two.summary["ranks"] == 2, "the second run used 2 ranks")
+    energy_scale = max(one.column("total_energy"))
+    for name in ("total_energy", "strain_energy", "angular_momentum_z", "momentum_x"):
+        a, b = one.column(name), two.column(name)
+        # energies on the scale of the total energy (strain energy starts at zero)
+        scale = energy_scale if name.endswith("energy") else max(abs(v) for v in a)
+        diff = max(abs(x - y) for x, y in zip(a, b)) / scale
+        c.check(diff <= 1e-11, "np 1 vs 2: %s equal to %.2e relative" % (name, diff))
+    ua, ub = one.last_vtu()["displacement"], two.last_vtu()["displacement"]
+    scale = max(max(abs(v) for v in u) for u in ua)
+    diff = max(max(abs(x - y) for x, y in zip(p, q)) for p, q in zip(ua, ub)) / scale
+    c.check(diff <= 1e-11, "np 1 vs 2: displacements equal to %.2e relative" % diff)
+
+
+CASES = {f.__name__: f for f in [free_flight_blocks_midpoint, free_flight_blocks_table1,
+                                 free_flight_blocks_backward_euler, free_flight_disk, free_flight_torus,
+                                 compressed_block, compressed_block_neo_hooke, mpi_free_flight_torus]}
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
+        print("usage: test_scenes.py CASE\ncases: " + " ".join(CASES))
+        sys.exit(2)
+    checks = Checks(sys.argv[1])
+    CASES[sys.argv[1]](checks)
+    sys.exit(checks.finish())
