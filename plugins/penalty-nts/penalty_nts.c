@@ -63,6 +63,8 @@ struct sk_instance {
   const sk_pair *pair;
   int dim;
   double penalty, penalty_t, mu, margin;
+  double touch_tolerance;       /* points with g <= this are active (see evaluate_point) */
+  double extension;             /* master_extension: band beyond the master's border, fraction of a face */
   int area_weighted;
   int n_slave;
   double *area;                 /* tributary reference area of each slave node (1 when not area weighted) */
@@ -84,6 +86,8 @@ static const char *const pnts_parameters[] = {
     "area_weighted: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
     "stiffnesses [1]",
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
+    "master_extension: a slave node up to this fraction of a face beyond the master's border stays in contact with "
+    "the extrapolated face (0 switches it off) [0.1]",
     NULL};
 
 /* ---- small dense helpers --------------------------------------------------------------------------------------- */
@@ -154,6 +158,46 @@ static int complete_metric(int pdim, sk_surface_point *pt) {
   return 1;
 }
 
+/* Closest point on the polynomial extension of `face` beyond its border, for a slave whose projection the core
+ * clamped at the master's border (SK_PROJ_OUTSIDE). Newton on (x_s - x(xi)) . a_a = 0 from the clamped point.
+ * Returns 1 with *pt at the extended point when it lies within the extension band, 0 otherwise. Without the band a
+ * slave node level with the master's end (a patch test's corner, to round-off) toggles in and out of contact
+ * between Newton iterations; with it the switch happens only once the node has clearly slid off. */
+static int extend_beyond_border(const sk_instance *in, int face, const double *xs, const double *q,
+                                sk_surface_point *pt) {
+  const sk_surface *master = in->pair->master;
+  const int pdim = in->dim - 1;
+  double xi[2] = {pt->xi[0], pt->xi[1]};
+  int converged = 0;
+  for (int it = 0; it < 30 && !converged; ++it) {
+    double d[3] = {xs[0] - pt->x[0], xs[1] - pt->x[1], xs[2] - pt->x[2]}, r[2] = {0, 0};
+    double J[2][2] = {{1.0, 0.0}, {0.0, 1.0}}, Jinv[2][2], step = 0.0;
+    for (int a = 0; a < pdim; ++a) {
+      r[a] = dot3(d, pt->a[a]);
+      for (int b = 0; b < pdim; ++b) J[a][b] = dot3(pt->a[a], pt->a[b]) - dot3(d, pt->a_ab[a][b]);
+    }
+    if (!invert_small(pdim, J, Jinv)) return 0;
+    for (int a = 0; a < pdim; ++a) {
+      double dxi = 0.0;
+      for (int b = 0; b < pdim; ++b) dxi += Jinv[a][b] * r[b];
+      xi[a] += dxi;
+      step = fmax(step, fabs(dxi));
+    }
+    in->host->contact->geometry(master, face, xi, q, pt);
+    converged = step <= 1e-13;
+  }
+  if (!converged) return 0;
+  pt->face = face;
+  pt->xi[0] = xi[0];
+  pt->xi[1] = xi[1];
+  double band = in->extension;
+  if (master->face_type == SK_TRI3)
+    return xi[0] >= -band && xi[1] >= -band && 1.0 - xi[0] - xi[1] >= -band;
+  for (int a = 0; a < pdim; ++a)
+    if (fabs(xi[a]) > 1.0 + 2.0 * band) return 0;
+  return 1;
+}
+
 /* ---- evaluation of one slave node ------------------------------------------------------------------------------- */
 
 /* Coulomb return map on covariant components with metric `m_inv` (pdim x pdim; identity for spatial vectors given
@@ -217,6 +261,18 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     SK_TRY(cs->project(master, st->q, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
     if (proj.face < 0) return SK_OK;
     cs->geometry(master, proj.face, proj.xi, st->q, &pt);
+    pt.xi[0] = proj.xi[0];
+    pt.xi[1] = proj.xi[1];
+    int beyond = proj.kind == SK_PROJ_OUTSIDE;
+    if (beyond && in->extension > 0.0) {
+      sk_surface_point extended = pt;
+      if (extend_beyond_border(in, proj.face, xs, st->q, &extended)) {
+        pt = extended;
+        proj.xi[0] = pt.xi[0];
+        proj.xi[1] = pt.xi[1];
+        beyond = 0;
+      }
+    }
     if (!complete_metric(pdim, &pt)) return SK_OK; /* degenerate face: no contact there */
     nen = master->nen;
     conn = master->conn + proj.face * nen;
@@ -230,7 +286,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     e->xi[1] = proj.xi[1];
     e->gap = g;
     memcpy(e->normal, pt.n, sizeof pt.n);
-    if (proj.kind == SK_PROJ_OUTSIDE) return SK_OK; /* beyond the master's border */
+    if (beyond) return SK_OK; /* beyond the master's border (and its extension band) */
   } else {
     SK_TRY(cs->obstacle_project(in->pair->obstacle, st->t, xs, dim, &pt, &g));
     if (!complete_metric(pdim, &pt)) return host->error(host, SK_ERR_INTERNAL, "%s: degenerate obstacle tangents",
@@ -239,7 +295,10 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     e->gap = g;
     memcpy(e->normal, pt.n, sizeof pt.n);
   }
-  if (!(g < 0.0)) return SK_OK;
+  /* Active when penetrating, and also when just touching (g = 0 up to round-off): p is 0 there, but the Jacobian
+   * then carries the penetrating side's stiffness, so bodies that start in contact without other support (a patch
+   * test, stacked blocks) do not give a singular first Newton matrix. */
+  if (!(g <= in->touch_tolerance)) return SK_OK;
 
   /* Local dofs: the slave node, then the master face nodes (none for an obstacle). */
   const int nd = dim * (1 + nen);
@@ -250,7 +309,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
 
   const double eps_n = in->penalty * in->area[k], eps_t = in->penalty_t * in->area[k];
   const double *n = pt.n;
-  const double p = -eps_n * g;
+  const double p = g < 0.0 ? -eps_n * g : 0.0;
   e->p = p;
 
   /* First derivatives, as rows over the local dofs: G = dg/dq, C_a = a_a . (du at fixed xi), E_a = n . da_a. */
@@ -286,7 +345,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
       for (int i = 0; i < 3; ++i) Dn[i][c] -= pt.a_dual[a][i] * s;
     }
   }
-  double Dp[MAX_LOCAL_DOFS];
+  double Dp[MAX_LOCAL_DOFS]; /* the penetrating side's derivative, also at g = 0 */
   for (int c = 0; c < nd; ++c) Dp[c] = -eps_n * G[c];
 
   /* Tangential force T and its derivative DT. */
@@ -531,6 +590,10 @@ static sk_status pnts_create_checked(const sk_host *host, const sk_pair *pair, s
   if (in->mu > 0.0) SK_TRY(read_positive(host, pair, "penalty_tangential", 1, 0.0, &in->penalty_t));
   else SK_TRY(host->param_double(host, pair->params, "penalty_tangential", 0, in->penalty, &in->penalty_t));
   SK_TRY(host->param_int(host, pair->params, "area_weighted", 0, 1, &in->area_weighted));
+  SK_TRY(host->param_double(host, pair->params, "master_extension", 0, 0.1, &in->extension));
+  if (!(in->extension >= 0.0 && in->extension <= 0.5))
+    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'master_extension' must be in [0, 0.5], got %g",
+                       pair->name, in->extension);
   if (in->area_weighted != 0 && in->area_weighted != 1)
     return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
                        pair->name, in->area_weighted);
@@ -552,6 +615,18 @@ static sk_status pnts_create_checked(const sk_host *host, const sk_pair *pair, s
     mean_size /= master->n_faces;
   }
   SK_TRY(host->param_double(host, pair->params, "search_margin", 0, 0.5 * mean_size, &in->margin));
+  /* Round-off scale of gaps: 1e-10 of the mean slave face size. */
+  double slave_size = 0.0;
+  for (int f = 0; f < slave->n_faces; ++f) {
+    const int *c = slave->conn + f * slave->nen;
+    double diag2 = 0.0;
+    for (int i = 0; i < in->dim; ++i) {
+      double d = host->X[c[1] * in->dim + i] - host->X[c[0] * in->dim + i];
+      diag2 += d * d;
+    }
+    slave_size += sqrt(diag2);
+  }
+  in->touch_tolerance = slave->n_faces > 0 ? 1e-10 * slave_size / slave->n_faces : 0.0;
   if (!(in->margin >= 0.0) || !isfinite(in->margin))
     return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'search_margin' must be a finite number >= 0, "
                        "got %g", pair->name, in->margin);
@@ -650,7 +725,16 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
       if (in->cand_count[k] == 0) continue;
       sk_projection proj;
       SK_TRY(cs->project(master, st->q_n, x0, in->cand + in->cand_start[k], in->cand_count[k], &proj));
-      if (proj.face < 0 || proj.kind == SK_PROJ_OUTSIDE) continue;
+      if (proj.face < 0) continue;
+      if (proj.kind == SK_PROJ_OUTSIDE) {
+        sk_surface_point pt;
+        cs->geometry(master, proj.face, proj.xi, st->q_n, &pt);
+        pt.xi[0] = proj.xi[0];
+        pt.xi[1] = proj.xi[1];
+        if (in->extension == 0.0 || !extend_beyond_border(in, proj.face, x0, st->q_n, &pt)) continue;
+        proj.xi[0] = pt.xi[0];
+        proj.xi[1] = pt.xi[1];
+      }
       a->valid = 1;
       a->face = proj.face;
       a->xi[0] = proj.xi[0];
@@ -758,7 +842,7 @@ static sk_status pnts_report(sk_instance *in, const sk_state *st, sk_contact_rep
     r->moment[1] += e.x[2] * e.force[0] - e.x[0] * e.force[2];
     r->moment[2] += e.x[0] * e.force[1] - e.x[1] * e.force[0];
     r->dissipated += e.dissipation;
-    r->constraint_norm = fmax(r->constraint_norm, -e.gap);
+    r->constraint_norm = fmax(r->constraint_norm, fmax(-e.gap, 0.0));
   }
   if (in->mu == 0.0) r->stick = 0; /* frictionless points are neither stuck nor slipping */
   return SK_OK;

@@ -265,7 +265,7 @@ static double energy_at(scene *s, const sk_state *step, const double *q, double 
   points_at(s, step, q, &list);
   double W = 0.0;
   for (int i = 0; i < list.n; ++i)
-    if (list.p[i].state != 0) W += 0.5 * eps * list.p[i].gap * list.p[i].gap;
+    if (list.p[i].state != 0) W += 0.5 * eps * fmin(list.p[i].gap, 0.0) * fmin(list.p[i].gap, 0.0);
   return W;
 }
 
@@ -910,6 +910,67 @@ static void test_area_weighting(void) {
   scene_destroy(&s);
 }
 
+/* Just touching (g = 0): no force, but the penetrating side's stiffness eps n n^T, so a body resting on the master
+ * without other support still gives a regular Newton matrix. A node 1e-3 above stays inactive. */
+static void test_touching_is_active(void) {
+  const double X[] = {10.0, 0.0, -10.0, 0.0, 0.0, 0.0, 1.0, 1e-3};
+  scene s;
+  scene_init(&s, 2, 4, X);
+  const int master[] = {0, 1}, slave[] = {2, 3};
+  scene_master(&s, SK_LINE2, 2, 1, master);
+  scene_slave(&s, SK_LINE2, 2, 1, slave);
+  scene_param(&s, "penalty", 300.0);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  double F[MAX_DOFS];
+  static double K[MAX_DOFS * MAX_DOFS];
+  residual_at(&s, &st, s.X, F);
+  jacobian_at(&s, &st, s.X, K);
+  SK_CHECK(max_abs(F, s.n_dofs) == 0.0);
+  SK_CHECK_CLOSE(K[5 * 8 + 5], 300.0, 1e-12); /* slave node 2, y row and column */
+  for (int j = 6; j < 8; ++j) SK_CHECK(K[j * 8 + j] == 0.0);
+  sk_contact_report r;
+  SK_CHECK(s.plugin->report(s.inst, &st, &r) == SK_OK);
+  SK_CHECK(r.active == 1 && r.constraint_norm == 0.0 && r.force[1] == 0.0);
+  scene_destroy(&s);
+}
+
+/* Beyond the master's border: a node 1% of a face past the end of a tilted LINE2 master stays in contact with the
+ * extrapolated segment (residual and Jacobian still exact); 30% past it, or with master_extension = 0, it is out. */
+static void test_master_extension(void) {
+  for (int variant = 0; variant < 3; ++variant) {
+    double beyond = variant == 1 ? 0.6 : 0.02;
+    const double X[] = {2.0, 0.1, 0.0, -0.05, 0.6, -0.06, 2.0 + beyond, 0.1 + 0.075 * beyond - 0.03};
+    scene s;
+    scene_init(&s, 2, 4, X);
+    const int master[] = {0, 1}, slave[] = {2, 3};
+    scene_master(&s, SK_LINE2, 2, 1, master);
+    scene_slave(&s, SK_LINE2, 2, 1, slave);
+    scene_param(&s, "penalty", 1e3);
+    scene_param(&s, "area_weighted", 0);
+    if (variant == 2) scene_param(&s, "master_extension", 0.0);
+    SK_CHECK(scene_create(&s) == SK_OK);
+    sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
+    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    point_list list;
+    points_at(&s, &st, s.X, &list);
+    const sk_contact_point *p = point_of(&list, 3);
+    SK_CHECK(p != NULL);
+    if (!p) continue;
+    if (variant == 0) {
+      SK_CHECK(p->state == 1);
+      SK_CHECK_CLOSE(p->gap, -0.03 * 2.0 / sqrt(4.0 + 0.15 * 0.15), 1e-12); /* distance to the extended line */
+      check_residual_is_energy_gradient(&s, &st, 1e3, "2D line2 beyond the border (extended)");
+      check_jacobian_is_residual_derivative(&s, &st, "2D line2 beyond the border (extended)");
+    } else {
+      SK_CHECK(p->state == 0);
+    }
+    scene_destroy(&s);
+  }
+}
+
 static void expect_create_error(const char *what, const char *key, double value, const char *key2, double value2,
                                 const char *needle) {
   const double X[] = {1.0, 0.0, -1.0, 0.0, 0.0, 0.1, 0.5, 0.1};
@@ -937,6 +998,7 @@ static void test_parameter_errors(void) {
   expect_create_error("negative mu", "penalty", 1.0, "mu", -0.2, "'mu'");
   expect_create_error("bad area_weighted", "penalty", 1.0, "area_weighted", 2, "'area_weighted'");
   expect_create_error("negative margin", "penalty", 1.0, "search_margin", -1, "'search_margin'");
+  expect_create_error("extension too large", "penalty", 1.0, "master_extension", 0.7, "'master_extension'");
 
   const sk_plugin *pl = stickslip_plugin_entry();
   SK_CHECK(pl->abi_version == SK_PLUGIN_ABI_VERSION);
@@ -985,6 +1047,8 @@ int main(void) {
   test_frame_indifference();
   test_obstacles();
   test_area_weighting();
+  test_touching_is_active();
+  test_master_extension();
   test_parameter_errors();
   test_reject_keeps_history();
   return sk_test_finish("penalty-nts");

@@ -26,7 +26,7 @@ int main(void) {
     SK_CHECK(plugin->recover == NULL); /* never eliminates unknowns */
     int n_params = 0;
     while (plugin->parameters[n_params]) ++n_params;
-    SK_CHECK(n_params == 5);
+    SK_CHECK(n_params == 6);
   }
   dlclose(module);
   return sk_test_finish("penalty-nts module");
