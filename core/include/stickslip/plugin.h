@@ -191,13 +191,16 @@ typedef struct sk_plugin {
   /* Fills dx for eliminated extra unknowns (this rank's entities) from the kept part of dx and F; NULL if the
    * plugin never eliminates. dx and F are global vectors. */
   sk_status (*recover)(sk_instance *instance, const sk_state *state, const double *F, double *dx);
-  /* After each Newton iteration: active-set / stick-slip updates. *changed = 1 if the set changed. */
+  /* Active-set / stick-slip update at a new iterate: the driver calls it at every point where it is about to
+   * evaluate the residual (each Newton iterate and line-search trial), so that F and the following J always belong
+   * to one set (semismooth-Newton style). *changed = 1 if the set changed. May be NULL. */
   sk_status (*after_iteration)(sk_instance *instance, const sk_state *state, int *changed);
   /* Converged step accepted: commit history (friction, projections). */
   sk_status (*commit_step)(sk_instance *instance, const sk_state *state);
   /* Step rejected (it will be retried with a smaller dt): roll history back to the last commit. */
   void (*reject_step)(sk_instance *instance);
-  /* Step results for history.csv (this rank's entities; the driver sums over ranks). */
+  /* Results of the step just committed, for history.csv (called after commit_step; this rank's entities — the
+   * driver sums over ranks). `dissipated` is the step's increment; the driver accumulates it. */
   sk_status (*report)(sk_instance *instance, const sk_state *state, sk_contact_report *report);
   /* Calls `callback` for each contact point this rank owns (contact.csv, VTU). */
   sk_status (*points)(sk_instance *instance, const sk_state *state, sk_point_callback callback, void *ctx);
