@@ -327,7 +327,7 @@ static uint64_t capabilities_needed(const sk_model *model, const sk_contact_pair
   switch (model->time.scheme) {
     case SK_SCHEME_QUASISTATIC: caps |= SK_CAP_QUASISTATIC; break;
     case SK_SCHEME_BACKWARD_EULER: caps |= SK_CAP_DYNAMICS; break;
-    case SK_SCHEME_MIDPOINT: caps |= SK_CAP_ENERGY_MOMENTUM; break;
+    case SK_SCHEME_MIDPOINT: caps |= SK_CAP_DYNAMICS; break; /* energy consistency: a warning, see below */
   }
   return caps;
 }
@@ -395,6 +395,12 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
       return sk_error_set(SK_ERR_PLUGIN, "%s: contact pair '%s': plugin '%s' lacks what this scene needs: %s",
                           sk_cfg_where(entry), name, pair->plugin->name, text);
     }
+    if (model->time.scheme == SK_SCHEME_MIDPOINT && !(pair->plugin->caps & SK_CAP_ENERGY_MOMENTUM) &&
+        model->rank == 0)
+      fprintf(stderr,
+              "warning: contact pair '%s': plugin '%s' is not energy-consistent with the midpoint scheme: momenta are "
+              "kept, energy is not conserved through contact\n",
+              name, pair->plugin->name);
     pair->pair.name = pair->name;
     pair->pair.slave = &pair->slave;
     pair->pair.master = pair->has_obstacle ? NULL : &pair->master;
