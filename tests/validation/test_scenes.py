@@ -121,9 +121,31 @@ def mpi_free_flight_torus(c):
     c.check(diff <= 1e-11, "np 1 vs 2: displacements equal to %.2e relative" % diff)
 
 
+def cantilever_tip(refine, order):
+    results, _ = run("scenes/cantilever-2d.yaml", "--set", "mesh.parameters.refine=%d" % refine,
+                     "--set", "mesh.parameters.order=%d" % order)
+    return min(u[1] for u in results.last_vtu()["displacement"])
+
+
+def cantilever_convergence(c):
+    """Quad4 tip deflection converges at O(h^2) to the converged (quad9) answer, which matches beam theory."""
+    E, nu, P, L, h = 1000.0, 0.3, 0.01, 10.0, 1.0
+    E_plane = E / (1 - nu * nu)
+    G = E / (2 * (1 + nu))
+    beam = -(P * L ** 3 / (3 * E_plane * h ** 3 / 12) + P * L / (5.0 / 6.0 * G * h))
+    reference = cantilever_tip(4, 2)
+    c.check(abs(reference - beam) / abs(beam) < 5e-3,
+            "quad9 (refine 4) tip %.6g within 0.5 %% of Timoshenko beam theory %.6g" % (reference, beam))
+    errors = [abs(cantilever_tip(r, 1) - reference) for r in (1, 2, 4)]
+    ratios = [errors[i] / errors[i + 1] for i in range(2)]
+    c.check(all(3.0 < q < 5.0 for q in ratios), "quad4 error falls like h^2: errors %s, ratios %s" % (
+        ["%.3g" % e for e in errors], ["%.2f" % q for q in ratios]))
+
+
 CASES = {f.__name__: f for f in [free_flight_blocks_midpoint, free_flight_blocks_table1,
                                  free_flight_blocks_backward_euler, free_flight_disk, free_flight_torus,
-                                 compressed_block, compressed_block_neo_hooke, mpi_free_flight_torus]}
+                                 compressed_block, compressed_block_neo_hooke, mpi_free_flight_torus,
+                                 cantilever_convergence]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:
