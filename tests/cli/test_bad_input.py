@@ -1,0 +1,274 @@
+"""Bad input through the driver: each case writes a small broken scene (or command line) into a temporary folder and
+checks that stickslip fails cleanly — exit code 1 (not a signal), one clear message on stderr naming the culprit
+(file:line, key, group, ...), no traceback or crash, and no results folder. Usage: python3 test_bad_input.py CASE."""
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BIN = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
+PLUGIN_DIR = os.environ.get("STICKSLIP_CLI_PLUGIN_DIR", os.path.join(ROOT, "build", "tests", "cli-plugins"))
+MESHES = os.path.join(ROOT, "meshes")
+
+# Crash / internal-error markers that must never reach the user.
+CRASH_MARKERS = ["Traceback", "Segmentation", "Aborted", "core dumped", "terminate called", "AddressSanitizer",
+                 "internal error", "MPI_ABORT", "*** Process received signal"]
+
+
+def scene_text(name):
+    """A scene of scenes/ with its mesh paths made absolute (the copy lives in a temporary folder)."""
+    with open(os.path.join(ROOT, "scenes", name)) as f:
+        return f.read().replace("../meshes", MESHES)
+
+
+BLOCK = scene_text("compressed-block.yaml")
+
+CONTACT = """\
+description: a block pressed onto a rigid floor (penalty contact)
+mesh:
+  file: %s/block.geo
+  parameters: {nx: 2, ny: 2, nz: 2}
+bodies:
+  - {name: block, group: body, material: {model: hooke, E: 1000, nu: 0.3}}
+boundary:
+  - {name: top, group: zmax, displacement: [0, 0, -0.01]}
+contact:
+  - name: floor
+    plugin: penalty-nts
+    slave: zmin
+    obstacle: {type: plane, point: [0, 0, 0], normal: [0, 0, 1]}
+    parameters: {penalty: 1.0e4}
+time: {scheme: quasi-static, dt: 0.5, end: 1}
+""" % MESHES
+
+
+def replace(text, old, new):
+    assert old in text, "test setup: %r not in the scene" % old
+    return text.replace(old, new, 1)
+
+
+class Case:
+    def __init__(self, name):
+        self.name = name
+        self.dir = tempfile.mkdtemp(prefix="stickslip-cli-")
+        self.out = os.path.join(self.dir, "results")
+        self.failures = []
+
+    def write(self, text, name="scene.yaml"):
+        path = os.path.join(self.dir, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def run(self, *args, env=None):
+        full_env = dict(os.environ)
+        full_env.pop("STICKSLIP_PLUGIN_PATH", None)
+        full_env.update(env or {})
+        proc = subprocess.run([BIN, *args], capture_output=True, text=True, env=full_env, timeout=60, cwd=self.dir)
+        self.proc = proc
+        print("$ stickslip %s\nexit %d\nstdout: %s\nstderr: %s" % (" ".join(args), proc.returncode,
+                                                                    proc.stdout.strip(), proc.stderr.strip()))
+        return proc
+
+    def check(self, condition, message):
+        print(("ok: " if condition else "FAILED: ") + message)
+        if not condition:
+            self.failures.append(message)
+
+    def no_crash(self):
+        p = self.proc
+        self.check(p.returncode >= 0, "not killed by a signal (exit %d)" % p.returncode)
+        for marker in CRASH_MARKERS:
+            self.check(marker not in p.stderr and marker not in p.stdout, "no '%s' in the output" % marker)
+
+    def expect_failure(self, *patterns, out_created=False):
+        """exit 1, one error line on stderr matching every regex in `patterns`, no crash, no results folder."""
+        p = self.proc
+        self.no_crash()
+        self.check(p.returncode == 1, "exit code 1 (got %d)" % p.returncode)
+        lines = [line for line in p.stderr.splitlines() if line.strip() and not line.startswith("warning:")]
+        self.check(len(lines) == 1 if not out_created else len(lines) >= 1,
+                   "one error message on stderr (got %d lines)" % len(lines))
+        for pattern in patterns:
+            self.check(re.search(pattern, p.stderr) is not None, "stderr matches /%s/" % pattern)
+        if not out_created:
+            self.check(not os.path.exists(self.out), "the --out folder was not created")
+
+    def run_scene(self, text, *args, command="run", env=None):
+        path = self.write(text)
+        extra = ["--out", self.out, "--quiet"] if command == "run" else []
+        return self.run(command, path, *extra, *args, env=env)
+
+    def finish(self):
+        shutil.rmtree(self.dir, ignore_errors=True)
+        print("%s: %d failed" % (self.name, len(self.failures)))
+        return 1 if self.failures else 0
+
+
+# ---- cases -----------------------------------------------------------------------------------------------------------
+
+def malformed_yaml(c):
+    c.run_scene(replace(BLOCK, "  dt: 0.25\n", "  dt: [0.25\n"))
+    c.expect_failure(r"scene\.yaml:\d+:\d+:", r"scene\.yaml:2[2-4]:")  # the line of the broken flow sequence
+
+
+def unknown_key(c):
+    c.run_scene(replace(BLOCK, "density: 1", "densty: 1"))
+    c.expect_failure(r"scene\.yaml:14:\d+", r"unknown key 'bodies\[0\]\.material\.densty'", r"did you mean 'density'")
+
+
+def missing_mesh_file(c):
+    c.run_scene(replace(BLOCK, "block.geo", "no-such-block.geo"))
+    c.expect_failure(r"scene\.yaml:\d+", r"no-such-block\.geo", r"(cannot open|No such file)")
+
+
+def unknown_mesh_parameter(c):
+    c.run_scene(replace(BLOCK, "nz: 3", "nzz: 3"))
+    c.expect_failure(r"scene\.yaml:\d+", r"unknown parameter 'nzz'", r"nx, ny, nz")
+
+
+def missing_group(c):
+    c.run_scene(replace(BLOCK, "group: zmin", "group: zbottom"))
+    c.expect_failure(r"scene\.yaml:\d+", r"boundary\[2\]\.group", r"no physical group 'zbottom'", r"zmin", r"body")
+
+
+def material_nu(c):
+    c.run_scene(replace(BLOCK, "nu: 0.3", "nu: 0.6"))
+    c.expect_failure(r"scene\.yaml:14:\d+", r"body 'block'", r"nu = 0\.6", r"0\.5")
+
+
+def material_E(c):
+    c.run_scene(replace(BLOCK, "E: 1000", "E: -1"))
+    c.expect_failure(r"scene\.yaml:14:\d+", r"body 'block'", r"E = -1", r"> 0")
+
+
+def negative_dt(c):
+    c.run_scene(replace(BLOCK, "dt: 0.25", "dt: -0.25"))
+    c.expect_failure(r"scene\.yaml:\d+", r"time\.dt", r"positive")
+
+
+def unknown_scheme(c):
+    c.run_scene(replace(BLOCK, "scheme: quasi-static", "scheme: leapfrog"))
+    c.expect_failure(r"scene\.yaml:\d+", r"time\.scheme", r"leapfrog", r"quasi-static", r"backward-euler",
+                     r"midpoint")
+
+
+def unknown_plugin(c):
+    c.run_scene(replace(CONTACT, "plugin: penalty-nts", "plugin: mortar-magic"))
+    c.expect_failure(r"scene\.yaml:\d+", r"contact pair 'floor'", r"unknown plugin 'mortar-magic'",
+                     r"available: .*penalty-nts", r"nts-augmented")
+
+
+def unknown_linear_solver(c):
+    c.run_scene(BLOCK, "--set", "solver.linear.solver=superlu")
+    c.expect_failure(r"solver\.linear\.solver", r"superlu", r"direct", r"gmres-muelu", r"gmres-ilu", r"auto")
+
+
+def bad_set(c):
+    c.run_scene(BLOCK, "--set", "time.dt")
+    c.expect_failure(r"--set expects key\.path=value", r"time\.dt")
+    c.run_scene(BLOCK, "--set", "time..dt=3")
+    c.expect_failure(r"--set", r"time\.\.dt", r"empty part")
+
+
+def unknown_option(c):
+    c.run_scene(BLOCK, "--frobnicate")
+    c.expect_failure(r"unknown option '--frobnicate'", r"--help")
+    c.run("run", os.path.join(ROOT, "scenes", "compressed-block.yaml"), "--steps", "zero", "--out", c.out)
+    c.expect_failure(r"--steps expects a positive integer", r"zero")
+
+
+def missing_scene(c):
+    c.run("run", os.path.join(c.dir, "nowhere.yaml"), "--out", c.out)
+    c.expect_failure(r"nowhere\.yaml", r"(cannot open|No such file)")
+    c.run("run", "--out", c.out)
+    c.expect_failure(r"which scene")
+
+
+def check_good(c):
+    c.run_scene(BLOCK, command="check")
+    c.no_crash()
+    c.check(c.proc.returncode == 0, "check of a good scene exits 0")
+    c.check(re.search(r"ok — 3D, 64 nodes, 27 elements", c.proc.stdout) is not None, "check reports the model")
+    c.check(not os.path.exists(c.out), "check writes no results")
+    c.run_scene(CONTACT, command="check")
+    c.check(c.proc.returncode == 0, "check of a contact scene exits 0")
+    c.check("pair 'floor': plugin penalty-nts" in c.proc.stdout, "check lists the contact pair")
+
+
+def check_bad(c):
+    c.run_scene(replace(BLOCK, "nu: 0.3", "nu: 0.6"), command="check")
+    c.expect_failure(r"scene\.yaml:14:\d+", r"nu = 0\.6")
+
+
+def plugins_list(c):
+    c.run("plugins")
+    c.no_crash()
+    c.check(c.proc.returncode == 0, "plugins exits 0")
+    for name in ["penalty-nts", "nts-augmented"]:
+        c.check(re.search(r"^%s  \(ABI \d+\)" % name, c.proc.stdout, re.M) is not None, "lists %s" % name)
+    c.check("capabilities:" in c.proc.stdout and "strategies:" in c.proc.stdout, "shows capabilities and strategies")
+    c.check("penalty:" in c.proc.stdout, "shows penalty-nts's parameters")
+
+
+def bad_abi_plugin(c):
+    library = os.path.join(PLUGIN_DIR, "libstickslip-bad-abi.so")
+    c.check(os.path.exists(library), "test plugin built: %s" % library)
+    env = {"STICKSLIP_PLUGIN_PATH": PLUGIN_DIR}
+    # listing: a warning about the broken library, the good plugins still listed
+    c.run("plugins", env=env)
+    c.no_crash()
+    c.check(c.proc.returncode == 0, "plugins still exits 0")
+    c.check(re.search(r"warning: .*libstickslip-bad-abi\.so.*ABI version 999", c.proc.stderr) is not None,
+            "plugins warns about the ABI version 999 library")
+    c.check("penalty-nts" in c.proc.stdout, "the good plugins are still listed")
+    # requesting it: a clear failure naming the ABI mismatch
+    c.run_scene(replace(CONTACT, "plugin: penalty-nts", "plugin: bad-abi"), env=env)
+    c.expect_failure(r"scene\.yaml:\d+", r"bad-abi", r"ABI version 999")
+    # other plugins keep working with the broken library on the path
+    c.run_scene(CONTACT, command="check", env=env)
+    c.check(c.proc.returncode == 0, "a scene using penalty-nts still checks with the broken library present")
+
+
+def capability_mismatch(c):
+    # nts-augmented has no rigid obstacles
+    c.run_scene(CONTACT, "--plugin", "nts-augmented")
+    c.expect_failure(r"scene\.yaml:\d+", r"contact pair 'floor'", r"nts-augmented", r"lacks", r"rigid-obstacle")
+
+
+def unknown_strategy(c):
+    c.run_scene(replace(CONTACT, "parameters: {penalty: 1.0e4}", "parameters: {penalty: 1.0e4}\n    strategy: reduced"))
+    c.expect_failure(r"scene\.yaml:\d+", r"penalty-nts", r"no strategy 'reduced'", r"offers: none")
+
+
+def inverted_element(c):
+    text = replace(BLOCK, "model: hooke", "model: neo-hooke")
+    text = replace(text, "[0, 0, -10]", "[0, 0, -1.0e5]")
+    c.run_scene(text, "--set", "time.max_cuts=3")
+    c.expect_failure(r"step cuts", r"(inverted|no convergence)", out_created=True)
+    summary = os.path.join(c.out, "summary.json")
+    c.check(os.path.exists(summary), "the run had started: summary.json written")
+    if os.path.exists(summary):
+        with open(summary) as f:
+            data = json.load(f)
+        c.check(data.get("status") == "failed", "summary.json status 'failed' (got %r)" % data.get("status"))
+        c.check("step cuts" in data.get("message", ""), "summary.json carries the message")
+        c.check(os.path.exists(os.path.join(c.out, "history.csv")), "history.csv written (initial row)")
+
+
+CASES = {f.__name__: f for f in [
+    malformed_yaml, unknown_key, missing_mesh_file, unknown_mesh_parameter, missing_group, material_nu, material_E,
+    negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, bad_set, unknown_option, missing_scene,
+    check_good, check_bad, plugins_list, bad_abi_plugin, capability_mismatch, unknown_strategy, inverted_element]}
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
+        print("usage: test_bad_input.py CASE\ncases: " + " ".join(CASES))
+        sys.exit(2)
+    case = Case(sys.argv[1])
+    CASES[sys.argv[1]](case)
+    sys.exit(case.finish())
