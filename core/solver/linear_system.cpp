@@ -54,12 +54,13 @@ using Teuchos::rcp;
 
 using stickslip::bridge::status_from_exception;
 
-// AUTO's rule, from docs/linear-solvers.md (elasticity benchmark on this machine): KLU2 wins up to about 12000
-// unknowns on 2D-like sparsity (<= 40 entries per row: quad4 elasticity has ~18) and up to about 2500 on 3D-like
-// sparsity (hex8 elasticity has ~81), where its fill grows much faster; GMRES + MueLu beyond.
+// AUTO's rule, from docs/linear-solvers.md (elasticity benchmark on this machine): KLU2 is faster or level up to
+// about 10000 unknowns on 2D-like sparsity (<= 40 entries per row: quad4 elasticity has ~18) and up to about 2000
+// on 3D-like sparsity (hex8 elasticity has ~81), where its fill grows much faster; GMRES + MueLu beyond. Ties go
+// to the direct solver, which also copes with the indefinite systems of contact.
 constexpr int kAutoSparseRowEntries = 40;
-constexpr int kAutoDirectMaxUnknownsSparse = 12000;
-constexpr int kAutoDirectMaxUnknownsDense = 2500;
+constexpr int kAutoDirectMaxUnknownsSparse = 10000;
+constexpr int kAutoDirectMaxUnknownsDense = 2000;
 constexpr int kGmresRestart = 100;
 // A direct solve whose measured residual exceeds this is a (numerically) singular matrix, not round-off.
 constexpr double kDirectResidualLimit = 1e-6;

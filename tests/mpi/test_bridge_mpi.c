@@ -1,6 +1,7 @@
 /* The bridge on 2 ranks: every solver kind gives the one-rank answer, with contributions to a row split over
  * ranks (summed by sk_linsys_assemble). The direct solve must match the serial KLU2 to 1e-12: Debian's Amesos2
- * KLU2 on a distributed matrix does not (so this fails if the rank-0 gather were bypassed). */
+ * KLU2 on a distributed matrix does not (so this fails if the rank-0 gather were bypassed).
+ * Also: NOX Newton on 2 ranks with replicated vectors reaches the same answer on every rank. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -135,6 +136,80 @@ static void check_singular(void) {
   test_csr_free(&a);
 }
 
+/* Newton through NOX on 2 ranks: F_i = x_i^3 + (x_i - x_{i+1}) / 2 - c_i, Jacobian solved by the distributed direct
+ * solver. Every rank runs NOX on identical replicated data, so all reach the same answer in the same iterations. */
+enum { NEWTON_N = 40 };
+typedef struct {
+  double c[NEWTON_N];
+  int64_t row_ptr[NEWTON_N + 1];
+  int cols[2 * NEWTON_N];
+  sk_linear_system *sys;
+} cubic_problem;
+
+static sk_status cubic_residual(void *ctx, const double *x, double *F) {
+  const cubic_problem *p = ctx;
+  for (int i = 0; i < NEWTON_N; ++i)
+    F[i] = x[i] * x[i] * x[i] + 0.5 * (x[i] - (i + 1 < NEWTON_N ? x[i + 1] : 0.0)) - p->c[i];
+  return SK_OK;
+}
+
+static sk_status cubic_jacobian(void *ctx, const double *x) {
+  cubic_problem *p = ctx;
+  sk_linsys_zero(p->sys);
+  double *values = sk_linsys_values(p->sys);
+  /* each rank contributes half of every row it writes (rank r writes rows of parity r, and row 0 on both) */
+  for (int i = 0; i < NEWTON_N; ++i) {
+    if (!(i % size == rank || i == 0)) continue;
+    const double share = i == 0 ? 1.0 / size : 1.0;
+    values[p->row_ptr[i]] = share * (3.0 * x[i] * x[i] + 0.5);
+    if (i + 1 < NEWTON_N) values[p->row_ptr[i] + 1] = -0.5 * share;
+  }
+  return sk_linsys_assemble(p->sys);
+}
+
+static sk_status cubic_solve(void *ctx, const double *x, const double *F, double *dx) {
+  cubic_problem *p = ctx;
+  double minus_f[NEWTON_N];
+  for (int i = 0; i < NEWTON_N; ++i) minus_f[i] = -F[i];
+  return sk_linsys_solve(p->sys, minus_f, dx, NULL);
+}
+
+static void check_newton(void) {
+  cubic_problem p;
+  double x_star[NEWTON_N], x[NEWTON_N];
+  for (int i = 0; i < NEWTON_N; ++i) x_star[i] = 1.0 + 0.05 * i;
+  for (int i = 0; i < NEWTON_N; ++i)
+    p.c[i] = x_star[i] * x_star[i] * x_star[i] + 0.5 * (x_star[i] - (i + 1 < NEWTON_N ? x_star[i + 1] : 0.0));
+  int k = 0, rows[NEWTON_N], n_rows = 0;
+  for (int i = 0; i < NEWTON_N; ++i) {
+    p.row_ptr[i] = k;
+    p.cols[k++] = i;
+    if (i + 1 < NEWTON_N) p.cols[k++] = i + 1;
+    if (i % size == rank || i == 0) rows[n_rows++] = i;
+  }
+  p.row_ptr[NEWTON_N] = k;
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.kind = SK_LINEAR_DIRECT;
+  SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &p.sys) == SK_OK);
+  SK_CHECK(sk_linsys_set_pattern(p.sys, NEWTON_N, p.row_ptr, p.cols, n_rows, rows) == SK_OK);
+  sk_newton_options newton;
+  sk_newton_options_default(&newton);
+  newton.line_search = SK_LINE_SEARCH_BACKTRACK;
+  sk_newton_callbacks callbacks = {&p, cubic_residual, cubic_jacobian, cubic_solve, NULL};
+  for (int i = 0; i < NEWTON_N; ++i) x[i] = 3.0;
+  sk_newton_report report;
+  const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &newton, &callbacks, NEWTON_N, x, &report);
+  if (status != SK_OK) fprintf(stderr, "rank %d: %s\n", rank, sk_error_message());
+  SK_CHECK(status == SK_OK && report.converged);
+  for (int i = 0; i < NEWTON_N; ++i) SK_CHECK_CLOSE(x[i], x_star[i], 1e-10);
+  SK_CHECK(replicated(NEWTON_N, x));
+  int iterations[2] = {report.iterations, -report.iterations}, extremes[2];
+  MPI_Allreduce(iterations, extremes, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  SK_CHECK(extremes[0] == -extremes[1]); /* same iteration count on every rank */
+  sk_linsys_destroy(p.sys);
+}
+
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -143,6 +218,7 @@ int main(int argc, char **argv) {
   check_system("laplacian", 0.0);
   check_system("nonsymmetric", 0.8);
   check_singular();
+  check_newton();
   /* every rank's verdict counts */
   int failures = sk_test_failures, total = 0;
   MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);

@@ -15,7 +15,7 @@
 #include "stickslip/bridge.h"
 
 enum { kMaxNodesPerElement = 8, kMaxElementDofs = 24 };
-static const double kSlowSeconds = 12.0;
+static const double kSlowSeconds = 5.0;
 static const double young = 1.0, poisson = 0.3;
 
 typedef struct {

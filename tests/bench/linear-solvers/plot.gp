@@ -1,7 +1,7 @@
 # Plots docs/linear-solvers.csv (bench_linear_solvers): time against unknowns, one panel per dimension.
-#   gnuplot -e "csv='docs/linear-solvers.csv'" -e "png='docs/img/linear-solvers.png'" tests/bench/linear-solvers/plot.gp
-if (!exists("csv")) csv = 'docs/linear-solvers.csv'
-if (!exists("png")) png = 'docs/img/linear-solvers.png'
+#   gnuplot -c tests/bench/linear-solvers/plot.gp [csv [png]]   (defaults: docs/linear-solvers.csv, docs/img/...)
+csv = ARGC >= 1 ? ARG1 : 'docs/linear-solvers.csv'
+png = ARGC >= 2 ? ARG2 : 'docs/img/linear-solvers.png'
 set datafile separator ','
 set terminal pngcairo size 1200,520 font ',11'
 set output png

@@ -101,7 +101,7 @@ static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, doub
 
 /* AUTO: direct on small systems, GMRES + MueLu on large sparse ones, and direct again when the Krylov solve fails. */
 static void check_auto(void) {
-  test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns, 5 per row: above the sparse limit of 12000 */
+  test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns, 5 per row: above the sparse limit of 10000 */
   double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
   double *x = malloc(sizeof(double) * (size_t)a.n);
   test_reference_solution(a.n, x_ref);

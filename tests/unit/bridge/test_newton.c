@@ -22,6 +22,7 @@ typedef struct {
   int after_calls;
   int after_last_iteration;
   int after_in_order;
+  int after_fail_at;      /* after_iteration fails at this iteration (0: never) */
 } problem;
 
 static sk_status residual(void *ctx, const double *x, double *F) {
@@ -58,6 +59,7 @@ static sk_status after_iteration(void *ctx, int iteration, const double *x, doub
   ++p->after_calls;
   if (iteration != p->after_last_iteration + 1 || !(residual_norm >= 0)) p->after_in_order = 0;
   p->after_last_iteration = iteration;
+  if (iteration == p->after_fail_at) return sk_error_set(SK_ERR_INPUT, "active set cycling at iteration %d", iteration);
   return SK_OK;
 }
 
@@ -187,6 +189,23 @@ static void check_jacobian_failure(void) {
   sk_linsys_destroy(p.sys);
 }
 
+static void check_after_iteration_failure(void) {
+  problem p;
+  problem_init(&p);
+  p.after_fail_at = 2;
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(strstr(sk_error_message(), "active set cycling at iteration 2") != NULL);
+  SK_CHECK(report.converged == 0);
+  SK_CHECK(p.after_calls == 2); /* the solve stopped right after the failing callback */
+  sk_linsys_destroy(p.sys);
+}
+
 static void check_max_iterations(void) {
   problem p;
   problem_init(&p);
@@ -229,6 +248,7 @@ int main(int argc, char **argv) {
   check_quadratic_convergence(SK_LINE_SEARCH_BACKTRACK);
   check_residual_failure();
   check_jacobian_failure();
+  check_after_iteration_failure();
   check_max_iterations();
   const int result = sk_test_finish("bridge newton");
   MPI_Finalize();
