@@ -597,7 +597,9 @@ enum { N_FIXED_COLUMNS = sizeof fixed_columns / sizeof fixed_columns[0] };
 
 static sk_status open_outputs(stepper *s, outputs *out) {
   sk_model *m = s->model;
-  out->n_columns = N_FIXED_COLUMNS + 3 * m->n_dirichlet + 1;
+  int n_obstacles = 0;
+  for (int k = 0; k < m->n_pairs; ++k) n_obstacles += m->pairs[k].has_obstacle;
+  out->n_columns = N_FIXED_COLUMNS + 3 * (m->n_dirichlet + n_obstacles) + 1;
   out->names = xcalloc((size_t)out->n_columns, sizeof(char *));
   out->name_storage = xcalloc((size_t)out->n_columns, sizeof *out->name_storage);
   out->row = xcalloc((size_t)out->n_columns, sizeof(double));
@@ -609,6 +611,15 @@ static sk_status open_outputs(stepper *s, outputs *out) {
       out->names[c] = out->name_storage[c];
       ++c;
     }
+  /* the force each rigid obstacle receives (minus the contact force on its slave surface) */
+  for (int k = 0; k < m->n_pairs; ++k)
+    if (m->pairs[k].has_obstacle)
+      for (int i = 0; i < 3; ++i) {
+        snprintf(out->name_storage[c], sizeof out->name_storage[c], "reaction_%s_%c", m->pairs[k].obstacle.name,
+                 "xyz"[i]);
+        out->names[c] = out->name_storage[c];
+        ++c;
+      }
   out->names[c] = "wall_seconds";
   if (!s->options->out_dir || m->rank != 0) return SK_OK;
   SK_TRY(sk_outdir_begin(s->options->out_dir, out->dir, sizeof out->dir));
@@ -777,11 +788,17 @@ static sk_status write_history_row(stepper *s, outputs *out, int newton_iteratio
   sk_invariants inv;
   SK_TRY(sk_bulk_invariants(m, s->u_n, s->v_n, &inv));
   sk_contact_report total = {0};
+  double *obstacle_force = xcalloc(3 * (size_t)(m->n_pairs + 1), sizeof(double));
+  int n_obstacles = 0;
   for (int k = 0; k < m->n_pairs; ++k) {
     sk_contact_pair *pair = &m->pairs[k];
     sk_contact_report r = {0};
     sk_state state = pair_state(s, pair);
     SK_TRY(pair->plugin->report(pair->instance, &state, &r));
+    if (pair->has_obstacle) {
+      for (int i = 0; i < 3; ++i) obstacle_force[3 * n_obstacles + i] = -r.force[i];
+      ++n_obstacles;
+    }
     for (int i = 0; i < 3; ++i) total.force[i] += r.force[i];
     total.active += r.active;
     total.stick += r.stick;
@@ -793,6 +810,7 @@ static sk_status write_history_row(stepper *s, outputs *out, int newton_iteratio
                     total.dissipated};
   MPI_Allreduce(MPI_IN_PLACE, sums, 7, MPI_DOUBLE, MPI_SUM, m->comm);
   MPI_Allreduce(MPI_IN_PLACE, &total.constraint_norm, 1, MPI_DOUBLE, MPI_MAX, m->comm);
+  if (n_obstacles > 0) MPI_Allreduce(MPI_IN_PLACE, obstacle_force, 3 * n_obstacles, MPI_DOUBLE, MPI_SUM, m->comm);
   double *reaction_sum = xcalloc(3 * (size_t)(m->n_dirichlet + 1), sizeof(double));
   for (int k = 0; k < m->n_dirichlet; ++k) {
     const sk_dirichlet *bc = &m->dirichlet[k];
@@ -816,8 +834,10 @@ static sk_status write_history_row(stepper *s, outputs *out, int newton_iteratio
   row[c++] = total.constraint_norm;
   for (int k = 0; k < m->n_dirichlet; ++k)
     for (int i = 0; i < 3; ++i) row[c++] = reaction_sum[3 * k + i];
+  for (int k = 0; k < 3 * n_obstacles; ++k) row[c++] = obstacle_force[k];
   row[c++] = now_seconds() - wall_start;
   free(reaction_sum);
+  free(obstacle_force);
   if (out->history) SK_TRY(sk_csv_row(out->history, row));
   return SK_OK;
 }
