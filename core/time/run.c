@@ -781,36 +781,46 @@ static sk_status write_vtu(stepper *s, outputs *out) {
   return status;
 }
 
-/* One history row for the converged state at t_n (after commit). */
-static sk_status write_history_row(stepper *s, outputs *out, int newton_iterations, double dissipated_total,
-                                   double wall_start) {
+/* Contact totals of the step just committed, summed over ranks, called while the state still spans the step
+ * (q_n, t_n at its start; q, t at its end): totals = [force xyz, active, stick, slip, dissipated (step),
+ * constraint violation, then the force on each rigid obstacle (xyz)]; 8 + 3 * obstacles entries. */
+static sk_status contact_totals(stepper *s, double *totals) {
   sk_model *m = s->model;
-  sk_invariants inv;
-  SK_TRY(sk_bulk_invariants(m, s->u_n, s->v_n, &inv));
-  sk_contact_report total = {0};
-  double *obstacle_force = xcalloc(3 * (size_t)(m->n_pairs + 1), sizeof(double));
   int n_obstacles = 0;
-  for (int k = 0; k < m->n_pairs; ++k) {
+  memset(totals, 0, sizeof(double) * (size_t)(8 + 3 * m->n_pairs));
+  sk_status status = SK_OK;
+  for (int k = 0; k < m->n_pairs && status == SK_OK; ++k) {
     sk_contact_pair *pair = &m->pairs[k];
     sk_contact_report r = {0};
     sk_state state = pair_state(s, pair);
-    SK_TRY(pair->plugin->report(pair->instance, &state, &r));
+    status = pair->plugin->report(pair->instance, &state, &r);
+    for (int i = 0; i < 3; ++i) totals[i] += r.force[i];
+    totals[3] += r.active;
+    totals[4] += r.stick;
+    totals[5] += r.slip;
+    totals[6] += r.dissipated;
+    totals[7] = fmax(totals[7], r.constraint_norm);
     if (pair->has_obstacle) {
-      for (int i = 0; i < 3; ++i) obstacle_force[3 * n_obstacles + i] = -r.force[i];
+      for (int i = 0; i < 3; ++i) totals[8 + 3 * n_obstacles + i] = -r.force[i];
       ++n_obstacles;
     }
-    for (int i = 0; i < 3; ++i) total.force[i] += r.force[i];
-    total.active += r.active;
-    total.stick += r.stick;
-    total.slip += r.slip;
-    total.dissipated += r.dissipated;
-    if (r.constraint_norm > total.constraint_norm) total.constraint_norm = r.constraint_norm;
   }
-  double sums[7] = {total.force[0], total.force[1], total.force[2], total.active, total.stick, total.slip,
-                    total.dissipated};
-  MPI_Allreduce(MPI_IN_PLACE, sums, 7, MPI_DOUBLE, MPI_SUM, m->comm);
-  MPI_Allreduce(MPI_IN_PLACE, &total.constraint_norm, 1, MPI_DOUBLE, MPI_MAX, m->comm);
-  if (n_obstacles > 0) MPI_Allreduce(MPI_IN_PLACE, obstacle_force, 3 * n_obstacles, MPI_DOUBLE, MPI_SUM, m->comm);
+  status = collective_status(s, status);
+  if (status != SK_OK) return status;
+  double constraint = totals[7];
+  MPI_Allreduce(MPI_IN_PLACE, totals, 8 + 3 * n_obstacles, MPI_DOUBLE, MPI_SUM, m->comm);
+  MPI_Allreduce(&constraint, &totals[7], 1, MPI_DOUBLE, MPI_MAX, m->comm);
+  return SK_OK;
+}
+
+/* One history row for the converged state at t_n (after the state moved on), with the step's contact totals. */
+static sk_status write_history_row(stepper *s, outputs *out, int newton_iterations, const double *contact,
+                                   double dissipated_total, double wall_start) {
+  sk_model *m = s->model;
+  sk_invariants inv;
+  SK_TRY(sk_bulk_invariants(m, s->u_n, s->v_n, &inv));
+  int n_obstacles = 0;
+  for (int k = 0; k < m->n_pairs; ++k) n_obstacles += m->pairs[k].has_obstacle;
   double *reaction_sum = xcalloc(3 * (size_t)(m->n_dirichlet + 1), sizeof(double));
   for (int k = 0; k < m->n_dirichlet; ++k) {
     const sk_dirichlet *bc = &m->dirichlet[k];
@@ -828,16 +838,14 @@ static sk_status write_history_row(stepper *s, outputs *out, int newton_iteratio
   row[c++] = inv.kinetic + inv.strain;
   for (int i = 0; i < 3; ++i) row[c++] = inv.momentum[i];
   for (int i = 0; i < 3; ++i) row[c++] = inv.angular_momentum[i];
-  for (int i = 0; i < 3; ++i) row[c++] = sums[i];
-  for (int i = 3; i < 6; ++i) row[c++] = sums[i];
-  row[c++] = dissipated_total + sums[6];
-  row[c++] = total.constraint_norm;
+  for (int i = 0; i < 6; ++i) row[c++] = contact[i];
+  row[c++] = dissipated_total + contact[6];
+  row[c++] = contact[7];
   for (int k = 0; k < m->n_dirichlet; ++k)
     for (int i = 0; i < 3; ++i) row[c++] = reaction_sum[3 * k + i];
-  for (int k = 0; k < 3 * n_obstacles; ++k) row[c++] = obstacle_force[k];
+  for (int k = 0; k < 3 * n_obstacles; ++k) row[c++] = contact[8 + k];
   row[c++] = now_seconds() - wall_start;
   free(reaction_sum);
-  free(obstacle_force);
   if (out->history) SK_TRY(sk_csv_row(out->history, row));
   return SK_OK;
 }
@@ -1005,7 +1013,8 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
   double dt_nominal = m->time.dt, dt = dt_nominal, dissipated = 0.0;
   int cuts_in_a_row = 0, good_steps = 0;
   /* the initial state as row 0 */
-  if (status == SK_OK) status = write_history_row(&s, &out, 0, 0.0, wall_start);
+  double *contact = xcalloc(8 + 3 * (size_t)m->n_pairs, sizeof(double)); /* zero at the initial state */
+  if (status == SK_OK) status = write_history_row(&s, &out, 0, contact, 0.0, wall_start);
   if (status == SK_OK && scene->output.write_vtu && options->out_dir) status = write_vtu(&s, &out);
   if (options->progress && m->rank == 0) sk_progress_begin(scene->path, m->time.t_end);
 
@@ -1027,14 +1036,14 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
         status = pair->plugin->commit_step(pair->instance, &state);
       }
       status = collective_status(&s, status);
+      if (status == SK_OK) status = contact_totals(&s, contact); /* while the state still spans the step */
       if (status != SK_OK) break;
-      /* the step's dissipation is reported before the state moves on */
       memcpy(s.u_n, s.x, sizeof(double) * (size_t)m->n_dofs);
       memcpy(s.v_n, s.v, sizeof(double) * (size_t)m->n_dofs);
       memcpy(s.q_n, s.q, sizeof(double) * (size_t)m->n_dofs);
       s.t_n = s.t;
       summary->steps++;
-      status = write_history_row(&s, &out, s.newton.iterations, dissipated, wall_start);
+      status = write_history_row(&s, &out, s.newton.iterations, contact, dissipated, wall_start);
       dissipated = out.row[19];
       int last = !(s.t_n < m->time.t_end - t_eps) ||
                  (options->max_steps > 0 && summary->steps >= options->max_steps);
@@ -1109,6 +1118,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
     else sk_error_set(status, "%s", message);
   }
   free(points);
+  free(contact);
   free(out.names);
   free(out.name_storage);
   free(out.row);

@@ -199,8 +199,10 @@ typedef struct sk_plugin {
   sk_status (*commit_step)(sk_instance *instance, const sk_state *state);
   /* Step rejected (it will be retried with a smaller dt): roll history back to the last commit. */
   void (*reject_step)(sk_instance *instance);
-  /* Results of the step just committed, for history.csv (called after commit_step; this rank's entities — the
-   * driver sums over ranks). `dissipated` is the step's increment; the driver accumulates it. */
+  /* Results of the step just committed, for history.csv: called right after commit_step with the state still
+   * spanning the step (q_n, t_n at its start; q, t, extra at its end); never for the initial state (whose contact
+   * columns are zero). This rank's entities — the driver sums over ranks. `dissipated` is the step's increment;
+   * the driver accumulates it. */
   sk_status (*report)(sk_instance *instance, const sk_state *state, sk_contact_report *report);
   /* Calls `callback` for each contact point this rank owns (contact.csv, VTU). */
   sk_status (*points)(sk_instance *instance, const sk_state *state, sk_point_callback callback, void *ctx);
