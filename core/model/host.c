@@ -69,6 +69,8 @@ static const sk_contact_services contact_services = {
     .obstacle_project = sk_obstacle_project,
     .shape = sk_elem_shape,
     .shape_hessian = sk_elem_shape_hessian,
+    .obstacle_displacement = sk_obstacle_displacement,
+    .search_rebuild = sk_search_rebuild,
 };
 
 void sk_host_init(sk_host *host, sk_model *model) {

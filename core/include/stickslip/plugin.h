@@ -72,6 +72,9 @@ typedef struct sk_contact_services {
                                 sk_surface_point *point, double *gap);
   void (*shape)(sk_elem_type type, const double *xi, double *N, double *dN);
   void (*shape_hessian)(sk_elem_type type, const double *xi, double *ddN);
+  /* appended within ABI 1 (before its first release): */
+  void (*obstacle_displacement)(const sk_obstacle *obstacle, double t, double d[3]);
+  void (*search_rebuild)(sk_search *search);
 } sk_contact_services;
 
 typedef struct sk_host {
