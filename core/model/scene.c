@@ -463,6 +463,8 @@ static const char *const line_search_names[] = {"full-step", "backtrack", "polyn
 
 static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   const sk_cfg *node = sk_cfg_get(root, "solver");
+  if (node && sk_cfg_kind_of(node) != SK_CFG_MAP)
+    return fail_at(node, "%s", "expects a map with `newton` and/or `linear`");
   sk_newton_options_default(&solver->newton);
   sk_linear_options_default(&solver->linear);
   const sk_cfg *newton = sk_cfg_get(node, "newton");

@@ -168,6 +168,13 @@ def unknown_linear_solver(c):
     c.expect_failure(r"solver\.linear\.solver", r"superlu", r"direct", r"gmres-muelu", r"gmres-ilu", r"auto")
 
 
+def section_not_a_map(c):
+    c.run_scene(BLOCK, "--set", "solver=3")
+    c.expect_failure(r"--set solver", r"key 'solver'", r"expects a map")
+    c.run_scene(BLOCK, "--set", "time=3")
+    c.expect_failure(r"--set time", r"'time' should be a map")
+
+
 def bad_set(c):
     c.run_scene(BLOCK, "--set", "time.dt")
     c.expect_failure(r"--set expects key\.path=value", r"time\.dt")
@@ -262,8 +269,9 @@ def inverted_element(c):
 
 CASES = {f.__name__: f for f in [
     malformed_yaml, unknown_key, missing_mesh_file, unknown_mesh_parameter, missing_group, material_nu, material_E,
-    negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, bad_set, unknown_option, missing_scene,
-    check_good, check_bad, plugins_list, bad_abi_plugin, capability_mismatch, unknown_strategy, inverted_element]}
+    negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map, bad_set, unknown_option,
+    missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin, capability_mismatch, unknown_strategy,
+    inverted_element]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:
