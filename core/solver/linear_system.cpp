@@ -486,10 +486,8 @@ void sk_linsys_destroy(sk_linear_system *sys) {
 }
 
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size) {
+  // checked against the unknowns by the next sk_linsys_set_pattern, which callers make after this
   if (block_size < 1) return sk_error_set(SK_ERR_INPUT, "linear system: block size %d must be >= 1", block_size);
-  if (sys->n > 0 && sys->n % block_size != 0)
-    return sk_error_set(SK_ERR_INPUT, "linear system: %d unknowns are not a multiple of the block size %d", sys->n,
-                        block_size);
   if (block_size != sys->block_size) sys->muelu = Teuchos::null;  // the hierarchy depends on it
   sys->block_size = block_size;
   return SK_OK;
