@@ -4,7 +4,8 @@
  * over ranks (METIS); the sparse matrix is distributed (Tpetra, contiguous row blocks) and solved by Amesos2 or
  * Belos. Vectors cross this header replicated: identical on every rank, so norms and Newton decisions agree
  * without communication. A matrix is assembled by every rank writing its own contributions into a values array
- * laid over one replicated CSR pattern; sk_linsys_assemble sums them (Tpetra export) into the owned rows. */
+ * laid over one replicated CSR pattern; sk_linsys_assemble sums them into the owned rows (one MPI_Alltoallv of the
+ * written rows to their owners, planned once per pattern; values replaced in place in the static-graph matrix). */
 #ifndef STICKSLIP_BRIDGE_H
 #define STICKSLIP_BRIDGE_H
 
