@@ -825,7 +825,8 @@ static sk_status write_history_row(stepper *s, outputs *out, int newton_iteratio
   for (int k = 0; k < m->n_dirichlet; ++k) {
     const sk_dirichlet *bc = &m->dirichlet[k];
     for (int j = 0; j < bc->n_nodes; ++j)
-      for (int i = 0; i < m->dim; ++i) reaction_sum[3 * k + i] += s->reactions[bc->nodes[j] * m->dim + i];
+      for (int i = 0; i < m->dim; ++i)
+        if (bc->fixed[i]) reaction_sum[3 * k + i] += s->reactions[bc->nodes[j] * m->dim + i];
   }
   double *row = out->row;
   int c = 0;
