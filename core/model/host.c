@@ -58,20 +58,6 @@ static const void *host_get_extension(const sk_host *host, const char *id) {
   return NULL;
 }
 
-static const sk_contact_services contact_services = {
-    .geometry = sk_surface_geometry,
-    .nodal_normals = sk_surface_nodal_normals,
-    .project = sk_surface_project,
-    .search_create = sk_search_create,
-    .search_destroy = sk_search_destroy,
-    .search_update = sk_search_update,
-    .search_query = sk_search_query,
-    .obstacle_project = sk_obstacle_project,
-    .shape = sk_elem_shape,
-    .shape_hessian = sk_elem_shape_hessian,
-    .obstacle_displacement = sk_obstacle_displacement,
-    .search_rebuild = sk_search_rebuild,
-};
 
 void sk_host_init(sk_host *host, sk_model *model) {
   host->abi_version = SK_PLUGIN_ABI_VERSION;
@@ -82,7 +68,7 @@ void sk_host_init(sk_host *host, sk_model *model) {
   host->lumped_mass = model->time.scheme == SK_SCHEME_QUASISTATIC ? NULL : model->lumped_mass;
   host->rank = model->rank;
   host->n_ranks = model->n_ranks;
-  host->contact = &contact_services;
+  host->contact = sk_core_contact_services();
   host->core = model;
   host->owns_node = host_owns_node;
   host->param_double = host_param_double;

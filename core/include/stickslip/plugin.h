@@ -77,6 +77,9 @@ typedef struct sk_contact_services {
   void (*search_rebuild)(sk_search *search);
 } sk_contact_services;
 
+/* The core's implementation of the table (for the host and for tests' mock hosts; plugins get it via sk_host). */
+const sk_contact_services *sk_core_contact_services(void);
+
 typedef struct sk_host {
   uint32_t abi_version;
   int dim;                       /* 2 or 3 */

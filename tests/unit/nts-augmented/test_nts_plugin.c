@@ -123,18 +123,6 @@ static void build_scene(void) {
   slave.body = 1;
 }
 
-static const sk_contact_services services = {
-    .geometry = sk_surface_geometry,
-    .nodal_normals = sk_surface_nodal_normals,
-    .project = sk_surface_project,
-    .search_create = sk_search_create,
-    .search_destroy = sk_search_destroy,
-    .search_update = sk_search_update,
-    .search_query = sk_search_query,
-    .obstacle_project = sk_obstacle_project,
-    .shape = sk_elem_shape,
-    .shape_hessian = sk_elem_shape_hessian,
-};
 
 static sk_host make_host(void) {
   sk_host h;
@@ -145,7 +133,7 @@ static sk_host make_host(void) {
   h.n_dofs = N_DOFS;
   h.X = X;
   h.n_ranks = 1;
-  h.contact = &services;
+  h.contact = sk_core_contact_services();
   h.owns_node = mock_owns;
   h.param_double = mock_param_double;
   h.param_int = mock_param_int;

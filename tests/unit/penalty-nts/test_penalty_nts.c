@@ -72,9 +72,6 @@ __attribute__((format(printf, 3, 4))) static void mock_log(const sk_host *host, 
 
 static const void *mock_extension(const sk_host *host, const char *id) { return NULL; }
 
-static const sk_contact_services core_services = {
-    sk_surface_geometry, sk_surface_nodal_normals, sk_surface_project, sk_search_create, sk_search_destroy,
-    sk_search_update,    sk_search_query,          sk_obstacle_project, sk_elem_shape,   sk_elem_shape_hessian};
 
 /* ---- scenes ----------------------------------------------------------------------------------------------------- */
 typedef struct {
@@ -148,7 +145,7 @@ static void scene_init(scene *s, int dim, int n_nodes, const double *X) {
   s->host.n_dofs = s->n_dofs;
   s->host.X = s->X;
   s->host.n_ranks = 1;
-  s->host.contact = &core_services;
+  s->host.contact = sk_core_contact_services();
   s->host.owns_node = mock_owns_node;
   s->host.param_double = mock_param_double;
   s->host.param_int = mock_param_int;
