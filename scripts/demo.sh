@@ -3,7 +3,7 @@
 # energy/momentum history. Usage: scripts/demo.sh [SCENE.yaml] [extra `stickslip run` arguments]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=${1:-scenes/free-flight-torus.yaml}
+scene=${1:-scenes/two-tori-coarse.yaml}
 shift || true
 scripts/install-deps.sh
 scripts/build.sh
