@@ -11,7 +11,7 @@
 #    SYSTEM include directories so -Werror applies to our code only.
 #  * Tpetra is instantiated for Scalar=double, LO=int, GO=long long, Node=Serial only (TpetraCore_config.h); the
 #    bridge's sources use exactly those types.
-set(STICKSLIP_TRILINOS_PACKAGES NOX Amesos2 Belos MueLu Ifpack2 Tpetra Teuchos)
+set(STICKSLIP_TRILINOS_PACKAGES NOX Amesos2 Amesos Epetra Belos MueLu Ifpack2 Tpetra Teuchos)
 find_package(Trilinos 13.2 REQUIRED COMPONENTS ${STICKSLIP_TRILINOS_PACKAGES}
              PATHS /usr/lib/x86_64-linux-gnu/cmake/Trilinos)
 

@@ -1,4 +1,5 @@
-// stickslip — sk_linsys_*: distributed Tpetra matrix, Amesos2 KLU2 / Belos GMRES with MueLu or Ifpack2.
+// stickslip — sk_linsys_*: distributed Tpetra matrix; direct by Amesos v1 MUMPS / KLU (Epetra copy) or Amesos2
+// KLU2; Belos GMRES with MueLu or Ifpack2.
 //
 // Assembly. Each rank writes into a values array laid over the replicated CSR pattern. At set_pattern time the
 // ranks agree (once) which of their local rows go to which owner; sk_linsys_assemble then moves the values of
@@ -12,11 +13,22 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <Amesos.h>
 #include <Amesos2.hpp>
+#include <Amesos_BaseSolver.h>
+#include <Epetra_CrsGraph.h>
+#include <Epetra_CrsMatrix.h>
+#include <Epetra_LinearProblem.h>
+#include <Epetra_Map.h>
+#include <Epetra_MpiComm.h>
+#include <Epetra_Object.h>
+#include <Epetra_Vector.h>
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
@@ -64,6 +76,9 @@ constexpr int kAutoDirectMaxUnknownsDense = 2000;
 constexpr int kGmresRestart = 100;
 // A direct solve whose measured residual exceeds this is a (numerically) singular matrix, not round-off.
 constexpr double kDirectResidualLimit = 1e-6;
+// What `direct` (and AUTO's direct choice, including its fallback) runs: the fastest correct backend on the
+// benchmark's hex8/quad4 elasticity and on the contact saddle-point systems (docs/linear-solvers.md).
+constexpr sk_linear_solver_kind kDirectBackend = SK_LINEAR_DIRECT_MUMPS;
 
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -114,6 +129,17 @@ struct sk_linear_system {
   std::vector<double> gathered_values;
   RCP<DirectSolver> direct;
 
+  // Amesos v1 (Epetra) direct solvers, MUMPS or KLU: on the same contiguous row blocks as the Tpetra matrix.
+  // Destroyed in reverse order of construction (solver, problem, vectors, matrix, map, comm).
+  RCP<Epetra_MpiComm> epetra_comm;
+  RCP<Epetra_Map> epetra_map;
+  RCP<Epetra_CrsMatrix> epetra_matrix;
+  std::vector<int> epetra_slots;  // position, within Epetra's storage of its row, of each owned CSR entry
+  RCP<Epetra_Vector> epetra_x, epetra_b;
+  RCP<Epetra_LinearProblem> epetra_problem;
+  RCP<Amesos_BaseSolver> amesos;
+  sk_linear_solver_kind amesos_kind = SK_LINEAR_DIRECT;
+
   // iterative
   RCP<MueLuOperator> muelu;
   RCP<Ifpack2Preconditioner> ilu;
@@ -121,16 +147,36 @@ struct sk_linear_system {
 
 namespace {
 
+bool is_direct(sk_linear_solver_kind kind) {
+  return kind == SK_LINEAR_DIRECT || kind == SK_LINEAR_DIRECT_MUMPS || kind == SK_LINEAR_DIRECT_KLU2 ||
+         kind == SK_LINEAR_DIRECT_KLU;
+}
+
+// The backend that actually runs: `direct` is the measured-fastest direct solver, AUTO picks by size and sparsity.
 sk_linear_solver_kind resolve_kind(const sk_linear_system *sys) {
-  if (sys->options.kind != SK_LINEAR_AUTO) return sys->options.kind;
-  if (sys->auto_fell_back) return SK_LINEAR_DIRECT;
-  const double entries_per_row = sys->n > 0 ? static_cast<double>(sys->row_ptr[sys->n]) / sys->n : 0.0;
-  const int limit = entries_per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
-  return sys->n <= limit ? SK_LINEAR_DIRECT : SK_LINEAR_GMRES_MUELU;
+  sk_linear_solver_kind kind = sys->options.kind;
+  if (kind == SK_LINEAR_AUTO) {
+    const double entries_per_row = sys->n > 0 ? static_cast<double>(sys->row_ptr[sys->n]) / sys->n : 0.0;
+    const int limit =
+        entries_per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
+    kind = sys->auto_fell_back || sys->n <= limit ? SK_LINEAR_DIRECT : SK_LINEAR_GMRES_MUELU;
+  }
+  return kind == SK_LINEAR_DIRECT ? kDirectBackend : kind;
 }
 
 // Drops everything derived from the pattern (maps, matrices, factorisations, preconditioners).
+void release_amesos(sk_linear_system *sys) {
+  sys->amesos = Teuchos::null;
+  sys->epetra_problem = Teuchos::null;
+  sys->epetra_x = Teuchos::null;
+  sys->epetra_b = Teuchos::null;
+  sys->epetra_matrix = Teuchos::null;
+  sys->epetra_slots.clear();
+  sys->epetra_map = Teuchos::null;
+}
+
 void release_pattern(sk_linear_system *sys) {
+  release_amesos(sys);
   sys->direct = Teuchos::null;
   sys->muelu = Teuchos::null;
   sys->ilu = Teuchos::null;
@@ -304,6 +350,120 @@ sk_status solve_direct(sk_linear_system *sys, const double *b, double *x, sk_lin
   return SK_OK;
 }
 
+const char *amesos_backend_name(sk_linear_solver_kind kind) { return kind == SK_LINEAR_DIRECT_MUMPS ? "MUMPS" : "KLU"; }
+
+// The Epetra copy of the pattern for Amesos v1: same map (contiguous row blocks of sys->row_offsets), a static
+// graph, and the table from owned CSR entries to Epetra's (column-map ordered) value storage.
+void build_epetra(sk_linear_system *sys) {
+  if (sys->epetra_comm.is_null()) sys->epetra_comm = rcp(new Epetra_MpiComm(sys->comm));
+  const int first_row = sys->row_offsets[sys->rank];
+  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  sys->epetra_map = rcp(new Epetra_Map(sys->n, n_owned, 0, *sys->epetra_comm));
+  std::vector<int> entries(static_cast<size_t>(n_owned));
+  for (int i = 0; i < n_owned; ++i)
+    entries[i] = static_cast<int>(sys->row_ptr[first_row + i + 1] - sys->row_ptr[first_row + i]);
+  Epetra_CrsGraph graph(Copy, *sys->epetra_map, entries.data(), true);
+  for (int i = 0; i < n_owned; ++i) {
+    if (graph.InsertGlobalIndices(first_row + i, entries[i], sys->cols.data() + sys->row_ptr[first_row + i]) < 0)
+      throw std::runtime_error("Epetra_CrsGraph::InsertGlobalIndices failed");
+  }
+  if (graph.FillComplete() != 0 || graph.OptimizeStorage() != 0)
+    throw std::runtime_error("Epetra_CrsGraph::FillComplete failed");
+  sys->epetra_matrix = rcp(new Epetra_CrsMatrix(Copy, graph));
+  if (sys->epetra_matrix->FillComplete() != 0 || sys->epetra_matrix->OptimizeStorage() != 0)
+    throw std::runtime_error("Epetra_CrsMatrix::FillComplete failed");
+  int *offsets = nullptr, *indices = nullptr;
+  double *values = nullptr;
+  sys->epetra_matrix->ExtractCrsDataPointers(offsets, indices, values);
+  sys->epetra_slots.assign(sys->owned_values.size(), 0);
+  std::vector<std::pair<int, int>> row;  // (global column, storage position)
+  for (int i = 0; i < n_owned; ++i) {
+    row.clear();
+    for (int p = offsets[i]; p < offsets[i + 1]; ++p) row.emplace_back(sys->epetra_matrix->GCID(indices[p]), p);
+    std::sort(row.begin(), row.end());  // CSR columns are sorted: the k-th smallest column is the k-th CSR entry
+    const int64_t base = sys->row_ptr[first_row + i] - sys->owned_value_begin;
+    if (static_cast<int64_t>(row.size()) != static_cast<int64_t>(entries[i]))
+      throw std::runtime_error("Epetra matrix row length differs from the pattern");
+    for (size_t k = 0; k < row.size(); ++k) sys->epetra_slots[static_cast<size_t>(base) + k] = row[k].second;
+  }
+  sys->epetra_x = rcp(new Epetra_Vector(*sys->epetra_map));
+  sys->epetra_b = rcp(new Epetra_Vector(*sys->epetra_map));
+  sys->epetra_problem = rcp(new Epetra_LinearProblem(sys->epetra_matrix.get(), sys->epetra_x.get(), sys->epetra_b.get()));
+}
+
+// Direct solve by Amesos v1 (MUMPS or KLU) on the distributed Epetra matrix: both are correct on several ranks
+// (MUMPS factorises in parallel; Amesos_Klu gathers to rank 0 itself). The symbolic factorisation is computed once
+// per pattern (with the first values: MUMPS's analysis uses them for its scaling / zero-free-diagonal permutation,
+// which matters for the multiplier rows of contact); every solve redoes the numeric factorisation only.
+sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                       sk_linear_report *report) {
+  const char *backend = amesos_backend_name(kind);
+  if (sys->epetra_matrix.is_null()) build_epetra(sys);
+  {
+    int *offsets = nullptr, *indices = nullptr;
+    double *values = nullptr;
+    sys->epetra_matrix->ExtractCrsDataPointers(offsets, indices, values);
+    for (size_t k = 0; k < sys->owned_values.size(); ++k) values[sys->epetra_slots[k]] = sys->owned_values[k];
+  }
+  // Amesos_Mumps reports every MUMPS error (a singular matrix: INFOG(1) = -10) on std::cerr itself; the status and
+  // message returned here say it once, so its report is muted unless verbose
+  struct MuteCerr {
+    std::streambuf *saved = nullptr;
+    explicit MuteCerr(bool mute) : saved(mute ? std::cerr.rdbuf(nullptr) : nullptr) {}
+    ~MuteCerr() {
+      if (saved) std::cerr.rdbuf(saved);  // rdbuf(sb) also clears the badbit set while muted
+    }
+  } mute(!sys->options.verbose);
+  // all ranks see the same return codes (MUMPS's are global) but agree anyway: a mismatch would deadlock
+  auto failed = [sys](int code) {
+    int worst = code < 0 ? code : (code > 0 ? -code : 0), result = 0;
+    MPI_Allreduce(&worst, &result, 1, MPI_INT, MPI_MIN, sys->comm);
+    return result;
+  };
+  if (sys->amesos.is_null() || sys->amesos_kind != kind) {
+    Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
+    Amesos factory;
+    sys->amesos = rcp(factory.Create(kind == SK_LINEAR_DIRECT_MUMPS ? "Amesos_Mumps" : "Amesos_Klu",
+                                     *sys->epetra_problem));
+    if (sys->amesos.is_null()) return sk_error_set(SK_ERR_INTERNAL, "direct solve (%s): Amesos has no such solver", backend);
+    sys->amesos_kind = kind;
+    Teuchos::ParameterList params;
+    params.set("OutputLevel", sys->options.verbose ? 1 : 0);
+    params.set("ComputeTrueResidual", false);
+    params.set("ComputeVectorNorms", false);
+    sys->amesos->SetParameters(params);
+    if (const int code = failed(sys->amesos->SymbolicFactorization())) {
+      sys->amesos = Teuchos::null;
+      return sk_error_set(SK_ERR_DIVERGED, "direct solve (%s): symbolic factorisation failed (error %d)", backend, code);
+    }
+    report->refactored_symbolic = 1;
+  }
+  if (const int code = failed(sys->amesos->NumericFactorization())) {
+    sys->amesos = Teuchos::null;  // start afresh (symbolic included) next time
+    return sk_error_set(SK_ERR_DIVERGED, "direct solve (%s): numeric factorisation failed (error %d, singular matrix)",
+                        backend, code);
+  }
+  const int first_row = sys->row_offsets[sys->rank];
+  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  std::copy(b + first_row, b + first_row + n_owned, sys->epetra_b->Values());
+  if (const int code = failed(sys->amesos->Solve()))
+    return sk_error_set(SK_ERR_DIVERGED, "direct solve (%s): solve failed (error %d)", backend, code);
+  std::vector<int> counts(sys->size), displs(sys->size);
+  for (int r = 0; r < sys->size; ++r) {
+    displs[r] = sys->row_offsets[r];
+    counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+  }
+  MPI_Allgatherv(sys->epetra_x->Values(), n_owned, MPI_DOUBLE, x, counts.data(), displs.data(), MPI_DOUBLE, sys->comm);
+  Vector xv(sys->row_map), bv(sys->row_map);
+  scatter_to(sys, x, xv);
+  scatter_to(sys, b, bv);
+  report->relative_residual = relative_residual(sys, bv, xv);
+  if (!(report->relative_residual <= kDirectResidualLimit))  // NaN included
+    return sk_error_set(SK_ERR_DIVERGED, "direct solve (%s): relative residual %.3g (singular matrix)", backend,
+                        report->relative_residual);
+  return SK_OK;
+}
+
 RCP<Teuchos::ParameterList> muelu_parameters(const sk_linear_system *sys) {
   auto p = rcp(new Teuchos::ParameterList);
   p->set("verbosity", sys->options.verbose ? "low" : "none");
@@ -426,14 +586,17 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
   } names[] = {{"direct", SK_LINEAR_DIRECT},
                {"gmres-muelu", SK_LINEAR_GMRES_MUELU},
                {"gmres-ilu", SK_LINEAR_GMRES_ILU},
-               {"auto", SK_LINEAR_AUTO}};
+               {"auto", SK_LINEAR_AUTO},
+               {"mumps", SK_LINEAR_DIRECT_MUMPS},
+               {"klu2", SK_LINEAR_DIRECT_KLU2},
+               {"klu", SK_LINEAR_DIRECT_KLU}};
   for (const auto &entry : names) {
     if (name && std::strcmp(name, entry.name) == 0) {
       *kind = entry.kind;
       return SK_OK;
     }
   }
-  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu or auto)",
+  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, auto, mumps, klu2 or klu)",
                       name ? name : "(null)");
 }
 
@@ -443,6 +606,9 @@ const char *sk_linear_solver_name(sk_linear_solver_kind kind) {
     case SK_LINEAR_GMRES_MUELU: return "gmres-muelu";
     case SK_LINEAR_GMRES_ILU: return "gmres-ilu";
     case SK_LINEAR_AUTO: return "auto";
+    case SK_LINEAR_DIRECT_MUMPS: return "mumps";
+    case SK_LINEAR_DIRECT_KLU2: return "klu2";
+    case SK_LINEAR_DIRECT_KLU: return "klu";
   }
   return "unknown";
 }
@@ -457,7 +623,7 @@ sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_l
     } else {
       sk_linear_options_default(&created->options);
     }
-    if (created->options.kind < SK_LINEAR_DIRECT || created->options.kind > SK_LINEAR_AUTO)
+    if (created->options.kind < SK_LINEAR_DIRECT || created->options.kind > SK_LINEAR_DIRECT_KLU)
       return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)created->options.kind);
     if (!(created->options.tolerance > 0) || created->options.max_iterations < 1)
       return sk_error_set(SK_ERR_INPUT, "linear system: tolerance (%g) and max_iterations (%d) must be positive",
@@ -477,6 +643,7 @@ void sk_linsys_destroy(sk_linear_system *sys) {
   if (!sys) return;
   try {
     release_pattern(sys);
+    sys->epetra_comm = Teuchos::null;
     sys->tcomm = Teuchos::null;
   } catch (...) {
     // destruction must not throw into C; nothing useful to report
@@ -634,21 +801,24 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
   sk_linear_solver_kind kind = resolve_kind(sys);
   sk_status status;
   try {
-    status = kind == SK_LINEAR_DIRECT ? solve_direct(sys, b, x, report) : solve_iterative(sys, kind, b, x, report);
+    status = kind == SK_LINEAR_DIRECT_KLU2 ? solve_direct(sys, b, x, report)
+             : is_direct(kind)             ? solve_amesos(sys, kind, b, x, report)
+                                           : solve_iterative(sys, kind, b, x, report);
   } catch (...) {
     status = status_from_exception(SK_ERR_DIVERGED, sk_linear_solver_name(kind), std::current_exception());
+    if (is_direct(kind)) sys->amesos = Teuchos::null;
   }
   status = agree(sys->comm, status, "sk_linsys_solve");
-  if (status == SK_ERR_DIVERGED && sys->options.kind == SK_LINEAR_AUTO && kind != SK_LINEAR_DIRECT) {
+  if (status == SK_ERR_DIVERGED && sys->options.kind == SK_LINEAR_AUTO && !is_direct(kind)) {
     // AUTO promises an answer when one exists: fall back to the direct solver, for this pattern from now on
     if (sys->options.verbose && sys->rank == 0)
       std::printf("linear solve (auto): %s; falling back to direct\n", sk_error_message());
     sys->auto_fell_back = true;
     sys->muelu = Teuchos::null;
-    kind = SK_LINEAR_DIRECT;
+    kind = resolve_kind(sys);
     const int iterations = report->iterations;
     try {
-      status = solve_direct(sys, b, x, report);
+      status = kind == SK_LINEAR_DIRECT_KLU2 ? solve_direct(sys, b, x, report) : solve_amesos(sys, kind, b, x, report);
     } catch (...) {
       status = status_from_exception(SK_ERR_DIVERGED, "direct", std::current_exception());
     }

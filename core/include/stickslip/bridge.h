@@ -20,11 +20,14 @@ extern "C" {
 
 /* ---- linear systems ----------------------------------------------------------------------------------------- */
 typedef enum {
-  SK_LINEAR_DIRECT = 0,   /* Amesos2 KLU2; on more than one rank the matrix is gathered and factorised on rank 0
-                             (Debian's Trilinos 13.2 KLU2 gives wrong answers on distributed matrices) */
+  SK_LINEAR_DIRECT = 0,   /* the fastest direct backend measured on these systems (docs/linear-solvers.md): MUMPS */
   SK_LINEAR_GMRES_MUELU,  /* Belos GMRES preconditioned by MueLu smoothed-aggregation AMG */
   SK_LINEAR_GMRES_ILU,    /* Belos GMRES preconditioned by Ifpack2 ILU(k) */
-  SK_LINEAR_AUTO          /* the measured default: chosen from the size and kind of the system (docs/linear-solvers.md) */
+  SK_LINEAR_AUTO,         /* the measured default: chosen from the size and kind of the system (docs/linear-solvers.md) */
+  SK_LINEAR_DIRECT_MUMPS, /* Amesos (v1, Epetra) MUMPS: multifrontal LU, factorised in parallel on the distributed matrix */
+  SK_LINEAR_DIRECT_KLU2,  /* Amesos2 KLU2; on more than one rank the matrix is gathered and factorised on rank 0
+                             (Debian's Trilinos 13.2 KLU2 gives wrong answers on distributed matrices) */
+  SK_LINEAR_DIRECT_KLU    /* Amesos (v1, Epetra) KLU (gathers to rank 0 itself) */
 } sk_linear_solver_kind;
 
 typedef struct {
@@ -44,7 +47,7 @@ typedef struct {
 typedef struct sk_linear_system sk_linear_system;
 
 void sk_linear_options_default(sk_linear_options *options);
-sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *kind); /* direct|gmres-muelu|gmres-ilu|auto */
+sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *kind); /* direct|gmres-muelu|gmres-ilu|auto|mumps|klu2|klu */
 const char *sk_linear_solver_name(sk_linear_solver_kind kind);
 
 sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_linear_system **sys);
