@@ -101,21 +101,27 @@ typedef struct {
 
 /* ---- unknown layout --------------------------------------------------------------------------------------------- */
 
+/* The n-sized work arrays (n = all unknowns of a step); x keeps its values when it grows. */
+static void free_unknown_arrays(stepper *s) {
+  double **arrays[] = {&s->F_local, &s->rhs_local, &s->rhs, &s->b, &s->y, &s->dx_elim};
+  for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
+    free(*arrays[k]);
+    *arrays[k] = NULL;
+  }
+  free(s->kept);
+  free(s->full_of_kept);
+}
+
 static void ensure_capacity(stepper *s, int n) {
   if (n <= s->capacity) return;
   int cap = n + n / 4 + 16;
-  free(s->kept);
-  free(s->full_of_kept);
+  free_unknown_arrays(s);
+  double *x = xcalloc((size_t)cap, sizeof(double));
+  if (s->x) memcpy(x, s->x, sizeof(double) * (size_t)s->capacity);
   free(s->x);
-  free(s->F_local);
-  free(s->rhs_local);
-  free(s->rhs);
-  free(s->b);
-  free(s->y);
-  free(s->dx_elim);
+  s->x = x;
   s->kept = xcalloc((size_t)cap, sizeof(int));
   s->full_of_kept = xcalloc((size_t)cap, sizeof(int));
-  s->x = xcalloc((size_t)cap, sizeof(double));
   s->F_local = xcalloc((size_t)cap, sizeof(double));
   s->rhs_local = xcalloc((size_t)cap, sizeof(double));
   s->rhs = xcalloc((size_t)cap, sizeof(double));
@@ -880,20 +886,13 @@ static sk_status solve_step(stepper *s, const sk_newton_callbacks *callbacks) {
 }
 
 static void stepper_free(stepper *s) {
-  free(s->kept);
-  free(s->full_of_kept);
+  free_unknown_arrays(s);
   free(s->u_n);
   free(s->v_n);
   free(s->v);
   free(s->q_n);
   free(s->q);
   free(s->x);
-  free(s->F_local);
-  free(s->rhs_local);
-  free(s->rhs);
-  free(s->b);
-  free(s->y);
-  free(s->dx_elim);
   free(s->reactions);
   free(s->is_fixed);
   free(s->fixed_value);
