@@ -108,6 +108,7 @@ struct sk_linear_system {
   int64_t owned_value_begin = 0;  // row_ptr[first owned row]
   std::vector<double> owned_values;
   std::vector<LocalOrdinal> owned_local_cols;  // Tpetra column-map index of each owned CSR entry
+  std::vector<int64_t> owned_diagonal;         // index of each owned row's diagonal in owned_values, -1 if absent
 
   // the once-per-pattern exchange plan of sk_linsys_assemble (counts in values, per rank)
   std::vector<int> send_counts, send_displs, recv_counts, recv_displs;
@@ -697,6 +698,12 @@ sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n, const int64_t *row
     const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
     sys->owned_value_begin = row_ptr[first_row];
     sys->owned_values.assign(static_cast<size_t>(row_ptr[first_row + n_owned] - row_ptr[first_row]), 0.0);
+    sys->owned_diagonal.assign(static_cast<size_t>(n_owned), -1);
+    for (int i = 0; i < n_owned; ++i) {
+      const int row = first_row + i;
+      const int *found = std::lower_bound(cols + row_ptr[row], cols + row_ptr[row + 1], row);
+      if (found != cols + row_ptr[row + 1] && *found == row) sys->owned_diagonal[i] = (found - cols) - row_ptr[first_row];
+    }
 
     // exchange plan: local rows grouped by owner (already sorted, and owners hold increasing row blocks)
     std::vector<int> send_row_counts(sys->size, 0), recv_row_counts(sys->size, 0);
@@ -799,6 +806,24 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
   }
   if (!std::isfinite(norm_b)) return sk_error_set(SK_ERR_DIVERGED, "sk_linsys_solve: non-finite right-hand side");
   sk_linear_solver_kind kind = resolve_kind(sys);
+  if (sys->options.kind == SK_LINEAR_AUTO && kind == SK_LINEAR_GMRES_MUELU) {
+    // a saddle point (a zero or absent diagonal: contact multiplier rows) defeats AMG's smoothers; measured, GMRES +
+    // MueLu then fails after max_iterations, so AUTO goes direct at once (for this pattern, like the fallback)
+    int zero_diagonal = 0;
+    for (const int64_t d : sys->owned_diagonal) {
+      if (d < 0 || sys->owned_values[static_cast<size_t>(d)] == 0.0) {
+        zero_diagonal = 1;
+        break;
+      }
+    }
+    int any = 0;
+    MPI_Allreduce(&zero_diagonal, &any, 1, MPI_INT, MPI_MAX, sys->comm);
+    if (any) {
+      if (sys->options.verbose && sys->rank == 0) std::printf("linear solve (auto): zero diagonal (saddle point): direct\n");
+      sys->auto_fell_back = true;
+      kind = resolve_kind(sys);
+    }
+  }
   sk_status status;
   try {
     status = kind == SK_LINEAR_DIRECT_KLU2 ? solve_direct(sys, b, x, report)

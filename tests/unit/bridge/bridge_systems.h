@@ -1,5 +1,6 @@
 /* Small sparse test systems for the bridge tests (unit and MPI): 2D five-point Laplacians on an m x m grid
- * (Dirichlet boundary eliminated), optionally with an upwind convection term that makes them nonsymmetric. */
+ * (Dirichlet boundary eliminated), optionally with an upwind convection term that makes them nonsymmetric, and the
+ * saddle-point systems of contact built on them. */
 #ifndef STICKSLIP_TEST_BRIDGE_SYSTEMS_H
 #define STICKSLIP_TEST_BRIDGE_SYSTEMS_H
 
@@ -42,6 +43,39 @@ static inline void test_csr_free(test_csr *a) {
   free(a->row_ptr);
   free(a->cols);
   free(a->values);
+}
+
+/* The saddle point of contact: [A B^T; B 0] with A the m x m Laplacian and `n_multipliers` multiplier rows, the
+ * j-th tying unknown k_j = (2 j + 1) m^2 / (2 n_multipliers) (B = e_{k_j}^T); each multiplier row stores its zero
+ * diagonal explicitly, as assembled contact rows do. Nonsingular, indefinite. */
+static inline test_csr test_saddle_2d(int m, int n_multipliers) {
+  test_csr lap = test_laplacian_2d(m, 0.0), a;
+  const int nu = lap.n;
+  a.n = nu + n_multipliers;
+  a.row_ptr = (int64_t *)malloc(sizeof(int64_t) * (size_t)(a.n + 1));
+  a.cols = (int *)malloc(sizeof(int) * ((size_t)lap.row_ptr[nu] + 3 * (size_t)n_multipliers));
+  a.values = (double *)malloc(sizeof(double) * ((size_t)lap.row_ptr[nu] + 3 * (size_t)n_multipliers));
+  int64_t k = 0;
+  for (int row = 0; row < nu; ++row) {
+    a.row_ptr[row] = k;
+    for (int64_t q = lap.row_ptr[row]; q < lap.row_ptr[row + 1]; ++q) {
+      a.cols[k] = lap.cols[q];
+      a.values[k++] = lap.values[q];
+    }
+    for (int j = 0; j < n_multipliers; ++j) {
+      if ((int)((2LL * j + 1) * nu / (2LL * n_multipliers)) == row) { a.cols[k] = nu + j; a.values[k++] = 1.0; }
+    }
+  }
+  for (int j = 0; j < n_multipliers; ++j) {
+    a.row_ptr[nu + j] = k;
+    a.cols[k] = (int)((2LL * j + 1) * nu / (2LL * n_multipliers));
+    a.values[k++] = 1.0;
+    a.cols[k] = nu + j;
+    a.values[k++] = 0.0;
+  }
+  a.row_ptr[a.n] = k;
+  test_csr_free(&lap);
+  return a;
 }
 
 static inline void test_csr_multiply(const test_csr *a, const double *x, double *y) {

@@ -126,6 +126,44 @@ static void check_auto(void) {
   test_csr_free(&a);
 }
 
+/* AUTO on a saddle point (zero-diagonal multiplier rows) large enough for MueLu: AMG cannot smooth those rows, so
+ * AUTO goes straight to the direct solver (no GMRES iterations spent on a doomed attempt). */
+static void check_auto_saddle(void) {
+  test_csr a = test_saddle_2d(120, 40); /* 14440 unknowns, ~5 per row: MueLu's side of the size rule */
+  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+  double *x = malloc(sizeof(double) * (size_t)a.n);
+  test_reference_solution(a.n, x_ref);
+  test_csr_multiply(&a, x_ref, b);
+  sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-10, 500, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
+    for (int pass = 0; pass < 2; ++pass) {
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      sk_linear_report report;
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.iterations == 0);
+      SK_CHECK(report.refactored_symbolic == (pass == 0));
+      SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-9);
+    }
+    sk_linsys_destroy(sys);
+  }
+  /* the direct backends agree on it */
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2, SK_LINEAR_DIRECT_KLU};
+  for (size_t d = 0; d < sizeof kinds / sizeof kinds[0]; ++d) {
+    sys = create(kinds[d], 1e-10, 500, &a);
+    SK_CHECK(sys != NULL);
+    if (!sys) continue;
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_OK);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-9);
+    sk_linsys_destroy(sys);
+  }
+  free(x_ref);
+  free(b);
+  free(x);
+  test_csr_free(&a);
+}
+
 static void check_failures(void) {
   test_csr a = test_laplacian_2d(30, 0.0);
   double *b = malloc(sizeof(double) * (size_t)a.n), *x = malloc(sizeof(double) * (size_t)a.n);
@@ -237,6 +275,7 @@ int main(int argc, char **argv) {
   check_kind(SK_LINEAR_GMRES_ILU, 1e-12, 1e-8);
   check_kind(SK_LINEAR_AUTO, 1e-12, 1e-8);
   check_auto();
+  check_auto_saddle();
   check_failures();
   const int result = sk_test_finish("bridge linear system");
   MPI_Finalize();
