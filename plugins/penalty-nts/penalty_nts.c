@@ -75,6 +75,9 @@ struct sk_instance {
   friction_history *committed;  /* at the last accepted step */
   friction_history *anchor;     /* used during the current step */
   unsigned char *last_state;    /* for after_iteration's change detection */
+  int *sel_face;                /* master face selected for each slave node (-1: none), see select_face */
+  unsigned char *sel_beyond;    /* 1: the selection lies beyond the master's border (and its extension band) */
+  double (*sel_xi)[2];          /* start of the closest-point Newton on the selected face */
   double *scratch_q;            /* positions for the start-of-step projections */
 };
 
@@ -158,13 +161,14 @@ static int complete_metric(int pdim, sk_surface_point *pt) {
   return 1;
 }
 
-/* Closest point on the polynomial extension of `face` beyond its border, for a slave whose projection the core
- * clamped at the master's border (SK_PROJ_OUTSIDE). Newton on (x_s - x(xi)) . a_a = 0 from the clamped point.
- * Returns 1 with *pt at the extended point when it lies within the extension band, 0 otherwise. Without the band a
- * slave node level with the master's end (a patch test's corner, to round-off) toggles in and out of contact
- * between Newton iterations; with it the switch happens only once the node has clearly slid off. */
-static int extend_beyond_border(const sk_instance *in, int face, const double *xs, const double *q,
-                                sk_surface_point *pt) {
+/* Closest point on the polynomial extension of `face` (also beyond its border): Newton on (x_s - x(xi)) . a_a = 0
+ * from pt->xi, *pt holding the geometry there. Returns 1 with *pt at the closest point when Newton converged and the
+ * point lies within `band` of the face (|xi| <= 1 + 2 band on lines and quads, barycentrics >= -band on
+ * triangles), 0 otherwise. Used beyond the master's border with band = master_extension (without it a slave node
+ * level with the master's end, a patch test's corner, toggles in and out of contact between Newton iterations)
+ * and for the face selected during a step (band SELECT_BAND, see select_face). */
+static int extend_on_face(const sk_instance *in, int face, const double *xs, const double *q, double band,
+                          sk_surface_point *pt) {
   const sk_surface *master = in->pair->master;
   const int pdim = in->dim - 1;
   double xi[2] = {pt->xi[0], pt->xi[1]};
@@ -190,12 +194,81 @@ static int extend_beyond_border(const sk_instance *in, int face, const double *x
   pt->face = face;
   pt->xi[0] = xi[0];
   pt->xi[1] = xi[1];
-  double band = in->extension;
   if (master->face_type == SK_TRI3)
     return xi[0] >= -band && xi[1] >= -band && 1.0 - xi[0] - xi[1] >= -band;
   for (int a = 0; a < pdim; ++a)
     if (fabs(xi[a]) > 1.0 + 2.0 * band) return 0;
   return 1;
+}
+
+/* ---- master face selection --------------------------------------------------------------------------------------- */
+
+/* Hysteresis of the face selection: a selected face is kept while the slave's closest point on its polynomial
+ * extension stays within this fraction of the face beyond its edge. */
+#define SELECT_BAND 0.1
+
+/* The closest-point projection over the candidates with the master_extension treatment at the master's border:
+ * face (-1: none), parameters, and whether the point lies beyond the border and its band. */
+static sk_status project_global(const sk_instance *in, const double *q, const double *xs, int k, int *face,
+                                double xi[2], int *beyond) {
+  const sk_surface *master = in->pair->master;
+  *face = -1;
+  *beyond = 0;
+  xi[0] = xi[1] = 0.0;
+  if (in->cand_count[k] == 0) return SK_OK;
+  sk_projection proj;
+  SK_TRY(in->host->contact->project(master, q, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+  if (proj.face < 0) return SK_OK;
+  *face = proj.face;
+  xi[0] = proj.xi[0];
+  xi[1] = proj.xi[1];
+  if (proj.kind != SK_PROJ_OUTSIDE) return SK_OK;
+  *beyond = 1;
+  if (in->extension > 0.0) {
+    sk_surface_point pt;
+    in->host->contact->geometry(master, proj.face, proj.xi, q, &pt);
+    pt.xi[0] = proj.xi[0];
+    pt.xi[1] = proj.xi[1];
+    if (extend_on_face(in, proj.face, xs, q, in->extension, &pt)) {
+      xi[0] = pt.xi[0];
+      xi[1] = pt.xi[1];
+      *beyond = 0;
+    }
+  }
+  return SK_OK;
+}
+
+/* Selects the master face of slave node k at positions q: the closest-point projection, except that a face selected
+ * earlier in the step is kept while the slave's closest point on that face's extension stays within SELECT_BAND of
+ * it (and the slave has not slid off the master). Called by begin_step (at the predictor, with no earlier face) and
+ * by after_iteration at every new iterate; residual and Jacobian only evaluate the selection, so they are smooth
+ * functions of q. Without the hysteresis a slave node at a shared master node where the master has a kink jumps
+ * between the two faces: the closest point's normal turns from one face's normal to the other's within a fan of
+ * width ~ |g| x kink angle (1e-10 in the patch test), where the slave is held by the full penalty stiffness, while
+ * outside it only the bodies' stiffness acts, so Newton steps over the fan and back forever. */
+static sk_status select_face(sk_instance *in, const double *q, int k) {
+  double xs[3], xi[2];
+  int face, beyond;
+  slave_position(in, q, k, xs);
+  SK_TRY(project_global(in, q, xs, k, &face, xi, &beyond));
+  int old = in->sel_face[k];
+  if (old >= 0 && old != face && face >= 0 && !beyond) {
+    sk_surface_point pt;
+    in->host->contact->geometry(in->pair->master, old, in->sel_xi[k], q, &pt);
+    pt.xi[0] = in->sel_xi[k][0];
+    pt.xi[1] = in->sel_xi[k][1];
+    if (extend_on_face(in, old, xs, q, SELECT_BAND, &pt)) {
+      in->sel_xi[k][0] = pt.xi[0];
+      in->sel_xi[k][1] = pt.xi[1];
+      in->sel_beyond[k] = 0;
+      return SK_OK;
+    }
+  }
+  in->sel_face[k] = face;
+  in->sel_xi[k][0] = xi[0];
+  in->sel_xi[k][1] = xi[1];
+  in->sel_beyond[k] = (unsigned char)beyond;
+  return SK_OK;
 }
 
 /* ---- evaluation of one slave node ------------------------------------------------------------------------------- */
@@ -256,22 +329,24 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
   int nen = 0;
   const int *conn = NULL;
   if (master) {
-    if (in->cand_count[k] == 0) return SK_OK;
+    /* The face chosen by select_face (begin_step, after_iteration); the closest point on its polynomial extension,
+     * so that the residual is smooth in q between selections. Beyond the master's border (and its band) the
+     * clamped projection gives the reported gap. */
     sk_projection proj;
-    SK_TRY(cs->project(master, st->q, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+    proj.face = in->sel_face[k];
     if (proj.face < 0) return SK_OK;
+    proj.xi[0] = in->sel_xi[k][0];
+    proj.xi[1] = in->sel_xi[k][1];
     cs->geometry(master, proj.face, proj.xi, st->q, &pt);
     pt.xi[0] = proj.xi[0];
     pt.xi[1] = proj.xi[1];
-    int beyond = proj.kind == SK_PROJ_OUTSIDE;
-    if (beyond && in->extension > 0.0) {
+    int beyond = in->sel_beyond[k];
+    if (!beyond) {
       sk_surface_point extended = pt;
-      if (extend_beyond_border(in, proj.face, xs, st->q, &extended)) {
-        pt = extended;
-        proj.xi[0] = pt.xi[0];
-        proj.xi[1] = pt.xi[1];
-        beyond = 0;
-      }
+      extend_on_face(in, proj.face, xs, st->q, HUGE_VAL, &extended); /* band checked by select_face */
+      pt = extended;
+      proj.xi[0] = pt.xi[0];
+      proj.xi[1] = pt.xi[1];
     }
     if (!complete_metric(pdim, &pt)) return SK_OK; /* degenerate face: no contact there */
     nen = master->nen;
@@ -555,6 +630,9 @@ static void pnts_destroy(sk_instance *in) {
   free(in->committed);
   free(in->anchor);
   free(in->last_state);
+  free(in->sel_face);
+  free(in->sel_beyond);
+  free(in->sel_xi);
   free(in->scratch_q);
   free(in);
 }
@@ -639,10 +717,14 @@ static sk_status pnts_create_checked(const sk_host *host, const sk_pair *pair, s
   in->committed = calloc(ns, sizeof *in->committed);
   in->anchor = calloc(ns, sizeof *in->anchor);
   in->last_state = calloc(ns, 1);
+  in->sel_face = malloc(ns * sizeof(int));
+  in->sel_beyond = calloc(ns, 1);
+  in->sel_xi = calloc(ns, sizeof *in->sel_xi);
   in->scratch_q = calloc((size_t)host->n_dofs > 0 ? (size_t)host->n_dofs : 1, sizeof(double));
   if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->anchor || !in->last_state ||
-      !in->scratch_q)
+      !in->sel_face || !in->sel_beyond || !in->sel_xi || !in->scratch_q)
     return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", pair->name);
+  for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
 
   /* Tributary areas A_I = integral of N_I over the slave faces in the reference configuration. */
   if (in->area_weighted) {
@@ -731,7 +813,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
         cs->geometry(master, proj.face, proj.xi, st->q_n, &pt);
         pt.xi[0] = proj.xi[0];
         pt.xi[1] = proj.xi[1];
-        if (in->extension == 0.0 || !extend_beyond_border(in, proj.face, x0, st->q_n, &pt)) continue;
+        if (in->extension == 0.0 || !extend_on_face(in, proj.face, x0, st->q_n, in->extension, &pt)) continue;
         proj.xi[0] = pt.xi[0];
         proj.xi[1] = pt.xi[1];
       }
@@ -749,6 +831,9 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
     }
   }
   memset(in->last_state, 0, (size_t)in->n_slave);
+  for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
+  if (master)
+    for (int k = 0; k < in->n_slave; ++k) SK_TRY(select_face(in, st->q, k));
   return SK_OK;
 }
 
@@ -790,6 +875,11 @@ static sk_status pnts_after_iteration(sk_instance *in, const sk_state *st, int *
   *changed = 0;
   for (int k = 0; k < in->n_slave; ++k) {
     if (!owns_slave(in, k)) continue;
+    if (in->pair->master) {
+      int face = in->sel_face[k];
+      SK_TRY(select_face(in, st->q, k));
+      if (in->sel_face[k] != face) *changed = 1;
+    }
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state != in->last_state[k]) *changed = 1;
     in->last_state[k] = (unsigned char)e.state;

@@ -1033,6 +1033,50 @@ static void test_reject_keeps_history(void) {
   scene_destroy(&s);
 }
 
+/* Face selection at a kinked master node (the patch test at refine 3 and 4): a valley of two LINE2 faces (slopes
+ * -/+0.01) and a slave node 1e-3 below the shared node. Under a pure closest-point projection the slave's normal
+ * jumps from one face's to the other's within a fan of width 2e-5 around the node (x-force -/+ 0.01 p), and Newton
+ * cycled across it. The face selected at begin_step is kept while the slave stays within 10 % of a face beyond it:
+ * the residual is then smooth (energy gradient and Jacobian exact on the other side of the node), after_iteration
+ * keeps the face there, and switches once the slave has moved 30 % of a face into the neighbour. */
+static void test_kinked_master_selection(void) {
+  const double X[] = {-1.0, 0.01, 0.0, 0.0, 1.0, 0.01, 1e-4, -1e-3, 0.5, 0.5};
+  scene s;
+  scene_init(&s, 2, 5, X);
+  const int master[] = {2, 1, 1, 0}, slave[] = {4, 3};
+  scene_master(&s, SK_LINE2, 2, 2, master);
+  scene_slave(&s, SK_LINE2, 2, 1, slave);
+  scene_param(&s, "penalty", 1e3);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  double q[10], F_right[10], F_left[10], F_far[10], F_fresh[10];
+  memcpy(q, s.X, sizeof q);
+  sk_state st = make_state(&s, s.X, q, 0.0, 1.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  residual_at(&s, &st, q, F_right);
+  SK_CHECK(F_right[6] > 0.0); /* the right face's normal tilts to -x: force on the slave -x, residual +x */
+  /* 1e-4 left of the node, where the left face is the closest: still the right face's extension. */
+  q[6] = -1e-4;
+  int changed = 0;
+  SK_CHECK(s.plugin->after_iteration(s.inst, &st, &changed) == SK_OK);
+  residual_at(&s, &st, q, F_left);
+  printf("kinked master: slave x-residual %.6e right of the node, %.6e left of it\n", F_right[6], F_left[6]);
+  SK_CHECK(fabs(F_left[6] - F_right[6]) <= 1e-4); /* the projection would jump by 2 x 0.01 p = 0.02 */
+  check_residual_is_energy_gradient(&s, &st, 1e3, "2D kinked master, kept face");
+  check_jacobian_is_residual_derivative(&s, &st, "2D kinked master, kept face");
+  /* 30 % of a face into the left one: the selection switches, as a fresh step would select. */
+  q[6] = -0.3;
+  q[7] = 0.003 - 1e-3;
+  SK_CHECK(s.plugin->after_iteration(s.inst, &st, &changed) == SK_OK);
+  SK_CHECK(changed == 1);
+  residual_at(&s, &st, q, F_far);
+  SK_CHECK(F_far[6] < 0.0);
+  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  residual_at(&s, &st, q, F_fresh);
+  for (int i = 0; i < 10; ++i) SK_CHECK(F_far[i] == F_fresh[i]);
+  scene_destroy(&s);
+}
+
 int main(void) {
   test_line2_frictionless();
   test_line3_frictionless();
@@ -1046,6 +1090,7 @@ int main(void) {
   test_area_weighting();
   test_touching_is_active();
   test_master_extension();
+  test_kinked_master_selection();
   test_parameter_errors();
   test_reject_keeps_history();
   return sk_test_finish("penalty-nts");
