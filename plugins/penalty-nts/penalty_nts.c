@@ -17,6 +17,10 @@
  * Friction (rigid obstacle). The obstacle only translates, so the history is an anchor point fixed in the
  * obstacle and a spatial traction: t^trial = P (t_n - eps_t (x_s - x_anchor(t))), P = I - n n.
  *
+ * Master face. begin_step and after_iteration select one master face per slave node (the closest-point projection,
+ * keeping a face selected earlier in the step while the slave stays within 10 % of a face beyond it); residual and
+ * Jacobian evaluate the closest point on that face's extension, so they are smooth in q between selections.
+ *
  * Every scheme is evaluated at t_{n+1} (q, state->t): the plugin does not claim the energy-momentum capability. */
 #include <math.h>
 #include <stdarg.h>
