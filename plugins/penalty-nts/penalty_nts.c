@@ -878,12 +878,12 @@ static sk_status pnts_after_iteration(sk_instance *in, const sk_state *st, int *
   point_eval e;
   *changed = 0;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (!owns_slave(in, k)) continue;
-    if (in->pair->master) {
+    if (in->pair->master) { /* every slave node: commit_step evaluates them all */
       int face = in->sel_face[k];
       SK_TRY(select_face(in, st->q, k));
-      if (in->sel_face[k] != face) *changed = 1;
+      if (in->sel_face[k] != face && owns_slave(in, k)) *changed = 1;
     }
+    if (!owns_slave(in, k)) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state != in->last_state[k]) *changed = 1;
     in->last_state[k] = (unsigned char)e.state;
