@@ -209,11 +209,13 @@ static sk_status create(const sk_host *host, const sk_pair *pair, sk_instance **
   }
   if (inst->friction.mu < 0.0 || (inst->friction.mu > 0.0 && inst->friction.epsilon_t <= 0.0) || inst->c_n <= 0.0 ||
       inst->search_margin < 0.0) {
+    /* the message reads the instance: record it before freeing */
+    st = host->error(host, SK_ERR_INPUT,
+                     "%s: nts-augmented needs mu >= 0, epsilon_t > 0 when mu > 0, c_n > 0 and search_margin >= 0 "
+                     "(got mu %g, epsilon_t %g, c_n %g, search_margin %g)",
+                     pair->name, inst->friction.mu, inst->friction.epsilon_t, inst->c_n, inst->search_margin);
     destroy(inst);
-    return host->error(host, SK_ERR_INPUT,
-                       "%s: nts-augmented needs mu >= 0, epsilon_t > 0 when mu > 0, c_n > 0 and search_margin >= 0 "
-                       "(got mu %g, epsilon_t %g, c_n %g, search_margin %g)",
-                       pair->name, inst->friction.mu, inst->friction.epsilon_t, inst->c_n, inst->search_margin);
+    return st;
   }
   const sk_surface *slave = pair->slave;
   inst->n_points = slave->n_nodes;
