@@ -66,7 +66,8 @@ using Teuchos::rcp;
 
 using stickslip::bridge::status_from_exception;
 
-// AUTO's rule, from docs/linear-solvers.md (elasticity benchmark on this machine): KLU2 is faster or level up to
+// AUTO's rule, from docs/linear-solvers.md (elasticity benchmark on this machine; re-measured with MUMPS, which
+// moves neither crossover enough to change them): the direct solver is faster or level up to
 // about 10000 unknowns on 2D-like sparsity (<= 40 entries per row: quad4 elasticity has ~18) and up to about 2000
 // on 3D-like sparsity (hex8 elasticity has ~81), where its fill grows much faster; GMRES + MueLu beyond. Ties go
 // to the direct solver, which also copes with the indefinite systems of contact.
@@ -363,14 +364,14 @@ void build_epetra(sk_linear_system *sys) {
   std::vector<int> entries(static_cast<size_t>(n_owned));
   for (int i = 0; i < n_owned; ++i)
     entries[i] = static_cast<int>(sys->row_ptr[first_row + i + 1] - sys->row_ptr[first_row + i]);
-  Epetra_CrsGraph graph(Copy, *sys->epetra_map, entries.data(), true);
+  Epetra_CrsGraph graph(Epetra_DataAccess::Copy, *sys->epetra_map, entries.data(), true);
   for (int i = 0; i < n_owned; ++i) {
     if (graph.InsertGlobalIndices(first_row + i, entries[i], sys->cols.data() + sys->row_ptr[first_row + i]) < 0)
       throw std::runtime_error("Epetra_CrsGraph::InsertGlobalIndices failed");
   }
   if (graph.FillComplete() != 0 || graph.OptimizeStorage() != 0)
     throw std::runtime_error("Epetra_CrsGraph::FillComplete failed");
-  sys->epetra_matrix = rcp(new Epetra_CrsMatrix(Copy, graph));
+  sys->epetra_matrix = rcp(new Epetra_CrsMatrix(Epetra_DataAccess::Copy, graph));
   if (sys->epetra_matrix->FillComplete() != 0 || sys->epetra_matrix->OptimizeStorage() != 0)
     throw std::runtime_error("Epetra_CrsMatrix::FillComplete failed");
   int *offsets = nullptr, *indices = nullptr;
