@@ -458,7 +458,8 @@ static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
   return SK_OK;
 }
 
-static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto", NULL};
+/* in sk_linear_solver_kind order */
+static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto", "mumps", "klu2", "klu", NULL};
 static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", NULL};
 
 static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
