@@ -45,7 +45,7 @@ static sk_status mock_param_double(const sk_host *host, const sk_params *params,
 
 static sk_status mock_param_int(const sk_host *host, const sk_params *params, const char *key, int required,
                                 int dflt, int *out) {
-  double v;
+  double v = 0.0;
   SK_TRY(mock_param_double(host, params, key, required, dflt, &v));
   *out = (int)v;
   return SK_OK;
