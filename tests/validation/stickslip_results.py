@@ -104,3 +104,15 @@ class Checks:
     def finish(self):
         print("%s: %d checks, %d failed" % (self.name, self.count, len(self.failures)))
         return 1 if self.failures else 0
+
+
+def main(cases):
+    """Runs the case named on the command line: python3 SCRIPT CASE; exit code 0 when every check held."""
+    import sys
+    names = {f.__name__: f for f in cases}
+    if len(sys.argv) != 2 or sys.argv[1] not in names:
+        print("usage: %s CASE\ncases: %s" % (os.path.basename(sys.argv[0]), " ".join(names)))
+        sys.exit(2)
+    checks = Checks(sys.argv[1])
+    names[sys.argv[1]](checks)
+    sys.exit(checks.finish())

@@ -3,9 +3,8 @@ validation.md, the contact patch test, stick/slip of a block on a plane, momentu
 two-element impact, frame indifference and MPI equality. Usage: python3 test_contact_scenes.py CASE (CASES at the
 bottom); exit code 0 when every check holds. Measured numbers are quoted in each check's docstring."""
 import math
-import sys
 
-from stickslip_results import Checks, run
+from stickslip_results import Checks, run, main
 
 NU = 0.3
 
@@ -263,13 +262,6 @@ def two_elements_penalty_friction(c):
     c.check(max(r["stick_points"] + r["slip_points"] for r in results.rows) > 0, "frictional points recorded")
 
 
-CASES = {f.__name__: f for f in [hertz_2d, hertz_2d_rotated, hertz_2d_mpi, hertz_3d, patch_test_2d, block_on_plane,
-                                 two_elements_penalty, two_elements_penalty_friction]}
-
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
-        print("usage: test_contact_scenes.py CASE\ncases: " + " ".join(CASES))
-        sys.exit(2)
-    checks = Checks(sys.argv[1])
-    CASES[sys.argv[1]](checks)
-    sys.exit(checks.finish())
+    main([hertz_2d, hertz_2d_rotated, hertz_2d_mpi, hertz_3d, patch_test_2d, block_on_plane,
+          two_elements_penalty, two_elements_penalty_friction])

@@ -4,9 +4,8 @@ the full 500-step run, ~100 s).
 Usage: python3 test_nts_scenes.py CASE (see CASES at the bottom); exit code 0 when every check holds."""
 import math
 import re
-import sys
 
-from stickslip_results import Checks, run
+from stickslip_results import Checks, run, main
 
 SCENE = "scenes/two-elements.yaml"
 P0, L0, E0, T_CONTACT = [0.0, 100.0, -40.0], [-140.0, 0.0, 0.0], 5.8, 2.5
@@ -216,14 +215,7 @@ def two_tori_coarse_full(c):
     c.check(loss > 0 and dissipated > 0, "energy lost %.4g of %.6g (%.2e relative) > 0, friction dissipated %.4g"
             % (loss, energy0, loss / energy0, dissipated))
 
-CASES = {f.__name__: f for f in [two_elements_midpoint, two_elements_dt02, two_elements_none_vs_reduced,
-                                 two_elements_direct_vs_reduced, two_elements_newton_quadratic, two_tori_coarse,
-                                 two_tori_coarse_full]}
-
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
-        print("usage: test_nts_scenes.py CASE\ncases: " + " ".join(CASES))
-        sys.exit(2)
-    checks = Checks(sys.argv[1])
-    CASES[sys.argv[1]](checks)
-    sys.exit(checks.finish())
+    main([two_elements_midpoint, two_elements_dt02, two_elements_none_vs_reduced,
+          two_elements_direct_vs_reduced, two_elements_newton_quadratic, two_tori_coarse,
+          two_tori_coarse_full])

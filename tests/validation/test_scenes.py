@@ -1,9 +1,8 @@
 """Validation of whole scenes through the driver: invariants of the time schemes, closed-form solutions, MPI
 equality. Usage: python3 test_scenes.py CASE (see CASES at the bottom); exit code 0 when every check holds."""
 import math
-import sys
 
-from stickslip_results import Checks, read_vtu, relative_drift, run
+from stickslip_results import Checks, read_vtu, relative_drift, run, main
 
 
 def vector_drift(rows, prefix, scale=None):
@@ -142,15 +141,7 @@ def cantilever_convergence(c):
         ["%.3g" % e for e in errors], ["%.2f" % q for q in ratios]))
 
 
-CASES = {f.__name__: f for f in [free_flight_blocks_midpoint, free_flight_blocks_table1,
-                                 free_flight_blocks_backward_euler, free_flight_disk, free_flight_torus,
-                                 compressed_block, compressed_block_neo_hooke, mpi_free_flight_torus,
-                                 cantilever_convergence]}
-
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
-        print("usage: test_scenes.py CASE\ncases: " + " ".join(CASES))
-        sys.exit(2)
-    checks = Checks(sys.argv[1])
-    CASES[sys.argv[1]](checks)
-    sys.exit(checks.finish())
+    main([free_flight_blocks_midpoint, free_flight_blocks_table1, free_flight_blocks_backward_euler,
+          free_flight_disk, free_flight_torus, compressed_block, compressed_block_neo_hooke,
+          mpi_free_flight_torus, cantilever_convergence])
