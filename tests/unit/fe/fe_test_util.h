@@ -61,4 +61,14 @@ static inline double fe_max_abs(const double *v, int n) {
 
 static const char *const fe_material_names[] = {"hooke", "svk", "neo-hooke"};
 
+/* C = F^T F (3x3 row-major). */
+static inline void right_cauchy_green(const double F[9], double C[9]) {
+  for (int I = 0; I < 3; ++I)
+    for (int J = 0; J < 3; ++J) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) s += F[k * 3 + I] * F[k * 3 + J];
+      C[I * 3 + J] = s;
+    }
+}
+
 #endif

@@ -7,15 +7,6 @@
 #include "fe_test_util.h"
 #include "sk_test.h"
 
-static void right_cauchy_green(const double F[9], double C[9]) {
-  for (int I = 0; I < 3; ++I)
-    for (int J = 0; J < 3; ++J) {
-      double s = 0.0;
-      for (int k = 0; k < 3; ++k) s += F[k * 3 + I] * F[k * 3 + J];
-      C[I * 3 + J] = s;
-    }
-}
-
 static void check_validation(void) {
   sk_material mat;
   SK_CHECK(sk_material_init(&mat, SK_MAT_SVK, 210.0, 0.3, 7.8) == SK_OK);

@@ -9,15 +9,6 @@
 
 static sk_material materials[3];
 
-static void right_cauchy_green(const double F[9], double C[9]) {
-  for (int I = 0; I < 3; ++I)
-    for (int J = 0; J < 3; ++J) {
-      double s = 0.0;
-      for (int k = 0; k < 3; ++k) s += F[k * 3 + I] * F[k * 3 + J];
-      C[I * 3 + J] = s;
-    }
-}
-
 /* Energy density of a uniform gradient F as the element sees it (Hooke: linearised strain). */
 static double uniform_energy(const sk_material *mat, const double F[9]) {
   double C[9], W = 0.0;
