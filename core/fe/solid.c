@@ -319,37 +319,56 @@ static const double gauss5_x[5] = {-0.90617984593866399280, -0.53846931010568309
 static const double gauss5_w[5] = {0.23692688505618908751, 0.47862867049936646804, 0.56888888888888888889,
                                    0.47862867049936646804, 0.23692688505618908751};
 
-/* Mass integrand N_a N_b det J on a distorted (non-affine) tensor-product element has degree 4 (linear) or up
- * to 9 (quadratic) per direction, beyond the stiffness rule, so the mass uses 3 or 5 Gauss points per direction
- * to stay exact (total mass and inertia tensor reproduced). Simplices use their affine-exact rule. */
+/* Mass rules. N_a N_b det J on a distorted (non-affine) element has a higher degree than the stiffness rule
+ * integrates: per direction 4 on a quad4/hex8, up to 9 on a curved quad9/hex27 (7 on quad8/hex20); total degree 6 on
+ * a curved tri6, 7 on a curved tet10. So that the total mass and the inertia tensor sum_ab M_ab X_a X_b^T =
+ * integral rho0 X X^T are exact, linear tensor elements use 3 Gauss points per direction, quadratic ones 5, and
+ * quadratic simplices the collapsed (Duffy) product of 5-point Gauss rules: with x = u, y = v (1 - u),
+ * z = w (1 - u)(1 - v) the Jacobian (1 - u)^(d-1) (1 - v)^(d-2) raises the degree in u by d - 1, so 5 points
+ * (degree 9) are exact for total degree 8 on triangles and 7 on tetrahedra. tri3/tet4 use their own rule (affine). */
+static int mass_point(sk_elem_type type, int dim, int q, double *xi, double *weight) {
+  const int order = sk_elem_order(type), simplex = sk_elem_is_simplex(type);
+  if (simplex && order == 1) {
+    int nq;
+    const double *qxi, *qw;
+    sk_elem_quadrature(type, &nq, &qxi, &qw);
+    if (q >= nq) return 0;
+    for (int k = 0; k < dim; ++k) xi[k] = qxi[q * dim + k];
+    *weight = qw[q];
+    return 1;
+  }
+  const int n1 = order == 2 ? 5 : 3;
+  const double *gx = order == 2 ? gauss5_x : gauss3_x, *gw = order == 2 ? gauss5_w : gauss3_w;
+  if (q >= (dim == 2 ? n1 * n1 : n1 * n1 * n1)) return 0;
+  double t[3];
+  *weight = 1.0;
+  for (int k = 0, rest = q; k < dim; ++k, rest /= n1) {
+    t[k] = gx[rest % n1];
+    *weight *= gw[rest % n1];
+  }
+  if (!simplex) {
+    for (int k = 0; k < dim; ++k) xi[k] = t[k];
+    return 1;
+  }
+  double remaining = 1.0; /* Duffy: each coordinate takes its share of what the earlier ones left */
+  for (int k = 0; k < dim; ++k) {
+    const double s = 0.5 * (1.0 + t[k]);
+    xi[k] = s * remaining;
+    *weight *= 0.5 * remaining;
+    remaining *= 1.0 - s;
+  }
+  return 1;
+}
+
 sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M) {
   SK_TRY(check_solid(el, X, "sk_solid_mass"));
   if (!M) return sk_error_set(SK_ERR_INPUT, "sk_solid_mass: NULL output");
   const int dim = el->dim, nen = sk_elem_nen(el->type);
   const double rho = el->mat->density;
   double Mloc[SK_MAX_NEN * SK_MAX_NEN] = {0};
-  const int simplex = el->type == SK_TRI3 || el->type == SK_TET4;
-  const int quadratic = el->type == SK_QUAD9 || el->type == SK_HEX27;
-  const int n1 = quadratic ? 5 : 3;
-  const double *gx = quadratic ? gauss5_x : gauss3_x, *gw = quadratic ? gauss5_w : gauss3_w;
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
-  if (!simplex) nq = dim == 2 ? n1 * n1 : n1 * n1 * n1;
-  for (int q = 0; q < nq; ++q) {
-    double xi[3], weight, N[SK_MAX_NEN], dNdX[SK_MAX_NEN * 3], wdet;
-    if (simplex) {
-      for (int k = 0; k < dim; ++k) xi[k] = qxi[q * dim + k];
-      weight = qw[q];
-    } else {
-      int rest = q;
-      weight = 1.0;
-      for (int k = 0; k < dim; ++k) {
-        xi[k] = gx[rest % n1];
-        weight *= gw[rest % n1];
-        rest /= n1;
-      }
-    }
+  double xi[3], weight;
+  for (int q = 0; mass_point(el->type, dim, q, xi, &weight); ++q) {
+    double N[SK_MAX_NEN], dNdX[SK_MAX_NEN * 3], wdet;
     SK_TRY(reference_gradients(el->type, dim, nen, X, xi, weight, N, dNdX, &wdet, q));
     for (int a = 0; a < nen; ++a)
       for (int b = a; b < nen; ++b) Mloc[a * nen + b] += rho * wdet * N[a] * N[b];
@@ -362,17 +381,14 @@ sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M) {
 double sk_solid_volume(const sk_solid *el, const double *X) {
   if (!el || !X || (el->dim != 2 && el->dim != 3) || sk_elem_pdim(el->type) != el->dim) return 0.0;
   const int dim = el->dim, nen = sk_elem_nen(el->type);
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
-  double volume = 0.0;
-  for (int q = 0; q < nq; ++q) {
+  double volume = 0.0, xi[3], weight; /* the mass rule: exact also for curved quadratic elements */
+  for (int q = 0; mass_point(el->type, dim, q, xi, &weight); ++q) {
     double dN[SK_MAX_NEN * 3], J[9] = {0};
-    sk_elem_shape(el->type, qxi + q * dim, NULL, dN);
+    sk_elem_shape(el->type, xi, NULL, dN);
     for (int a = 0; a < nen; ++a)
       for (int k = 0; k < dim; ++k)
         for (int l = 0; l < dim; ++l) J[k * dim + l] += X[a * dim + k] * dN[a * dim + l];
-    volume += qw[q] * (dim == 2 ? J[0] * J[3] - J[1] * J[2] : sk_fe_det3(J));
+    volume += weight * (dim == 2 ? J[0] * J[3] - J[1] * J[2] : sk_fe_det3(J));
   }
   return volume;
 }

@@ -23,6 +23,10 @@ typedef enum {
   SK_TET4,
   SK_HEX8,
   SK_HEX27,
+  SK_TRI6,             /* second-order elements: sk_mesh_options.order = 2 */
+  SK_QUAD8,            /* serendipity: quad9 without the centre node (Mesh.SecondOrderIncomplete) */
+  SK_TET10,
+  SK_HEX20,            /* serendipity: hex27 without face and body centres */
   SK_ELEM_TYPE_COUNT
 } sk_elem_type;
 
@@ -56,6 +60,17 @@ typedef struct {
  * oriented (counter-clockwise in 2D) and boundary elements face out of the body element they lie on. On failure
  * *mesh holds nothing to free. */
 sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh);
+
+typedef struct {
+  int dim;          /* as sk_mesh_load's `dim` (0: the highest dimension with a physical group) */
+  int order;        /* 0: the elements as meshed or stored; 1 or 2: gmsh makes them first or second order (a
+                       second-order .geo mesh puts the new nodes on the geometry, a .msh one on straight edges) */
+  int serendipity;  /* with order 2: quad8/hex20 instead of quad9/hex27 (tri6/tet10 either way) */
+} sk_mesh_options;
+
+/* sk_mesh_load with options (sk_mesh_load is this with {dim, 0, 0}). */
+sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n_params,
+                            const sk_mesh_options *options, sk_mesh *mesh);
 void sk_mesh_free(sk_mesh *mesh);
 
 /* The group of that name, or NULL. */
