@@ -22,6 +22,8 @@ static const struct {
     {15, SK_POINT1, 0, 1, "point1"}, {1, SK_LINE2, 1, 2, "line2"},  {8, SK_LINE3, 1, 3, "line3"},
     {2, SK_TRI3, 2, 3, "tri3"},      {3, SK_QUAD4, 2, 4, "quad4"},  {10, SK_QUAD9, 2, 9, "quad9"},
     {4, SK_TET4, 3, 4, "tet4"},      {5, SK_HEX8, 3, 8, "hex8"},    {12, SK_HEX27, 3, 27, "hex27"},
+    {9, SK_TRI6, 2, 6, "tri6"},      {16, SK_QUAD8, 2, 8, "quad8"}, {11, SK_TET10, 3, 10, "tet10"},
+    {17, SK_HEX20, 3, 20, "hex20"},
 };
 enum { N_ELEMENT_TYPES = sizeof element_types / sizeof element_types[0] };
 
@@ -220,7 +222,8 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
       if (index < 0) {
         status = sk_error_set(SK_ERR_INPUT,
                               "mesh %s: physical group '%s' has elements of gmsh type %d, which stickslip does not "
-                              "support (supported: point1, line2, line3, tri3, quad4, quad9, tet4, hex8, hex27)",
+                              "support (supported: point1, line2, line3, tri3, tri6, quad4, quad8, quad9, tet4, tet10, "
+                              "hex8, hex20, hex27)",
                               path, group->name, types[t]);
       } else if (type_index >= 0 && index != type_index) {
         status = sk_error_set(SK_ERR_INPUT,
@@ -400,15 +403,39 @@ static int has_suffix(const char *text, const char *suffix) {
   return n >= m && strcmp(text + n - m, suffix) == 0;
 }
 
+/* Second-order elements from the first-order mesh of the current model. gmsh puts the new nodes on the geometry
+ * (curved boundaries stay curved) for a .geo script and on straight edges for a .msh file, which has no geometry. */
+static sk_status raise_order(const char *path, const sk_mesh_options *options) {
+  int ierr = 0;
+  gmshOptionSetNumber("Mesh.SecondOrderIncomplete", options->serendipity ? 1 : 0, &ierr);
+  if (gmsh_failed(ierr, path, "set Mesh.SecondOrderIncomplete")) return SK_ERR_INPUT;
+  gmshModelMeshSetOrder(options->order, &ierr);
+  if (gmsh_failed(ierr, path, "make second-order elements")) return SK_ERR_INPUT;
+  return SK_OK;
+}
+
 sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh) {
+  const sk_mesh_options options = {.dim = dim, .order = 0, .serendipity = 0};
+  return sk_mesh_load_with(path, params, n_params, &options, mesh);
+}
+
+sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n_params,
+                            const sk_mesh_options *options, sk_mesh *mesh) {
   if (!mesh) return sk_error_set(SK_ERR_INTERNAL, "sk_mesh_load: mesh is NULL");
   memset(mesh, 0, sizeof *mesh);
   if (!path || !path[0]) return sk_error_set(SK_ERR_INPUT, "sk_mesh_load: no mesh file given");
   snprintf(mesh->source, sizeof mesh->source, "%s", path);
   if (n_params < 0 || (n_params > 0 && !params))
     return sk_error_set(SK_ERR_INTERNAL, "mesh %s: bad parameter list (n_params = %d)", path, n_params);
+  if (!options) return sk_error_set(SK_ERR_INTERNAL, "mesh %s: no load options", path);
+  int dim = options->dim;
   if (dim != 0 && dim != 2 && dim != 3)
     return sk_error_set(SK_ERR_INPUT, "mesh %s: dimension %d requested; stickslip meshes are 2D or 3D", path, dim);
+  if (options->order < 0 || options->order > 2)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: element order %d requested; stickslip elements are of order 1 or 2",
+                        path, options->order);
+  if (options->serendipity && options->order != 2)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: serendipity elements (quad8, hex20) need element order 2", path);
 
   int is_geo = has_suffix(path, ".geo");
   if (!is_geo && !has_suffix(path, ".msh"))
@@ -445,6 +472,7 @@ sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_para
     gmshModelMeshGenerate(dim, &ierr);
     if (gmsh_failed(ierr, path, "generate the mesh")) status = SK_ERR_INPUT;
   }
+  if (status == SK_OK && options->order > 0) status = raise_order(path, options);
   if (status == SK_OK) {
     mesh->dim = dim;
     status = read_model(path, dim, mesh);
