@@ -29,6 +29,22 @@ static const sk_face_domain quad_domain = {.pdim = 2,
                                            .edge_offset = {1, 1, 1, 1},
                                            .centre = {0, 0},
                                            .lebesgue = 1.0};
+/* Quadratic triangle: sum |N_a| peaks at 5/3 in the centroid (corner functions -1/9, edge functions 4/9 there). */
+static const sk_face_domain tri6_domain = {.pdim = 2,
+                                           .n_corners = 3,
+                                           .corner = {{0, 0}, {1, 0}, {0, 1}},
+                                           .edge_w = {{0, 1}, {-1, -1}, {1, 0}},
+                                           .edge_offset = {0, 1, 0},
+                                           .centre = {1.0 / 3.0, 1.0 / 3.0},
+                                           .lebesgue = 5.0 / 3.0};
+/* Serendipity quad8: sum |N_a| peaks at 3 in the centre (corner functions -1/4, edge functions 1/2 there). */
+static const sk_face_domain quad8_domain = {.pdim = 2,
+                                            .n_corners = 4,
+                                            .corner = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}},
+                                            .edge_w = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}},
+                                            .edge_offset = {1, 1, 1, 1},
+                                            .centre = {0, 0},
+                                            .lebesgue = 3.0};
 /* Biquadratic Lagrange on [-1,1]^2: the 1D Lebesgue constant 5/4 squared. */
 static const sk_face_domain quad9_domain = {.pdim = 2,
                                             .n_corners = 4,
@@ -45,6 +61,8 @@ const sk_face_domain *sk_face_domain_of(sk_elem_type type) {
   case SK_TRI3: return &tri_domain;
   case SK_QUAD4: return &quad_domain;
   case SK_QUAD9: return &quad9_domain;
+  case SK_TRI6: return &tri6_domain;
+  case SK_QUAD8: return &quad8_domain;
   default: return NULL;
   }
 }
