@@ -66,7 +66,7 @@ static void rotate_vector(const double axis_in[3], double angle, double v[3]) {
   for (int i = 0; i < 3; ++i) v[i] = v[i] * c + cross[i] * s + k[i] * kv * (1.0 - c);
 }
 
-/* Loads one mesh entry {file, parameters, name, rotate, translate}. */
+/* Loads one mesh entry {file, parameters, order, serendipity, name, rotate, translate}. */
 static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *mesh, char *prefix) {
   const char *file;
   SK_TRY(sk_cfg_string(entry, "file", 1, NULL, &file));
@@ -81,10 +81,17 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
     list[i].name = sk_cfg_key_at(params, i);
     SK_TRY(sk_cfg_as_double(sk_cfg_at(params, i), &list[i].value));
   }
+  sk_mesh_options options = {.dim = dim_wanted};
+  SK_TRY(sk_cfg_int(entry, "order", 0, 0, &options.order));
+  if (options.order < 0 || options.order > 2)
+    return fail_at(sk_cfg_get(entry, "order"), "%s", "must be 1 or 2 (or absent: the elements as meshed)");
+  SK_TRY(sk_cfg_bool(entry, "serendipity", 0, 0, &options.serendipity));
+  if (options.serendipity && options.order != 2)
+    return fail_at(sk_cfg_get(entry, "serendipity"), "%s", "needs `order: 2` (quad8/hex20 are second-order)");
   const char *name;
   SK_TRY(sk_cfg_string(entry, "name", 0, "", &name));
   snprintf(prefix, SK_NAME_MAX, "%s", name);
-  sk_status status = sk_mesh_load(path, list, n_params, dim_wanted, mesh);
+  sk_status status = sk_mesh_load_with(path, list, n_params, &options, mesh);
   if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(entry));
 
   double translate[3] = {0, 0, 0}, axis[3] = {0, 0, 1}, angle = 0;
