@@ -1,0 +1,4 @@
+# Second-order elements from a scene (mesh.order: 2) with penalty-nts (test_quadratic_scenes.py): the 3D contact patch
+# test on hex8/hex27/tet4/tet10 (and the hex20 refusal), Hertz 3D refinement with tet10, Hertz 2D with quad9/tri6,
+# the VTU cells of a tet10 run and the mesh-key errors. About 60 s of CPU in total.
+stickslip_scene_tests(test_quadratic_scenes.py patch_test_3d hertz_3d_quadratic hertz_2d_quadratic quadratic_output)
