@@ -41,7 +41,7 @@ static void usage_run(FILE *out, const char *command) {
   fprintf(out,
           "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...]%s\n"
           "\n"
-          "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene)\n"
+          "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene; refused without pairs)\n"
           "  --set key=value      override any scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
           "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n",
           command, strcmp(command, "run") == 0 ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
@@ -174,6 +174,10 @@ static int command_scene(int argc, char **argv, int run) {
   sk_scene scene;
   sk_status status = sk_scene_load(args.scene, args.n_sets, args.sets, args.plugin, MPI_COMM_WORLD, &scene);
   int code = 0;
+  if (status == SK_OK && args.plugin && scene.model.n_pairs == 0) {
+    status = sk_error_set(SK_ERR_INPUT, "--plugin %s: %s has no contact pairs (no `contact` list), so no plugin "
+                          "would be used", args.plugin, args.scene);
+  }
   if (status != SK_OK) {
     code = fail("");
   } else if (!run) {

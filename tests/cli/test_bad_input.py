@@ -157,6 +157,21 @@ def unknown_scheme(c):
                      r"midpoint")
 
 
+def plugin_without_contact(c):
+    """--plugin on a scene without contact pairs would silently change nothing: refused, for run and check."""
+    for command in ("run", "check"):
+        c.run_scene(BLOCK, "--plugin", "penalty-nts", command=command)
+        c.expect_failure(r"--plugin penalty-nts", r"scene\.yaml has no contact pairs")
+
+
+def mesh_order(c):
+    """mesh.order out of range, and serendipity without order 2, name the key."""
+    c.run_scene(replace(BLOCK, "  file: ", "  order: 3\n  file: "))
+    c.expect_failure(r"scene\.yaml:\d+", r"key 'mesh\.order'", r"1 or 2")
+    c.run_scene(replace(BLOCK, "  file: ", "  serendipity: true\n  file: "))
+    c.expect_failure(r"scene\.yaml:\d+", r"key 'mesh\.serendipity'", r"order: 2")
+
+
 def unknown_plugin(c):
     c.run_scene(replace(CONTACT, "plugin: penalty-nts", "plugin: mortar-magic"))
     c.expect_failure(r"scene\.yaml:\d+", r"contact pair 'floor'", r"unknown plugin 'mortar-magic'",
@@ -271,7 +286,7 @@ CASES = {f.__name__: f for f in [
     malformed_yaml, unknown_key, missing_mesh_file, unknown_mesh_parameter, missing_group, material_nu, material_E,
     negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map, bad_set, unknown_option,
     missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin, capability_mismatch, unknown_strategy,
-    inverted_element]}
+    inverted_element, plugin_without_contact, mesh_order]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:
