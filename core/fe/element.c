@@ -54,8 +54,8 @@ static const double gauss3_3d_w[] = {
     0.1714677640603567, 0.27434842249657065, 0.438957475994513, 0.27434842249657065, 0.1714677640603567,
     0.27434842249657065, 0.1714677640603567};
 
-/* Degree-2 simplex rules: exact for the mass matrix of an affine tri3/tet4 and for the stiffness of an affine tri6/tet10
- * (B is linear there), the standard full integration of both (no spurious zero-energy modes). */
+/* Degree-2 simplex rules: exact for the mass matrix of an affine tri3/tet4 and for the stiffness of an affine
+ * tri6/tet10 (B is linear there), the standard full integration of both (no spurious zero-energy modes). */
 static const double tri3_xi[] = {1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0};
 static const double tri3_w[] = {1.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0};
 #define TET_A 0.58541019662496845446 /* (5 + 3 sqrt 5) / 20 */

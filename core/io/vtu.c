@@ -25,9 +25,10 @@ static const int nodes_per_cell[SK_ELEM_TYPE_COUNT] = {
 };
 
 /* VTK node k = gmsh node order[k]. line3, tri6, quad8 and quad9 agree (corners, edge midpoints in edge order,
- * centre). tet10: gmsh's last two edges are (2,3) (1,3), VTK's (1,3) (2,3). For hex20 and hex27 gmsh lists edges (0,1) (0,3) (0,4) (1,2) (1,5) (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7) and faces
- * z- y- x- x+ y+ z+, while VTK lists edges (0,1) (1,2) (2,3) (3,0) (4,5) (5,6) (6,7) (7,4) (0,4) (1,5) (2,6)
- * (3,7) and faces x- x+ y- y+ z- z+ (vtkTriQuadraticHexahedron; same permutation as meshio). */
+ * centre). tet10: gmsh's last two edges are (2,3) (1,3), VTK's (1,3) (2,3). For hex20 and hex27 gmsh lists edges
+ * (0,1) (0,3) (0,4) (1,2) (1,5) (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7) and faces z- y- x- x+ y+ z+, while VTK
+ * lists edges (0,1) (1,2) (2,3) (3,0) (4,5) (5,6) (6,7) (7,4) (0,4) (1,5) (2,6) (3,7) and faces x- x+ y- y+ z- z+
+ * (vtkQuadraticHexahedron, vtkTriQuadraticHexahedron; same permutation as meshio). */
 static const int identity_order[27] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13,
                                        14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26};
 static const int tet10_order[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
