@@ -120,7 +120,7 @@ static void shared_entities(sk_elem_type type) {
   test_patch_free(&patch);
 }
 
-/* ---- face switching on a curved quadratic patch (a cylinder of radius 2 around the y axis) ------------------------ */
+/* ---- face switching on a curved quadratic patch (a cylinder of radius 2 around the y axis) -------------------- */
 static void cylinder_map(double u, double v, const void *ctx, double *x) {
   (void)ctx;
   x[0] = 2.0 * sin(u);
@@ -269,7 +269,10 @@ static void projection_derivatives(sk_elem_type type) {
     sk_surface_geometry(s, pr.face, pr.xi, patch.q, &p);
     double A[2][2], Ainv[2][2];
     for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) A[a][b] = p.m[a][b] - pr.gap * p.h[a][b], curvature = fmax(curvature, fabs(p.h[a][b]));
+      for (int b = 0; b < 2; ++b) {
+        A[a][b] = p.m[a][b] - pr.gap * p.h[a][b];
+        curvature = fmax(curvature, fabs(p.h[a][b]));
+      }
     const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
     Ainv[0][0] = A[1][1] / det, Ainv[1][1] = A[0][0] / det, Ainv[0][1] = -A[0][1] / det, Ainv[1][0] = -A[1][0] / det;
     for (int i = 0; i < 3; ++i) {

@@ -10,10 +10,11 @@ static const double tri6_vtk[] = {0, 0, 1, 0, 0, 1, .5, 0, .5, .5, 0, .5};
 static const double quad9_vtk[] = {0, 0, 1, 0, 1, 1, 0, 1, .5, 0, 1, .5, .5, 1, 0, .5, .5, .5}; /* quad8: 8 first */
 static const double tet10_vtk[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, .5, 0, 0,
                                    .5, .5, 0, 0, .5, 0, 0, 0, .5, .5, 0, .5, 0, .5, .5};
+/* hex20: the first 20 nodes */
 static const double hex27_vtk[] = {0,  0,  0,  1,  0,  0,  1,  1,  0,  0,  1,  0,  0,  0,  1,  1,  0,  1,  1,  1,  1,
                                    0,  1,  1,  .5, 0,  0,  1,  .5, 0,  .5, 1,  0,  0,  .5, 0,  .5, 0,  1,  1,  .5, 1,
                                    .5, 1,  1,  0,  .5, 1,  0,  0,  .5, 1,  0,  .5, 1,  1,  .5, 0,  1,  .5, 0,  .5, .5,
-                                   1,  .5, .5, .5, 0,  .5, .5, 1,  .5, .5, .5, 0,  .5, .5, 1,  .5, .5, .5}; /* hex20: 20 */
+                                   1,  .5, .5, .5, 0,  .5, .5, 1,  .5, .5, .5, 0,  .5, .5, 1,  .5, .5, .5};
 
 static void check_type(sk_elem_type type, int vtk_type, const double *vtk_pcoords) {
   SK_CHECK(sk_vtu_cell_type(type) == vtk_type);

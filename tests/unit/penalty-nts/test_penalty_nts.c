@@ -1076,7 +1076,7 @@ static void test_kinked_master_selection(void) {
   scene_destroy(&s);
 }
 
-/* ---- quadratic faces ------------------------------------------------------------------------------------------------- */
+/* ---- quadratic faces ------------------------------------------------------------------------------------------ */
 static const double tri6_xi[6][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
 
 /* A curved TRI6 master under a TRI3 slave: residual = energy gradient and Jacobian = its derivative, frictionless and
@@ -1109,8 +1109,8 @@ static void test_tri6_master(void) {
     points_at(&s, &st, q1, &list);
     SK_CHECK(count_state(&list, 0) == 0);
     if (!friction) check_residual_is_energy_gradient(&s, &st, 2e3, "3D tri6 curved master frictionless");
-    check_jacobian_is_residual_derivative(&s, &st, friction ? "3D tri6 curved master friction" : "3D tri6 curved "
-                                                                                                  "master frictionless");
+    const char *label = friction ? "3D tri6 curved master friction" : "3D tri6 curved master frictionless";
+    check_jacobian_is_residual_derivative(&s, &st, label);
     scene_destroy(&s);
   }
 }
