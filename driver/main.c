@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "stickslip/bridge.h"
+#include "stickslip/fe.h"
 #include "stickslip/plugins.h"
 #include "stickslip/run.h"
 #include "stickslip/scene.h"
@@ -186,10 +187,13 @@ static int command_scene(int argc, char **argv, int run) {
       printf("%s: ok — %dD, %d nodes, %d elements in %d bodies, %d dofs, %d contact pairs, %g to %g by %g\n",
              args.scene, m->dim, m->n_nodes, m->n_elements, m->n_bodies, m->n_dofs, m->n_pairs, m->time.t_start,
              m->time.t_end, m->time.dt);
+      for (int b = 0; b < m->n_bodies; ++b)
+        printf("  body '%s': %d %s elements\n", m->bodies[b].name, m->bodies[b].group->n_elems,
+               sk_elem_name(m->bodies[b].group->type));
       for (int k = 0; k < m->n_pairs; ++k)
-        printf("  pair '%s': plugin %s, strategy %s, slave %s (%d nodes), master %s\n", m->pairs[k].name,
+        printf("  pair '%s': plugin %s, strategy %s, slave %s (%d nodes, %s faces), master %s\n", m->pairs[k].name,
                m->pairs[k].plugin->name, m->pairs[k].plugin->strategies[m->pairs[k].strategy],
-               m->pairs[k].slave.name, m->pairs[k].slave.n_nodes,
+               m->pairs[k].slave.name, m->pairs[k].slave.n_nodes, sk_elem_name(m->pairs[k].slave.face_type),
                m->pairs[k].has_obstacle ? m->pairs[k].obstacle.name : m->pairs[k].master.name);
     }
   } else {
