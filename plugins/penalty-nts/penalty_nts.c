@@ -85,8 +85,8 @@ struct sk_instance {
   double *scratch_q;            /* positions for the start-of-step projections */
   /* TRI6/QUAD8 slaves: the pressure reported at node k is (T^T f)_k / A_k (see tributary_weights), a combination of
    * the nodal forces of node k and its edge nodes: CSR rows rec_start[k] .. rec_start[k+1] of (rec_node, rec_coef);
-   * rec_force holds every slave node's normal and tangential force and its gap (REC_STRIDE per node) while points()
-   * reports. */
+   * rec_force holds every slave node's normal and tangential force and whether it is in contact (REC_STRIDE per node)
+   * while points() reports. */
   int *rec_start, *rec_node;
   double *rec_coef, *rec_force;
 };
@@ -1059,7 +1059,7 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     double *stored = in->rec_force + REC_STRIDE * k;
     stored[0] = e.p;
     for (int i = 0; i < 3; ++i) stored[1 + i] = e.traction[i];
-    stored[4] = e.found ? e.gap : HUGE_VAL;
+    stored[4] = e.state != STATE_INACTIVE;
   }
   for (int k = 0; k < in->n_slave; ++k) {
     if (!owns_slave(in, k)) continue;
@@ -1071,20 +1071,20 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     /* Pressure eps_n <-g> (force / area) when area weighted, the nodal force otherwise. */
     double scale = in->area_weighted && in->area[k] > 0.0 ? 1.0 / in->area[k] : 1.0;
     if (in->rec_start) {
-      /* The recovered traction. A node that is open by less than its recovery partners penetrate lies within the
-       * contact zone (a TRI6 corner opens where its consistent load would be tensile: hertz-3d tet10 refine 0.75,
-       * 1.4e-5 against 1.6e-5 of its edge nodes) and reports it; a node open by more lies outside (the next corner
-       * beyond the contact radius: 3e-4 against 1e-5) and reports none. */
-      double depth = 0.0;
+      /* The recovered traction. An open node reports it when every edge node next to it is in contact: it lies inside
+       * the contact zone (a TRI6 corner opens where its consistent load would be tensile: hertz-3d tet10, refine 1.25,
+       * a corner at r = 0.7 a opens by 1.5e-5 while the edge nodes around it penetrate 7e-6); an open node at the rim
+       * (some neighbours open too) reports none. */
+      int surrounded = 1;
       e.p = 0.0;
       memset(e.traction, 0, sizeof e.traction);
       for (int r = in->rec_start[k]; r < in->rec_start[k + 1]; ++r) {
         const double *stored = in->rec_force + REC_STRIDE * in->rec_node[r];
         e.p += in->rec_coef[r] * stored[0];
         for (int i = 0; i < 3; ++i) e.traction[i] += in->rec_coef[r] * stored[1 + i];
-        depth = fmax(depth, -stored[4]);
+        if (in->rec_node[r] != k) surrounded &= stored[4] != 0.0;
       }
-      if (e.state == STATE_INACTIVE && !(e.gap <= depth)) {
+      if (e.state == STATE_INACTIVE && !(surrounded && in->rec_start[k + 1] - in->rec_start[k] > 1)) {
         e.p = 0.0;
         memset(e.traction, 0, sizeof e.traction);
       }
