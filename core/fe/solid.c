@@ -422,22 +422,43 @@ sk_status sk_solid_cauchy(const sk_solid *el, const double *X, const double *u, 
   return SK_OK;
 }
 
-/* Surface measure sqrt(det(a^T a)) of the tangent vectors a_k = dX/dxi_k, and shape values, at one point. */
-static double face_measure(sk_elem_type type, int dim, const double *X, const double *xi, double *N) {
+/* Area element J = |a1 x a2| (3D; 2D: |a1|) of the tangents a_k = dX/dxi_k at one point, shape values N and, when
+ * dJ is not NULL, dJ[b*dim + j] = dJ/dX_bj: n . (N_b,1 e_j x a2 + N_b,2 a1 x e_j) = N_b,1 (a2 x n)_j + N_b,2 (n x a1)_j
+ * in 3D, N_b,1 a1_j / J in 2D. */
+static double face_measure(sk_elem_type type, int dim, const double *X, const double *xi, double *N, double *dJ) {
   const int nen = sk_elem_nen(type), pdim = sk_elem_pdim(type);
   double dN[SK_MAX_NEN * 3], a[2][3] = {{0}};
   sk_elem_shape(type, xi, N, dN);
+  if (pdim == 0) {
+    if (dJ)
+      for (int i = 0; i < nen * dim; ++i) dJ[i] = 0.0;
+    return 1.0;
+  }
   for (int k = 0; k < pdim; ++k)
     for (int n = 0; n < nen; ++n)
       for (int i = 0; i < dim; ++i) a[k][i] += X[n * dim + i] * dN[n * pdim + k];
-  if (pdim == 0) return 1.0;
-  double g11 = 0.0, g12 = 0.0, g22 = 0.0;
-  for (int i = 0; i < dim; ++i) {
-    g11 += a[0][i] * a[0][i];
-    g12 += a[0][i] * a[1][i];
-    g22 += a[1][i] * a[1][i];
+  if (pdim == 1) {
+    const double J = sqrt(a[0][0] * a[0][0] + a[0][1] * a[0][1] + a[0][2] * a[0][2]);
+    for (int b = 0; dJ && b < nen; ++b)
+      for (int j = 0; j < dim; ++j) dJ[b * dim + j] = J > 0.0 ? dN[b] * a[0][j] / J : 0.0;
+    return J;
   }
-  return pdim == 1 ? sqrt(g11) : sqrt(fmax(g11 * g22 - g12 * g12, 0.0));
+  const double c[3] = {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2],
+                       a[0][0] * a[1][1] - a[0][1] * a[1][0]};
+  const double J = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (dJ) {
+    double a2xn[3] = {0, 0, 0}, nxa1[3] = {0, 0, 0};
+    if (J > 0.0) {
+      const double n[3] = {c[0] / J, c[1] / J, c[2] / J};
+      a2xn[0] = a[1][1] * n[2] - a[1][2] * n[1], a2xn[1] = a[1][2] * n[0] - a[1][0] * n[2];
+      a2xn[2] = a[1][0] * n[1] - a[1][1] * n[0];
+      nxa1[0] = n[1] * a[0][2] - n[2] * a[0][1], nxa1[1] = n[2] * a[0][0] - n[0] * a[0][2];
+      nxa1[2] = n[0] * a[0][1] - n[1] * a[0][0];
+    }
+    for (int b = 0; b < nen; ++b)
+      for (int j = 0; j < dim; ++j) dJ[b * dim + j] = dN[b * 2] * a2xn[j] + dN[b * 2 + 1] * nxa1[j];
+  }
+  return J;
 }
 
 static int face_valid(sk_elem_type type, int dim, const double *X) {
@@ -445,34 +466,39 @@ static int face_valid(sk_elem_type type, int dim, const double *X) {
   return X && (dim == 2 || dim == 3) && pdim >= 0 && pdim < dim && pdim <= 2;
 }
 
-void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f) {
-  if (!f) return;
-  const int valid = face_valid(type, dim, X) && t;
-  const int nen = sk_elem_nen(type);
-  for (int i = 0; i < nen * dim; ++i) f[i] = 0.0;
-  if (!valid) return;
+void sk_face_weights(sk_elem_type type, int dim, const double *X, double *w, double *dw) {
+  const int nen = sk_elem_nen(type), ndof = nen * dim;
+  if (w)
+    for (int a = 0; a < nen; ++a) w[a] = 0.0;
+  if (dw)
+    for (int i = 0; i < nen * ndof; ++i) dw[i] = 0.0;
+  if (!face_valid(type, dim, X)) return;
   const int pdim = sk_elem_pdim(type);
   int nq;
   const double *qxi, *qw;
   sk_elem_quadrature(type, &nq, &qxi, &qw);
   for (int q = 0; q < nq; ++q) {
-    double N[SK_MAX_NEN];
-    const double w = qw[q] * face_measure(type, dim, X, qxi + q * pdim, N);
-    for (int a = 0; a < nen; ++a)
-      for (int i = 0; i < dim; ++i) f[a * dim + i] += w * N[a] * t[i];
+    double N[SK_MAX_NEN], dJ[SK_MAX_NEN * 3];
+    const double J = face_measure(type, dim, X, qxi + q * pdim, N, dw ? dJ : NULL);
+    for (int a = 0; a < nen; ++a) {
+      if (w) w[a] += qw[q] * N[a] * J;
+      for (int c = 0; dw && c < ndof; ++c) dw[a * ndof + c] += qw[q] * N[a] * dJ[c];
+    }
   }
 }
 
+void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f) {
+  if (!f) return;
+  const int nen = sk_elem_nen(type);
+  double w[SK_MAX_NEN];
+  sk_face_weights(type, dim, X, w, NULL);
+  for (int a = 0; a < nen; ++a)
+    for (int i = 0; i < dim; ++i) f[a * dim + i] = t ? w[a] * t[i] : 0.0;
+}
+
 double sk_face_area(sk_elem_type type, int dim, const double *X) {
-  if (!face_valid(type, dim, X)) return 0.0;
-  const int pdim = sk_elem_pdim(type);
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(type, &nq, &qxi, &qw);
-  double area = 0.0;
-  for (int q = 0; q < nq; ++q) {
-    double N[SK_MAX_NEN];
-    area += qw[q] * face_measure(type, dim, X, qxi + q * pdim, N);
-  }
+  double w[SK_MAX_NEN], area = 0.0;
+  sk_face_weights(type, dim, X, w, NULL);
+  for (int a = 0; a < sk_elem_nen(type); ++a) area += w[a];
   return area;
 }

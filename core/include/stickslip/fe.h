@@ -102,8 +102,12 @@ sk_status sk_solid_cauchy(const sk_solid *el, const double *X, const double *u, 
 /* Consistent load vector of a traction t (dim components, per unit reference area/length) on a face element of
  * type `type` (LINE2/LINE3 in 2D, TRI3/QUAD4/QUAD9 in 3D), X packed nen*dim. f is nen*dim. */
 void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f);
-/* Reference area (length in 2D) of a face. */
+/* Area (length in 2D) of a face at positions X (reference or current). */
 double sk_face_area(sk_elem_type type, int dim, const double *X);
+/* Nodal weights of a face at positions X: w[a] = integral of N_a dA (they sum to the area; a uniform traction t puts
+ * w[a] t on node a) and, when dw is not NULL, their derivatives dw[a*nen*dim + b*dim + j] = d w_a / d X_bj (for loads
+ * that follow the current area). With the element rule (exact for N_a on straight faces). */
+void sk_face_weights(sk_elem_type type, int dim, const double *X, double *w, double *dw);
 
 #ifdef __cplusplus
 }

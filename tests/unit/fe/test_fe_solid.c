@@ -401,6 +401,42 @@ static void check_faces(void) {
   SK_CHECK(sk_face_area(SK_QUAD4, 3, NULL) == 0.0);
 }
 
+/* Face weights w_a = integral N_a dA on curved, distorted faces of every face type in 2D and 3D: they sum to the
+ * area, and their derivatives with respect to the node positions (loads that follow the current area) against
+ * central differences. */
+static void check_face_weights(void) {
+  static const sk_elem_type faces[] = {SK_LINE2, SK_LINE3, SK_TRI3, SK_TRI6, SK_QUAD4, SK_QUAD8, SK_QUAD9};
+  for (int t = 0; t < 7; ++t) {
+    const sk_elem_type type = faces[t];
+    const int pdim = sk_elem_pdim(type), dim = pdim + 1, nen = sk_elem_nen(type), ndof = nen * dim;
+    const double *xi = sk_elem_node_coords(type);
+    double X[SK_MAX_NEN * 3], w[SK_MAX_NEN], wp[SK_MAX_NEN], wm[SK_MAX_NEN], dw[SK_MAX_NEN * SK_MAX_NEN * 3];
+    for (int a = 0; a < nen; ++a) { /* a bent, sheared face: the last coordinate a quadratic of the first ones */
+      double s = xi[a * pdim], r = pdim == 2 ? xi[a * pdim + 1] : 0.0;
+      X[a * dim] = 1.2 * s + 0.2 * r + 0.05 * fe_rand();
+      if (pdim == 2) X[a * dim + 1] = 0.9 * r - 0.1 * s + 0.05 * fe_rand();
+      X[a * dim + dim - 1] = 0.3 * s * s - 0.2 * r * r + 0.1 * s * r + 0.05 * fe_rand();
+    }
+    sk_face_weights(type, dim, X, w, dw);
+    double sum = 0.0;
+    for (int a = 0; a < nen; ++a) sum += w[a];
+    SK_CHECK_CLOSE(sum, sk_face_area(type, dim, X), 1e-14);
+    const double h = 1e-6;
+    double err = 0.0, scale = fe_max_abs(dw, nen * ndof);
+    for (int c = 0; c < ndof; ++c) {
+      const double keep = X[c];
+      X[c] = keep + h;
+      sk_face_weights(type, dim, X, wp, NULL);
+      X[c] = keep - h;
+      sk_face_weights(type, dim, X, wm, NULL);
+      X[c] = keep;
+      for (int a = 0; a < nen; ++a) err = fmax(err, fabs((wp[a] - wm[a]) / (2 * h) - dw[a * ndof + c]) / scale);
+    }
+    printf("  face weights %-5s area %.6f, relative FD error of dw/dX %.1e\n", sk_elem_name(type), sum, err);
+    SK_CHECK(err < 1e-8);
+  }
+}
+
 static void check_bad_input(void) {
   double X[8 * 3], u[8 * 3] = {0}, f[8 * 3], M[64];
   fe_distorted_element(SK_HEX8, 3, 0.05, X);
@@ -444,6 +480,7 @@ int main(void) {
   }
   check_cauchy();
   check_faces();
+  check_face_weights();
   check_bad_input();
   return sk_test_finish("fe_solid");
 }
