@@ -8,23 +8,13 @@
 #include <stddef.h>
 
 #include "stickslip/error.h"
+#include "stickslip/plugin_types.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef enum {
-  SK_POINT1 = 0,
-  SK_LINE2,
-  SK_LINE3,
-  SK_TRI3,
-  SK_QUAD4,
-  SK_QUAD9,
-  SK_TET4,
-  SK_HEX8,
-  SK_HEX27,
-  SK_ELEM_TYPE_COUNT
-} sk_elem_type;
+/* sk_elem_type (SK_LINE2, ..., SK_HEX27) is part of the plugin ABI: plugin_types.h defines it. */
 
 typedef struct {
   char name[64];       /* physical group name */
