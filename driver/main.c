@@ -14,7 +14,6 @@
 #define STICKSLIP_VERSION "0.1.0"
 #endif
 
-extern int sk_log_verbosity;
 
 static int rank_of_world(void) {
   int rank = 0;
@@ -120,10 +119,11 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
 
 static void print_plugin(void *ctx, const sk_plugin *plugin, const char *path) {
   (void)ctx;
-  char caps[512];
+  char caps[512], kinds[32];
   sk_capabilities_string(plugin->caps, caps, sizeof caps);
-  printf("%s  (ABI %u)\n  %s\n  capabilities: %s\n  strategies:  ", plugin->name, plugin->abi_version,
-         plugin->summary, caps);
+  sk_kinds_string(plugin->kinds, kinds, sizeof kinds);
+  printf("%s  (ABI %u.%u)\n  %s\n  attaches to:  %s\n  capabilities: %s\n  strategies:  ", plugin->name,
+         plugin->abi_major, plugin->abi_minor, plugin->summary, kinds, caps);
   for (int s = 0; plugin->strategies[s]; ++s) printf("%s%s%s", s ? ", " : "", plugin->strategies[s], s ? "" : " (default)");
   printf("\n");
   if (plugin->parameters && plugin->parameters[0]) {
@@ -187,6 +187,10 @@ static int command_scene(int argc, char **argv, int run) {
                m->pairs[k].plugin->name, m->pairs[k].plugin->strategies[m->pairs[k].strategy],
                m->pairs[k].slave.name, m->pairs[k].slave.n_nodes,
                m->pairs[k].has_obstacle ? m->pairs[k].obstacle.name : m->pairs[k].master.name);
+      for (int b = 0; b < m->n_bodies; ++b)
+        if (m->bodies[b].plugin)
+          printf("  body '%s': plugin %s, strategy %s\n", m->bodies[b].name, m->bodies[b].plugin->name,
+                 m->bodies[b].plugin->strategies[m->bodies[b].strategy]);
     }
   } else {
     sk_run_options options = {.out_dir = args.out,
@@ -225,7 +229,7 @@ int main(int argc, char **argv) {
     if (rank_of_world() == 0) usage_main(argc < 2 ? stderr : stdout);
     code = argc < 2 ? 1 : 0;
   } else if (strcmp(argv[1], "--version") == 0) {
-    if (rank_of_world() == 0) printf("stickslip %s (plugin ABI %u)\n", STICKSLIP_VERSION, SK_PLUGIN_ABI_VERSION);
+    if (rank_of_world() == 0) printf("stickslip %s (plugin ABI %u.%u)\n", STICKSLIP_VERSION, SK_ABI_MAJOR, SK_ABI_MINOR);
     code = 0;
   } else if (strcmp(argv[1], "run") == 0) {
     code = command_scene(argc, argv, 1);

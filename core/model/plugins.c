@@ -3,6 +3,7 @@
 #include "stickslip/plugins.h"
 
 #include <dirent.h>
+#include <stddef.h>
 #include <dlfcn.h>
 #include <limits.h>
 #include <stdio.h>
@@ -10,7 +11,12 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { MAX_DIRS = 16 };
+enum { MAX_DIRS = 16, MAX_TABLES = 256 };
+
+/* The tables of the libraries loaded, as this host reads them (libraries stay loaded for the process). */
+static sk_plugin tables[MAX_TABLES];
+static const sk_plugin *raw_tables[MAX_TABLES];
+static int n_tables;
 
 static int plugin_dirs(char dirs[MAX_DIRS][PATH_MAX]) {
   int n = 0;
@@ -45,6 +51,11 @@ static const char *const capability_names[] = {"2d", "3d", "friction", "quasi-st
                                                "rigid-obstacle", "deformable-master", "multipliers", "condensation",
                                                "needs-curvature", "needs-mass", "owns-kinematics", "self-contact"};
 
+void sk_kinds_string(uint32_t kinds, char *out, int size) {
+  snprintf(out, (size_t)size, "%s%s%s", kinds & SK_KIND_PAIR ? "pair" : "", (kinds & SK_KIND_PAIR) && (kinds & SK_KIND_BODY) ? ", " : "",
+           kinds & SK_KIND_BODY ? "body" : "");
+}
+
 void sk_capabilities_string(uint64_t caps, char *out, int size) {
   int used = 0;
   out[0] = '\0';
@@ -71,18 +82,56 @@ sk_status sk_plugin_open_file(const char *path, const sk_plugin **plugin) {
     dlclose(handle);
     return sk_error_set(SK_ERR_PLUGIN, "plugin library %s: %s() returned NULL", path, SK_PLUGIN_ENTRY_SYMBOL);
   }
-  if (p->abi_version != SK_PLUGIN_ABI_VERSION) {
-    unsigned version = p->abi_version;
+  /* every table starts with abi_major, abi_minor, struct_size; a v1 table starts with abi_version = 1 */
+  const uint32_t *head = (const uint32_t *)(const void *)p;
+  if (head[0] != SK_ABI_MAJOR) {
+    const unsigned major = head[0];
     dlclose(handle);
-    return sk_error_set(SK_ERR_PLUGIN, "plugin library %s has ABI version %u, this stickslip needs %u (rebuild it)",
-                        path, version, SK_PLUGIN_ABI_VERSION);
+    return sk_error_set(SK_ERR_PLUGIN,
+                        "plugin library %s has plugin ABI version %u; this stickslip has ABI %u.%u: %s", path, major,
+                        SK_ABI_MAJOR, SK_ABI_MINOR,
+                        major < SK_ABI_MAJOR ? "port it to ABI 2 (docs/plugin-abi.md §12) and rebuild it"
+                                             : "it needs a newer stickslip");
   }
-  if (!p->name || !p->create || !p->destroy || !p->begin_step || !p->layout || !p->residual || !p->jacobian ||
-      !p->commit_step || !p->reject_step || !p->report || !p->strategies || !p->strategies[0]) {
+  if (head[2] < offsetof(sk_plugin, get_extension) + sizeof(void *)) { /* every 2.x table has all 2.0 members */
+    const unsigned size = head[2];
     dlclose(handle);
-    return sk_error_set(SK_ERR_PLUGIN, "plugin library %s lacks a required entry of the sk_plugin table", path);
+    return sk_error_set(SK_ERR_PLUGIN, "plugin library %s: its sk_plugin table is %u bytes (struct_size), too small "
+                        "for ABI 2", path, size);
   }
-  *plugin = p;
+  /* the table as this host reads it: members beyond the plugin's struct_size (an older minor) are NULL */
+  for (int k = 0; k < n_tables; ++k)
+    if (raw_tables[k] == p) {
+      *plugin = &tables[k];
+      return SK_OK;
+    }
+  if (n_tables == MAX_TABLES) {
+    dlclose(handle);
+    return sk_error_set(SK_ERR_PLUGIN, "plugin library %s: more than %d plugin libraries loaded", path, MAX_TABLES);
+  }
+  sk_plugin *table = &tables[n_tables];
+  memset(table, 0, sizeof *table);
+  memcpy(table, p, head[2] < sizeof *table ? head[2] : sizeof *table);
+  const char *missing = !table->name                ? "name"
+                        : !table->kinds             ? "kinds"
+                        : !table->create            ? "create"
+                        : !table->destroy           ? "destroy"
+                        : !table->begin_step        ? "begin_step"
+                        : !table->layout            ? "layout"
+                        : !table->residual          ? "residual"
+                        : !table->jacobian          ? "jacobian"
+                        : !table->commit_step       ? "commit_step"
+                        : !table->reject_step       ? "reject_step"
+                        : !table->report            ? "report"
+                        : !table->strategies || !table->strategies[0] ? "strategies"
+                                                                        : NULL;
+  if (missing) {
+    dlclose(handle);
+    return sk_error_set(SK_ERR_PLUGIN, "plugin library %s lacks the required entry `%s` of its sk_plugin table", path,
+                        missing);
+  }
+  raw_tables[n_tables++] = p;
+  *plugin = table;
   return SK_OK;
 }
 

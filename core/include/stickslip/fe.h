@@ -29,6 +29,10 @@ void sk_elem_shape(sk_elem_type type, const double *xi, double *N, double *dN);
 void sk_elem_shape_hessian(sk_elem_type type, const double *xi, double *ddN);
 /* Quadrature exact for the element's mass matrix on an affine element: n points xi[q*pdim + k], weights w[q]. */
 void sk_elem_quadrature(sk_elem_type type, int *n, const double **xi, const double **w);
+/* Gauss rule on a face type (LINE2/3, TRI3, QUAD4/9) exact for polynomials of degree `order` in the face
+ * parameters: up to max_points points xi[q][0..pdim) and weights w[q] (summing to the reference face's measure: 2,
+ * 1/2, 4). Returns their number, -(the number needed) when max_points is too small, 0 for another type. */
+int sk_face_quadrature(sk_elem_type type, int order, int max_points, double (*xi)[2], double *w);
 /* Parametric coordinates of the element's nodes, xi[a*pdim + k]. */
 const double *sk_elem_node_coords(sk_elem_type type);
 /* Boundary faces: the face type and, for face f, its local node list (ordered so that the face normal from

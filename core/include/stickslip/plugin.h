@@ -141,9 +141,9 @@ typedef struct sk_host_api {
 typedef struct sk_bulk_ext {
   uint32_t abi_major, abi_minor, struct_size;
   /* From create() of a body instance (needs SK_CAP_OWNS_KINEMATICS): the host then adds no bulk residual or
-   * Jacobian (internal, inertial, body-force terms), no predictor and no velocity update for this body's dofs; the
-   * instance owns those rows and the body's time integration (sk_plugin.integrator). Dirichlet conditions, tractions
-   * given to other terms and contact pairs still act on the rows. */
+   * Jacobian (internal, inertial, body-force terms), no tractions, no predictor and no velocity update for this
+   * body's dofs; the instance owns those rows and the body's time integration (sk_plugin.integrator), and gets the
+   * body's loads from external_force. Dirichlet conditions and contact pairs still act on the rows. */
   sk_status (*claim)(sk_host *host);
   /* Total mass and centre of mass in the reference configuration. */
   sk_status (*mass_properties)(sk_host *host, double *mass, double center[3]);
@@ -256,11 +256,12 @@ typedef struct sk_plugin {
   /* The attempt failed and will be retried with a smaller dt: roll back to the last commit. */
   void (*reject_step)(sk_instance *instance);
   /* Results for history.csv, right after commit_step with the state spanning the step (x_n, t_n at its start; x,
-   * t, extra at its end); for the initial row with step = 0, t_n = t, x_n = x and extra = NULL. This rank's
-   * entities; `dissipated` is the step's increment. */
+   * t, extra at its end); never for the initial row (its contact columns are zero). This rank's entities;
+   * `dissipated` is the step's increment. */
   sk_status (*report)(sk_instance *instance, const sk_state *state, sk_contact_report *report);
-  /* Each owned contact point (contact.csv, VTU), with the state of report(); at the end of a run possibly with
-   * x_n == x: compute nothing from x - x_n here. NULL: no points. */
+  /* Each owned contact point (contact.csv, VTU), with the state of report(); for the initial output with step = 0,
+   * t_n = t, x_n = x and extra = NULL; at the end of a run possibly with x_n == x: compute nothing from x - x_n
+   * here. NULL: no points. */
   sk_status (*points)(sk_instance *instance, const sk_state *state, sk_point_callback callback, void *ctx);
   /* Body plugins that integrate their body themselves (SK_CAP_OWNS_KINEMATICS), else NULL. */
   const sk_integrator *integrator;

@@ -185,9 +185,10 @@ typedef struct sk_state {
 typedef struct sk_layout {
   uint32_t struct_size;        /* set by the host */
   int64_t n_extra;             /* extra unknowns of this attempt (>= 0; > 0 needs SK_CAP_MULTIPLIERS) */
-  const double *initial;       /* their starting values (n_extra), or NULL for zeros; the host copies them */
+  const double *initial;       /* their starting values (n_extra) for this rank's OWNED entities, zero elsewhere
+                                  (the host sums them over ranks), or NULL for zeros; the host copies them */
   const unsigned char *eliminated; /* 1 for unknowns the plugin condenses itself (plugin-local condensation), or
-                                      NULL; needs SK_CAP_CONDENSATION */
+                                      NULL; the same on every rank (checked); needs SK_CAP_CONDENSATION */
   int recover_needs_jdx;       /* 1: recover() wants J dx (sk_vectors.Jdx_*), which costs one operator apply */
 } sk_layout;
 

@@ -20,8 +20,9 @@ typedef struct {
   int newton_iterations;
   int linear_solves;
   int cuts;                /* step halvings */
-  int unknowns_max;        /* largest size of the nonlinear system over the run */
-  int linear_size_max;     /* largest size of the linear system actually solved (after condensation) */
+  int64_t unknowns_max;    /* largest size of the nonlinear system over the run */
+  int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */
+  int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;
