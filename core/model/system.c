@@ -317,7 +317,6 @@ static sk_status layout_unknowns(sk_system *sys, int *changed) {
   *changed = old_n != n || old_kept != kept || (old && memcmp(old, sys->kept, sizeof(int) * (size_t)n) != 0);
   free(old);
   if (sys->unknowns_max < n) sys->unknowns_max = n;
-  if (sys->linear_size_max < kept) sys->linear_size_max = kept;
   return SK_OK;
 }
 
@@ -587,6 +586,8 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
                                   sys->pair_block));
     sys->condensing = 1;
   }
+  const int64_t solved = sys->condensing ? sk_condenser_size(sys->condenser) : sys->n_kept;
+  if (sys->linear_size_max < solved) sys->linear_size_max = solved;
   return SK_OK;
 }
 
