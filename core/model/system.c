@@ -191,6 +191,19 @@ static void free_unknown_arrays(sk_system *sys) {
   sys->kept = sys->full_of_kept = NULL;
 }
 
+sk_status sk_system_add_term(sk_system *sys, sk_term *term) {
+  SK_TRY(add_term(sys, term));
+  /* keep the Dirichlet term last: its finishing stages act on what every other term assembled */
+  sk_term **t = sys->terms;
+  const int n = sys->n_terms;
+  if (n >= 2 && strcmp(t[n - 2]->ops->kind, "dirichlet") == 0) {
+    sk_term *dirichlet = t[n - 2];
+    t[n - 2] = t[n - 1];
+    t[n - 1] = dirichlet;
+  }
+  return SK_OK;
+}
+
 void sk_system_destroy(sk_system *sys) {
   if (!sys) return;
   for (int k = sys->n_terms - 1; k >= 0; --k) sys->terms[k]->ops->destroy(sys->terms[k]);

@@ -90,6 +90,8 @@ struct sk_system {
 };
 
 sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk_system **sys);
+/* Adds a term before the Dirichlet term (which stays last); the system owns it (tests add mock terms). */
+sk_status sk_system_add_term(sk_system *sys, sk_term *term);
 void sk_system_destroy(sk_system *sys);
 
 /* The stages of a step attempt from t_n = sys->t_n: predictor, begin_step, layout, pattern. */
