@@ -125,20 +125,26 @@ static sk_status bulk_mass_properties(sk_host *host, double *mass, double center
   return SK_OK;
 }
 
-static sk_status bulk_apply_mass(sk_host *host, const double *u, double *y) {
-  SK_TRY(need_mass(host, "apply_mass"));
-  const sk_model *m = host->sys->model;
-  const sk_view_data *v = body_view(host);
+/* y += (M_scalar ⊗ I) u over this rank's elements of the body view; with u NULL, the same product with the constant
+ * nodal vector `constant` (a body force per unit mass). */
+static void add_mass_times(const sk_model *m, const sk_view_data *v, const double *u, const double *constant,
+                           double *y) {
   const int dim = m->dim, nen = v->view.nen;
-  memset(y, 0, sizeof(double) * (size_t)v->view.n_nodes * dim);
   for (int c = 0; c < v->view.n_cells; ++c) {
     if (!v->cell_owned[c]) continue;
     const double *M = element_mass(m, v->cell_element[c]);
     const int *conn = v->conn + (size_t)c * nen;
     for (int a = 0; a < nen; ++a)
       for (int b = 0; b < nen; ++b)
-        for (int i = 0; i < dim; ++i) y[conn[a] * dim + i] += M[a * nen + b] * u[conn[b] * dim + i];
+        for (int i = 0; i < dim; ++i) y[conn[a] * dim + i] += M[a * nen + b] * (u ? u[conn[b] * dim + i] : constant[i]);
   }
+}
+
+static sk_status bulk_apply_mass(sk_host *host, const double *u, double *y) {
+  SK_TRY(need_mass(host, "apply_mass"));
+  const sk_view_data *v = body_view(host);
+  memset(y, 0, sizeof(double) * (size_t)v->view.n_nodes * (size_t)v->view.dim);
+  add_mass_times(host->sys->model, v, u, NULL, y);
   return SK_OK;
 }
 
@@ -226,17 +232,9 @@ static sk_status bulk_external_force(sk_host *host, double t, double *f) {
   const sk_system *sys = host->sys;
   const sk_model *m = sys->model;
   const sk_view_data *v = body_view(host);
-  const int dim = m->dim, nen = v->view.nen;
+  const int dim = m->dim;
   memset(f, 0, sizeof(double) * (size_t)v->view.n_nodes * dim);
-  /* body force: M b over owned elements */
-  for (int c = 0; c < v->view.n_cells; ++c) {
-    if (!v->cell_owned[c]) continue;
-    const double *M = element_mass(m, v->cell_element[c]);
-    const int *conn = v->conn + (size_t)c * nen;
-    for (int a = 0; a < nen; ++a)
-      for (int b = 0; b < nen; ++b)
-        for (int i = 0; i < dim; ++i) f[conn[a] * dim + i] += M[a * nen + b] * m->body_force[i];
-  }
+  add_mass_times(m, v, NULL, m->body_force, f); /* body force: M b over owned elements */
   /* tractions on the body's faces: each face once, by the owner of its first node (a node of this view) */
   for (int k = 0; k < m->n_tractions; ++k) {
     const sk_traction *load = &m->tractions[k];

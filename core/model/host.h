@@ -32,6 +32,11 @@ typedef struct {
  * this rank owns, and their nodes. A face is owned by the owner of the body element it bounds. */
 sk_status sk_view_surface(const sk_model *model, const sk_surface *surface, const char *name, int whole,
                           sk_view_data *view);
+/* A surface view of the faces `selected` (NULL: all) of a core surface (mesh node ids), with each face's and each
+ * mesh node's ownership (NULL: all owned) and the reference positions X (dim per mesh node). */
+sk_status sk_view_fill_surface(sk_view_data *view, const sk_surface *surface, const char *name, int dim,
+                               const double *X, const unsigned char *selected, const unsigned char *face_owned,
+                               const unsigned char *node_owned);
 /* A body as this rank sees it: its elements owned by this rank or touching a node it owns, and their nodes. */
 sk_status sk_view_body(const sk_model *model, int body, sk_view_data *view);
 void sk_view_free(sk_view_data *view);

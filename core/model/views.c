@@ -36,11 +36,10 @@ static sk_status no_memory(sk_view_data *v, const char *name) {
   return sk_error_set(SK_ERR_NOMEM, "out of memory for the view of '%s'", name);
 }
 
-/* Fills the node arrays of a view from the sorted global ids of its nodes; index_of_node: their index in the whole
- * surface/body (sorted list `all`, n_all). */
-static sk_status fill_nodes(const sk_model *m, sk_view_data *v, const int *nodes, int n, const int *all, int n_all,
-                            const char *name) {
-  const int dim = m->dim;
+/* Fills the node arrays of a view from the sorted mesh ids of its nodes: their index in the whole surface/body (the
+ * sorted list `all`), ownership (node_owned by mesh id, NULL: all owned), dofs and reference positions X. */
+static sk_status fill_nodes(sk_view_data *v, int dim, const double *X, const unsigned char *node_owned,
+                            const int *nodes, int n, const int *all, int n_all, const char *name) {
   const size_t nn = (size_t)(n > 0 ? n : 1);
   v->local_nodes = malloc(sizeof(int) * nn);
   v->node_index = malloc(sizeof(int64_t) * nn);
@@ -53,10 +52,10 @@ static sk_status fill_nodes(const sk_model *m, sk_view_data *v, const int *nodes
     v->local_nodes[k] = k;
     v->node_index[k] = index_in(all, n_all, nodes[k]);
     v->node_id[k] = nodes[k];
-    v->owned[k] = m->n_ranks == 1 || m->node_owner[nodes[k]] == m->rank;
+    v->owned[k] = node_owned ? node_owned[nodes[k]] : 1;
     for (int i = 0; i < dim; ++i) {
       v->dofs[(size_t)k * dim + i] = (int64_t)nodes[k] * dim + i;
-      v->X[(size_t)k * dim + i] = m->X[(size_t)nodes[k] * dim + i];
+      v->X[(size_t)k * dim + i] = X[(size_t)nodes[k] * dim + i];
     }
   }
   sk_view *view = &v->view;
@@ -139,64 +138,57 @@ static sk_status face_owners(const sk_model *m, const sk_surface *s, int *owner)
   return SK_OK;
 }
 
-sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *name, int whole, sk_view_data *v) {
+sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char *name, int dim, const double *X,
+                               const unsigned char *selected, const unsigned char *face_owned,
+                               const unsigned char *node_owned) {
   memset(v, 0, sizeof *v);
   v->is_surface = 1;
   const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
-  int *owner = malloc(sizeof(int) * nf);
-  unsigned char *selected = malloc(nf);
+  unsigned char *all = malloc(nf);
   int *local_face = malloc(sizeof(int) * nf);
-  if (!owner || !selected || !local_face) {
-    free(owner);
-    free(selected);
+  if (!all || !local_face) {
+    free(all);
     free(local_face);
     return no_memory(v, name);
   }
-  sk_status status = face_owners(m, s, owner);
+  memset(all, 1, nf);
+  if (!selected) selected = all;
   int n_cells = 0;
-  for (int f = 0; f < s->n_faces && status == SK_OK; ++f) {
-    int take = whole || owner[f] == m->rank;
-    for (int a = 0; a < s->nen && !take; ++a) take = m->node_owner[s->conn[(size_t)f * s->nen + a]] == m->rank;
-    selected[f] = (unsigned char)take;
-    local_face[f] = take ? n_cells++ : -1;
-  }
-  int n_nodes = 0, *nodes = status == SK_OK ? collect_nodes(s->conn, s->nen, selected, s->n_faces, &n_nodes) : NULL;
-  if (status == SK_OK && !nodes) status = SK_ERR_NOMEM;
-  if (status == SK_OK) status = fill_nodes(m, v, nodes, n_nodes, s->nodes, s->n_nodes, name);
+  for (int f = 0; f < s->n_faces; ++f) local_face[f] = selected[f] ? n_cells++ : -1;
+  int n_nodes = 0, *nodes = collect_nodes(s->conn, s->nen, selected, s->n_faces, &n_nodes);
   const size_t nc = (size_t)(n_cells > 0 ? n_cells : 1);
-  if (status == SK_OK) {
-    v->conn = malloc(sizeof(int) * nc * (size_t)s->nen);
-    v->cell_owned = malloc(nc);
-    v->cell_index = malloc(sizeof(int64_t) * nc);
-    v->neighbors = malloc(sizeof(int) * nc * (size_t)s->n_edges);
-    if (!v->conn || !v->cell_owned || !v->cell_index || !v->neighbors) status = SK_ERR_NOMEM;
-  }
-  if (status == SK_OK) {
-    for (int f = 0; f < s->n_faces; ++f) {
-      const int c = local_face[f];
-      if (c < 0) continue;
-      for (int a = 0; a < s->nen; ++a)
-        v->conn[(size_t)c * s->nen + a] = (int)index_in(nodes, n_nodes, s->conn[(size_t)f * s->nen + a]);
-      v->cell_owned[c] = (unsigned char)(m->n_ranks == 1 || owner[f] == m->rank);
-      v->cell_index[c] = f;
-      for (int e = 0; e < s->n_edges; ++e) {
-        const int other = s->face_neighbors[(size_t)f * s->n_edges + e];
-        v->neighbors[(size_t)c * s->n_edges + e] = other >= 0 ? local_face[other] : -1;
-      }
-    }
-  }
-  free(owner);
-  free(selected);
-  free(local_face);
-  free(nodes);
-  if (status == SK_ERR_NOMEM) return no_memory(v, name);
+  v->conn = malloc(sizeof(int) * nc * (size_t)s->nen);
+  v->cell_owned = malloc(nc);
+  v->cell_index = malloc(sizeof(int64_t) * nc);
+  v->neighbors = malloc(sizeof(int) * nc * (size_t)s->n_edges);
+  sk_status status = nodes && v->conn && v->cell_owned && v->cell_index && v->neighbors
+                         ? fill_nodes(v, dim, X, node_owned, nodes, n_nodes, s->nodes, s->n_nodes, name)
+                         : no_memory(v, name);
   if (status != SK_OK) {
-    sk_view_free(v);
+    free(all);
+    free(local_face);
+    free(nodes);
     return status;
   }
+  for (int f = 0; f < s->n_faces; ++f) {
+    const int c = local_face[f];
+    if (c < 0) continue;
+    for (int a = 0; a < s->nen; ++a)
+      v->conn[(size_t)c * s->nen + a] = (int)index_in(nodes, n_nodes, s->conn[(size_t)f * s->nen + a]);
+    v->cell_owned[c] = face_owned ? face_owned[f] : 1;
+    v->cell_index[c] = f;
+    for (int e = 0; e < s->n_edges; ++e) {
+      const int other = s->face_neighbors[(size_t)f * s->n_edges + e];
+      v->neighbors[(size_t)c * s->n_edges + e] = other >= 0 ? local_face[other] : -1;
+    }
+  }
+  free(all);
+  free(local_face);
+  free(nodes);
   sk_view *view = &v->view;
   view->struct_size = sizeof *view;
   view->name = name;
+  view->dim = dim;
   view->body = s->body;
   view->cell_type = s->face_type;
   view->nen = s->nen;
@@ -223,6 +215,29 @@ sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *na
   return SK_OK;
 }
 
+sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *name, int whole, sk_view_data *v) {
+  memset(v, 0, sizeof *v);
+  const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
+  int *owner = malloc(sizeof(int) * nf);
+  unsigned char *selected = malloc(nf), *face_owned = malloc(nf);
+  unsigned char *node_owned = malloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1));
+  sk_status status = owner && selected && face_owned && node_owned ? face_owners(m, s, owner) : SK_ERR_NOMEM;
+  for (int a = 0; a < m->n_nodes && status == SK_OK; ++a) node_owned[a] = m->node_owner[a] == m->rank;
+  for (int f = 0; f < s->n_faces && status == SK_OK; ++f) {
+    int take = whole || owner[f] == m->rank;
+    for (int a = 0; a < s->nen && !take; ++a) take = node_owned[s->conn[(size_t)f * s->nen + a]];
+    selected[f] = (unsigned char)take;
+    face_owned[f] = owner[f] == m->rank;
+  }
+  if (status == SK_OK) status = sk_view_fill_surface(v, s, name, m->dim, m->X, selected, face_owned, node_owned);
+  else if (status == SK_ERR_NOMEM) status = no_memory(v, name);
+  free(owner);
+  free(selected);
+  free(face_owned);
+  free(node_owned);
+  return status;
+}
+
 sk_status sk_view_body(const sk_model *m, int b, sk_view_data *v) {
   memset(v, 0, sizeof *v);
   const sk_body *body = &m->bodies[b];
@@ -245,7 +260,12 @@ sk_status sk_view_body(const sk_model *m, int b, sk_view_data *v) {
   int n_nodes = 0, n_all = 0;
   int *nodes = collect_nodes(g->conn, g->nen, selected, g->n_elems, &n_nodes);
   int *all = collect_nodes(g->conn, g->nen, everything, g->n_elems, &n_all);
-  sk_status status = nodes && all ? fill_nodes(m, v, nodes, n_nodes, all, n_all, body->name) : SK_ERR_NOMEM;
+  unsigned char *node_owned = malloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1));
+  for (int a = 0; node_owned && a < m->n_nodes; ++a) node_owned[a] = m->node_owner[a] == m->rank;
+  sk_status status = nodes && all && node_owned
+                         ? fill_nodes(v, m->dim, m->X, node_owned, nodes, n_nodes, all, n_all, body->name)
+                         : SK_ERR_NOMEM;
+  free(node_owned);
   const size_t nc = (size_t)(n_cells > 0 ? n_cells : 1);
   if (status == SK_OK) {
     v->conn = malloc(sizeof(int) * nc * (size_t)g->nen);

@@ -145,36 +145,30 @@ static int compare_int(const void *a, const void *b) { return *(const int *)a - 
 
 static int corners_of(sk_elem_type type) { return type == SK_LINE2 || type == SK_LINE3 ? 2 : type == SK_TRI3 ? 3 : 4; }
 
-void kit_surface(kit *k, int role, sk_elem_type type, int nen, int n_faces, const int *conn) {
-  kit_view *kv = calloc(1, sizeof *kv);
-  sk_view_data *v = &kv->data;
-  const int dim = k->dim, nc = corners_of(type);
-  int *nodes = malloc(sizeof(int) * (size_t)(n_faces * nen));
-  int n = 0;
+/* The core surface of n_faces faces (mesh node ids): sorted node list, neighbours through shared corners (2D: the
+ * end point itself). The caller frees conn, nodes and face_neighbors. */
+static void make_surface(sk_surface *s, int dim, sk_elem_type type, int nen, int n_faces, const int *conn) {
+  const int nc = corners_of(type);
+  memset(s, 0, sizeof *s);
+  snprintf(s->name, sizeof s->name, "surface");
+  s->dim = dim;
+  s->face_type = type;
+  s->nen = nen;
+  s->n_faces = n_faces;
+  s->n_edges = nc;
+  s->conn = malloc(sizeof(int) * (size_t)(n_faces * nen));
+  s->nodes = malloc(sizeof(int) * (size_t)(n_faces * nen));
+  s->face_neighbors = malloc(sizeof(int) * (size_t)(n_faces * nc));
+  memcpy(s->conn, conn, sizeof(int) * (size_t)(n_faces * nen));
   for (int i = 0; i < n_faces * nen; ++i) {
     int seen = 0;
-    for (int j = 0; j < n; ++j) seen |= nodes[j] == conn[i];
-    if (!seen) nodes[n++] = conn[i];
+    for (int j = 0; j < s->n_nodes; ++j) seen |= s->nodes[j] == conn[i];
+    if (!seen) s->nodes[s->n_nodes++] = conn[i];
   }
-  qsort(nodes, (size_t)n, sizeof(int), compare_int);
-  v->conn = malloc(sizeof(int) * (size_t)(n_faces * nen));
-  v->neighbors = malloc(sizeof(int) * (size_t)(n_faces * nc));
-  v->cell_owned = malloc((size_t)n_faces);
-  v->cell_index = malloc(sizeof(int64_t) * (size_t)n_faces);
-  v->local_nodes = malloc(sizeof(int) * (size_t)n);
-  v->node_index = malloc(sizeof(int64_t) * (size_t)n);
-  v->node_id = malloc(sizeof(int64_t) * (size_t)n);
-  v->owned = malloc((size_t)n);
-  v->dofs = malloc(sizeof(int64_t) * (size_t)(n * dim));
-  v->X = malloc(sizeof(double) * (size_t)(n * dim));
-  for (int i = 0; i < n_faces * nen; ++i)
-    v->conn[i] = (int)((const int *)bsearch(&conn[i], nodes, (size_t)n, sizeof(int), compare_int) - nodes);
-  for (int f = 0; f < n_faces; ++f) {
-    v->cell_owned[f] = 1;
-    v->cell_index[f] = f;
-    /* neighbours through shared corners (2D: the end point itself) */
+  qsort(s->nodes, (size_t)s->n_nodes, sizeof(int), compare_int);
+  for (int f = 0; f < n_faces; ++f)
     for (int e = 0; e < nc; ++e) {
-      v->neighbors[f * nc + e] = -1;
+      s->face_neighbors[f * nc + e] = -1;
       const int a = conn[f * nen + e], b = conn[f * nen + (e + 1) % nc];
       for (int g = 0; g < n_faces; ++g) {
         if (g == f) continue;
@@ -183,58 +177,24 @@ void kit_surface(kit *k, int role, sk_elem_type type, int nen, int n_faces, cons
           has_a |= conn[g * nen + c] == a;
           has_b |= conn[g * nen + c] == b;
         }
-        if (dim == 2 ? has_a : (has_a && has_b)) v->neighbors[f * nc + e] = g;
+        if (dim == 2 ? has_a : (has_a && has_b)) s->face_neighbors[f * nc + e] = g;
       }
     }
-  }
-  for (int i = 0; i < n; ++i) {
-    v->local_nodes[i] = i;
-    v->node_index[i] = i;
-    v->node_id[i] = nodes[i];
-    v->owned[i] = 1;
-    for (int j = 0; j < dim; ++j) {
-      v->dofs[i * dim + j] = (int64_t)nodes[i] * dim + j;
-      v->X[i * dim + j] = k->X[nodes[i] * dim + j];
-    }
-  }
-  free(nodes);
-  v->is_surface = 1;
-  sk_view *view = &v->view;
-  view->struct_size = sizeof *view;
-  view->name = role == 0 ? "slave" : "master";
-  view->dim = dim;
-  view->cell_type = type;
-  view->nen = nen;
-  view->n_cells = n_faces;
-  view->conn = v->conn;
-  view->cell_owned = v->cell_owned;
-  view->cell_index = v->cell_index;
-  view->n_cells_global = n_faces;
-  view->n_edges = nc;
-  view->neighbors = v->neighbors;
-  view->n_nodes = n;
-  view->node_index = v->node_index;
-  view->n_nodes_global = n;
-  view->node_id = v->node_id;
-  view->owned = v->owned;
-  view->dofs = v->dofs;
-  view->X = v->X;
-  sk_surface *s = &v->local;
-  snprintf(s->name, sizeof s->name, "%s", view->name);
-  s->dim = dim;
-  s->face_type = type;
-  s->nen = nen;
-  s->n_faces = n_faces;
-  s->conn = v->conn;
-  s->n_nodes = n;
-  s->nodes = v->local_nodes;
-  s->face_neighbors = v->neighbors;
-  s->n_edges = nc;
+}
+
+void kit_surface(kit *k, int role, sk_elem_type type, int nen, int n_faces, const int *conn) {
+  kit_view *kv = calloc(1, sizeof *kv);
+  sk_surface s;
+  make_surface(&s, k->dim, type, nen, n_faces, conn);
+  /* the host's view of a whole surface on one rank: every face and node owned */
+  SK_CHECK(sk_view_fill_surface(&kv->data, &s, role == 0 ? "slave" : "master", k->dim, k->X, NULL, NULL, NULL) ==
+           SK_OK);
+  sk_surface_free(&s);
   k->views[role] = kv;
-  k->view_list[role] = view;
+  k->view_list[role] = &kv->data.view;
   if (role + 1 > k->n_views) k->n_views = role + 1;
-  if (role == 0) k->attach.slave = view;
-  else k->attach.master = view;
+  if (role == 0) k->attach.slave = k->view_list[role];
+  else k->attach.master = k->view_list[role];
 }
 
 void kit_obstacle(kit *k, const sk_obstacle *obstacle) {
