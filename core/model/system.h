@@ -109,6 +109,9 @@ void sk_system_advance(sk_system *sys);
 sk_status sk_system_declare(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols);
 /* A status agreed by all ranks: the worst, with a message on every rank. */
 sk_status sk_system_collective(const sk_system *sys, sk_status local);
+/* Internal to system*.c: the plugins' sink; the attempt's pattern from the terms' declarations (system_pattern.c). */
+void sk_system_sink_init(sk_system *sys);
+sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);
 /* Position of (row, col) (kept numbering) in the pattern, or -1. */
 int64_t sk_system_position(const sk_system *sys, int row, int col);
 /* Sets up a plugin term's view of a surface or body (term_plugin.c) — see views.h. */
