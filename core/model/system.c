@@ -344,6 +344,16 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   return SK_OK;
 }
 
+/* Keeps a failure that must end the run rather than cut the step (NOX turns every callback failure into
+ * divergence). */
+static sk_status note_fatal(sk_system *sys, sk_status status) {
+  if ((status == SK_ERR_PLUGIN || status == SK_ERR_INTERNAL || status == SK_ERR_NOMEM) && sys->fatal == SK_OK) {
+    sys->fatal = status;
+    snprintf(sys->fatal_message, sizeof sys->fatal_message, "%s", sk_error_message());
+  }
+  return status;
+}
+
 static sk_status cb_residual(void *ctx, const double *x, double *F) {
   sk_system *sys = ctx;
   set_iterate(sys, x);
@@ -357,7 +367,7 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
     *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
   }
-  status = sk_system_collective(sys, status);
+  status = note_fatal(sys, sk_system_collective(sys, status));
   if (status != SK_OK) return status;
   MPI_Allreduce(sys->F_local, F, (int)sys->n, MPI_DOUBLE, MPI_SUM, sys->comm);
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
@@ -383,7 +393,7 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
   }
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
     if (sys->terms[k]->ops->finish_jacobian) status = sys->terms[k]->ops->finish_jacobian(sys->terms[k], sys);
-  status = sk_system_collective(sys, status);
+  status = note_fatal(sys, sk_system_collective(sys, status));
   if (status != SK_OK) return status;
   MPI_Allreduce(sys->rhs_local, sys->rhs, (int)sys->n, MPI_DOUBLE, MPI_SUM, sys->comm);
   for (int k = 0; k < sys->n_terms; ++k)
@@ -429,7 +439,7 @@ static sk_status cb_solve(void *ctx, const double *x, const double *F, double *d
     status = term->ops->recover(term, sys, F, dx);
     if (status != SK_OK) sk_error_prefix(status, "%s: recover: ", term->name);
   }
-  status = sk_system_collective(sys, status);
+  status = note_fatal(sys, sk_system_collective(sys, status));
   if (status != SK_OK || !any_eliminated || sys->n_ranks == 1) return status;
   /* each rank recovered its own entities' eliminated unknowns; the sum over ranks completes dx */
   int n_elim = 0;
@@ -474,7 +484,9 @@ sk_status sk_system_solve(sk_system *sys) {
   const int max_loops = sys->solver->max_active_set_loops;
   for (int loop = 0;; ++loop) {
     sk_newton_report report;
+    sys->fatal = SK_OK;
     sk_status status = sk_newton_solve(sys->comm, &sys->solver->newton, &callbacks, (int)sys->n, sys->x, &report);
+    if (status != SK_OK && sys->fatal != SK_OK) status = sk_error_set(sys->fatal, "%s", sys->fatal_message);
     const int iterations = sys->newton.iterations + report.iterations;
     const int solves = sys->newton.linear_solves + report.linear_solves;
     sys->newton = report;

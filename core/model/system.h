@@ -87,6 +87,9 @@ struct sk_system {
   double t_assembly, t_contact, t_solve;
   int64_t unknowns_max, linear_size_max;
   int verbose;
+  /* a plugin, internal or memory error inside Newton ends the run (NOX reports every failure as divergence) */
+  sk_status fatal;
+  char fatal_message[1024];
 };
 
 sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk_system **sys);

@@ -484,15 +484,7 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     // the best iterate NOX has (the last accepted one), also on failure: the caller decides what to do with it
     if (!solution.residualFailed()) std::copy(solution.x().begin(), solution.x().end(), x);
 
-    if (state->callback_failure != SK_OK) {
-      // a failed Jacobian or solve keeps its code: a plugin or internal error ends the run, it is no step cut
-      const sk_status code = fail(report, state->callback_message);
-      const std::string message = sk_error_message();
-      return state->callback_failure == SK_ERR_PLUGIN || state->callback_failure == SK_ERR_INTERNAL ||
-                     state->callback_failure == SK_ERR_NOMEM
-                 ? sk_error_set(state->callback_failure, "%s", message.c_str())
-                 : code;
-    }
+    if (state->callback_failure != SK_OK) return fail(report, state->callback_message);
     if (status == NOX::StatusTest::Converged) {
       report->converged = 1;
       return SK_OK;
