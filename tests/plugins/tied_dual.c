@@ -119,6 +119,8 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
     destroy(in);
     return st;
   }
+  api->log(host, 2, "test-tied-dual: this rank sees %d of %lld slave nodes and %d of %lld master nodes", in->slave->n_nodes,
+           (long long)in->slave->n_nodes_global, in->master->n_nodes, (long long)in->master->n_nodes_global);
   *out = in;
   return SK_OK;
 }
