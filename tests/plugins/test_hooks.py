@@ -3,6 +3,7 @@
 
   body_free_flight  a body plugin claims a block and integrates it itself (stickslip.bulk, its own integrator):
                     the same history as the core's midpoint rule, and the same invariants
+  body_mpi          the claimed body on 2 ranks = 1 rank
   body_errors       kinds are checked: a pair plugin named by a body, a body plugin named by a pair
   tied_dual         a tied interface with dual multipliers: condensed on the assembled operator
                     (stickslip.condense) = kept (saddle point), and stickslip.linear's solve_again checked in recover
@@ -56,6 +57,17 @@ def body_free_flight(c):
         c.check(energy < 1e-12, "%s: energy kept (relative drift %.2e)" % (label, energy))  # measured 2.4e-14
         c.check(momentum < 1e-12 and angular < 1e-12, "%s: momenta kept (%.2e, %.2e)" % (label, momentum, angular))
     c.check(plugin.column("kinetic_energy")[-1] > 0.1, "the body moves")
+
+
+def body_mpi(c):
+    """The claimed body on 2 ranks: the plugin sees owned + ghosted views, the host completes the partial sums."""
+    one, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1")
+    two, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1", np=2)
+    names = [n for n in one.rows[0] if n != "wall_seconds"]
+    worst, where = max_difference(one, two, names)
+    print("body plugin, 2 ranks vs 1: %.3e (%s)" % (worst, where))
+    c.check(worst < 1e-12, "2 ranks = 1 rank (%.2e in %s)" % (worst, where))
+    c.check(summary(two)["ranks"] == 2, "ran on 2 ranks")
 
 
 def body_errors(c):
@@ -121,4 +133,4 @@ def reject_once(c):
 
 
 if __name__ == "__main__":
-    main([body_free_flight, body_errors, tied_dual, tied_dual_mpi, reject_once])
+    main([body_free_flight, body_mpi, body_errors, tied_dual, tied_dual_mpi, reject_once])
