@@ -264,7 +264,7 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
       if (sk_system_position(sys, (int)(key / nk), (int)(key % nk)) < 0) sys->declared[n_missing++] = key;
     }
   }
-  qsort(sys->declared, (size_t)n_missing, sizeof(int64_t), compare_i64);
+  if (n_missing > 0) qsort(sys->declared, (size_t)n_missing, sizeof(int64_t), compare_i64);
   int64_t unique = 0;
   for (int64_t k = 0; k < n_missing; ++k)
     if (k == 0 || sys->declared[k] != sys->declared[unique - 1]) sys->declared[unique++] = sys->declared[k];
