@@ -103,15 +103,19 @@ void corot_mass_apply(const corot_body *body, const double *v, double *out) {
   }
 }
 
+/* S v is applied to v - T(v): the same operator (S t = 0 for a uniform t), but without the cancellation of
+ * |S| |T(v)| against itself that u, which keeps the body's translation, would otherwise suffer after a long flight. */
 void corot_stiffness_apply(const corot_body *body, const double *v, double *out) {
   const int dim = body->dim, dd = dim * dim;
+  double T[3];
+  corot_mean(body, v, T);
   for (int a = 0; a < body->n_nodes; ++a) {
     double sum[3] = {0, 0, 0};
     for (int64_t k = body->row_ptr[a]; k < body->row_ptr[a + 1]; ++k) {
       const double *K = body->stiffness + k * dd;
       const double *vb = v + body->cols[k] * dim;
       for (int i = 0; i < dim; ++i)
-        for (int j = 0; j < dim; ++j) sum[i] += K[i * dim + j] * vb[j];
+        for (int j = 0; j < dim; ++j) sum[i] += K[i * dim + j] * (vb[j] - T[j]);
     }
     memcpy(out + a * dim, sum, sizeof(double) * (size_t)dim);
   }
@@ -197,9 +201,12 @@ void corot_body_free(corot_body *body) {
 
 double corot_energy(const corot_body *body, const double *u, const double *s, double *work) {
   corot_mass_apply(body, s, work);
-  double E = 0.5 * dot(body->n, s, work);
+  double E = 0.5 * dot(body->n, s, work), T[3];
   corot_stiffness_apply(body, u, work);
-  return E + 0.5 * dot(body->n, u, work);
+  corot_mean(body, u, T);
+  for (int a = 0; a < body->n_nodes; ++a)
+    for (int i = 0; i < body->dim; ++i) E += 0.5 * (u[a * body->dim + i] - T[i]) * work[a * body->dim + i];
+  return E;
 }
 
 double corot_angular_momentum(const corot_body *body, corot_model model, const double *u, const double *s,
@@ -508,19 +515,22 @@ int corot_step_evaluate(corot_step *step, const double *y) {
     for (int i = 0; i < n; ++i) step->R[i] += step->work2[i] - step->f[i];
   }
   /* the rotation equation (4.4') or (2.8), and its scale */
+  corot_mean(body, step->u_h, step->T_h);
   if (step->model == COROT_MODEL_1) {
+    /* the translation T_h of r_h drops out (sum of S u_h and of c vanish), so it is left out of the products */
     double g = 0.0;
     for (int b = 0; b < body->n_nodes; ++b) {
-      double pr[3];
-      corot_pi(dim, body->e, step->r_h + b * dim, pr);
+      double r[3] = {0, 0, 0}, pr[3];
+      for (int i = 0; i < dim; ++i) r[i] = step->r_h[b * dim + i] - step->T_h[i];
+      corot_pi(dim, body->e, r, pr);
       for (int i = 0; i < dim; ++i) g -= (step->Su_h[b * dim + i] + alpha * body->c[b * dim + i]) * pr[i];
     }
     step->g = g;
   } else {
     step->g = dot(n, body->c, step->u_h);
   }
-  const double omega = fmax(fabs(w), sqrt(fmax(2.0 * step->energy_n, 0.0) / body->inertia));
-  step->g_ref = (step->model == COROT_MODEL_1 ? a : half_dt) * body->inertia * omega;
+  step->omega_ref = fmax(fabs(w), sqrt(fmax(2.0 * step->energy_n, 0.0) / body->inertia));
+  step->g_ref = (step->model == COROT_MODEL_1 ? a : half_dt) * body->inertia * step->omega_ref;
   step->set_changes = step->contact ? corot_contact_update(step->contact, dim, step->R, s) : 0;
   return step->set_changes;
 }
@@ -577,8 +587,9 @@ double corot_step_dg(corot_step *step, const double *y, const double *dy) {
   pi_all(body, step->u_h, t);
   corot_stiffness_apply(body, t, SPu);
   for (int b = 0; b < body->n_nodes; ++b) {
-    double pr[3], v[3], du[3], pSu[3], pc[3];
-    corot_pi(dim, body->e, step->r_h + b * dim, pr);
+    double r[3] = {0, 0, 0}, pr[3], v[3], du[3], pSu[3], pc[3];
+    for (int i = 0; i < dim; ++i) r[i] = step->r_h[b * dim + i] - step->T_h[i]; /* T_h drops out, as in g */
+    corot_pi(dim, body->e, r, pr);
     for (int i = 0; i < dim; ++i) v[i] = dy[b * dim + i] - pr[i];
     corot_mul(dim, step->C, v, du);
     corot_pi(dim, body->e, step->Su_h + b * dim, pSu);

@@ -23,6 +23,8 @@
 #include <stdint.h>
 
 enum { COROT_MAX_BORDER = 6 };
+/* A Newton update of w below this fraction of the rotation-rate scale is round-off: the step stops there. */
+#define COROT_W_ROUNDOFF 1e-14
 
 typedef enum { COROT_MODEL_1 = 1, COROT_MODEL_2 = 2 } corot_model;
 
@@ -61,7 +63,7 @@ int corot_body_init(corot_body *body, int dim, int n_nodes, const int64_t *row_p
                     const double *mass, const double *stiffness, const double *X, const double e[3]);
 void corot_body_free(corot_body *body);
 void corot_mass_apply(const corot_body *body, const double *v, double *out);      /* out = M v */
-void corot_stiffness_apply(const corot_body *body, const double *v, double *out); /* out = S v */
+void corot_stiffness_apply(const corot_body *body, const double *v, double *out); /* out = S (v - T(v)) = S v */
 /* T(v) = (1^T M v) / m, the mass-weighted mean (2.10). */
 void corot_mean(const corot_body *body, const double *v, double T[3]);
 /* E = 1/2 (s . M s + u . S u) (Lemma 2.1); J = s . M Pi r with r = x + u (Model 1) or x + T(u) (Model 2).
@@ -152,6 +154,7 @@ typedef struct {
   double Rmid[9];                /* R_{theta^{n+1/2}} */
   double *f;                     /* co-rotated loads f (n) */
   double *u_h, *r_h, *Su_h;      /* u^{n+1/2}, its lever arm, S u_h (n each) */
+  double T_h[3];                 /* T(u_h), the translation inside u_h */
   double *R;                     /* momentum residual without contact (4.2)/(4.1) at the last solution (n) */
   double *work, *work2;          /* n each */
   double energy_n;               /* E^n */
@@ -159,6 +162,7 @@ typedef struct {
   double *rhs;                   /* b(w) */
   double *y, *dy;                /* (s, alpha) and d(s, alpha)/dw */
   double g, dg, g_ref;           /* rotation equation, its derivative, its scale */
+  double omega_ref;              /* max(|w|, sqrt(2 E^n / I_e)): the body's rotation-rate scale */
   int set_changes;               /* set changes proposed by the last evaluation */
   int iterations;                /* factorisations in this step */
 } corot_step;
@@ -184,7 +188,8 @@ void corot_step_apply_sets(corot_step *step);
 /* |g| <= tol * g_ref. */
 int corot_step_rotation_converged(const corot_step *step, double tol);
 /* The host-free step loop (Sec. 5): factorise, solve, evaluate; stop when the sets stay and g is converged; else
- * Newton on w with the derivative solve. Returns 0, 1 when max_iterations were used up, -1 on a solver failure. */
+ * Newton on w with the derivative solve; also stop when that update is below COROT_W_ROUNDOFF * omega_ref (g at its
+ * round-off floor). Returns 0, 1 when max_iterations were used up, -1 on a solver failure. */
 int corot_step_solve(corot_step *step, const corot_solver *solver, int max_iterations, double tol);
 /* Writes state_next from the converged step: s^{n+1} = 2s - s^n, u^{n+1} = 2u_h - u^n, theta^{n+1}, w; commits the
  * sets. Returns the friction work Delta t sum_p D_pp s_tau . lambda_tau (>= 0) of the step. */

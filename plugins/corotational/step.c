@@ -19,7 +19,11 @@ int corot_step_solve(corot_step *step, const corot_solver *solver, int max_itera
       if (solver->solve(solver->ctx, step->rhs, step->dy) != 0) return -1;
       step->dg = corot_step_dg(step, step->y, step->dy);
       if (!(fabs(step->dg) > 0.0) || !isfinite(step->dg)) return -1;
-      step->w -= step->g / step->dg;
+      const double dw = -step->g / step->dg;
+      /* g at its round-off floor: the update would not change w beyond its last bits, so this solve is the
+       * solution (large dt make A stiff, and g's cancellation then sits above tol * g_ref) */
+      if (changes == 0 && fabs(dw) <= COROT_W_ROUNDOFF * step->omega_ref) return 0;
+      step->w += dw;
     }
     corot_step_apply_sets(step);
   }
