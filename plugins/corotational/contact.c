@@ -154,11 +154,16 @@ void corot_contact_rows(const corot_contact *contact, int dim, int p, double lin
 }
 
 int corot_contact_update(corot_contact *contact, int dim, const double *R, const double *s) {
+  for (int p = 0; p < contact->n; ++p)
+    for (int i = 0; i < dim; ++i) contact->lambda[3 * p + i] = -R[contact->node[p] * dim + i] / contact->weight[p];
+  return corot_contact_propose(contact, dim, s);
+}
+
+int corot_contact_propose(corot_contact *contact, int dim, const double *s) {
   int changes = 0;
   for (int p = 0; p < contact->n; ++p) {
     const int a = contact->node[p];
-    double *lambda = contact->lambda + 3 * p;
-    for (int i = 0; i < dim; ++i) lambda[i] = -R[a * dim + i] / contact->weight[p];
+    const double *lambda = contact->lambda + 3 * p;
     unsigned char next = COROT_INACTIVE;
     double dir[2] = {contact->dir[2 * p], contact->dir[2 * p + 1]};
     if (contact->candidate[p]) {

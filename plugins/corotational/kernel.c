@@ -226,7 +226,7 @@ double corot_angular_momentum(const corot_body *body, corot_model model, const d
   return J;
 }
 
-void corot_world(const corot_body *body, double theta, const double *u, const double *s, double *q, double *v) {
+void corot_world_state(const corot_body *body, double theta, const double *u, const double *s, double *q, double *v) {
   const int dim = body->dim;
   double R[9];
   corot_rotation(dim, body->e, theta, R);
@@ -335,22 +335,20 @@ void corot_step_free(corot_step *step) {
   memset(step, 0, sizeof *step);
 }
 
-/* Row scale of a node: the Frobenius norm over sqrt(dim) of its diagonal block of A at the predictor w, frozen for
- * the step so that the kinematic rows kappa nu . s do not depend on w. */
-static double row_scale(const corot_step *step, int node) {
-  const corot_body *body = step->body;
+double corot_row_scale(const corot_body *body, corot_model model, double dt, double w, int node) {
   const int dim = body->dim, dd = dim * dim;
   const int64_t k = body->diag[node];
+  const double a = 2.0 / dt;
   double P[9], C[9], B[9];
   corot_pi_matrix(dim, body->e, P);
-  corot_cn(dim, body->e, step->a, step->w, C);
+  corot_cn(dim, body->e, a, w, C);
   const double *S = body->stiffness + k * dd;
-  if (step->model == COROT_MODEL_1)
+  if (model == COROT_MODEL_1)
     matmul(dim, S, C, B);
   else
-    for (int i = 0; i < dd; ++i) B[i] = 0.5 * step->dt * S[i];
+    for (int i = 0; i < dd; ++i) B[i] = 0.5 * dt * S[i];
   for (int i = 0; i < dim; ++i)
-    for (int j = 0; j < dim; ++j) B[i * dim + j] += body->mass[k] * ((i == j) * step->a + step->w * P[i * dim + j]);
+    for (int j = 0; j < dim; ++j) B[i * dim + j] += body->mass[k] * ((i == j) * a + w * P[i * dim + j]);
   return sqrt(dot(dd, B, B) / dim);
 }
 
@@ -366,7 +364,9 @@ void corot_step_begin(corot_step *step, const corot_state *state_n, double dt, c
   corot_contact *contact = step->contact;
   if (!contact) return;
   corot_contact_begin_step(contact, step->body, state_n, state_n->theta + 0.5 * dt * state_n->w);
-  for (int p = 0; p < contact->n; ++p) contact->kappa[p] = row_scale(step, contact->node[p]);
+  /* frozen for the step: the kinematic rows kappa nu . s then do not depend on w */
+  for (int p = 0; p < contact->n; ++p)
+    contact->kappa[p] = corot_row_scale(step->body, step->model, dt, step->w, contact->node[p]);
 }
 
 /* C_n, the midpoint rotation and the co-rotated loads f = R_{theta^{n+1/2}}^T f_W at the current w. */

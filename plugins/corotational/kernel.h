@@ -167,6 +167,9 @@ typedef struct {
   int iterations;                /* factorisations in this step */
 } corot_step;
 
+/* Row scale kappa of a node: the Frobenius norm over sqrt(dim) of its diagonal block of A (Sec. 4.2) at rate w. */
+double corot_row_scale(const corot_body *body, corot_model model, double dt, double w, int node);
+
 int corot_step_init(corot_step *step, corot_model model, const corot_body *body, corot_contact *contact);
 void corot_step_free(corot_step *step);
 /* Starts a step from state_n over dt with world loads f_world (n, at t^{n+1/2}; NULL for none): w = state_n->w,
@@ -205,6 +208,9 @@ void corot_contact_begin_step(corot_contact *contact, const corot_body *body, co
 void corot_contact_rows(const corot_contact *contact, int dim, int p, double lin[3][3], int kinematic[3]);
 /* lambda from R (-R_p / D_pp), the NCP update into set_next/dir_next; returns the number of changes. */
 int corot_contact_update(corot_contact *contact, int dim, const double *R, const double *s);
+/* The NCP update from contact->lambda and the velocities s (body vector): proposes set_next/dir_next, returns the
+ * number of changes. */
+int corot_contact_propose(corot_contact *contact, int dim, const double *s);
 /* Node-wise complementarity of the last solution: the largest of |lambda_nu s_nu|, max(0, -lambda_nu),
  * max(0, s_nu) over candidates and max(0, |lambda_tau| - mu lambda_nu), each relative to the given scales. */
 typedef struct {
@@ -221,6 +227,72 @@ int corot_initial_state(const corot_body *body, corot_model model, double omega,
                         const corot_solver *solver, double *u0, double *s0);
 
 /* World positions q = X_c + R_theta (x + u) and velocities v = R_theta s (n each), for output and invariants. */
-void corot_world(const corot_body *body, double theta, const double *u, const double *s, double *q, double *v);
+void corot_world_state(const corot_body *body, double theta, const double *u, const double *s, double *q, double *v);
+
+/* ---- the same step posed in world positions (world.c): the unknowns of the plugin ABI -------------------------------- *
+ * The host's unknowns for a body are its world positions x at t^{n+1}; rows must stay world force balances so that
+ * other terms can add to them. With R_1 = R(theta^n + dt w), R_m = R(theta^{n+1/2}) node by node:
+ *   u^{n+1} = R_1^T (x - X_c) - x_ref,  u_h = (u^{n+1} + u^n)/2,
+ *   s = (aI + w Pi) u_h - a u^n + w Pi x_ref (Model 1, (3.4)),  s = a (u_h - u^n) + w Pi (x_ref + tau) (Model 2)
+ * and the unknowns y = [x (n) | border: alpha (Model 1) or tau = T(u_h) (Model 2, dim) | lambda (dim per contact
+ * node, co-rotated)], with the rows
+ *   body      R_m [M((a + w Pi) s - a s^n) + S u_h + alpha c - f + D lambda]            (4.2)/(4.1) rotated
+ *   border    a c . u_h (Model 1, (4.3))  or  m tau - 1^T M u_h (Model 2)
+ *   lambda    inactive: D_pp lambda_p;  stick: kappa nu.s_p, kappa tau_k.s_p;  slip: kappa nu.s_p,
+ *             D_pp (tau_k - mu d_k nu).lambda_p                                              (5.1) with lambda kept
+ * and the rotation equation g(w) (4.4')/(2.8), which the plugin eliminates: w is updated from a second solve with
+ * the same matrix (the derivative column dF/dw), as the paper's outer Newton (Sec. 5.3). For fixed w and sets the
+ * rows are linear in y; their solution is the solution of the s-form above. */
+typedef struct {
+  corot_model model;
+  const corot_body *body;
+  corot_contact *contact;        /* NULL: free flight */
+  int n_border, n_lambda, N;     /* N = n + n_border + n_lambda */
+  const corot_state *state_n;
+  const double *f_world;
+  double dt, a, w;
+  double R1[9], Rm[9], P[9];
+  double energy_n, omega_ref;
+  double *f, *u1, *u_h, *s, *Su_h, *Rin, *work, *work2; /* n each */
+  double T_h[3];
+} corot_world;
+
+/* d(rows)/dy in blocks: the body rows over the node graph, the border, and per contact node. */
+typedef struct {
+  double *blocks;                /* d body_a / d x_b per graph entry (dim x dim) */
+  double *col[3];                /* d body / d border_j (n each) */
+  double *row[3];                /* d border_i / d x (n each) */
+  double corner[9];              /* d border_i / d border_j, row-major n_border x n_border */
+  double *body_lambda;           /* per contact node p: d body_{node p} / d lambda_p (dim x dim) */
+  double *lambda_x;              /* per p: d lambda-rows_p / d x_{node p} (dim x dim) */
+  double *lambda_lambda;         /* per p: d lambda-rows_p / d lambda_p (dim x dim) */
+  double *lambda_border;         /* per p: d lambda-rows_p / d border (dim x 3) */
+} corot_world_jacobian;
+
+int corot_world_init(corot_world *cw, corot_model model, const corot_body *body, corot_contact *contact);
+void corot_world_free(corot_world *cw);
+int corot_world_jacobian_alloc(corot_world_jacobian *J, const corot_world *cw);
+void corot_world_jacobian_free(corot_world_jacobian *J);
+/* Starts a step like corot_step_begin (w = state_n->w, gaps, frames, row scales). */
+void corot_world_begin(corot_world *cw, const corot_state *state_n, double dt, const double *f_world);
+/* Sets the rotation rate: R_1, R_m and the co-rotated loads. */
+void corot_world_set_w(corot_world *cw, double w);
+/* u^{n+1}, u_h, s, T(u_h) from y. */
+void corot_world_kinematics(corot_world *cw, const double *y);
+/* F (N entries) and g at y (after corot_world_kinematics(y)). */
+void corot_world_residual(corot_world *cw, const double *y, double *F, double *g);
+/* dF/dy at y. */
+void corot_world_jacobian_eval(corot_world *cw, const double *y, corot_world_jacobian *J);
+/* dF/dw (N entries) and the gradient of g: dg/dy (N entries, zero on lambda) and dg/dw, at fixed y. */
+void corot_world_dw(corot_world *cw, const double *y, double *dF, double *dg_dy, double *dg_dw);
+/* The scale of g (as corot_step) and g's row scale in F: 1/L (Model 1, a torque) or a^2/L (Model 2). */
+double corot_world_g_ref(const corot_world *cw);
+/* The predictor: positions y[0..n) at t from s = s^n and w = state_n->w, border values (alpha = 0, tau), lambda from
+ * the committed multipliers (contact->lambda). */
+void corot_world_predict(corot_world *cw, double *y);
+/* lambda of y into contact->lambda and the proposed sets; returns the number of changes. */
+int corot_world_propose_sets(corot_world *cw, const double *y);
+/* The converged step: state_next (u^{n+1}, s^{n+1}, theta^{n+1}, w), committed sets; returns the friction work. */
+double corot_world_commit(corot_world *cw, const double *y, corot_state *state_next);
 
 #endif
