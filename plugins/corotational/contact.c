@@ -14,12 +14,11 @@ static double dot(int n, const double *a, const double *b) {
 }
 
 int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, const double *weight,
-                       int n_planes, const corot_plane *planes, double mu, double c_n, double c_t) {
+                       int n_planes, const corot_plane *planes, double c_n, double c_t) {
   memset(contact, 0, sizeof *contact);
-  if (n < 0 || n_planes < 0 || !(mu >= 0.0) || !(c_n > 0.0) || !(c_t > 0.0)) return -1;
+  if (n < 0 || n_planes < 0 || n_planes > COROT_MAX_PLANES || !(c_n > 0.0) || !(c_t > 0.0)) return -1;
   contact->n = n;
   contact->n_planes = n_planes;
-  contact->mu = mu;
   contact->c_n = c_n;
   contact->c_t = c_t;
   /* A 3D slip direction is a fixed point of the iteration; it counts as settled once it moves less than this
@@ -29,6 +28,7 @@ int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, 
   contact->node = calloc(m, sizeof(int));
   contact->weight = calloc(m, sizeof(double));
   contact->planes = calloc((size_t)(n_planes > 0 ? n_planes : 1), sizeof(corot_plane));
+  contact->mask = calloc(m, sizeof(uint32_t));
   contact->plane = calloc(m, sizeof(int));
   contact->gap = calloc(m, sizeof(double));
   contact->candidate = calloc(m, 1);
@@ -41,7 +41,7 @@ int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, 
   contact->dir_next = calloc(2 * m, sizeof(double));
   contact->dir_committed = calloc(2 * m, sizeof(double));
   contact->lambda = calloc(3 * m, sizeof(double));
-  if (!contact->node || !contact->weight || !contact->planes || !contact->plane || !contact->gap ||
+  if (!contact->node || !contact->weight || !contact->planes || !contact->mask || !contact->plane || !contact->gap ||
       !contact->candidate || !contact->frame || !contact->kappa || !contact->set || !contact->set_next ||
       !contact->set_committed || !contact->dir || !contact->dir_next || !contact->dir_committed ||
       !contact->lambda) {
@@ -55,12 +55,13 @@ int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, 
     }
     contact->node[p] = node[p];
     contact->weight[p] = weight[p];
+    contact->mask[p] = ~0u;
   }
   for (int k = 0; k < n_planes; ++k) {
     corot_plane plane = planes[k];
     if (dim == 2) plane.normal[2] = plane.point[2] = 0.0;
     const double norm = sqrt(dot(3, plane.normal, plane.normal));
-    if (!(norm > 0.0)) {
+    if (!(norm > 0.0) || !(plane.mu >= 0.0)) {
       corot_contact_free(contact);
       return -1;
     }
@@ -70,8 +71,12 @@ int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, 
   return 0;
 }
 
+double corot_contact_mu(const corot_contact *contact, int p) {
+  return contact->n_planes > 0 ? contact->planes[contact->plane[p]].mu : 0.0;
+}
+
 void corot_contact_free(corot_contact *contact) {
-  void *arrays[] = {contact->node,      contact->weight,   contact->planes,        contact->plane,
+  void *arrays[] = {contact->node,      contact->weight,   contact->planes,        contact->plane,      contact->mask,
                     contact->gap,       contact->candidate, contact->frame,        contact->kappa,
                     contact->set,       contact->set_next, contact->set_committed, contact->dir,
                     contact->dir_next,  contact->dir_committed, contact->lambda};
@@ -114,6 +119,7 @@ void corot_contact_begin_step(corot_contact *contact, const corot_body *body, co
     int best = 0;
     double best_gap = INFINITY;
     for (int k = 0; k < contact->n_planes; ++k) {
+      if (!(contact->mask[p] >> k & 1u)) continue;
       double d[3];
       for (int i = 0; i < 3; ++i) d[i] = phi[i] - contact->planes[k].point[i];
       const double gap = dot(dim, d, contact->planes[k].normal);
@@ -121,10 +127,10 @@ void corot_contact_begin_step(corot_contact *contact, const corot_body *body, co
     }
     contact->plane[p] = best;
     contact->gap[p] = best_gap;
-    contact->candidate[p] = contact->n_planes > 0 && best_gap <= 0.0;
+    contact->candidate[p] = best_gap <= 0.0; /* INFINITY when the node may touch no plane */
     double *F = contact->frame + 9 * p, mn[3];
     memset(F, 0, 9 * sizeof *F);
-    for (int i = 0; i < dim; ++i) mn[i] = contact->n_planes > 0 ? -contact->planes[best].normal[i] : 0.0;
+    for (int i = 0; i < dim; ++i) mn[i] = contact->n_planes > 0 ? -contact->planes[best].normal[i] : (i == 1);
     corot_mul_t(dim, Rs, mn, F); /* nu = -R_{theta*}^T n: the body's side of the back-rotated plane */
     complete_frame(dim, body->e, F);
     contact->set[p] = contact->candidate[p] ? contact->set_committed[p] : COROT_INACTIVE;
@@ -148,7 +154,7 @@ void corot_contact_rows(const corot_contact *contact, int dim, int p, double lin
       /* nu . s = 0; (tau_k - mu d_k nu) . R_p = 0 (lambda_tau = mu lambda_nu d, lambda = -R_p / D_pp) */
       kinematic[0] = 1;
       for (int k = 1; k < dim; ++k)
-        for (int l = 0; l < dim; ++l) lin[k][l] = F[3 * k + l] - contact->mu * contact->dir[2 * p + k - 1] * F[l];
+        for (int l = 0; l < dim; ++l) lin[k][l] = F[3 * k + l] - corot_contact_mu(contact, p) * contact->dir[2 * p + k - 1] * F[l];
       break;
   }
 }
@@ -172,14 +178,15 @@ int corot_contact_propose(corot_contact *contact, int dim, const double *s) {
       const double Lambda_n = dot(dim, F, lambda) + contact->c_n * scale * dot(dim, F, sp);
       if (Lambda_n > 0.0) {
         next = COROT_SLIP;
-        if (contact->mu > 0.0) {
+        const double mu = corot_contact_mu(contact, p);
+        if (mu > 0.0) {
           double Lt[2] = {0, 0}, norm = 0.0;
           for (int k = 1; k < dim; ++k) {
             Lt[k - 1] = dot(dim, F + 3 * k, lambda) + contact->c_t * scale * dot(dim, F + 3 * k, sp);
             norm += Lt[k - 1] * Lt[k - 1];
           }
           norm = sqrt(norm);
-          if (norm < contact->mu * Lambda_n) {
+          if (norm < mu * Lambda_n) {
             next = COROT_STICK;
           } else {
             dir[0] = Lt[0] / norm;
@@ -189,7 +196,7 @@ int corot_contact_propose(corot_contact *contact, int dim, const double *s) {
       }
     }
     int changed = next != contact->set[p];
-    if (!changed && next == COROT_SLIP && contact->mu > 0.0) {
+    if (!changed && next == COROT_SLIP && corot_contact_mu(contact, p) > 0.0) {
       const double d0 = dir[0] - contact->dir[2 * p], d1 = dir[1] - contact->dir[2 * p + 1];
       changed = sqrt(d0 * d0 + d1 * d1) > contact->direction_tol;
     }
@@ -215,7 +222,7 @@ void corot_contact_check(const corot_contact *contact, int dim, const double *s,
     out->product = fmax(out->product, fabs(ln * sn));
     out->negative_pressure = fmax(out->negative_pressure, -ln);
     out->penetration_rate = fmax(out->penetration_rate, sn);
-    out->friction_excess = fmax(out->friction_excess, sqrt(lt2) - contact->mu * fmax(ln, 0.0));
+    out->friction_excess = fmax(out->friction_excess, sqrt(lt2) - corot_contact_mu(contact, p) * fmax(ln, 0.0));
     out->active += contact->set[p] != COROT_INACTIVE;
     out->stick += contact->set[p] == COROT_STICK;
     out->slip += contact->set[p] == COROT_SLIP;

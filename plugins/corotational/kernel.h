@@ -101,7 +101,10 @@ void corot_system_apply(const corot_system *system, const double *y, double *out
 typedef struct {
   double point[3];
   double normal[3];              /* unit world normal out of the obstacle, towards the body */
+  double mu;                     /* Coulomb coefficient against this plane (0: frictionless) */
 } corot_plane;
+
+enum { COROT_MAX_PLANES = 32 };
 
 typedef enum { COROT_INACTIVE = 0, COROT_STICK = 1, COROT_SLIP = 2 } corot_set;
 
@@ -111,7 +114,7 @@ typedef struct {
   double *weight;                /* D_pp = integral of phi_p over the contact surface (owned copy) */
   int n_planes;
   corot_plane *planes;           /* owned copy */
-  double mu;                     /* Coulomb coefficient (0: frictionless) */
+  uint32_t *mask;                /* per node: bit k set when the node may touch plane k (all by default) */
   double c_n, c_t;               /* NCP constants relative to the node scale kappa_p / D_pp */
   double direction_tol;          /* 3D slip direction change that counts as a set change */
   /* per step */
@@ -125,9 +128,12 @@ typedef struct {
   double *lambda;                /* co-rotated multiplier of the last solve (3 per node) */
 } corot_contact;
 
-/* Copies the slave nodes, weights and planes; allocates the per-step arrays. Returns 0 or -1 (bad weight). */
+/* Copies the slave nodes, weights and planes (at most COROT_MAX_PLANES); allocates the per-step arrays. Returns 0 or
+ * -1 (bad weight, normal or mu). */
 int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, const double *weight,
-                       int n_planes, const corot_plane *planes, double mu, double c_n, double c_t);
+                       int n_planes, const corot_plane *planes, double c_n, double c_t);
+/* The Coulomb coefficient of node p against its current plane. */
+double corot_contact_mu(const corot_contact *contact, int p);
 void corot_contact_free(corot_contact *contact);
 
 /* ---- the step (kernel.c, step.c) --------------------------------------------------------------------------------------- */
@@ -220,11 +226,12 @@ typedef struct {
 void corot_contact_check(const corot_contact *contact, int dim, const double *s, corot_complementarity *out);
 
 /* ---- initial state (step.c) ------------------------------------------------------------------------------------------ */
-/* Steady spin theta'_0 about e with world translation velocity V0 (Sec. 6.1): u0, s0 (n each). Model 1 solves
- * (S + w0^2 M Pi^2) u0 = -w0^2 M Pi^2 x (3D: with the axial mean of u0 fixed to 0), Model 2 S u0 = -w0^2 M Pi^2 x
- * with all rigid modes fixed (Z^T M u0 = 0). Returns 0 or the solver's failure. */
-int corot_initial_state(const corot_body *body, corot_model model, double omega, const double V0[3],
-                        const corot_solver *solver, double *u0, double *s0);
+/* Steady spin theta'_0 = omega about e with world translation velocity V0 (Sec. 6.1): u0, s0 (n each). Model 1
+ * solves (S + w0^2 M Pi^2) u0 = -w0^2 M Pi^2 x, Model 2 S u0 = -w0^2 M Pi^2 x, both with the rigid modes fixed
+ * (Z^T M u0 = 0), by projected conjugate gradients to the relative residual tol. Returns 0, 1 when the iterations
+ * ran out, -1 when the operator is not positive (w0 at an elastic frequency) or out of memory. */
+int corot_initial_state(const corot_body *body, corot_model model, double omega, const double V0[3], double tol,
+                        double *u0, double *s0, int *iterations);
 
 /* World positions q = X_c + R_theta (x + u) and velocities v = R_theta s (n each), for output and invariants. */
 void corot_world_state(const corot_body *body, double theta, const double *u, const double *s, double *q, double *v);

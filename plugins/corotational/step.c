@@ -50,53 +50,100 @@ static int rigid_modes(const corot_body *body, double *Z[COROT_MAX_BORDER]) {
   return count;
 }
 
-int corot_initial_state(const corot_body *body, corot_model model, double omega, const double V0[3],
-                        const corot_solver *solver, double *u0, double *s0) {
-  const int dim = body->dim, n = body->n, dd = dim * dim;
+static double dotn(int n, const double *a, const double *b) {
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+/* v -= Q Q^T v with the orthonormal columns Q[j]. */
+static void project(int n, int k, double *const *Q, double *v) {
+  for (int j = 0; j < k; ++j) {
+    const double c = dotn(n, Q[j], v);
+    for (int i = 0; i < n; ++i) v[i] -= c * Q[j][i];
+  }
+}
+
+/* out = K v: S v + w0^2 M Pi^2 v (Model 1) or S v (Model 2). t, Mt: n scratch entries each. */
+static void steady_operator(const corot_body *body, corot_model model, double w2, const double *v, double *out,
+                            double *t, double *Mt) {
+  corot_stiffness_apply(body, v, out);
+  if (model != COROT_MODEL_1) return;
+  for (int a = 0; a < body->n_nodes; ++a) {
+    double pv[3];
+    corot_pi(body->dim, body->e, v + a * body->dim, pv);
+    corot_pi(body->dim, body->e, pv, t + a * body->dim);
+  }
+  corot_mass_apply(body, t, Mt);
+  for (int i = 0; i < body->n; ++i) out[i] += w2 * Mt[i];
+}
+
+int corot_initial_state(const corot_body *body, corot_model model, double omega, const double V0[3], double tol,
+                        double *u0, double *s0, int *iterations) {
+  const int dim = body->dim, n = body->n, k = dim == 2 ? 3 : 6;
   memset(u0, 0, sizeof(double) * (size_t)n);
+  *iterations = 0;
   int status = 0;
   if (omega != 0.0) {
-    /* Model 1: (S + w0^2 M Pi^2) u0 = -w0^2 M Pi^2 x; Model 2: S u0 = -w0^2 M Pi^2 x. Both bordered by the rigid
-     * modes (Z^T M u0 = 0): Model 2 needs them (S is singular); in Model 1 they hold by themselves in 2D (test with
-     * v = Pi x, v = t) and keep the system well conditioned for small w0; in 3D they also fix the axial translation
-     * (Pi^2 e = 0) and the two rotations about axes normal to e (zero for a body with e as a principal axis). */
-    corot_system system;
-    const int n_modes = dim == 2 ? 3 : 6;
-    if (corot_system_alloc(&system, body, n_modes) != 0) return -1;
-    double *rhs = calloc((size_t)(n + n_modes), sizeof(double)), *y = calloc((size_t)(n + n_modes), sizeof(double));
-    double *t = calloc((size_t)n, sizeof(double));
-    if (!rhs || !y || !t) status = -1;
-    if (status == 0) {
-      double P[9], P2[9];
-      corot_pi_matrix(dim, body->e, P);
-      for (int i = 0; i < dim; ++i)
-        for (int j = 0; j < dim; ++j) {
-          double sum = 0.0;
-          for (int k = 0; k < dim; ++k) sum += P[i * dim + k] * P[k * dim + j];
-          P2[i * dim + j] = sum;
-        }
-      const double w2 = omega * omega;
-      for (int64_t k = 0; k < body->row_ptr[body->n_nodes]; ++k) {
-        double *B = system.blocks + k * dd;
-        memcpy(B, body->stiffness + k * dd, sizeof(double) * (size_t)dd);
-        if (model == COROT_MODEL_1)
-          for (int i = 0; i < dd; ++i) B[i] += w2 * body->mass[k] * P2[i];
-      }
-      rigid_modes(body, system.border_row);
-      for (int j = 0; j < n_modes; ++j) {
-        corot_mass_apply(body, system.border_row[j], system.border_col[j]);
-        memcpy(system.border_row[j], system.border_col[j], sizeof(double) * (size_t)n);
-      }
-      for (int a = 0; a < body->n_nodes; ++a) corot_mul(dim, P2, body->x + a * dim, t + a * dim);
-      corot_mass_apply(body, t, rhs);
-      for (int i = 0; i < n; ++i) rhs[i] *= -w2;
-      if (solver->factor(solver->ctx, &system) != 0 || solver->solve(solver->ctx, rhs, y) != 0) status = -1;
-      if (status == 0) memcpy(u0, y, sizeof(double) * (size_t)n);
+    /* Model 1: (S + w0^2 M Pi^2) u0 = -w0^2 M Pi^2 x; Model 2: S u0 = -w0^2 M Pi^2 x; both on Z^T M u0 = 0 with the
+     * rigid modes Z: Model 2 needs them (S is singular); in Model 1 they hold by themselves in 2D (test with
+     * v = Pi x, v = t) and keep the problem well posed for small w0; in 3D they also fix the axial translation
+     * (Pi^2 e = 0) and the two rotations about axes normal to e (zero for a body with e as a principal axis).
+     * Projected conjugate gradients (K is symmetric and positive on the complement of Z for w0 below the first
+     * elastic frequency): the residual is kept orthogonal to M Z, i.e. K u0 = rhs + M Z mu. */
+    double *Z[COROT_MAX_BORDER], *Q[COROT_MAX_BORDER], *r, *p, *q, *t, *t2;
+    double *buffer = calloc((size_t)(2 * k + 5) * (size_t)n, sizeof(double));
+    if (!buffer) return -1;
+    for (int j = 0; j < k; ++j) {
+      Z[j] = buffer + (size_t)j * n;
+      Q[j] = buffer + (size_t)(k + j) * n;
     }
-    free(rhs);
-    free(y);
-    free(t);
-    corot_system_free(&system);
+    r = buffer + (size_t)(2 * k) * n, p = r + n, q = p + n, t = q + n, t2 = t + n;
+    rigid_modes(body, Z);
+    for (int j = 0; j < k; ++j) { /* Q = orthonormal basis of M Z (Gram-Schmidt, twice for round-off) */
+      corot_mass_apply(body, Z[j], Q[j]);
+      for (int pass = 0; pass < 2; ++pass) project(n, j, Q, Q[j]);
+      const double norm = sqrt(dotn(n, Q[j], Q[j]));
+      for (int i = 0; i < n; ++i) Q[j][i] /= norm;
+    }
+    const double w2 = omega * omega;
+    for (int a = 0; a < body->n_nodes; ++a) {
+      double px[3];
+      corot_pi(dim, body->e, body->x + a * dim, px);
+      corot_pi(dim, body->e, px, t + a * dim);
+    }
+    corot_mass_apply(body, t, r);
+    for (int i = 0; i < n; ++i) r[i] *= -w2;
+    project(n, k, Q, r);
+    memcpy(p, r, sizeof(double) * (size_t)n);
+    const double r0 = sqrt(dotn(n, r, r));
+    double rr = r0 * r0;
+    status = 1;
+    for (int it = 1; it <= 20 * n && r0 > 0.0; ++it) {
+      steady_operator(body, model, w2, p, q, t, t2);
+      project(n, k, Q, q);
+      const double pq = dotn(n, p, q);
+      if (!(pq > 0.0)) { /* K is not positive on the complement: w0 at or above an elastic frequency */
+        status = -1;
+        break;
+      }
+      const double alpha = rr / pq;
+      for (int i = 0; i < n; ++i) {
+        u0[i] += alpha * p[i];
+        r[i] -= alpha * q[i];
+      }
+      const double rr_next = dotn(n, r, r);
+      *iterations = it;
+      if (sqrt(rr_next) <= tol * r0) {
+        status = 0;
+        break;
+      }
+      for (int i = 0; i < n; ++i) p[i] = r[i] + (rr_next / rr) * p[i];
+      rr = rr_next;
+    }
+    if (r0 == 0.0) status = 0;
+    project(n, k, Q, u0); /* u0 is in the complement up to the iteration's round-off */
+    free(buffer);
     if (status != 0) return status;
   }
   /* s0 = w0 Pi (x + u0) + V0 (Model 1) or w0 Pi x + V0 (Model 2) */

@@ -228,6 +228,13 @@ static inline double corot_rand(void) {
   return (double)((corot_rng * 2685821657736338717ull) >> 11) / 4503599627370496.0 - 1.0;
 }
 
+/* The steady initial state to round-off (projected CG to 1e-13). */
+static inline int initial_state(const corot_body *b, corot_model model, double omega, const double V0[3],
+                                corot_state *state) {
+  int iterations;
+  return corot_initial_state(b, model, omega, V0, 1e-13, state->u, state->s, &iterations);
+}
+
 static double vec_norm(int n, const double *v) {
   double s = 0.0;
   for (int i = 0; i < n; ++i) s += v[i] * v[i];

@@ -102,10 +102,9 @@ static void fixture_init(step_fixture *fx, test_body *tb, corot_model model, dou
   }
   fx->state.theta = 0.4;
   fx->state.w = 7.0;
-  corot_plane plane = {.point = {0, 0, 0}, .normal = {0, 1, 0}};
+  corot_plane plane = {.point = {0, 0, 0}, .normal = {0, 1, 0}, .mu = mu};
   /* a plane through the centre: half the contact nodes are candidates */
-  corot_contact_init(&fx->contact, b->dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, mu, 1.0,
-                     1.0);
+  corot_contact_init(&fx->contact, b->dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, 1.0, 1.0);
   corot_step_init(&fx->step, model, b, &fx->contact);
   corot_step_begin(&fx->step, &fx->state, 0.01, fx->f_world);
   int k = 0;

@@ -57,9 +57,8 @@ static void fixture_init(world_fixture *fx, test_body *tb, corot_model model, do
   }
   fx->state.theta = 0.4;
   fx->state.w = 7.0;
-  corot_plane plane = {.point = {0, 0, 0}, .normal = {0, 1, 0}};
-  corot_contact_init(&fx->contact, b->dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, mu, 1.0,
-                     1.0);
+  corot_plane plane = {.point = {0, 0, 0}, .normal = {0, 1, 0}, .mu = mu};
+  corot_contact_init(&fx->contact, b->dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, 1.0, 1.0);
   corot_world_init(&fx->cw, model, b, &fx->contact);
   corot_world_jacobian_alloc(&fx->J, &fx->cw);
   corot_world_begin(&fx->cw, &fx->state, 0.01, fx->f_world);
@@ -230,15 +229,15 @@ static void test_equivalence(test_body *tb, corot_model model, double mu) {
   const int n = b->n, dim = b->dim;
   dense_lu lu = {0};
   corot_solver solver = dense_solver(&lu);
-  corot_plane plane = {.point = {0, -1.1, 0}, .normal = {0, 1, 0}};
+  corot_plane plane = {.point = {0, -1.1, 0}, .normal = {0, 1, 0}, .mu = mu};
   corot_contact c1, c2;
-  corot_contact_init(&c1, dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, mu, 1.0, 1.0);
-  corot_contact_init(&c2, dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, mu, 1.0, 1.0);
+  corot_contact_init(&c1, dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, 1.0, 1.0);
+  corot_contact_init(&c2, dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, 1.0, 1.0);
   corot_state s1, s2;
   corot_state_alloc(&s1, b);
   corot_state_alloc(&s2, b);
   const double V0[3] = {2.0, -5.0, 0.0}, dt = 0.004;
-  corot_initial_state(b, model, 3.0, V0, &solver, s1.u, s1.s);
+  SK_CHECK(initial_state(b, model, 3.0, V0, &s1) == 0);
   memcpy(s2.u, s1.u, sizeof(double) * (size_t)n);
   memcpy(s2.s, s1.s, sizeof(double) * (size_t)n);
   s1.w = s2.w = 3.0;
