@@ -208,6 +208,11 @@ int corot_contact_propose(corot_contact *contact, int dim, const double *s) {
   return changes;
 }
 
+void corot_contact_apply(corot_contact *contact) {
+  memcpy(contact->set, contact->set_next, (size_t)contact->n);
+  memcpy(contact->dir, contact->dir_next, sizeof(double) * 2 * (size_t)contact->n);
+}
+
 void corot_contact_check(const corot_contact *contact, int dim, const double *s, corot_complementarity *out) {
   memset(out, 0, sizeof *out);
   for (int p = 0; p < contact->n; ++p) {

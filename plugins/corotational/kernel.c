@@ -603,10 +603,7 @@ double corot_step_dg(corot_step *step, const double *y, const double *dy) {
 }
 
 void corot_step_apply_sets(corot_step *step) {
-  corot_contact *contact = step->contact;
-  if (!contact) return;
-  memcpy(contact->set, contact->set_next, (size_t)contact->n);
-  memcpy(contact->dir, contact->dir_next, sizeof(double) * 2 * (size_t)contact->n);
+  if (step->contact) corot_contact_apply(step->contact);
 }
 
 double corot_step_commit(corot_step *step, corot_state *next) {

@@ -217,6 +217,8 @@ int corot_contact_update(corot_contact *contact, int dim, const double *R, const
 /* The NCP update from contact->lambda and the velocities s (body vector): proposes set_next/dir_next, returns the
  * number of changes. */
 int corot_contact_propose(corot_contact *contact, int dim, const double *s);
+/* Adopts the proposed sets and slip directions. */
+void corot_contact_apply(corot_contact *contact);
 /* Node-wise complementarity of the last solution: the largest of |lambda_nu s_nu|, max(0, -lambda_nu),
  * max(0, s_nu) over candidates and max(0, |lambda_tau| - mu lambda_nu), each relative to the given scales. */
 typedef struct {
