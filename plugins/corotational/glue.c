@@ -239,31 +239,6 @@ void glue_destroy_body(sk_instance *inst) {
   inst->body = NULL;
 }
 
-sk_status glue_register_pair(sk_instance *owner, sk_instance *pair, const sk_view *slave, const sk_obstacle *obstacle,
-                             double mu, int *index) {
-  glue_body *b = owner->body;
-  if (b->contact_ready)
-    return pair->api->error(pair->host, SK_ERR_INTERNAL, "a contact pair was created after the body's first step");
-  if (b->n_pairs == COROT_MAX_PLANES)
-    return pair->api->error(pair->host, SK_ERR_INPUT, "a corotational body takes at most %d contact pairs",
-                            COROT_MAX_PLANES);
-  b->pairs[b->n_pairs] = (glue_pair){pair, slave, obstacle, mu, NULL};
-  *index = b->n_pairs++;
-  return SK_OK;
-}
-
-/* ---- the contact of the registered pairs (built once, at the first step) ------------------------------------------ */
-
-typedef struct {
-  int64_t id;
-  int node;
-} id_entry;
-
-static int compare_id(const void *a, const void *b) {
-  const int64_t x = ((const id_entry *)a)->id, y = ((const id_entry *)b)->id;
-  return (x > y) - (x < y);
-}
-
 /* A rigid plane from an obstacle: projections of two points must give one normal and one plane. */
 static sk_status plane_of(sk_instance *inst, const glue_pair *pair, corot_plane *plane) {
   const sk_contact_services *cs = inst->api->contact;
@@ -291,6 +266,32 @@ static sk_status plane_of(sk_instance *inst, const glue_pair *pair, corot_plane 
   }
   plane->mu = pair->mu;
   return SK_OK;
+}
+
+sk_status glue_register_pair(sk_instance *owner, sk_instance *pair, const sk_view *slave, const sk_obstacle *obstacle,
+                             double mu, int *index) {
+  glue_body *b = owner->body;
+  if (b->contact_ready)
+    return pair->api->error(pair->host, SK_ERR_INTERNAL, "a contact pair was created after the body's first step");
+  if (b->n_pairs == COROT_MAX_PLANES)
+    return pair->api->error(pair->host, SK_ERR_INPUT, "a corotational body takes at most %d contact pairs",
+                            COROT_MAX_PLANES);
+  b->pairs[b->n_pairs] = (glue_pair){.instance = pair, .slave = slave, .obstacle = obstacle, .mu = mu};
+  SK_TRY(plane_of(owner, &b->pairs[b->n_pairs], &b->pairs[b->n_pairs].plane));
+  *index = b->n_pairs++;
+  return SK_OK;
+}
+
+/* ---- the contact of the registered pairs (built once, at the first step) ------------------------------------------ */
+
+typedef struct {
+  int64_t id;
+  int node;
+} id_entry;
+
+static int compare_id(const void *a, const void *b) {
+  const int64_t x = ((const id_entry *)a)->id, y = ((const id_entry *)b)->id;
+  return (x > y) - (x < y);
 }
 
 /* D_pp = integral of phi_p over the slave surface (reference), accumulated into weight[slave view node]. */
@@ -325,7 +326,7 @@ static sk_status build_contact(sk_instance *inst) {
   }
   for (int k = 0; k < b->n_pairs && status == SK_OK; ++k) {
     const sk_view *slave = b->pairs[k].slave;
-    status = plane_of(inst, &b->pairs[k], &planes[k]);
+    planes[k] = b->pairs[k].plane;
     double *w = status == SK_OK ? calloc((size_t)slave->n_nodes, sizeof(double)) : NULL;
     b->pairs[k].body_node = status == SK_OK ? malloc(sizeof(int) * (size_t)slave->n_nodes) : NULL;
     if (status == SK_OK && (!w || !b->pairs[k].body_node)) status = nomem(inst);

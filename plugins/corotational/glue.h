@@ -16,6 +16,7 @@ typedef struct {
   const sk_obstacle *obstacle;
   double mu;
   int *body_node;                /* per slave view node: its body view node */
+  corot_plane plane;             /* the obstacle as a plane (checked at create) */
 } glue_pair;
 
 typedef struct {

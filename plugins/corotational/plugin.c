@@ -162,4 +162,5 @@ static const sk_plugin plugin = {
     .get_extension = NULL,
 };
 
-__attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void) { return &plugin; }
+__attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);
+const sk_plugin *stickslip_plugin_entry(void) { return &plugin; }

@@ -235,7 +235,7 @@ static inline int initial_state(const corot_body *b, corot_model model, double o
   return corot_initial_state(b, model, omega, V0, 1e-13, state->u, state->s, &iterations);
 }
 
-static double vec_norm(int n, const double *v) {
+static inline double vec_norm(int n, const double *v) {
   double s = 0.0;
   for (int i = 0; i < n; ++i) s += v[i] * v[i];
   return sqrt(s);
