@@ -1,4 +1,5 @@
-/* corotational — the ABI glue's shared state (plugin.c: tables and pairs; glue.c: the body instance's calls). */
+/* corotational — the ABI glue's shared state (plugin.c: tables and pairs; glue_setup.c: the body's setup; glue.c:
+ * its calls in a step). */
 #ifndef COROT_GLUE_H
 #define COROT_GLUE_H
 
@@ -71,10 +72,16 @@ struct sk_instance {
   int pair_index;                /* kind pair: its plane among the body's */
 };
 
+/* glue_setup.c */
 sk_status glue_create_body(sk_instance *inst);
+sk_status glue_build_contact(sk_instance *inst);
+sk_status glue_ensure_started(sk_instance *inst, const sk_state *state);
+sk_status glue_publish_state(sk_instance *inst);
+sk_status glue_nomem(sk_instance *inst);
 void glue_destroy_body(sk_instance *inst);
 sk_status glue_register_pair(sk_instance *owner, sk_instance *pair, const sk_view *slave, const sk_obstacle *obstacle,
                              double mu, int *index);
+/* glue.c */
 sk_status glue_begin_step(sk_instance *inst, const sk_state *state);
 sk_status glue_layout(sk_instance *inst, const sk_state *state, sk_layout *layout);
 sk_status glue_pattern(sk_instance *inst, const sk_state *state, sk_pattern *pattern);
