@@ -189,8 +189,16 @@ int corot_contact_propose(corot_contact *contact, int dim, const double *s) {
           if (norm < mu * Lambda_n) {
             next = COROT_STICK;
           } else {
-            dir[0] = Lt[0] / norm;
-            dir[1] = dim == 3 ? Lt[1] / norm : 0.0;
+            double d[2] = {Lt[0] / norm, dim == 3 ? Lt[1] / norm : 0.0};
+            /* A slip that reverses its direction passes through stick: proposing the opposite slip straight away
+             * made the iteration cycle (two rim nodes of the ball between two planes flipped +1/-1 every iteration
+             * while w swung between -1 and 7: test_corot_step, test_two_planes). */
+            if (contact->set[p] == COROT_SLIP && d[0] * dir[0] + d[1] * dir[1] < 0.0) {
+              next = COROT_STICK;
+            } else {
+              dir[0] = d[0];
+              dir[1] = d[1];
+            }
           }
         }
       }

@@ -21,7 +21,7 @@ typedef struct {
   int factorisations, solves;
 } dense_lu;
 
-static int dense_factor(void *ctx, const corot_system *sys) {
+static inline int dense_factor(void *ctx, const corot_system *sys) {
   dense_lu *lu = ctx;
   const int n = sys->n, N = n + sys->n_border, dim = sys->dim, dd = dim * dim;
   if (lu->N != N) {
@@ -67,7 +67,7 @@ static int dense_factor(void *ctx, const corot_system *sys) {
   return 0;
 }
 
-static int dense_solve(void *ctx, const double *rhs, double *x) {
+static inline int dense_solve(void *ctx, const double *rhs, double *x) {
   dense_lu *lu = ctx;
   const int N = lu->N;
   if (x != rhs) memcpy(x, rhs, sizeof(double) * (size_t)N);
@@ -89,13 +89,13 @@ static int dense_solve(void *ctx, const double *rhs, double *x) {
   return 0;
 }
 
-static void dense_free(dense_lu *lu) {
+static inline void dense_free(dense_lu *lu) {
   free(lu->A);
   free(lu->piv);
   memset(lu, 0, sizeof *lu);
 }
 
-static corot_solver dense_solver(dense_lu *lu) {
+static inline corot_solver dense_solver(dense_lu *lu) {
   corot_solver s = {.ctx = lu, .factor = dense_factor, .solve = dense_solve};
   return s;
 }
@@ -113,9 +113,9 @@ typedef struct {
   corot_body body;
 } test_body;
 
-static int cmp_int(const void *a, const void *b) { return (*(const int *)a > *(const int *)b) - (*(const int *)a < *(const int *)b); }
+static inline int cmp_int(const void *a, const void *b) { return (*(const int *)a > *(const int *)b) - (*(const int *)a < *(const int *)b); }
 
-static int64_t graph_find(const test_body *tb, int a, int b) {
+static inline int64_t graph_find(const test_body *tb, int a, int b) {
   for (int64_t k = tb->row_ptr[a]; k < tb->row_ptr[a + 1]; ++k)
     if (tb->cols[k] == b) return k;
   return -1;
@@ -123,7 +123,7 @@ static int64_t graph_find(const test_body *tb, int a, int b) {
 
 /* Loads `path` with the given parameters, assembles M and the Hooke S of group `body` (E, nu, rho) and the contact
  * weights of the face group `surface` (may be NULL). Returns 0 on success. */
-static int test_body_load(test_body *tb, const char *path, const sk_mesh_param *params, int n_params, const char *body,
+static inline int test_body_load(test_body *tb, const char *path, const sk_mesh_param *params, int n_params, const char *body,
                           const char *surface, double E, double nu, double rho, const double axis[3]) {
   memset(tb, 0, sizeof *tb);
   if (sk_mesh_load(path, params, n_params, 0, &tb->mesh) != SK_OK) {
@@ -206,7 +206,7 @@ static int test_body_load(test_body *tb, const char *path, const sk_mesh_param *
   return corot_body_init(&tb->body, dim, nn, tb->row_ptr, tb->cols, tb->mass, tb->stiffness, tb->X, axis);
 }
 
-static void test_body_free(test_body *tb) {
+static inline void test_body_free(test_body *tb) {
   corot_body_free(&tb->body);
   sk_mesh_free(&tb->mesh);
   free(tb->row_ptr);
