@@ -60,6 +60,7 @@ typedef struct {
   double Rm[9];                  /* R at the last step's midpoint */
   double *work_node;             /* per contact node: dt D_pp s_p . lambda_p of the last step */
   int rotation_updates;          /* Newton updates of w in the last step */
+  int rejections;                /* converged() rejections in this attempt */
 } glue_body;
 
 struct sk_instance {
@@ -89,6 +90,7 @@ sk_status glue_update_active_set(sk_instance *inst, const sk_state *state, int *
 sk_status glue_residual(sk_instance *inst, const sk_state *state, sk_sink *sink);
 sk_status glue_jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink);
 sk_status glue_recover(sk_instance *inst, const sk_state *state, sk_vectors *vectors);
+sk_status glue_converged(sk_instance *inst, const sk_state *state, int *accept);
 sk_status glue_commit_step(sk_instance *inst, const sk_state *state);
 sk_status glue_report(sk_instance *inst, const sk_state *state, sk_contact_report *report);
 sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx);

@@ -23,8 +23,9 @@
 #include <stdint.h>
 
 enum { COROT_MAX_BORDER = 6 };
-/* A Newton update of w below this fraction of the rotation-rate scale is round-off: the step stops there. */
-#define COROT_W_ROUNDOFF 1e-14
+/* Within this factor of the tolerance, a Newton update of w that no longer contracts (|dw_k| > |dw_{k-1}| / 2) is
+ * round-off and ends the step (corot_step_solve). */
+#define COROT_ROUNDOFF_FACTOR 100.0
 
 typedef enum { COROT_MODEL_1 = 1, COROT_MODEL_2 = 2 } corot_model;
 
@@ -197,8 +198,9 @@ void corot_step_apply_sets(corot_step *step);
 /* |g| <= tol * g_ref. */
 int corot_step_rotation_converged(const corot_step *step, double tol);
 /* The host-free step loop (Sec. 5): factorise, solve, evaluate; stop when the sets stay and g is converged; else
- * Newton on w with the derivative solve; also stop when that update is below COROT_W_ROUNDOFF * omega_ref (g at its
- * round-off floor). Returns 0, 1 when max_iterations were used up, -1 on a solver failure. */
+ * Newton on w with the derivative solve; also stop when g is within COROT_ROUNDOFF_FACTOR * tol * g_ref and the
+ * Newton updates stopped contracting (round-off). Returns 0, 1 when max_iterations were used up, -1 on a solver
+ * failure. */
 int corot_step_solve(corot_step *step, const corot_solver *solver, int max_iterations, double tol);
 /* Writes state_next from the converged step: s^{n+1} = 2s - s^n, u^{n+1} = 2u_h - u^n, theta^{n+1}, w; commits the
  * sets. Returns the friction work Delta t sum_p D_pp s_tau . lambda_tau (>= 0) of the step. */

@@ -108,6 +108,11 @@ static sk_status recover(sk_instance *inst, const sk_state *state, sk_vectors *v
   return inst->kind == SK_KIND_BODY ? glue_recover(inst, state, vectors) : SK_OK;
 }
 
+static sk_status converged(sk_instance *inst, const sk_state *state, int *accept) {
+  *accept = 1;
+  return inst->kind == SK_KIND_BODY ? glue_converged(inst, state, accept) : SK_OK;
+}
+
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   return inst->kind == SK_KIND_BODY ? glue_commit_step(inst, state) : SK_OK;
 }
@@ -153,7 +158,7 @@ static const sk_plugin plugin = {
     .residual = residual,
     .jacobian = jacobian,
     .recover = recover,
-    .converged = NULL,
+    .converged = converged,
     .commit_step = commit_step,
     .reject_step = reject_step,
     .report = report,

@@ -398,13 +398,17 @@ void corot_world_predict(corot_world *cw, double *y) {
   const corot_state *sn = cw->state_n;
   const int dim = body->dim, n = body->n;
   const double a = cw->a, w = cw->w;
-  double C[9], T_h[3] = {0, 0, 0};
+  double C[9], T_h[3] = {0, 0, 0}, Ts[3] = {0, 0, 0}, t_half[3] = {0, 0, 0}, shift[3] = {0, 0, 0};
   corot_cn(dim, body->e, a, w, C);
+  /* s^{n+1/2} = s^n, except that its uniform part turns as free flight makes it: M(a(s - s^n) + w Pi s) = 0 gives
+   * T(s) = a C_n T(s^n) (the Cayley angle, §5), so steady spin with translation is predicted exactly */
+  corot_mean(body, sn->s, Ts);
+  corot_mul(dim, C, Ts, t_half);
+  for (int i = 0; i < dim; ++i) shift[i] = a * t_half[i] - Ts[i];
   if (cw->model == COROT_MODEL_2) {
-    double Ts[3], Tu[3], v[3] = {0, 0, 0};
-    corot_mean(body, sn->s, Ts);
+    double Tu[3], v[3] = {0, 0, 0};
     corot_mean(body, sn->u, Tu);
-    for (int i = 0; i < dim; ++i) v[i] = Ts[i] + a * Tu[i];
+    for (int i = 0; i < dim; ++i) v[i] = Ts[i] + shift[i] + a * Tu[i];
     corot_mul(dim, C, v, T_h);
   }
   for (int b = 0; b < body->n_nodes; ++b) {
@@ -412,11 +416,11 @@ void corot_world_predict(corot_world *cw, double *y) {
     const double *un = sn->u + b * dim, *snb = sn->s + b * dim;
     for (int i = 0; i < dim; ++i) r[i] = body->x[b * dim + i] + (cw->model == COROT_MODEL_2 ? T_h[i] : 0.0);
     corot_pi(dim, body->e, r, pr);
-    if (cw->model == COROT_MODEL_1) { /* u_h = C_n (s^n + a u^n - w Pi x) */
-      for (int i = 0; i < dim; ++i) v[i] = snb[i] + a * un[i] - w * pr[i];
+    if (cw->model == COROT_MODEL_1) { /* u_h = C_n (s + a u^n - w Pi x) */
+      for (int i = 0; i < dim; ++i) v[i] = snb[i] + shift[i] + a * un[i] - w * pr[i];
       corot_mul(dim, C, v, uh);
-    } else { /* u_h = (dt/2)(s^n - w Pi (x + T_h)) + u^n  (4.5) */
-      for (int i = 0; i < dim; ++i) uh[i] = (snb[i] - w * pr[i]) / a + un[i];
+    } else { /* u_h = (dt/2)(s - w Pi (x + T_h)) + u^n  (4.5) */
+      for (int i = 0; i < dim; ++i) uh[i] = (snb[i] + shift[i] - w * pr[i]) / a + un[i];
     }
     for (int i = 0; i < dim; ++i) r[i] = body->x[b * dim + i] + 2.0 * uh[i] - un[i];
     corot_mul(dim, cw->R1, r, y + b * dim);
