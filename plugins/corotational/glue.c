@@ -66,6 +66,7 @@ sk_status glue_layout(sk_instance *inst, const sk_state *state, sk_layout *out) 
   glue_body *b = inst->body;
   const int n = b->body.n, dim = b->body.dim;
   b->initial[0] = b->world.w;
+  b->eliminated[0] = !b->monolithic; /* nested: the plugin's own Newton on w in recover() */
   memcpy(b->initial + 1, b->y + n, sizeof(double) * (size_t)(b->n_extra - 1));
   out->n_extra = b->n_extra;
   out->initial = b->initial;
@@ -95,6 +96,16 @@ sk_status glue_pattern(sk_instance *inst, const sk_state *state, sk_pattern *pat
   pat->add_block(pat, nb, border, n, b->view->dofs);
   pat->add_block(pat, n, b->view->dofs, nb, border);
   pat->add_block(pat, nb, border, nb, border);
+  if (b->monolithic) { /* w's row and column against every unknown of the body */
+    const int64_t w = state->extra_offset;
+    pat->add_block(pat, 1, &w, n, b->view->dofs);
+    pat->add_block(pat, n, b->view->dofs, 1, &w);
+    for (int64_t j = 0; j < b->n_extra; ++j) {
+      const int64_t e = state->extra_offset + j;
+      pat->add_block(pat, 1, &w, 1, &e);
+      pat->add_block(pat, 1, &e, 1, &w);
+    }
+  }
   for (int p = 0; p < b->contact.n; ++p) {
     const int64_t *node = b->view->dofs + b->contact.node[p] * dim;
     for (int i = 0; i < dim; ++i) lambda[i] = state->extra_offset + 1 + nb + p * dim + i;
@@ -167,6 +178,20 @@ sk_status glue_jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink)
     sink->add_matrix(sink, dim, lambda, dim, lambda, J->lambda_lambda + p * dd);
     sink->add_matrix(sink, dim, lambda, nb, border, LB);
   }
+  if (b->monolithic) { /* w kept: its column dF/dw and its row g_scale dg/dy, g_scale dg/dw (world.c) */
+    double g_w;
+    corot_world_dw(&b->world, b->y, b->dF, b->dgy, &g_w);
+    const int64_t w = state->extra_offset, ne = b->n_extra;
+    sink->add_matrix(sink, n, dofs, 1, &w, b->dF);
+    for (int64_t j = 1; j < ne; ++j) b->index[j - 1] = w + j;
+    sink->add_matrix(sink, (int)(ne - 1), b->index, 1, &w, b->dF + n);
+    for (int i = 0; i < n; ++i) b->block[i] = b->g_scale * b->dgy[i];
+    sink->add_matrix(sink, 1, &w, n, dofs, b->block);
+    for (int64_t j = 1; j < ne; ++j) b->block[j - 1] = b->g_scale * b->dgy[n + j - 1];
+    sink->add_matrix(sink, 1, &w, (int)(ne - 1), b->index, b->block);
+    const double ww = b->g_scale * g_w;
+    sink->add_matrix(sink, 1, &w, 1, &w, &ww);
+  }
   return SK_OK;
 }
 
@@ -176,6 +201,7 @@ sk_status glue_jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink)
  * by dw: the paper's outer Newton on w with s solved for the current w. */
 sk_status glue_recover(sk_instance *inst, const sk_state *state, sk_vectors *vectors) {
   glue_body *b = inst->body;
+  if (b->monolithic) return SK_OK; /* w was solved with the rest */
   load_iterate(b, state);
   const int n = b->body.n, N = b->world.N;
   const double g = vectors->F_extra[0] / b->g_scale;

@@ -25,7 +25,8 @@ typedef struct {
   const sk_bulk_ext *bulk;
   const sk_linear_ext *linear;
   const sk_condense_ext *condense; /* strategy dual */
-  int dual;
+  int monolithic;                /* strategy monolithic: w kept, its row and column in the host's matrix */
+  int dual;                      /* strategy dual: lambda condensed by the host (stickslip.condense) */
   /* parameters */
   corot_model model;
   double axis[3], c_n, c_t, tolerance;
@@ -52,8 +53,8 @@ typedef struct {
   int64_t n_extra;
   double *initial;               /* layout: [w, border, lambda] */
   unsigned char *eliminated;
-  int64_t *index;                /* index buffer for sinks (max(n, dim * nen) entries) */
-  double *block;                 /* value buffer for sinks (n entries) */
+  int64_t *index;                /* index buffer for sinks (max(n, n_extra) + 64 entries) */
+  double *block;                 /* value buffer for sinks (as many) */
   double g_scale;                /* g's row scale in F */
   double l_scale;                /* the body's length L = sqrt(I_e / m) */
   /* the committed step, for report() and points() */

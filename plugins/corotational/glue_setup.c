@@ -88,7 +88,7 @@ static int64_t graph_find(const glue_body *b, int a, int c) {
 }
 
 /* A sink that records what stickslip.bulk's add_mass / add_stiffness add: the plugin needs S C_n and rotated S
- * blocks, which add_stiffness's scalar scale cannot express (docs/plugins/corotational.md §7). */
+ * blocks, which add_stiffness's scalar scale cannot express (docs/plugins/corotational.md §8). */
 typedef struct {
   sk_sink sink;                  /* first: the host calls through it */
   glue_body *body;
@@ -213,7 +213,8 @@ sk_status glue_create_body(sk_instance *inst) {
   b->f_world = calloc((size_t)b->body.n, sizeof(double));
   if (!b->contact_of_node || !b->q || !b->v || !b->f_world) return glue_nomem(inst);
   for (int a = 0; a < b->view->n_nodes; ++a) b->contact_of_node[a] = -1;
-  b->dual = inst->attach->strategy == 1;
+  b->monolithic = inst->attach->strategy == 0;
+  b->dual = inst->attach->strategy == 2;
   if (b->dual && !(b->condense = api->get_extension(host, SK_EXT_CONDENSE)))
     return api->error(host, SK_ERR_PLUGIN, "strategy dual needs the extension %s, which this stickslip lacks",
                       SK_EXT_CONDENSE);
@@ -373,8 +374,9 @@ sk_status glue_build_contact(sk_instance *inst) {
   b->rhs_extra = calloc((size_t)b->n_extra, sizeof(double));
   b->initial = calloc((size_t)b->n_extra, sizeof(double));
   b->eliminated = calloc((size_t)b->n_extra, 1);
-  b->index = calloc((size_t)(n > 64 ? n : 64), sizeof(int64_t));
-  b->block = calloc((size_t)(n > 64 ? n : 64), sizeof(double));
+  const size_t buffer = (size_t)(n > b->n_extra ? n : b->n_extra) + 64; /* the largest row of a sink call */
+  b->index = calloc(buffer, sizeof(int64_t));
+  b->block = calloc(buffer, sizeof(double));
   b->work_node = calloc((size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
   if (!b->y || !b->F || !b->dF || !b->dgy || !b->y2_view || !b->y2_extra || !b->rhs_extra || !b->initial ||
       !b->eliminated || !b->index || !b->block || !b->work_node)

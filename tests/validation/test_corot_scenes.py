@@ -1,7 +1,7 @@
 """Validation of the corotational body plugin (Hauret, Salomon, Weiss & Wohlmuth) through the driver: the paper's
 scenes (scenes/corot-*.yaml). The scheme's own energy E and angular momentum J come from the plugin's per-step
 `--verbose` line: history.csv's energy is the host's, from the world displacement with the SVK material, which is not
-the co-rotated linear energy (docs/plugins/corotational.md §7.3, gap 3).
+the co-rotated linear energy (docs/plugins/corotational.md §8.3, gap 3).
 Usage: python3 test_corot_scenes.py CASE (see the cases at the bottom); exit code 0 when every check holds."""
 import re
 
@@ -49,9 +49,10 @@ def contact_steps(res):
     return [int(r["step"]) for r in res.rows if r["active_points"] > 0]
 
 
-def ball_on_plane(c, model=1, friction=False):
+def ball_on_plane(c, model=1, friction=False, strategy="monolithic"):
     scene = "scenes/corot-ball-on-plane%s.yaml" % ("-friction" if friction else "")
-    res, rows = simulate(c, scene, "--set", "bodies.0.parameters.model=%d" % model)
+    res, rows = simulate(c, scene, "--set", "bodies.0.parameters.model=%d" % model, "--set",
+                         "bodies.0.strategy=%s" % strategy)
     iterations = [int(r["newton_iterations"]) for r in res.rows[1:]]
     contact = contact_steps(res)
     c.check(contact and contact[0] == 8, "contact from step 8 (the gap closes in step 7; (3.5) switches on the gap at "
@@ -81,16 +82,24 @@ def ball_on_plane_friction_model2(c):
     ball_on_plane(c, 2, True)
 
 
+def ball_on_plane_friction_nested(c):
+    """The paper's outer Newton on w (strategy nested: w eliminated, solve_again in recover)."""
+    ball_on_plane(c, 1, True, "nested")
+
+
 def newton_vs_nonlinear(c):
     """Sec. 6.3's Newton counts: before contact the co-rotational step is one iteration against the nonlinear SVK
     midpoint scheme's more (the paper: 1 against 3); during and after contact the counts are printed (recorded in
-    docs/plugins/corotational.md §9)."""
+    docs/plugins/corotational.md §10)."""
     corot, _ = simulate(c, "scenes/corot-ball-on-plane.yaml")
     nonlinear, _ = run("scenes/corot-ball-on-plane-nonlinear.yaml")
     a = [int(r["newton_iterations"]) for r in corot.rows[1:]]
     b = [int(r["newton_iterations"]) for r in nonlinear.rows[1:]]
     c.check(max(a[:7]) == 1 and min(b[:7]) >= 2,
             "before contact: co-rotational %s, nonlinear %s" % (a[:7], b[:7]))
+    last = max(contact_steps(corot))
+    c.check(max(a[last:]) < min(b[last:]), "after contact (steps %d..30): co-rotational at most %d, nonlinear at least %d"
+            % (last + 1, max(a[last:]), min(b[last:])))
     print("  during and after contact: co-rotational %s (total %d), nonlinear %s (total %d)"
           % (a[7:], sum(a), b[7:], sum(b)))
 
@@ -123,4 +132,4 @@ def torus_on_plane(c):
 
 if __name__ == "__main__":
     main([ball_on_plane_model1, ball_on_plane_model2, ball_on_plane_friction_model1, ball_on_plane_friction_model2,
-          newton_vs_nonlinear, ball_two_planes, ellipse_two_planes, torus_on_plane])
+          ball_on_plane_friction_nested, newton_vs_nonlinear, ball_two_planes, ellipse_two_planes, torus_on_plane])

@@ -1,19 +1,18 @@
 #!/usr/bin/env python3
 """Delta t sweeps of the co-rotational schemes (Models 1 and 2) against the core's nonlinear SVK midpoint scheme with
-penalty contact, on Hauret et al.'s ball examples (docs/plugins/corotational.md §9). Writes CSV files next to this
-script and the plot docs/img/corot-bench.png (gnuplot).
+penalty contact, on Hauret et al.'s ball examples, all through the driver (docs/plugins/corotational.md §10). Writes
+CSV files next to this script and the plot docs/img/corot-bench.png (gnuplot).
 
     python3 tests/bench/corotational/bench_corot.py [--stickslip PATH] [--quick]
 
-The co-rotational runs use build/bin/bench_corot (the kernel with the bridge's MUMPS, no host); the nonlinear runs use
-the driver (`stickslip run`, default build/bin/stickslip; --stickslip points at another build, e.g. one of main).
-CPU seconds are user + system time of each process (getrusage); `stepping_cpu` subtracts the CPU of the same run
-with a single step (meshing, MPI and Trilinos start-up: about 0.29 s for both tools, measured).
+CPU seconds are user + system time of each run (getrusage); `stepping_cpu` subtracts the least CPU of three one-step
+runs of the same scheme (meshing, MPI and Trilinos start-up: about 0.3 s, measured).
 """
 import argparse
 import csv
 import math
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -33,13 +32,31 @@ def run_cpu(cmd, **kwargs):
     return proc, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
-def corot(scene, model, dt, end, spin, mu=0.0):
-    """The co-rotational kernel run: rows of (step, t, theta, w, E, J, iterations, ...)."""
-    exe = os.path.join(ROOT, "build", "bin", "bench_corot")
-    proc, cpu = run_cpu([exe, scene, str(model), repr(dt), repr(end), repr(spin), repr(mu)])
-    ok = proc.returncode == 0
-    rows = list(csv.DictReader(proc.stdout.splitlines())) if proc.stdout else []
-    return ok, rows, cpu
+def history_iterations(rows):
+    return sum(int(float(r["newton_iterations"])) for r in rows)
+
+
+LINE = re.compile(r"^corotational: step (\d+) t (\S+) theta (\S+) w (\S+) E (\S+)")
+
+
+def corot(stickslip, scene, model, dt, end, sets):
+    """A co-rotational run through the driver: (ok, rows of step/t/theta/w/E from the plugin's --verbose lines, cpu)."""
+    with tempfile.TemporaryDirectory() as out:
+        cmd = [stickslip, "run", scene, "--out", out, "--verbose", "--set", f"time.dt={dt!r}", "--set",
+               f"time.end={end!r}", "--set", "time.max_cuts=0", "--set", "output.vtu_every=0", "--set",
+               f"bodies.0.parameters.model={model}"]
+        for s in sets:
+            cmd += ["--set", s]
+        proc, cpu = run_cpu(cmd)
+        history = os.path.join(out, "history.csv")
+        newton = history_iterations(csv.DictReader(open(history))) if os.path.exists(history) else float("nan")
+    rows = []
+    for line in proc.stderr.splitlines():
+        m = LINE.match(line)
+        if m:
+            rows.append({k: float(m.group(i + 1)) for i, k in enumerate(("step", "t", "theta", "w", "E"))})
+    ok = proc.returncode == 0 and rows and abs(rows[-1]["t"] - end) < 1e-9 * max(1.0, end)
+    return ok, rows, cpu, newton
 
 
 def vtu_mesh(vtu):
@@ -102,6 +119,10 @@ def unwrap(theta, expected):
     return theta + 2 * math.pi * round((expected - theta) / (2 * math.pi))
 
 
+BALL = "scenes/corot-ball-on-plane.yaml"
+TWO_PLANES = "scenes/corot-ball-two-planes.yaml"
+
+
 def setup_cpu(stickslip, scheme):
     """CPU of a one-step run (start-up and meshing), the least of three."""
     best = float("inf")
@@ -109,7 +130,7 @@ def setup_cpu(stickslip, scheme):
         if scheme == "nonlinear":
             cpu = nonlinear(stickslip, 0.002, 0.002, [])[3]
         else:
-            cpu = corot("ball-on-plane", int(scheme[-1]), 0.002, 0.002, 2.0)[2]
+            cpu = corot(stickslip, BALL, int(scheme[-1]), 0.002, 0.002, [])[2]
         best = min(best, cpu)
     return best
 
@@ -125,16 +146,15 @@ def ball_on_plane(stickslip, dts, end, ref_dt):
             if scheme == "nonlinear":
                 ok, hist, theta, cpu = nonlinear(stickslip, dt, end, [])
                 E = [float(r["total_energy"]) for r in hist]
-                newton = sum(int(float(r["newton_iterations"])) for r in hist)
+                newton = history_iterations(hist)
             else:
-                ok, hist, cpu = corot("ball-on-plane", int(scheme[-1]), dt, end, 2.0)
-                E = [float(r["E"]) for r in hist]
-                theta = float(hist[-1]["theta"]) if ok else float("nan")
-                newton = sum(int(r["iterations"]) for r in hist)
+                ok, hist, cpu, newton = corot(stickslip, BALL, int(scheme[-1]), dt, end, [])
+                E = [r["E"] for r in hist]
+                theta = hist[-1]["theta"] if ok else float("nan")
             energy = max(abs(e - E[0]) / E[0] for e in E) if ok else float("nan")
-            results[dt] = (ok, theta, energy, newton, cpu)
+            results[dt] = [ok, theta, energy, newton, cpu]
             print(f"  ball on plane {scheme} dt {dt}: ok {ok}, theta {theta:.10f}, energy {energy:.2e}, "
-                  f"Newton {newton}, cpu {cpu:.2f} s", flush=True)
+                  f"cpu {cpu:.2f} s", flush=True)
         theta_ref = unwrap(results[ref_dt][1], 2.0 * end)
         for dt in dts:
             ok, theta, energy, newton, cpu = results[dt]
@@ -151,15 +171,15 @@ def high_spin(stickslip, spins, dts, end):
     for spin in spins:
         for dt in dts:
             for scheme in ("model-1", "model-2", "nonlinear"):
+                spin_set = f"bodies.0.angular_velocity=[0,0,{spin!r}]"
                 if scheme == "nonlinear":
                     ok, hist, theta, cpu = nonlinear(stickslip, dt, end, [
-                        "mesh.parameters.radius=1", "bodies.0.material.density=2",
-                        f"bodies.0.angular_velocity=[0,0,{spin!r}]", "contact=[]"])
+                        "mesh.parameters.radius=1", "bodies.0.material.density=2", spin_set, "contact=[]"])
                     E = [float(r["total_energy"]) for r in hist]
                 else:
-                    ok, hist, cpu = corot("free", int(scheme[-1]), dt, end, spin)
-                    E = [float(r["E"]) for r in hist]
-                    theta = float(hist[-1]["theta"]) if ok else float("nan")
+                    ok, hist, cpu, _ = corot(stickslip, TWO_PLANES, int(scheme[-1]), dt, end, [spin_set, "contact=[]"])
+                    E = [r["E"] for r in hist]
+                    theta = hist[-1]["theta"] if ok else float("nan")
                 exact = spin * end
                 error = abs(unwrap(theta, exact) - exact) if ok else float("nan")
                 energy = max(abs(e - E[0]) / E[0] for e in E) if ok and E else float("nan")
@@ -200,7 +220,7 @@ plot '< grep model-1 {bop_csv}' using 2:5 with linespoints title 'Model 1', \
      '< grep model-2 {bop_csv}' using 2:5 with linespoints title 'Model 2', \
      '< grep nonlinear {bop_csv}' using 2:5 with linespoints title 'nonlinear'
 unset yrange
-set title "Free spin, theta'_0 = 200 (6.4 ball): angle error at t = 0.1"
+set title "Free spin, theta'_0 = 200 (6.4 ball): angle error at t = 0.2"
 set xlabel 'dt'
 set ylabel '|theta - theta_0 t| (missing: a step diverged)'
 set yrange [1e-16:10]
@@ -217,12 +237,13 @@ def main():
     parser.add_argument("--stickslip", default=os.path.join(ROOT, "build", "bin", "stickslip"))
     parser.add_argument("--quick", action="store_true", help="fewer dt (a smoke run)")
     args = parser.parse_args()
+    args.stickslip = os.path.abspath(args.stickslip)
     dts = [0.004, 0.002, 0.001] if args.quick else [0.008, 0.004, 0.002, 0.001, 0.0005]
     bop = ball_on_plane(args.stickslip, dts, 0.064, 0.00025 if not args.quick else 0.0005)
     bop_csv = os.path.join(HERE, "ball-on-plane.csv")
     write_csv(bop_csv, bop)
-    spin_dts = [0.001, 0.01] if args.quick else [0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05]
-    spin = high_spin(args.stickslip, [20.0, 200.0], spin_dts, 0.1)
+    spin_dts = [0.001, 0.01] if args.quick else [0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2]
+    spin = high_spin(args.stickslip, [20.0, 200.0], spin_dts, 0.2)
     spin_csv = os.path.join(HERE, "high-spin.csv")
     write_csv(spin_csv, spin)
     plot(bop_csv, spin_csv, os.path.join(ROOT, "docs", "img", "corot-bench.png"))

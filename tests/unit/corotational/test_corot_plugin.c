@@ -567,11 +567,12 @@ static void mock_start(mock *m, mock_states *ms, const double V0[3], double omeg
 
 static const mock_param friction[] = {{"mu", 0.3, NULL}};
 
-static void test_impact_against_kernel(corot_model model) {
+static void test_impact_against_kernel(corot_model model, int strategy) {
   const mock_param body_params[] = {{"model", model, NULL}};
   mock_setup setup = {body_params, friction, 1, 1, 1, SK_OBSTACLE_PLANE, 0.3};
   mock m;
   SK_CHECK(mock_init(&m, &setup) == 0);
+  m.body_attach.strategy = strategy;
   SK_CHECK(mock_create(&m) == SK_OK);
   mock_states ms;
   mock_states_init(&m, &ms);
@@ -612,9 +613,9 @@ static void test_impact_against_kernel(corot_model model) {
       dv = fmax(dv, fabs(m.v_pub[i] - v[i]) / (omega + 5.0));
     }
   }
-  printf("  plugin vs kernel, model %d, friction 0.3, 30 steps (%d in contact): |dq| %.1e, |dv| %.1e (relative); "
-         "solves %d (max %d per step); assembled operator vs differences of the residual: %.1e\n",
-         model, contact_steps, dq, dv, solves, max_solves, fd_max);
+  printf("  plugin vs kernel, model %d, strategy %s, friction 0.3, 30 steps (%d in contact): |dq| %.1e, |dv| %.1e "
+         "(relative); solves %d (max %d per step); assembled operator vs differences of the residual: %.1e\n",
+         model, strategy ? "nested" : "monolithic", contact_steps, dq, dv, solves, max_solves, fd_max);
   SK_CHECK(contact_steps >= 3);
   SK_CHECK(dq <= 1e-10);
   SK_CHECK(dv <= 1e-9);
@@ -680,8 +681,10 @@ static void expect_create_error(const char *what, mock_setup *setup, const char 
 int main(void) {
   test_free_spin(COROT_MODEL_1);
   test_free_spin(COROT_MODEL_2);
-  test_impact_against_kernel(COROT_MODEL_1);
-  test_impact_against_kernel(COROT_MODEL_2);
+  for (int strategy = 0; strategy < 2; ++strategy) {
+    test_impact_against_kernel(COROT_MODEL_1, strategy);
+    test_impact_against_kernel(COROT_MODEL_2, strategy);
+  }
   const mock_param bad_model[] = {{"model", 3, NULL}};
   mock_setup setup = {bad_model, NULL, 1, 0, 0, SK_OBSTACLE_PLANE, 0.0};
   expect_create_error("model 3", &setup, "model = 3");

@@ -232,7 +232,7 @@ static void test_two_planes(corot_model model) {
 
 /* Model 1 in 3D: the zero-strain rotations about axes normal to e (tilts) carry the centrifugal force of their
  * linearised, stretching displacement and no stiffness. For an isotropic body (a cube) the tilt amplitudes
- * z = phi + i psi obey z'' + i w0 z' - (w0^2 / 2) z = 0 (docs/plugins/corotational.md §7): they grow at w0/2.
+ * z = phi + i psi obey z'' + i w0 z' - (w0^2 / 2) z = 0 (docs/plugins/corotational.md §6): they grow at w0/2.
  * Model 2 has no u in its centrifugal term and stays bounded. Seeded with a tilt of 1e-7 L. */
 static void test_tilt_modes(test_body *cube, corot_model model, double *rate) {
   const corot_body *b = &cube->body;
