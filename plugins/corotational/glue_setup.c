@@ -28,37 +28,9 @@ sk_status glue_nomem(sk_instance *inst) { return inst->api->error(inst->host, SK
 
 static sk_status build_graph(glue_body *b) {
   const sk_view *v = b->view;
-  const int nn = v->n_nodes, nen = v->nen, dim = v->dim, n = nn * dim;
-  int64_t *start = calloc((size_t)nn + 1, sizeof(int64_t));
-  int *fill = calloc((size_t)nn, sizeof(int));
-  if (!start || !fill) goto fail;
-  for (int32_t c = 0; c < v->n_cells; ++c)
-    for (int i = 0; i < nen; ++i) start[v->conn[(int64_t)c * nen + i] + 1] += nen;
-  for (int a = 0; a < nn; ++a) start[a + 1] += start[a] + 1; /* + the diagonal */
-  int *raw = malloc(sizeof(int) * (size_t)(start[nn] + 1));
-  b->row_ptr = calloc((size_t)nn + 1, sizeof(int64_t));
-  b->cols = malloc(sizeof(int) * (size_t)(start[nn] + 1));
-  if (!raw || !b->row_ptr || !b->cols) {
-    free(raw);
-    goto fail;
-  }
-  for (int a = 0; a < nn; ++a) raw[start[a] + fill[a]++] = a;
-  for (int32_t c = 0; c < v->n_cells; ++c)
-    for (int i = 0; i < nen; ++i) {
-      const int a = v->conn[(int64_t)c * nen + i];
-      for (int j = 0; j < nen; ++j) raw[start[a] + fill[a]++] = v->conn[(int64_t)c * nen + j];
-    }
-  int64_t used = 0;
-  for (int a = 0; a < nn; ++a) {
-    int *row = raw + start[a];
-    qsort(row, (size_t)fill[a], sizeof(int), compare_int);
-    for (int j = 0; j < fill[a]; ++j)
-      if (j == 0 || row[j] != row[j - 1]) b->cols[used++] = row[j];
-    b->row_ptr[a + 1] = used;
-  }
-  free(raw);
-  free(start);
-  free(fill);
+  const int dim = v->dim, n = v->n_nodes * dim;
+  if (corot_node_graph(v->n_nodes, v->n_cells, v->nen, v->conn, &b->row_ptr, &b->cols) != 0) return SK_ERR_NOMEM;
+  const int64_t used = b->row_ptr[v->n_nodes];
   b->mass = calloc((size_t)used, sizeof(double));
   b->stiffness = calloc((size_t)used * (size_t)(dim * dim), sizeof(double));
   b->dofs = malloc(sizeof(glue_dof) * (size_t)n);
@@ -66,10 +38,6 @@ static sk_status build_graph(glue_body *b) {
   for (int k = 0; k < n; ++k) b->dofs[k] = (glue_dof){v->dofs[k], k};
   qsort(b->dofs, (size_t)n, sizeof(glue_dof), compare_dof);
   return SK_OK;
-fail:
-  free(start);
-  free(fill);
-  return SK_ERR_NOMEM;
 }
 
 /* The view slot of a global dof, or -1. */

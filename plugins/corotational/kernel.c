@@ -31,7 +31,7 @@ void corot_pi_matrix(int dim, const double e[3], double P[9]) {
   P[6] = -e[1], P[7] = e[0];
 }
 
-static void matmul(int dim, const double *A, const double *B, double *C) {
+void corot_matmul(int dim, const double *A, const double *B, double *C) {
   for (int i = 0; i < dim; ++i)
     for (int j = 0; j < dim; ++j) {
       double sum = 0.0;
@@ -43,7 +43,7 @@ static void matmul(int dim, const double *A, const double *B, double *C) {
 void corot_rotation(int dim, const double e[3], double theta, double R[9]) {
   double P[9], P2[9];
   corot_pi_matrix(dim, e, P);
-  matmul(dim, P, P, P2);
+  corot_matmul(dim, P, P, P2);
   const double sn = sin(theta), cs1 = 1.0 - cos(theta);
   for (int i = 0; i < dim; ++i)
     for (int j = 0; j < dim; ++j) R[i * dim + j] = (i == j) + sn * P[i * dim + j] + cs1 * P2[i * dim + j];
@@ -52,7 +52,7 @@ void corot_rotation(int dim, const double e[3], double theta, double R[9]) {
 void corot_cn(int dim, const double e[3], double a, double w, double C[9]) {
   double P[9], P2[9];
   corot_pi_matrix(dim, e, P);
-  matmul(dim, P, P, P2);
+  corot_matmul(dim, P, P, P2);
   const double d = a * a + w * w;
   for (int i = 0; i < dim; ++i)
     for (int j = 0; j < dim; ++j) {
@@ -75,6 +75,53 @@ void corot_mul_t(int dim, const double *B, const double *v, double *out) {
     for (int j = 0; j < dim; ++j) sum += B[j * dim + i] * v[j];
     out[i] = sum;
   }
+}
+
+static int compare_int(const void *a, const void *b) {
+  const int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
+int corot_node_graph(int n_nodes, int64_t n_cells, int nen, const int32_t *conn, int64_t **row_ptr, int **cols) {
+  int64_t *start = calloc((size_t)n_nodes + 1, sizeof(int64_t));
+  int *fill = calloc((size_t)n_nodes + 1, sizeof(int));
+  *row_ptr = calloc((size_t)n_nodes + 1, sizeof(int64_t));
+  *cols = NULL;
+  int *raw = NULL;
+  if (!start || !fill || !*row_ptr) goto fail;
+  for (int64_t c = 0; c < n_cells; ++c)
+    for (int i = 0; i < nen; ++i) start[conn[c * nen + i] + 1] += nen;
+  for (int a = 0; a < n_nodes; ++a) start[a + 1] += start[a] + 1; /* + the diagonal */
+  raw = malloc(sizeof(int) * (size_t)(start[n_nodes] + 1));
+  *cols = malloc(sizeof(int) * (size_t)(start[n_nodes] + 1));
+  if (!raw || !*cols) goto fail;
+  for (int a = 0; a < n_nodes; ++a) raw[start[a] + fill[a]++] = a;
+  for (int64_t c = 0; c < n_cells; ++c)
+    for (int i = 0; i < nen; ++i) {
+      const int a = conn[c * nen + i];
+      for (int j = 0; j < nen; ++j) raw[start[a] + fill[a]++] = conn[c * nen + j];
+    }
+  int64_t used = 0;
+  for (int a = 0; a < n_nodes; ++a) {
+    int *row = raw + start[a];
+    qsort(row, (size_t)fill[a], sizeof(int), compare_int);
+    for (int j = 0; j < fill[a]; ++j)
+      if (j == 0 || row[j] != row[j - 1]) (*cols)[used++] = row[j];
+    (*row_ptr)[a + 1] = used;
+  }
+  free(raw);
+  free(start);
+  free(fill);
+  return 0;
+fail:
+  free(raw);
+  free(start);
+  free(fill);
+  free(*row_ptr);
+  free(*cols);
+  *row_ptr = NULL;
+  *cols = NULL;
+  return -1;
 }
 
 static double dot(int n, const double *a, const double *b) {
@@ -344,7 +391,7 @@ double corot_row_scale(const corot_body *body, corot_model model, double dt, dou
   corot_cn(dim, body->e, a, w, C);
   const double *S = body->stiffness + k * dd;
   if (model == COROT_MODEL_1)
-    matmul(dim, S, C, B);
+    corot_matmul(dim, S, C, B);
   else
     for (int i = 0; i < dd; ++i) B[i] = 0.5 * dt * S[i];
   for (int i = 0; i < dim; ++i)
@@ -428,7 +475,7 @@ void corot_step_assemble(corot_step *step) {
     double *B = sys->blocks + k * dd;
     const double m = body->mass[k], *S = body->stiffness + k * dd;
     if (step->model == COROT_MODEL_1) {
-      matmul(dim, S, step->C, B);
+      corot_matmul(dim, S, step->C, B);
     } else {
       for (int i = 0; i < dd; ++i) B[i] = half_dt * S[i];
     }

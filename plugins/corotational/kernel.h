@@ -38,9 +38,14 @@ void corot_pi_matrix(int dim, const double e[3], double P[9]);
 void corot_rotation(int dim, const double e[3], double theta, double R[9]);
 /* C_n = (aI + w Pi)^-1 = e e^T / a - (a Pi^2 + w Pi) / (a^2 + w^2) (2D: (aI - w Pi)/(a^2 + w^2)). */
 void corot_cn(int dim, const double e[3], double a, double w, double C[9]);
-/* out = B v and out = B^T v for a dim x dim B (out must not alias v). */
+/* out = B v and out = B^T v for a dim x dim B (out must not alias v); C = A B for dim x dim matrices. */
 void corot_mul(int dim, const double *B, const double *v, double *out);
 void corot_mul_t(int dim, const double *B, const double *v, double *out);
+void corot_matmul(int dim, const double *A, const double *B, double *C);
+
+/* The node graph of n_cells cells of nen nodes (conn, node indices < n_nodes): CSR rows with sorted columns, the
+ * diagonal included. *row_ptr (n_nodes + 1) and *cols are the caller's to free. Returns 0 or -1 (memory). */
+int corot_node_graph(int n_nodes, int64_t n_cells, int nen, const int32_t *conn, int64_t **row_ptr, int **cols);
 
 /* ---- the body ---------------------------------------------------------------------------------------------------- */
 typedef struct {

@@ -13,15 +13,6 @@ static double dot(int n, const double *a, const double *b) {
   return sum;
 }
 
-static void matmul(int dim, const double *A, const double *B, double *C) {
-  for (int i = 0; i < dim; ++i)
-    for (int j = 0; j < dim; ++j) {
-      double sum = 0.0;
-      for (int k = 0; k < dim; ++k) sum += A[i * dim + k] * B[k * dim + j];
-      C[i * dim + j] = sum;
-    }
-}
-
 int corot_world_init(corot_world *cw, corot_model model, const corot_body *body, corot_contact *contact) {
   memset(cw, 0, sizeof *cw);
   if (model != COROT_MODEL_1 && model != COROT_MODEL_2) return -1;
@@ -117,7 +108,7 @@ static void velocity_gradient(const corot_world *cw, double Gs[9], double A[9]) 
       A[i * dim + j] = (i == j) * cw->a + cw->w * cw->P[i * dim + j];
     }
   if (cw->model == COROT_MODEL_1)
-    matmul(dim, A, G0, Gs);
+    corot_matmul(dim, A, G0, Gs);
   else
     for (int i = 0; i < dim * dim; ++i) Gs[i] = cw->a * G0[i];
 }
@@ -232,13 +223,13 @@ void corot_world_jacobian_eval(corot_world *cw, const double *y, corot_world_jac
   velocity_gradient(cw, Gs, A);
   for (int i = 0; i < dim; ++i)
     for (int j = 0; j < dim; ++j) G0[i * dim + j] = 0.5 * cw->R1[j * dim + i];
-  matmul(dim, A, Gs, T);
-  matmul(dim, cw->Rm, T, L); /* R_m (aI + w Pi) ds/dx */
+  corot_matmul(dim, A, Gs, T);
+  corot_matmul(dim, cw->Rm, T, L); /* R_m (aI + w Pi) ds/dx */
   /* body rows: R_m (M_ab (aI + w Pi) ds/dx + S_ab G0) */
   for (int64_t k = 0; k < body->row_ptr[body->n_nodes]; ++k) {
     double *B = J->blocks + k * dd, SG[9];
-    matmul(dim, body->stiffness + k * dd, G0, SG);
-    matmul(dim, cw->Rm, SG, B);
+    corot_matmul(dim, body->stiffness + k * dd, G0, SG);
+    corot_matmul(dim, cw->Rm, SG, B);
     for (int i = 0; i < dd; ++i) B[i] += body->mass[k] * L[i];
   }
   memset(J->corner, 0, sizeof J->corner);
@@ -251,8 +242,8 @@ void corot_world_jacobian_eval(corot_world *cw, const double *y, corot_world_jac
   } else {
     /* d body_a / d tau = R_m m_a (aI + w Pi) w Pi;  d(m tau - 1^T M u_h) / d x_b = -m_b G0 */
     double AP[9], RAP[9];
-    matmul(dim, A, cw->P, AP);
-    matmul(dim, cw->Rm, AP, RAP);
+    corot_matmul(dim, A, cw->P, AP);
+    corot_matmul(dim, cw->Rm, AP, RAP);
     for (int b = 0; b < body->n_nodes; ++b) {
       double mb = 0.0;
       for (int64_t k = body->row_ptr[b]; k < body->row_ptr[b + 1]; ++k) mb += body->mass[k];

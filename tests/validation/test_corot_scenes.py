@@ -87,6 +87,11 @@ def ball_on_plane_friction_nested(c):
     ball_on_plane(c, 1, True, "nested")
 
 
+def ball_on_plane_friction_dual(c):
+    """Strategy dual: nested, with lambda condensed on the assembled operator by the host (stickslip.condense)."""
+    ball_on_plane(c, 1, True, "dual")
+
+
 def newton_vs_nonlinear(c):
     """Sec. 6.3's Newton counts: before contact the co-rotational step is one iteration against the nonlinear SVK
     midpoint scheme's more (the paper: 1 against 3); during and after contact the counts are printed (recorded in
@@ -132,4 +137,4 @@ def torus_on_plane(c):
 
 if __name__ == "__main__":
     main([ball_on_plane_model1, ball_on_plane_model2, ball_on_plane_friction_model1, ball_on_plane_friction_model2,
-          ball_on_plane_friction_nested, newton_vs_nonlinear, ball_two_planes, ellipse_two_planes, torus_on_plane])
+          ball_on_plane_friction_nested, ball_on_plane_friction_dual, newton_vs_nonlinear, ball_two_planes, ellipse_two_planes, torus_on_plane])

@@ -133,34 +133,12 @@ static inline int test_body_load(test_body *tb, const char *path, const sk_mesh_
   const sk_group *g = sk_mesh_find_group(&tb->mesh, body);
   if (!g) return -1;
   const int dim = tb->dim = tb->mesh.dim, nn = tb->n_nodes = tb->mesh.n_nodes, nen = g->nen, dd = dim * dim;
-  /* node graph: every pair of nodes sharing an element */
-  int *count = calloc((size_t)nn, sizeof(int));
-  for (int e = 0; e < g->n_elems; ++e)
-    for (int i = 0; i < nen; ++i) count[g->conn[e * nen + i]] += nen;
-  int64_t *start = calloc((size_t)nn + 1, sizeof(int64_t));
-  for (int a = 0; a < nn; ++a) start[a + 1] = start[a] + count[a] + 1;
-  int *raw = malloc(sizeof(int) * (size_t)start[nn]);
-  int *fill = calloc((size_t)nn, sizeof(int));
-  for (int a = 0; a < nn; ++a) raw[start[a] + fill[a]++] = a;
-  for (int e = 0; e < g->n_elems; ++e)
-    for (int i = 0; i < nen; ++i) {
-      const int a = g->conn[e * nen + i];
-      for (int j = 0; j < nen; ++j) raw[start[a] + fill[a]++] = g->conn[e * nen + j];
-    }
-  tb->row_ptr = calloc((size_t)nn + 1, sizeof(int64_t));
-  tb->cols = malloc(sizeof(int) * (size_t)start[nn]);
-  int64_t used = 0;
-  for (int a = 0; a < nn; ++a) {
-    int *row = raw + start[a];
-    qsort(row, (size_t)fill[a], sizeof(int), cmp_int);
-    for (int j = 0; j < fill[a]; ++j)
-      if (j == 0 || row[j] != row[j - 1]) tb->cols[used++] = row[j];
-    tb->row_ptr[a + 1] = used;
-  }
-  free(count);
-  free(start);
-  free(raw);
-  free(fill);
+  int32_t *conn32 = malloc(sizeof(int32_t) * (size_t)(g->n_elems * nen));
+  for (int k = 0; k < g->n_elems * nen; ++k) conn32[k] = g->conn[k];
+  const int graph = corot_node_graph(nn, g->n_elems, nen, conn32, &tb->row_ptr, &tb->cols);
+  free(conn32);
+  if (graph != 0) return -1;
+  const int64_t used = tb->row_ptr[nn];
   tb->mass = calloc((size_t)used, sizeof(double));
   tb->stiffness = calloc((size_t)used * dd, sizeof(double));
   tb->X = malloc(sizeof(double) * (size_t)nn * dim);
@@ -219,6 +197,20 @@ static inline void test_body_free(test_body *tb) {
   memset(tb, 0, sizeof *tb);
 }
 
+/* The two bodies of the kernel tests: the unit disk (disk.geo refine 0.5: 48 quad4, E 1000, nu 0.3, rho 2, contact
+ * surface the rim) and a unit cube of 8 hex8 (E 500, nu 0.25, rho 1) spinning about a tilted axis, with its ymin face
+ * as contact surface. */
+static inline int load_unit_disk(test_body *tb) {
+  static const double axis_z[3] = {0, 0, 1};
+  const sk_mesh_param params[] = {{"radius", 1.0}, {"refine", 0.5}};
+  return test_body_load(tb, "meshes/disk.geo", params, 2, "body", "boundary", 1000.0, 0.3, 2.0, axis_z);
+}
+static inline int load_tilted_cube(test_body *tb) {
+  static const double axis_tilted[3] = {0.2, 0.1, 1.0};
+  const sk_mesh_param params[] = {{"nx", 2}, {"ny", 2}, {"nz", 2}, {"x0", -0.5}, {"y0", -0.5}, {"z0", -0.4}};
+  return test_body_load(tb, "meshes/block.geo", params, 6, "body", "ymin", 500.0, 0.25, 1.0, axis_tilted);
+}
+
 /* Deterministic numbers in [-1, 1). */
 static unsigned long long corot_rng = 0x9E3779B97F4A7C15ull;
 static inline double corot_rand(void) {
@@ -233,6 +225,18 @@ static inline int initial_state(const corot_body *b, corot_model model, double o
                                 corot_state *state) {
   int iterations;
   return corot_initial_state(b, model, omega, V0, 1e-13, state->u, state->s, &iterations);
+}
+
+/* A random mid-flight state (u ~ 0.01 L, s ~ 3 L, theta 0.4, w 7) and world loads f ~ 50, for derivative tests. */
+static inline void random_state(const corot_body *b, corot_state *state, double *f_world) {
+  const double L = sqrt(b->inertia / b->mass_total);
+  for (int i = 0; i < b->n; ++i) {
+    state->u[i] = 0.01 * L * corot_rand();
+    state->s[i] = 3.0 * L * corot_rand();
+    f_world[i] = 50.0 * corot_rand();
+  }
+  state->theta = 0.4;
+  state->w = 7.0;
 }
 
 static inline double vec_norm(int n, const double *v) {

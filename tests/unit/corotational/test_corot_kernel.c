@@ -94,14 +94,7 @@ static void fixture_init(step_fixture *fx, test_body *tb, corot_model model, dou
   const corot_body *b = &tb->body;
   corot_state_alloc(&fx->state, b);
   fx->f_world = calloc((size_t)b->n, sizeof(double));
-  const double L = sqrt(b->inertia / b->mass_total);
-  for (int i = 0; i < b->n; ++i) {
-    fx->state.u[i] = 0.01 * L * corot_rand();
-    fx->state.s[i] = 3.0 * L * corot_rand();
-    fx->f_world[i] = 50.0 * corot_rand();
-  }
-  fx->state.theta = 0.4;
-  fx->state.w = 7.0;
+  random_state(b, &fx->state, fx->f_world);
   corot_plane plane = {.point = {0, 0, 0}, .normal = {0, 1, 0}, .mu = mu};
   /* a plane through the centre: half the contact nodes are candidates */
   corot_contact_init(&fx->contact, b->dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, 1.0, 1.0);
@@ -226,13 +219,8 @@ int main(void) {
   test_algebra(2);
   test_algebra(3);
   test_body disk, cube;
-  const sk_mesh_param disk_params[] = {{"radius", 1.0}, {"refine", 0.5}};
-  SK_CHECK(test_body_load(&disk, "meshes/disk.geo", disk_params, 2, "body", "boundary", 1000.0, 0.3, 2.0, axis_z) ==
-           0);
-  const sk_mesh_param cube_params[] = {{"nx", 2}, {"ny", 2}, {"nz", 2}, {"x0", -0.5}, {"y0", -0.5}, {"z0", -0.4}};
-  const double axis_tilted[3] = {0.2, 0.1, 1.0};
-  SK_CHECK(test_body_load(&cube, "meshes/block.geo", cube_params, 6, "body", "ymin", 500.0, 0.25, 1.0, axis_tilted) ==
-           0);
+  SK_CHECK(load_unit_disk(&disk) == 0);
+  SK_CHECK(load_tilted_cube(&cube) == 0);
   if (sk_test_failures) return sk_test_finish("test_corot_kernel");
   test_rigid_modes(&disk);
   test_rigid_modes(&cube);

@@ -285,12 +285,8 @@ static void test_tilt_modes(test_body *cube, corot_model model, double *rate) {
 
 int main(void) {
   test_body disk, cube;
-  const sk_mesh_param disk_params[] = {{"radius", 1.0}, {"refine", 0.5}};
-  SK_CHECK(test_body_load(&disk, "meshes/disk.geo", disk_params, 2, "body", "boundary", 1000.0, 0.3, 2.0, axis_z) ==
-           0);
-  const sk_mesh_param cube_params[] = {{"nx", 2}, {"ny", 2}, {"nz", 2}, {"x0", -0.5}, {"y0", -0.5}, {"z0", -0.4}};
-  const double axis_tilted[3] = {0.2, 0.1, 1.0};
-  SK_CHECK(test_body_load(&cube, "meshes/block.geo", cube_params, 6, "body", NULL, 500.0, 0.25, 1.0, axis_tilted) == 0);
+  SK_CHECK(load_unit_disk(&disk) == 0);
+  SK_CHECK(load_tilted_cube(&cube) == 0);
   if (sk_test_failures) return sk_test_finish("test_corot_step");
   for (int model = 1; model <= 2; ++model) {
     test_initial_state(&disk, (corot_model)model, 3.0);

@@ -5,8 +5,6 @@
 #include "corot_test_support.h"
 #include "sk_test.h"
 
-static const double axis_z[3] = {0, 0, 1};
-
 /* The dense N x N matrix of the world rows. */
 static void world_dense(const corot_world *cw, const corot_world_jacobian *J, double *A) {
   const corot_body *b = cw->body;
@@ -49,14 +47,7 @@ static void fixture_init(world_fixture *fx, test_body *tb, corot_model model, do
   const corot_body *b = &tb->body;
   corot_state_alloc(&fx->state, b);
   fx->f_world = calloc((size_t)b->n, sizeof(double));
-  const double L = sqrt(b->inertia / b->mass_total);
-  for (int i = 0; i < b->n; ++i) {
-    fx->state.u[i] = 0.01 * L * corot_rand();
-    fx->state.s[i] = 3.0 * L * corot_rand();
-    fx->f_world[i] = 50.0 * corot_rand();
-  }
-  fx->state.theta = 0.4;
-  fx->state.w = 7.0;
+  random_state(b, &fx->state, fx->f_world);
   corot_plane plane = {.point = {0, 0, 0}, .normal = {0, 1, 0}, .mu = mu};
   corot_contact_init(&fx->contact, b->dim, tb->n_contact, tb->contact_nodes, tb->contact_weight, 1, &plane, 1.0, 1.0);
   corot_world_init(&fx->cw, model, b, &fx->contact);
@@ -71,6 +62,7 @@ static void fixture_init(world_fixture *fx, test_body *tb, corot_model model, do
     ++k;
   }
   fx->y = calloc((size_t)fx->cw.N, sizeof(double));
+  const double L = sqrt(b->inertia / b->mass_total);
   corot_world_predict(&fx->cw, fx->y);
   for (int i = 0; i < fx->cw.N; ++i) fx->y[i] += (i < b->n ? 0.01 * L : 1.0) * corot_rand();
 }
@@ -288,13 +280,8 @@ static void test_equivalence(test_body *tb, corot_model model, double mu) {
 
 int main(void) {
   test_body disk, cube;
-  const sk_mesh_param disk_params[] = {{"radius", 1.0}, {"refine", 0.5}};
-  SK_CHECK(test_body_load(&disk, "meshes/disk.geo", disk_params, 2, "body", "boundary", 1000.0, 0.3, 2.0, axis_z) ==
-           0);
-  const sk_mesh_param cube_params[] = {{"nx", 2}, {"ny", 2}, {"nz", 2}, {"x0", -0.5}, {"y0", -0.5}, {"z0", -0.4}};
-  const double axis_tilted[3] = {0.2, 0.1, 1.0};
-  SK_CHECK(test_body_load(&cube, "meshes/block.geo", cube_params, 6, "body", "ymin", 500.0, 0.25, 1.0, axis_tilted) ==
-           0);
+  SK_CHECK(load_unit_disk(&disk) == 0);
+  SK_CHECK(load_tilted_cube(&cube) == 0);
   if (sk_test_failures) return sk_test_finish("test_corot_world");
   for (int model = 1; model <= 2; ++model)
     for (int f = 0; f < 2; ++f) {
