@@ -66,33 +66,33 @@ def ball_on_plane(c, model=1, friction=False, strategy="monolithic"):
                 % (rows[0]["w"], rows[-1]["w"]))
 
 
-def ball_on_plane_model1(c):
+def corot_ball_on_plane_model1(c):
     ball_on_plane(c, 1)
 
 
-def ball_on_plane_model2(c):
+def corot_ball_on_plane_model2(c):
     ball_on_plane(c, 2)
 
 
-def ball_on_plane_friction_model1(c):
+def corot_ball_on_plane_friction_model1(c):
     ball_on_plane(c, 1, True)
 
 
-def ball_on_plane_friction_model2(c):
+def corot_ball_on_plane_friction_model2(c):
     ball_on_plane(c, 2, True)
 
 
-def ball_on_plane_friction_nested(c):
+def corot_ball_on_plane_friction_nested(c):
     """The paper's outer Newton on w (strategy nested: w eliminated, solve_again in recover)."""
     ball_on_plane(c, 1, True, "nested")
 
 
-def ball_on_plane_friction_dual(c):
+def corot_ball_on_plane_friction_dual(c):
     """Strategy dual: nested, with lambda condensed on the assembled operator by the host (stickslip.condense)."""
     ball_on_plane(c, 1, True, "dual")
 
 
-def newton_vs_nonlinear(c):
+def corot_newton_vs_nonlinear(c):
     """Sec. 6.3's Newton counts: before contact the co-rotational step is one iteration against the nonlinear SVK
     midpoint scheme's more (the paper: 1 against 3); during and after contact the counts are printed (recorded in
     docs/plugins/corotational.md §10)."""
@@ -109,7 +109,7 @@ def newton_vs_nonlinear(c):
           % (a[7:], sum(a), b[7:], sum(b)))
 
 
-def ball_two_planes(c):
+def corot_ball_two_planes(c):
     res, rows = simulate(c, "scenes/corot-ball-two-planes.yaml")
     contact = contact_steps(res)
     episodes = sum(1 for k, s in enumerate(contact) if k == 0 or s != contact[k - 1] + 1)
@@ -119,14 +119,14 @@ def ball_two_planes(c):
             % min(r["w"] for r in rows))
 
 
-def ellipse_two_planes(c):
+def corot_ellipse_two_planes(c):
     """The ellipse: chaotic after the third contact (the paper); here its first 0.1 s, for the energy balance."""
     res, rows = simulate(c, "scenes/corot-ellipse-two-planes.yaml", "--set", "time.end=0.1")
     c.check(len(contact_steps(res)) > 0, "the ellipse hits the planes")
     energy_balance(c, rows, 1, rows[0]["E"], True)
 
 
-def torus_on_plane(c):
+def corot_torus_on_plane(c):
     """3D, frictionless, to t = 0.2 (the first contact at 0.1)."""
     res, rows = simulate(c, "scenes/corot-torus-on-plane.yaml", "--set", "time.end=0.2")
     iterations = [int(r["newton_iterations"]) for r in res.rows[1:]]
@@ -136,5 +136,6 @@ def torus_on_plane(c):
 
 
 if __name__ == "__main__":
-    main([ball_on_plane_model1, ball_on_plane_model2, ball_on_plane_friction_model1, ball_on_plane_friction_model2,
-          ball_on_plane_friction_nested, ball_on_plane_friction_dual, newton_vs_nonlinear, ball_two_planes, ellipse_two_planes, torus_on_plane])
+    main([corot_ball_on_plane_model1, corot_ball_on_plane_model2, corot_ball_on_plane_friction_model1,
+          corot_ball_on_plane_friction_model2, corot_ball_on_plane_friction_nested, corot_ball_on_plane_friction_dual,
+          corot_newton_vs_nonlinear, corot_ball_two_planes, corot_ellipse_two_planes, corot_torus_on_plane])
