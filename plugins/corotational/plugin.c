@@ -3,11 +3,12 @@
  * mathematics; this file maps it onto the host's calls (docs/plugins/corotational.md §8, docs/plugin-abi.md §11.5).
  *
  * The body instance poses the body's rows (world force balances, so other terms may add to them) and its extra
- * unknowns [w | alpha or tau | lambda per contact node]. w, the rotation rate, is eliminated by the plugin: the host
- * solves with w frozen, and recover() takes the Newton step of the rotation equation from a second solve with the
- * same factorisation (stickslip.linear's solve_again) — the paper's outer scalar Newton (Sec. 5.3). The pair
- * instances own nothing in the system: they register their slave surface, obstacle and mu with the body instance
- * at create (bodies are created first) and report their planes' share of the contact. */
+ * unknowns [w | alpha or tau | lambda per contact node]. The rotation rate w is either kept (strategy monolithic,
+ * the default: NOX drives it with the rest) or eliminated by the plugin (nested, dual: the host solves with w
+ * frozen, and recover() takes the Newton step of the rotation equation from a second solve with the same
+ * factorisation, stickslip.linear's solve_again — the paper's outer scalar Newton, Sec. 5.3). The pair instances
+ * own nothing in the system: they register their slave surface, obstacle and mu with the body instance at create
+ * (bodies are created first) and report their planes' share of the contact. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
