@@ -7,12 +7,6 @@
 
 #include "kernel.h"
 
-static double dot(int n, const double *a, const double *b) {
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += a[i] * b[i];
-  return sum;
-}
-
 int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, const double *weight,
                        int n_planes, const corot_plane *planes, double c_n, double c_t) {
   memset(contact, 0, sizeof *contact);
@@ -60,7 +54,7 @@ int corot_contact_init(corot_contact *contact, int dim, int n, const int *node, 
   for (int k = 0; k < n_planes; ++k) {
     corot_plane plane = planes[k];
     if (dim == 2) plane.normal[2] = plane.point[2] = 0.0;
-    const double norm = sqrt(dot(3, plane.normal, plane.normal));
+    const double norm = sqrt(corot_dot(3, plane.normal, plane.normal));
     if (!(norm > 0.0) || !(plane.mu >= 0.0)) {
       corot_contact_free(contact);
       return -1;
@@ -97,7 +91,7 @@ static void complete_frame(int dim, const double e[3], double *F) {
     if (fabs(nu[i]) < fabs(nu[j])) j = i;
   double *t1 = F + 3, *t2 = F + 6;
   for (int i = 0; i < 3; ++i) t1[i] = (i == j) - nu[j] * nu[i];
-  const double norm = sqrt(dot(3, t1, t1));
+  const double norm = sqrt(corot_dot(3, t1, t1));
   for (int i = 0; i < 3; ++i) t1[i] /= norm;
   t2[0] = nu[1] * t1[2] - nu[2] * t1[1];
   t2[1] = nu[2] * t1[0] - nu[0] * t1[2];
@@ -122,7 +116,7 @@ void corot_contact_begin_step(corot_contact *contact, const corot_body *body, co
       if (!(contact->mask[p] >> k & 1u)) continue;
       double d[3];
       for (int i = 0; i < 3; ++i) d[i] = phi[i] - contact->planes[k].point[i];
-      const double gap = dot(dim, d, contact->planes[k].normal);
+      const double gap = corot_dot(dim, d, contact->planes[k].normal);
       if (gap < best_gap) best_gap = gap, best = k;
     }
     contact->plane[p] = best;
@@ -175,14 +169,14 @@ int corot_contact_propose(corot_contact *contact, int dim, const double *s) {
     if (contact->candidate[p]) {
       const double *F = contact->frame + 9 * p, *sp = s + a * dim;
       const double scale = contact->kappa[p] / contact->weight[p];
-      const double Lambda_n = dot(dim, F, lambda) + contact->c_n * scale * dot(dim, F, sp);
+      const double Lambda_n = corot_dot(dim, F, lambda) + contact->c_n * scale * corot_dot(dim, F, sp);
       if (Lambda_n > 0.0) {
         next = COROT_SLIP;
         const double mu = corot_contact_mu(contact, p);
         if (mu > 0.0) {
           double Lt[2] = {0, 0}, norm = 0.0;
           for (int k = 1; k < dim; ++k) {
-            Lt[k - 1] = dot(dim, F + 3 * k, lambda) + contact->c_t * scale * dot(dim, F + 3 * k, sp);
+            Lt[k - 1] = corot_dot(dim, F + 3 * k, lambda) + contact->c_t * scale * corot_dot(dim, F + 3 * k, sp);
             norm += Lt[k - 1] * Lt[k - 1];
           }
           norm = sqrt(norm);
@@ -226,10 +220,10 @@ void corot_contact_check(const corot_contact *contact, int dim, const double *s,
   for (int p = 0; p < contact->n; ++p) {
     if (!contact->candidate[p]) continue;
     const double *F = contact->frame + 9 * p, *lambda = contact->lambda + 3 * p, *sp = s + contact->node[p] * dim;
-    const double ln = dot(dim, F, lambda), sn = dot(dim, F, sp);
+    const double ln = corot_dot(dim, F, lambda), sn = corot_dot(dim, F, sp);
     double lt2 = 0.0;
     for (int k = 1; k < dim; ++k) {
-      const double lt = dot(dim, F + 3 * k, lambda);
+      const double lt = corot_dot(dim, F + 3 * k, lambda);
       lt2 += lt * lt;
     }
     out->product = fmax(out->product, fabs(ln * sn));

@@ -6,12 +6,6 @@
 
 #include "glue.h"
 
-static double dotn(int n, const double *a, const double *b) {
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += a[i] * b[i];
-  return sum;
-}
-
 /* corot_world_begin for this attempt (once per (t_n, dt)), with the loads at t^{n+1/2}, and the predictor in y. */
 static sk_status ensure_attempt(sk_instance *inst, const sk_state *state) {
   glue_body *b = inst->body;
@@ -52,7 +46,7 @@ sk_status glue_begin_step(sk_instance *inst, const sk_state *state) {
     double d0[3], d1[3];
     inst->api->contact->obstacle_displacement(b->pairs[k].obstacle, state->t_n, d0);
     inst->api->contact->obstacle_displacement(b->pairs[k].obstacle, state->t, d1);
-    if (dotn(3, d0, d0) + dotn(3, d1, d1) > 0.0)
+    if (corot_dot(3, d0, d0) + corot_dot(3, d1, d1) > 0.0)
       return inst->api->error(b->pairs[k].instance->host, SK_ERR_INPUT,
                               "a moving obstacle: the corotational plugin supports planes at rest");
   }
@@ -208,7 +202,7 @@ sk_status glue_recover(sk_instance *inst, const sk_state *state, sk_vectors *vec
   double g_w;
   corot_world_dw(&b->world, b->y, b->dF, b->dgy, &g_w);
   const double *dx = vectors->dx_view[0], *dxe = vectors->dx_extra + 1;
-  const double a1 = dotn(n, b->dgy, dx) + dotn(N - n, b->dgy + n, dxe);
+  const double a1 = corot_dot(n, b->dgy, dx) + corot_dot(N - n, b->dgy + n, dxe);
   /* g after the host's update at the frozen w, to first order: within the tolerance, w is converged (Sec. 5.3's
    * test) and neither the second solve nor a w update (which at round-off only jitters w) is needed */
   if (fabs(g + a1) <= b->tolerance * corot_world_g_ref(&b->world)) {
@@ -220,7 +214,7 @@ sk_status glue_recover(sk_instance *inst, const sk_state *state, sk_vectors *vec
   const double *rhs_view[1] = {b->dF};
   double *y2_view[1] = {b->y2_view};
   SK_TRY(b->linear->solve_again(inst->host, rhs_view, b->rhs_extra, y2_view, b->y2_extra));
-  const double a2 = dotn(n, b->dgy, b->y2_view) + dotn(N - n, b->dgy + n, b->y2_extra + 1);
+  const double a2 = corot_dot(n, b->dgy, b->y2_view) + corot_dot(N - n, b->dgy + n, b->y2_extra + 1);
   const double denominator = g_w - a2;
   if (!(fabs(denominator) > 0.0) || !isfinite(denominator))
     return inst->api->error(inst->host, SK_ERR_DIVERGED, "the rotation equation lost its derivative (g' = %g)",
@@ -270,7 +264,7 @@ sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   const int dim = b->body.dim, n = b->body.n;
   const double *lambda = b->y + n + cw->n_border;
   for (int p = 0; p < b->contact.n; ++p)
-    b->work_node[p] = cw->dt * b->contact.weight[p] * dotn(dim, cw->s + b->contact.node[p] * dim, lambda + p * dim);
+    b->work_node[p] = cw->dt * b->contact.weight[p] * corot_dot(dim, cw->s + b->contact.node[p] * dim, lambda + p * dim);
   memcpy(b->Rm, cw->Rm, sizeof b->Rm);
   const double work = corot_world_commit(cw, b->y, &b->next);
   corot_state t = b->state;
@@ -338,7 +332,7 @@ sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callbac
     }
     if (mine && c->set[p] != COROT_INACTIVE) {
       const double *l = c->lambda + 3 * p, *nu = c->frame + 9 * p;
-      const double ln = dotn(dim, nu, l);
+      const double ln = corot_dot(dim, nu, l);
       double lt[3] = {0, 0, 0};
       for (int i = 0; i < dim; ++i) lt[i] = -(l[i] - ln * nu[i]);
       pt.pressure = ln;

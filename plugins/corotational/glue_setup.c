@@ -6,12 +6,6 @@
 
 #include "glue.h"
 
-static double dotn(int n, const double *a, const double *b) {
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += a[i] * b[i];
-  return sum;
-}
-
 static int compare_int(const void *a, const void *b) {
   const int x = *(const int *)a, y = *(const int *)b;
   return (x > y) - (x < y);
@@ -132,7 +126,7 @@ static sk_status read_parameters(sk_instance *inst) {
   SK_TRY(api->param_string(host, "initial_state", 0, "steady", &initial));
   if (b->view->dim == 2 && (b->axis[0] != 0.0 || b->axis[1] != 0.0))
     return api->error(host, SK_ERR_INPUT, "in 2D the rotation axis is e_z: axis_x and axis_y must be 0");
-  if (!(sqrt(dotn(3, b->axis, b->axis)) > 0.0)) return api->error(host, SK_ERR_INPUT, "the axis must not be zero");
+  if (!(sqrt(corot_dot(3, b->axis, b->axis)) > 0.0)) return api->error(host, SK_ERR_INPUT, "the axis must not be zero");
   if (!(b->tolerance > 0.0 && b->tolerance < 1.0))
     return api->error(host, SK_ERR_INPUT, "tolerance = %g: need 0 < tolerance < 1", b->tolerance);
   if (!(b->c_n > 0.0) || !(b->c_t > 0.0))
@@ -380,7 +374,7 @@ sk_status glue_ensure_started(sk_instance *inst, const sk_state *state) {
   for (int a = 0; a < body->n_nodes; ++a) {
     double px[3];
     corot_pi(dim, body->e, body->x + a * dim, px);
-    J += dotn(dim, b->q + a * dim, px);
+    J += corot_dot(dim, b->q + a * dim, px);
   }
   const double omega = J / body->inertia;
   for (int a = 0; a < body->n_nodes; ++a) {

@@ -124,7 +124,7 @@ fail:
   return -1;
 }
 
-static double dot(int n, const double *a, const double *b) {
+double corot_dot(int n, const double *a, const double *b) {
   double sum = 0.0;
   for (int i = 0; i < n; ++i) sum += a[i] * b[i];
   return sum;
@@ -191,7 +191,7 @@ int corot_body_init(corot_body *body, int dim, int n_nodes, const int64_t *row_p
   if (dim == 2) {
     body->e[2] = 1.0;
   } else {
-    const double norm = sqrt(dot(3, e, e));
+    const double norm = sqrt(corot_dot(3, e, e));
     if (!(norm > 0.0)) return -1;
     for (int i = 0; i < 3; ++i) body->e[i] = e[i] / norm;
   }
@@ -229,7 +229,7 @@ int corot_body_init(corot_body *body, int dim, int n_nodes, const int64_t *row_p
   }
   pi_all(body, body->x, pix);
   corot_mass_apply(body, pix, body->c);
-  body->inertia = dot(body->n, body->c, pix);
+  body->inertia = corot_dot(body->n, body->c, pix);
   free(pix);
   if (!(body->inertia > 0.0)) {
     corot_body_free(body);
@@ -248,7 +248,7 @@ void corot_body_free(corot_body *body) {
 
 double corot_energy(const corot_body *body, const double *u, const double *s, double *work) {
   corot_mass_apply(body, s, work);
-  double E = 0.5 * dot(body->n, s, work), T[3];
+  double E = 0.5 * corot_dot(body->n, s, work), T[3];
   corot_stiffness_apply(body, u, work);
   corot_mean(body, u, T);
   for (int a = 0; a < body->n_nodes; ++a)
@@ -268,7 +268,7 @@ double corot_angular_momentum(const corot_body *body, corot_model model, const d
     double r[3], pr[3];
     for (int i = 0; i < dim; ++i) r[i] = body->x[a * dim + i] + (model == COROT_MODEL_1 ? u[a * dim + i] : T[i]);
     corot_pi(dim, body->e, r, pr);
-    J += dot(dim, Ms + a * dim, pr);
+    J += corot_dot(dim, Ms + a * dim, pr);
   }
   return J;
 }
@@ -334,7 +334,7 @@ void corot_system_apply(const corot_system *system, const double *y, double *out
   }
   for (int j = 0; j < system->n_border; ++j) {
     for (int i = 0; i < n; ++i) out[i] += system->border_col[j][i] * y[n + j];
-    out[n + j] = dot(n, system->border_row[j], y);
+    out[n + j] = corot_dot(n, system->border_row[j], y);
   }
 }
 
@@ -396,7 +396,7 @@ double corot_row_scale(const corot_body *body, corot_model model, double dt, dou
     for (int i = 0; i < dd; ++i) B[i] = 0.5 * dt * S[i];
   for (int i = 0; i < dim; ++i)
     for (int j = 0; j < dim; ++j) B[i * dim + j] += body->mass[k] * ((i == j) * a + w * P[i * dim + j]);
-  return sqrt(dot(dd, B, B) / dim);
+  return sqrt(corot_dot(dd, B, B) / dim);
 }
 
 void corot_step_begin(corot_step *step, const corot_state *state_n, double dt, const double *f_world) {
@@ -501,7 +501,7 @@ void corot_step_assemble(corot_step *step) {
     /* border: alpha column c, Tisserand row q_x = C_n^T c, q_rhs = -c . C_n (a u^n - w Pi x)  (4.3) */
     memcpy(sys->border_col[0], body->c, sizeof(double) * (size_t)n);
     for (int b = 0; b < body->n_nodes; ++b) corot_mul_t(dim, step->C, body->c + b * dim, sys->border_row[0] + b * dim);
-    step->rhs[n] = -dot(n, body->c, v);
+    step->rhs[n] = -corot_dot(n, body->c, v);
   }
   corot_contact *contact = step->contact;
   if (!contact) return;
@@ -574,7 +574,7 @@ int corot_step_evaluate(corot_step *step, const double *y) {
     }
     step->g = g;
   } else {
-    step->g = dot(n, body->c, step->u_h);
+    step->g = corot_dot(n, body->c, step->u_h);
   }
   step->omega_ref = fmax(fabs(w), sqrt(fmax(2.0 * step->energy_n, 0.0) / body->inertia));
   step->g_ref = (step->model == COROT_MODEL_1 ? a : half_dt) * body->inertia * step->omega_ref;
@@ -604,7 +604,7 @@ void corot_step_derivative_rhs(corot_step *step, const double *y, double *rhs) {
     }
     corot_stiffness_apply(body, cpr, t);
     for (int i = 0; i < n; ++i) rhs[i] += t[i];
-    rhs[n] = dot(n, body->c, cpr); /* -dQ/dw */
+    rhs[n] = corot_dot(n, body->c, cpr); /* -dQ/dw */
   }
   pi_all(body, step->f, t);
   for (int i = 0; i < n; ++i) rhs[i] -= half_dt * t[i];
@@ -626,7 +626,7 @@ void corot_step_derivative_rhs(corot_step *step, const double *y, double *rhs) {
 double corot_step_dg(corot_step *step, const double *y, const double *dy) {
   const corot_body *body = step->body;
   const int dim = body->dim, n = body->n;
-  if (step->model == COROT_MODEL_2) return 0.5 * step->dt * (dot(n, body->c, dy) - body->inertia);
+  if (step->model == COROT_MODEL_2) return 0.5 * step->dt * (corot_dot(n, body->c, dy) - body->inertia);
   /* dg/dw = grad_u g . (C_n ds/dw - C_n Pi r_h) - (c . Pi r_h) dalpha/dw,
    * grad_u g = -S Pi u_h + Pi S u_h + alpha Pi c */
   const double alpha = y[n];
@@ -661,7 +661,7 @@ double corot_step_commit(corot_step *step, corot_state *next) {
   corot_contact *contact = step->contact;
   if (contact) {
     for (int p = 0; p < contact->n; ++p)
-      work += contact->weight[p] * dot(dim, step->y + contact->node[p] * dim, contact->lambda + 3 * p);
+      work += contact->weight[p] * corot_dot(dim, step->y + contact->node[p] * dim, contact->lambda + 3 * p);
     memcpy(contact->set_committed, contact->set, (size_t)contact->n);
     memcpy(contact->dir_committed, contact->dir, sizeof(double) * 2 * (size_t)contact->n);
   }

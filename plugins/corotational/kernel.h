@@ -42,6 +42,8 @@ void corot_cn(int dim, const double e[3], double a, double w, double C[9]);
 void corot_mul(int dim, const double *B, const double *v, double *out);
 void corot_mul_t(int dim, const double *B, const double *v, double *out);
 void corot_matmul(int dim, const double *A, const double *B, double *C);
+/* a . b over n entries (the one dot product of the plugin). */
+double corot_dot(int n, const double *a, const double *b);
 
 /* The node graph of n_cells cells of nen nodes (conn, node indices < n_nodes): CSR rows with sorted columns, the
  * diagonal included. *row_ptr (n_nodes + 1) and *cols are the caller's to free. Returns 0 or -1 (memory). */

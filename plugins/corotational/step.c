@@ -54,16 +54,10 @@ static int rigid_modes(const corot_body *body, double *Z[COROT_MAX_BORDER]) {
   return count;
 }
 
-static double dotn(int n, const double *a, const double *b) {
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += a[i] * b[i];
-  return sum;
-}
-
 /* v -= Q Q^T v with the orthonormal columns Q[j]. */
 static void project(int n, int k, double *const *Q, double *v) {
   for (int j = 0; j < k; ++j) {
-    const double c = dotn(n, Q[j], v);
+    const double c = corot_dot(n, Q[j], v);
     for (int i = 0; i < n; ++i) v[i] -= c * Q[j][i];
   }
 }
@@ -107,7 +101,7 @@ int corot_initial_state(const corot_body *body, corot_model model, double omega,
     for (int j = 0; j < k; ++j) { /* Q = orthonormal basis of M Z (Gram-Schmidt, twice for round-off) */
       corot_mass_apply(body, Z[j], Q[j]);
       for (int pass = 0; pass < 2; ++pass) project(n, j, Q, Q[j]);
-      const double norm = sqrt(dotn(n, Q[j], Q[j]));
+      const double norm = sqrt(corot_dot(n, Q[j], Q[j]));
       for (int i = 0; i < n; ++i) Q[j][i] /= norm;
     }
     const double w2 = omega * omega;
@@ -120,13 +114,13 @@ int corot_initial_state(const corot_body *body, corot_model model, double omega,
     for (int i = 0; i < n; ++i) r[i] *= -w2;
     project(n, k, Q, r);
     memcpy(p, r, sizeof(double) * (size_t)n);
-    const double r0 = sqrt(dotn(n, r, r));
+    const double r0 = sqrt(corot_dot(n, r, r));
     double rr = r0 * r0;
     status = 1;
     for (int it = 1; it <= 20 * n && r0 > 0.0; ++it) {
       steady_operator(body, model, w2, p, q, t, t2);
       project(n, k, Q, q);
-      const double pq = dotn(n, p, q);
+      const double pq = corot_dot(n, p, q);
       if (!(pq > 0.0)) { /* K is not positive on the complement: w0 at or above an elastic frequency */
         status = -1;
         break;
@@ -136,7 +130,7 @@ int corot_initial_state(const corot_body *body, corot_model model, double omega,
         u0[i] += alpha * p[i];
         r[i] -= alpha * q[i];
       }
-      const double rr_next = dotn(n, r, r);
+      const double rr_next = corot_dot(n, r, r);
       *iterations = it;
       if (sqrt(rr_next) <= tol * r0) {
         status = 0;

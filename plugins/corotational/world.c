@@ -7,12 +7,6 @@
 
 #include "kernel.h"
 
-static double dot(int n, const double *a, const double *b) {
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += a[i] * b[i];
-  return sum;
-}
-
 int corot_world_init(corot_world *cw, corot_model model, const corot_body *body, corot_contact *contact) {
   memset(cw, 0, sizeof *cw);
   if (model != COROT_MODEL_1 && model != COROT_MODEL_2) return -1;
@@ -182,7 +176,7 @@ void corot_world_residual(corot_world *cw, const double *y, double *F, double *g
   inner_residual(cw, y);
   for (int b = 0; b < body->n_nodes; ++b) corot_mul(dim, cw->Rm, cw->Rin + b * dim, F + b * dim);
   if (cw->model == COROT_MODEL_1) {
-    F[n] = cw->a * dot(n, body->c, cw->u_h);
+    F[n] = cw->a * corot_dot(n, body->c, cw->u_h);
   } else {
     for (int i = 0; i < dim; ++i) F[n + i] = body->mass_total * (y[n + i] - cw->T_h[i]);
   }
@@ -196,8 +190,8 @@ void corot_world_residual(corot_world *cw, const double *y, double *F, double *g
       corot_contact_rows(contact, dim, p, lin, kinematic);
       const double *Fr = contact->frame + 9 * p, *sp = cw->s + contact->node[p] * dim;
       for (int i = 0; i < dim; ++i)
-        Fl[p * dim + i] = kinematic[i] ? contact->kappa[p] * dot(dim, Fr + 3 * i, sp)
-                                       : contact->weight[p] * dot(dim, lin[i], lambda + p * dim);
+        Fl[p * dim + i] = kinematic[i] ? contact->kappa[p] * corot_dot(dim, Fr + 3 * i, sp)
+                                       : contact->weight[p] * corot_dot(dim, lin[i], lambda + p * dim);
     }
   }
   if (!g) return;
@@ -211,7 +205,7 @@ void corot_world_residual(corot_world *cw, const double *y, double *F, double *g
     }
     *g = sum;
   } else {
-    *g = dot(n, body->c, cw->u_h);
+    *g = corot_dot(n, body->c, cw->u_h);
   }
 }
 
@@ -316,7 +310,7 @@ void corot_world_dw(corot_world *cw, const double *y, double *dF, double *dg_dy,
       int kinematic[3];
       corot_contact_rows(contact, dim, p, lin, kinematic);
       for (int i = 0; i < dim; ++i)
-        dFl[p * dim + i] = kinematic[i] ? contact->kappa[p] * dot(dim, contact->frame + 9 * p + 3 * i,
+        dFl[p * dim + i] = kinematic[i] ? contact->kappa[p] * corot_dot(dim, contact->frame + 9 * p + 3 * i,
                                                                     ds + contact->node[p] * dim)
                                         : 0.0;
     }
@@ -343,7 +337,7 @@ void corot_world_dw(corot_world *cw, const double *y, double *dF, double *dg_dy,
   }
   /* border rows */
   if (cw->model == COROT_MODEL_1) {
-    dF[n] = a * dot(n, body->c, du);
+    dF[n] = a * corot_dot(n, body->c, du);
   } else {
     double Tdu[3];
     corot_mean(body, du, Tdu);
@@ -364,13 +358,13 @@ void corot_world_dw(corot_world *cw, const double *y, double *dF, double *dg_dy,
       corot_pi(dim, body->e, body->c + b * dim, pc);
       for (int i = 0; i < dim; ++i) grad[b * dim + i] = pSu[i] + alpha * pc[i] - grad[b * dim + i];
       lever(cw, b, pr);
-      c_pr += dot(dim, body->c + b * dim, pr);
+      c_pr += corot_dot(dim, body->c + b * dim, pr);
     }
     dg_dy[n] = -c_pr;
   } else {
     memcpy(grad, body->c, sizeof(double) * (size_t)n);
   }
-  *dg_dw = dot(n, grad, du);
+  *dg_dw = corot_dot(n, grad, du);
   for (int b = 0; b < body->n_nodes; ++b) {
     /* G0^T grad_b = (1/2) R1 grad_b */
     corot_mul(dim, cw->R1, grad + b * dim, dg_dy + b * dim);
@@ -448,7 +442,7 @@ double corot_world_commit(corot_world *cw, const double *y, corot_state *next) {
     const double *lambda = y + n + cw->n_border;
     for (int p = 0; p < contact->n; ++p) {
       for (int i = 0; i < dim; ++i) contact->lambda[3 * p + i] = lambda[p * dim + i];
-      work += contact->weight[p] * dot(dim, cw->s + contact->node[p] * dim, lambda + p * dim);
+      work += contact->weight[p] * corot_dot(dim, cw->s + contact->node[p] * dim, lambda + p * dim);
     }
     memcpy(contact->set_committed, contact->set, (size_t)contact->n);
     memcpy(contact->dir_committed, contact->dir, sizeof(double) * 2 * (size_t)contact->n);
