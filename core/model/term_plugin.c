@@ -380,7 +380,8 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
     status = term->table.create(sk_host_api_table(), &term->host, &term->attach, &term->instance);
     if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);
   }
-  if (status == SK_OK && term->table.integrator && !term->claimed)
+  /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */
+  if (status == SK_OK && body >= 0 && term->table.integrator && !term->claimed)
     status = sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' supplies an integrator but did not claim the body "
                           "(stickslip.bulk claim)", term->base.name, term->plugin->name);
   if (status == SK_OK && term->claimed) {
