@@ -24,6 +24,7 @@ int cp_face_init(cp_face *face, sk_elem_type type, cp_shape_fn shape, cp_shape_h
 
 int cp_face_point(const cp_face *face, const double *xf, const double xi[2], sk_surface_point *pt) {
   memset(pt, 0, sizeof *pt);
+  pt->struct_size = sizeof *pt;
   double dN[2 * CP_MAX_FACE_NODES], ddN[4 * CP_MAX_FACE_NODES];
   face->shape(face->type, xi, pt->N, dN);
   face->shape_hessian(face->type, xi, ddN);
@@ -83,102 +84,31 @@ int cp_closest_point(const cp_face *face, const double *xf, const double r[3], d
   return -1;
 }
 
-/* ---- the normal ray against an analytical surface (117)-(124) -------------------------------------------------- */
-
-/* Real roots of a g^2 + b g + c = 0 (a may vanish), cancellation-free; returns their number. */
-static int quadratic_roots(double a, double b, double c, double roots[2]) {
-  double scale = fmax(fabs(b), fabs(c));
-  if (fabs(a) <= 1e-14 * fmax(scale, 1e-300)) {
-    if (b == 0.0) return 0;
-    roots[0] = -c / b;
-    return 1;
+/* ---- the normal ray against a rigid surface (117)-(124) ------------------------------------------------------- */
+int cp_ray(cp_distance_fn distance, void *ctx, const double rho[3], const double n[3], double max_depth, double *g,
+           double hit[3], double nu[3]) {
+  /* Newton on phi(g) = distance(rho + g n): phi' = nu . n. The paper's closed form (122) for the parabolic cylinder is
+   * this iteration's root; here the host's closest-point projection gives phi for any obstacle. */
+  double gk = 0.0, y[3], phi, v[3];
+  int converged = 0;
+  for (int it = 0; it < 40 && converged < 2; ++it) {
+    for (int i = 0; i < 3; ++i) y[i] = rho[i] + gk * n[i];
+    if (!distance(ctx, y, &phi, v)) return 0;
+    double rate = cp_dot3(v, n);
+    if (!(rate < -1e-3)) return 0; /* not facing, or grazing: no usable intersection */
+    double step = -phi / rate;
+    gk += step;
+    if (!(fabs(gk) <= max_depth)) return 0;
+    /* quadratic convergence: one more step after 1e-9 leaves round-off, so that differences of g stay exact */
+    if (converged || fabs(step) <= 1e-9 * fmax(1.0, fabs(gk))) ++converged;
   }
-  double disc = b * b - 4.0 * a * c;
-  if (disc < 0.0) return 0;
-  double q = -0.5 * (b + copysign(sqrt(disc), b));
-  roots[0] = q / a;
-  if (q == 0.0) return 1;
-  roots[1] = c / q;
-  return 2;
-}
-
-int cp_ray_obstacle(const sk_obstacle *obstacle, const double d[3], const double rho[3], const double n[3],
-                    double max_depth, double *g, double hit[3], double nu[3]) {
-  double origin[3], q[3], roots[2];
-  for (int i = 0; i < 3; ++i) {
-    origin[i] = obstacle->point[i] + d[i];
-    q[i] = rho[i] - origin[i];
-  }
-  double ez[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, ex[3] = {0, 0, 0}, axis[3] = {0, 0, 0};
-  int count = 0;
-  switch (obstacle->kind) {
-  case SK_OBSTACLE_PLANE: {
-    if (!cp_normalise(obstacle->normal, ez)) return 0;
-    double rate = cp_dot3(n, ez);
-    if (rate == 0.0) return 0;
-    roots[0] = -cp_dot3(q, ez) / rate;
-    count = 1;
-    break;
-  }
-  case SK_OBSTACLE_SPHERE:
-    count = quadratic_roots(1.0, 2.0 * cp_dot3(q, n), cp_dot3(q, q) - obstacle->radius * obstacle->radius, roots);
-    break;
-  case SK_OBSTACLE_CYLINDER: {
-    if (!cp_normalise(obstacle->axis, axis)) return 0;
-    double qp[3], np[3], qa = cp_dot3(q, axis), na = cp_dot3(n, axis);
-    for (int i = 0; i < 3; ++i) {
-      qp[i] = q[i] - qa * axis[i];
-      np[i] = n[i] - na * axis[i];
-    }
-    count = quadratic_roots(cp_dot3(np, np), 2.0 * cp_dot3(qp, np),
-                            cp_dot3(qp, qp) - obstacle->radius * obstacle->radius, roots);
-    break;
-  }
-  case SK_OBSTACLE_PARABOLIC_CYLINDER: {
-    /* The frame of obstacle.c: ez "up", ey the generators, ex = ey x ez; the surface Z = c X^2 (121). */
-    if (!cp_normalise(obstacle->normal, ez)) return 0;
-    double along = cp_dot3(obstacle->axis, ez), gy[3];
-    for (int i = 0; i < 3; ++i) gy[i] = obstacle->axis[i] - along * ez[i];
-    if (!cp_normalise(gy, ey)) return 0;
-    cp_cross3(ey, ez, ex);
-    const double c = obstacle->c, X = cp_dot3(q, ex), Z = cp_dot3(q, ez), nX = cp_dot3(n, ex), nZ = cp_dot3(n, ez);
-    count = quadratic_roots(c * nX * nX, 2.0 * c * X * nX - nZ, c * X * X - Z, roots);
-    break;
-  }
-  default: return 0;
-  }
-  int found = 0;
-  for (int k = 0; k < count; ++k) {
-    double gk = roots[k], h[3], v[3];
-    if (!(fabs(gk) <= max_depth) || (found && fabs(gk) >= fabs(*g))) continue;
-    for (int i = 0; i < 3; ++i) h[i] = rho[i] + gk * n[i];
-    switch (obstacle->kind) {
-    case SK_OBSTACLE_PLANE: memcpy(v, ez, sizeof v); break;
-    case SK_OBSTACLE_SPHERE:
-      for (int i = 0; i < 3; ++i) v[i] = (h[i] - origin[i]) / obstacle->radius;
-      break;
-    case SK_OBSTACLE_CYLINDER: {
-      double r[3], ra;
-      for (int i = 0; i < 3; ++i) r[i] = h[i] - origin[i];
-      ra = cp_dot3(r, axis);
-      for (int i = 0; i < 3; ++i) v[i] = (r[i] - ra * axis[i]) / obstacle->radius;
-      break;
-    }
-    default: { /* parabolic cylinder: outward normal (-2cX ex + ez)/sqrt(1 + 4c^2X^2) */
-      double r[3];
-      for (int i = 0; i < 3; ++i) r[i] = h[i] - origin[i];
-      double slope = 2.0 * obstacle->c * cp_dot3(r, ex), length = sqrt(1.0 + slope * slope);
-      for (int i = 0; i < 3; ++i) v[i] = (-slope * ex[i] + ez[i]) / length;
-      break;
-    }
-    }
-    if (!(cp_dot3(v, n) < 0.0)) continue; /* the surfaces must face each other */
-    *g = gk;
-    memcpy(hit, h, 3 * sizeof *hit);
-    memcpy(nu, v, 3 * sizeof *nu);
-    found = 1;
-  }
-  return found;
+  if (converged < 2) return 0;
+  for (int i = 0; i < 3; ++i) y[i] = rho[i] + gk * n[i];
+  if (!distance(ctx, y, &phi, v) || !(cp_dot3(v, n) < 0.0)) return 0;
+  *g = gk;
+  memcpy(hit, y, 3 * sizeof *hit);
+  memcpy(nu, v, 3 * sizeof *nu);
+  return 1;
 }
 
 /* ---- residual ------------------------------------------------------------------------------------------------- */
@@ -213,8 +143,7 @@ int cp_point_state(const cp_point *point, const cp_params *params, const cp_chan
   memcpy(out->x_master, e->kin.x, sizeof out->x_master);
   double g, delta[3] = {0.0, 0.0, 0.0};
   if (point->variant == CP_STAS) {
-    if (!cp_ray_obstacle(point->obstacle, point->obstacle_d, e->kin.x, n, point->max_depth, &g, e->hit, e->nu))
-      return 0;
+    if (!cp_ray(point->distance, point->distance_ctx, e->kin.x, n, point->max_depth, &g, e->hit, e->nu)) return 0;
     e->has_ray = 1;
     for (int i = 0; i < 3; ++i) delta[i] = -(e->kin.x[i] - point->anchor[i] - point->obstacle_d[i]); /* (48) */
   } else {

@@ -12,8 +12,7 @@
 #ifndef COVARIANT_PENALTY_KERNEL_H
 #define COVARIANT_PENALTY_KERNEL_H
 
-#include "stickslip/contact.h"
-#include "stickslip/mesh.h"
+#include "stickslip/plugin_types.h"
 
 enum {
   CP_MAX_FACE_NODES = 9,
@@ -49,11 +48,15 @@ int cp_face_point(const cp_face *face, const double *xf, const double xi[2], sk_
  * a_ij - (r - rho) . rho_ij (21)-(25), from xi. Returns the iterations, or -1 without convergence (step > 1e-13). */
 int cp_closest_point(const cp_face *face, const double *xf, const double r[3], double xi[2], int max_iterations);
 
-/* The normal ray of a master point (rho, n) against a rigid obstacle translated by d: the point hit = rho + g n on
- * the obstacle (117)-(124), the root of smallest |g| where the obstacle's outward normal nu faces n (nu . n < 0).
- * Returns 1 with g, hit and nu, or 0 when the ray misses, the surfaces do not face each other, or |g| > max_depth. */
-int cp_ray_obstacle(const sk_obstacle *obstacle, const double d[3], const double rho[3], const double n[3],
-                    double max_depth, double *g, double hit[3], double nu[3]);
+/* Signed distance of point y to a rigid surface (> 0 outside it) and the surface's outward unit normal at its closest
+ * point; returns 0 when it cannot tell. The plugin passes the host's obstacle_project at the step's time. */
+typedef int (*cp_distance_fn)(void *ctx, const double y[3], double *distance, double normal[3]);
+
+/* The normal ray of a master point (rho, n) against a rigid surface (117)-(124): hit = rho + g n with
+ * distance(hit) = 0, by Newton on g from 0 (d distance / dg = nu . n, nu the surface normal). Accepted only where
+ * the surfaces face each other (nu . n < 0) and |g| <= max_depth. Returns 1 with g, hit and nu, or 0. */
+int cp_ray(cp_distance_fn distance, void *ctx, const double rho[3], const double n[3], double max_depth, double *g,
+           double hit[3], double nu[3]);
 
 typedef struct {
   double eps_n, eps_t, mu;
@@ -79,8 +82,9 @@ typedef struct {
   int old_nodes[CP_MAX_FACE_NODES];
   double N_old[CP_MAX_FACE_NODES];
   double anchor[3];                 /* stas: Gauss point position at the last step minus the obstacle translation */
-  /* stas: the rigid surface and its current translation */
-  const sk_obstacle *obstacle;
+  /* stas: the rigid surface (its distance function) and its current translation */
+  cp_distance_fn distance;
+  void *distance_ctx;
   double obstacle_d[3];
   double max_depth;                 /* stas: deepest accepted penetration along the ray */
 } cp_point;

@@ -1,34 +1,35 @@
 /* covariant-penalty — kernel: the exact tangent of one contact point, split by channel into the main, rotational
- * and curvature parts (docs/plugins/covariant-penalty.md §5).
+ * and curvature parts (docs/plugins/covariant-penalty.md §5), on top of the shared covariant kernel
+ * (plugins/common/covariant.h): its closest-point kinematics give dg, Dxi and the normal's change split into
+ * Dn_rot (the face's nodes move at fixed xi) and Dn_curv (the point moves on the curved face); its return map
+ * differentiates the Coulomb law for each channel's change of the trial and the pressure.
  *
- * With z the local dofs (c = 3 node + component) and the node weights
- *   alpha (A = d(r_s - rho)/dz: S_a on slave nodes, -N_k on master nodes), beta_j (B_j = d rho_j/dz: N_k,j),
- *   gamma (A_Delta = d Delta rho/dz at fixed xi: N_k on the current face, -N_old on the last step's face),
- * the rows below are the derivatives of the primitive quantities; s = p n + t changes by
- *   main:        ds/dg dg + ds/dDelta dDelta              (the kinematic channel x_K, xi_K)
- *   rotational:  ds/dn dn_x  [+ ds/dg dg_F for stas]      (the frame channel x_F at fixed xi)
- *   curvature:   ds/dn dn_xi                               (the frame channel xi_F)
- * and K_part[(a,i), c] = -w alpha_a ds_part[i][c]; the weight channel adds w beta_j,a s_i Dxi^j[c] to the
- * rotational part. */
+ * Channel by channel, with tau = P (t_n - eps_t Delta rho), P = I - n n and the node weights
+ *   alpha (A = d(r_s - rho)/dz: S_a on slave nodes, -N_k on master nodes), beta_j (B_j: N_k,j),
+ *   gamma (A_Delta = d Delta rho/dz at fixed xi: N_k on the current face, -N_old on the last step's face):
+ *   main        dp = -eps_n dg,                      dtau = -eps_t P (A_Delta + rho_i Dxi^i) dz
+ *   rotational  dn = Dn_rot [stas: dp = eps_n g nu . dn / (nu . n)],   dtau = dP tau_hat
+ *   curvature   dn = Dn_curv,                        dtau = dP tau_hat
+ * then ds = dp n + p dn + dt (dt from the return map) and K_part[(a,i), c] = -w alpha_a ds[i][c]; the weight
+ * channel adds w beta_j,a s_i Dxi^j[c] to the rotational part. */
 #include <string.h>
 
+#include "covariant.h"
 #include "kernel.h"
 #include "kernel_internal.h"
 
-/* ds = (ds/dn) . v for a change v of the normal: p v plus the change of t through P (docs §5). */
-static void traction_normal_derivative(const cp_eval *e, const cp_params *params, const double *v, double *ds) {
-  const double *n = e->frame.n;
-  const cp_result *r = &e->result;
-  for (int i = 0; i < 3; ++i) ds[i] = r->p * v[i];
-  if (!e->friction) return;
-  double n_tau = cp_dot3(n, e->tau_hat), v_tau = cp_dot3(v, e->tau_hat), dtau[3];
-  for (int i = 0; i < 3; ++i) dtau[i] = -v[i] * n_tau - n[i] * v_tau; /* dP tau_hat, P = I - n n */
-  if (r->state == CP_STICK) {
-    for (int i = 0; i < 3; ++i) ds[i] += dtau[i];
-    return;
-  }
-  double scale = params->mu * r->p / e->tau_norm, e_dtau = cp_dot3(e->e, dtau);
-  for (int i = 0; i < 3; ++i) ds[i] += scale * (dtau[i] - e->e[i] * e_dtau); /* mu p (I - e e) dtau / |tau| */
+/* The shared kernel's rows are over [r_s | the master face's nodes]; spread them onto the point's local dofs. */
+static void spread_row(const cp_point *point, const double *row, double *out) {
+  for (int a = 0; a < point->n_slave; ++a)
+    for (int i = 0; i < 3; ++i) out[3 * point->slave[a] + i] += point->S[a] * row[i];
+  for (int k = 0; k < point->master.nen; ++k)
+    for (int i = 0; i < 3; ++i) out[3 * point->master_nodes[k] + i] += row[3 * (1 + k) + i];
+}
+
+/* dP tau_hat for a change dn of the normal, P = I - n n. */
+static void projector_change(const double *n, const double *tau_hat, const double *dn, double *out) {
+  double n_tau = cp_dot3(n, tau_hat), dn_tau = cp_dot3(dn, tau_hat);
+  for (int i = 0; i < 3; ++i) out[i] = -dn[i] * n_tau - n[i] * dn_tau;
 }
 
 int cp_point_eval(const cp_point *point, const cp_params *params, cp_form form, const int want[CP_N_PARTS],
@@ -52,7 +53,7 @@ int cp_point_eval(const cp_point *point, const cp_params *params, cp_form form, 
   }
 
   const sk_surface_point *f = &e.frame;
-  const double *n = f->n, g = out->g, w = params->weight;
+  const double *n = f->n, g = out->g, p = out->p, w = params->weight;
   const int stas = point->variant == CP_STAS;
   double alpha[CP_MAX_NODES] = {0}, beta[2][CP_MAX_NODES] = {{0}}, gamma[CP_MAX_NODES] = {0};
   for (int a = 0; a < point->n_slave; ++a) alpha[point->slave[a]] += point->S[a];
@@ -65,75 +66,60 @@ int cp_point_eval(const cp_point *point, const cp_params *params, cp_form form, 
   if (!stas)
     for (int l = 0; l < point->n_old; ++l) gamma[point->old_nodes[l]] -= point->N_old[l];
 
-  /* Dxi from the closest-point condition: (a_ij - g h_ij) Dxi^j = rho_i^T A + g n^T B_i. */
-  double Dxi[2][CP_MAX_DOFS] = {{0}};
-  if (!stas) {
-    double M[2][2], Minv[2][2];
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j) M[i][j] = f->m[i][j] - g * f->h[i][j];
-    double det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
-    if (!(det > 0.0)) return -1; /* a focal point of the master: the closest point is not a minimum */
-    Minv[0][0] = M[1][1] / det;
-    Minv[1][1] = M[0][0] / det;
-    Minv[0][1] = -M[0][1] / det;
-    Minv[1][0] = -M[1][0] / det;
-    for (int c = 0; c < nd; ++c) {
-      int node = c / 3, comp = c % 3;
-      double rhs[2];
-      for (int k = 0; k < 2; ++k) rhs[k] = alpha[node] * f->a[k][comp] + g * beta[k][node] * n[comp];
-      for (int j = 0; j < 2; ++j) Dxi[j][c] = Minv[j][0] * rhs[0] + Minv[j][1] * rhs[1];
-    }
-  }
-
-  /* ds/dg and ds/dDelta (the kinematic channel). */
-  double sg[3], SD[3][3] = {{0}};
-  for (int i = 0; i < 3; ++i) sg[i] = -params->eps_n * (n[i] + (out->state == CP_SLIP ? params->mu * e.e[i] : 0.0));
-  if (e.friction) {
-    double scale = out->state == CP_SLIP ? params->mu * out->p / e.tau_norm : 1.0;
-    for (int i = 0; i < 3; ++i)
-      for (int l = 0; l < 3; ++l) {
-        double P = (i == l ? 1.0 : 0.0) - n[i] * n[l];
-        SD[i][l] = -params->eps_t * scale * (P - (out->state == CP_SLIP ? e.e[i] * e.e[l] : 0.0));
-      }
+  /* Closest-point kinematics (stas: only the nodal turn of the normal is used; xi is a fixed Gauss point). */
+  cov_kinematics kin;
+  if (!cov_kinematics_eval(f, 3, point->master.nen, stas ? 0.0 : g, &kin))
+    return -1; /* a focal point of the master: a_ij - g h_ij singular */
+  double dg[CP_MAX_DOFS] = {0}, Dxi[2][CP_MAX_DOFS] = {{0}}, Dn[2][3][CP_MAX_DOFS] = {{{0}}};
+  for (int i = 0; i < 3; ++i) {
+    spread_row(point, kin.Dn_rot[i], Dn[0][i]);
+    if (!stas) spread_row(point, kin.Dn_curv[i], Dn[1][i]);
   }
   const double nu_n = stas ? cp_dot3(e.nu, n) : 1.0;
-
-  double ds[CP_N_PARTS][3][CP_MAX_DOFS];
-  memset(ds, 0, sizeof ds);
-  for (int c = 0; c < nd; ++c) {
-    int node = c / 3, comp = c % 3;
-    /* main: dg = n^T A dz (stas: nu^T A dz / (nu . n)), dDelta = A_Delta dz + rho_i Dxi^i */
-    double dg = alpha[node] * (stas ? e.nu[comp] / nu_n : n[comp]), dDelta[3];
-    for (int i = 0; i < 3; ++i) dDelta[i] = (i == comp ? gamma[node] : 0.0) + f->a[0][i] * Dxi[0][c] + f->a[1][i] * Dxi[1][c];
-    for (int i = 0; i < 3; ++i)
-      ds[CP_MAIN][i][c] = sg[i] * dg + SD[i][0] * dDelta[0] + SD[i][1] * dDelta[1] + SD[i][2] * dDelta[2];
-    /* rotational: the normal turns with the nodes at fixed xi, dn_x = -rho^k (n . B_k dz) (13) */
-    double dn_x[3], d[3];
-    for (int i = 0; i < 3; ++i) dn_x[i] = -(f->a_dual[0][i] * beta[0][node] + f->a_dual[1][i] * beta[1][node]) * n[comp];
-    traction_normal_derivative(&e, params, dn_x, d);
-    double dg_F = stas ? -g * cp_dot3(e.nu, dn_x) / nu_n : 0.0; /* (dg-stas): the ray turns with n */
-    for (int i = 0; i < 3; ++i) ds[CP_ROTATIONAL][i][c] = d[i] + sg[i] * dg_F;
-    /* curvature: the normal turns because the point moves on a curved face, dn_xi = -rho^k h_kj Dxi^j */
-    if (!stas) {
-      double dn_xi[3];
-      for (int i = 0; i < 3; ++i) {
-        dn_xi[i] = 0.0;
-        for (int k = 0; k < 2; ++k)
-          dn_xi[i] -= f->a_dual[k][i] * (f->h[k][0] * Dxi[0][c] + f->h[k][1] * Dxi[1][c]);
-      }
-      traction_normal_derivative(&e, params, dn_xi, d);
-      for (int i = 0; i < 3; ++i) ds[CP_CURVATURE][i][c] = d[i];
-    }
+  if (stas) { /* (dg-stas): the ray moves with rho, dg = nu^T A dz / (nu . n) */
+    for (int c = 0; c < nd; ++c) dg[c] = alpha[c / 3] * e.nu[c % 3] / nu_n;
+  } else {
+    spread_row(point, kin.G, dg);
+    for (int j = 0; j < 2; ++j) spread_row(point, kin.Dxi[j], Dxi[j]);
   }
 
+  /* Each channel's change of the pressure, the trial and the normal; the return map turns them into ds. */
+  static const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  double ds[3][CP_MAX_DOFS];
   for (int part = 0; part < CP_N_PARTS; ++part) {
-    if (!want[part]) continue;
+    if (!want[part] || (part == CP_CURVATURE && stas)) continue;
+    double Dp[CP_MAX_DOFS], Dtau[3 * CP_MAX_DOFS], Dt[3 * CP_MAX_DOFS] = {0};
+    for (int c = 0; c < nd; ++c) {
+      double dn[3] = {0.0, 0.0, 0.0}, dtau[3] = {0.0, 0.0, 0.0};
+      if (part == CP_MAIN) {
+        Dp[c] = -params->eps_n * dg[c];
+        double dDelta[3];
+        for (int i = 0; i < 3; ++i)
+          dDelta[i] = (i == c % 3 ? gamma[c / 3] : 0.0) + f->a[0][i] * Dxi[0][c] + f->a[1][i] * Dxi[1][c];
+        double n_dDelta = cp_dot3(n, dDelta);
+        for (int i = 0; i < 3; ++i) dtau[i] = -params->eps_t * (dDelta[i] - n[i] * n_dDelta);
+      } else {
+        for (int i = 0; i < 3; ++i) dn[i] = Dn[part - 1][i][c];
+        Dp[c] = stas && part == CP_ROTATIONAL ? params->eps_n * g * cp_dot3(e.nu, dn) / nu_n : 0.0;
+        if (e.friction) projector_change(n, e.tau_hat, dn, dtau);
+      }
+      for (int i = 0; i < 3; ++i) {
+        Dtau[i * nd + c] = dtau[i];
+        ds[i][c] = Dp[c] * n[i] + p * dn[i];
+      }
+    }
+    if (e.friction) {
+      double t[3], dissipation;
+      cov_return_map(3, out->tau, Dtau, identity, params->mu, p, Dp, nd, params->eps_t, t, Dt, &dissipation);
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < nd; ++c) ds[i][c] += Dt[i * nd + c];
+    }
     double *Kp = K[part];
     for (int a = 0; a < point->n_local; ++a) {
       if (alpha[a] == 0.0) continue;
       for (int i = 0; i < 3; ++i) {
         double *row = Kp + (size_t)(3 * a + i) * nd;
-        for (int c = 0; c < nd; ++c) row[c] -= w * alpha[a] * ds[part][i][c];
+        for (int c = 0; c < nd; ++c) row[c] -= w * alpha[a] * ds[i][c];
       }
     }
   }

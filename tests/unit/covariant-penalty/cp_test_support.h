@@ -8,6 +8,7 @@
 
 #include "kernel.h"
 #include "sk_test.h"
+#include "stickslip/contact.h"
 #include "stickslip/fe.h"
 
 /* The master surface z = surface(x, y): curved and twisted so that h_ab, h_12 and the Christoffel symbols are not 0. */
@@ -32,6 +33,16 @@ typedef struct {
   double x[3 * CP_MAX_NODES];
   sk_obstacle obstacle;
 } scenario;
+
+/* The rigid surface for stas: the core's obstacle projection (what the plugin reaches through the host) at t = 0,
+ * where the obstacle's motion table translates it by its first entry. */
+static int obstacle_distance(void *ctx, const double y[3], double *distance, double normal[3]) {
+  sk_surface_point pt;
+  pt.struct_size = sizeof pt;
+  if (sk_obstacle_project((const sk_obstacle *)ctx, 0.0, y, 3, &pt, distance) != SK_OK) return 0;
+  memcpy(normal, pt.n, 3 * sizeof(double));
+  return 1;
+}
 
 static void gather(const cp_point *pt, const double *x, double *xf) {
   for (int k = 0; k < pt->master.nen; ++k) memcpy(xf + 3 * k, x + 3 * pt->master_nodes[k], 3 * sizeof *xf);
@@ -155,7 +166,11 @@ static void build_stas(scenario *sc, const char *name, sk_elem_type type, sk_obs
   ob->axis[1] = 1.0;
   ob->c = 0.05;
   ob->radius = 3.2;
-  pt->obstacle = ob;
+  ob->n_motion = 1; /* translated by (0.01, -0.02, 0) */
+  ob->motion_d[0][0] = 0.01;
+  ob->motion_d[0][1] = -0.02;
+  pt->distance = obstacle_distance;
+  pt->distance_ctx = ob;
   pt->obstacle_d[0] = 0.01;
   pt->obstacle_d[1] = -0.02;
   pt->max_depth = 0.5;

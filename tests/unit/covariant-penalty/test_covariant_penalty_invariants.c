@@ -121,7 +121,8 @@ static void check_frame(scenario *sc) {
   }
   rotate(Q, sc->pt.t_n, rs.pt.t_n);
   if (sc->pt.variant == CP_STAS) {
-    rs.pt.obstacle = &rs.obstacle;
+    rs.pt.distance_ctx = &rs.obstacle;
+    rotate(Q, sc->obstacle.motion_d[0], rs.obstacle.motion_d[0]);
     rotate(Q, sc->obstacle.point, rs.obstacle.point);
     rotate(Q, sc->obstacle.normal, rs.obstacle.normal);
     rotate(Q, sc->obstacle.axis, rs.obstacle.axis);
@@ -308,5 +309,5 @@ int main(void) {
   edge_crossing(SK_QUAD9, 0.1, 100.0, "z = 0.1 x^2 QUAD9, stuck");
   edge_crossing(SK_QUAD9, 0.1, 0.3, "z = 0.1 x^2 QUAD9, stick-slip");
   transport_without_motion();
-  return sk_test_finish("test_covariant_invariants");
+  return sk_test_finish("test_covariant_penalty_invariants");
 }

@@ -2,7 +2,7 @@
  * (main: the kinematics, rotational: the frame at fixed xi and the weights, curvature: the frame through xi), the
  * sum against differences of the whole residual; stick and slip; sts and nts on a warped QUAD4 (the contact point
  * crossed over from a neighbouring face) and a curved QUAD9 master, stas against the parabolic cylinder, plane and
- * sphere (test_covariant_invariants.c has the checks that are not differences). */
+ * sphere (test_covariant_penalty_invariants.c has the checks that are not differences). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,8 +10,9 @@
 #include "cp_test_support.h"
 
 static const double FD_STEP = 1e-6;
-/* |K - FD| / max|K| measured 4e-12 ... 2.4e-10 (the sphere, whose ray has the largest third derivative) */
-static const double FD_TOL = 1e-9;
+/* |K - FD| / max|K| measured 4e-12 ... 9.4e-10 (the sphere: its ray, by Newton on the distance, has the largest
+ * third derivative) */
+static const double FD_TOL = 3e-9;
 
 static double K_store[CP_N_PARTS][CP_MAX_DOFS * CP_MAX_DOFS];
 static double *K_parts[CP_N_PARTS] = {K_store[0], K_store[1], K_store[2]};
@@ -122,5 +123,5 @@ int main(void) {
   printf("tangent parts against channel differences (exact form):\n");
   deformable_cases();
   stas_cases();
-  return sk_test_finish("test_covariant_kernel");
+  return sk_test_finish("test_covariant_penalty_kernel");
 }
