@@ -74,6 +74,12 @@ typedef struct {
 /* A surface point to fill (struct_size set). */
 sk_surface_point cp_new_surface_point(void);
 
+/* The kernel's point of entity e at state->x: positions, global rows, history (step.c; the tests use it too).
+ * Returns 0 when the point has no master face at this iteration. */
+int cp_local_point(sk_instance *in, const entity *e, const sk_state *st, local_point *L);
+/* The kernel's parameters of entity e (its weight). */
+cp_params cp_point_params(const sk_instance *in, const entity *e);
+
 /* The step (step.c): the calls of the plugin table. */
 sk_status cp_begin_step(sk_instance *in, const sk_state *st);
 sk_status cp_layout(sk_instance *in, const sk_state *st, sk_layout *layout);

@@ -108,8 +108,7 @@ static int add_node(local_point *L, int view, int node, const sk_view *v, const 
   return k;
 }
 
-/* Builds the kernel's point for entity e at state->x; returns 0 when the point has no master face this iteration. */
-static int build_point(sk_instance *in, const entity *e, const sk_state *st, local_point *L) {
+int cp_local_point(sk_instance *in, const entity *e, const sk_state *st, local_point *L) {
   memset(&L->pt, 0, sizeof L->pt);
   cp_point *pt = &L->pt;
   const double *xs = st->x[0];
@@ -160,7 +159,7 @@ static int build_point(sk_instance *in, const entity *e, const sk_state *st, loc
   return 1;
 }
 
-static cp_params point_params(const sk_instance *in, const entity *e) {
+cp_params cp_point_params(const sk_instance *in, const entity *e) {
   return (cp_params){.eps_n = in->eps_n, .eps_t = in->eps_t, .mu = in->mu, .weight = e->weight,
                      .touch_tol = in->touch_tol};
 }
@@ -168,13 +167,13 @@ static cp_params point_params(const sk_instance *in, const entity *e) {
 /* Evaluates entity e (residual only when K is NULL). */
 static sk_status evaluate(sk_instance *in, const entity *e, const sk_state *st, local_point *L, cp_result *r,
                           int jacobian) {
-  if (!build_point(in, e, st, L)) {
+  if (!cp_local_point(in, e, st, L)) {
     memset(r, 0, sizeof *r);
     r->state = CP_INACTIVE;
     r->g = NAN;
     return SK_OK;
   }
-  cp_params par = point_params(in, e);
+  cp_params par = cp_point_params(in, e);
   if (!jacobian) {
     cp_point_residual(&L->pt, &par, NULL, r);
     return SK_OK;
@@ -291,18 +290,27 @@ sk_status cp_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern) {
 sk_status cp_update_active_set(sk_instance *in, const sk_state *st, int *changed) {
   local_point L;
   cp_result r;
+  int faces = 0, states[3][3] = {{0}};
   *changed = 0;
   for (int k = 0; k < in->n_entities; ++k) {
     entity *e = &in->entities[k];
     if (in->master) {
       int face = e->sel_face;
       SK_TRY(select_face(in, e, st->x[0], st->x[1]));
-      if (e->sel_face != face) *changed = 1;
+      faces += e->sel_face != face;
     }
     SK_TRY(evaluate(in, e, st, &L, &r, 0));
-    if ((int)r.state != e->last_state) *changed = 1;
+    states[e->last_state][r.state]++;
     e->last_state = r.state;
   }
+  int flips = faces;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (a != b) flips += states[a][b];
+  *changed = flips > 0;
+  in->api->log(in->host, 2, "covariant-penalty: %d face changes; inactive->stick %d, ->slip %d; stick->inactive %d, "
+               "->slip %d; slip->inactive %d, ->stick %d", faces, states[0][1], states[0][2], states[1][0],
+               states[1][2], states[2][0], states[2][1]);
   return SK_OK;
 }
 
