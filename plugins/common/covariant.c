@@ -71,15 +71,21 @@ int cov_kinematics_eval(const sk_surface_point *pt, int dim, int nen, double g, 
   if (!cov_invert2(pdim, A, Ainv)) return 0;
   memset(k->Dxi, 0, sizeof k->Dxi);
   memset(k->Dn, 0, sizeof k->Dn);
+  memset(k->Dn_rot, 0, sizeof k->Dn_rot);
+  memset(k->Dn_curv, 0, sizeof k->Dn_curv);
   for (int c = 0; c < nd; ++c) {
     for (int a = 0; a < pdim; ++a)
       for (int b = 0; b < pdim; ++b) k->Dxi[a][c] += Ainv[a][b] * (C[b][c] + g * E[b][c]);
-    /* dn = -a^a (n . da_a + h_ab dxi^b) */
+    /* dn = -a^a (n . da_a + h_ab dxi^b): the nodal (rotational) and the xi (curvature) part */
     for (int a = 0; a < pdim; ++a) {
-      double s = E[a][c];
-      for (int b = 0; b < pdim; ++b) s += pt->h[a][b] * k->Dxi[b][c];
-      for (int i = 0; i < 3; ++i) k->Dn[i][c] -= pt->a_dual[a][i] * s;
+      double curv = 0.0;
+      for (int b = 0; b < pdim; ++b) curv += pt->h[a][b] * k->Dxi[b][c];
+      for (int i = 0; i < 3; ++i) {
+        k->Dn_rot[i][c] -= pt->a_dual[a][i] * E[a][c];
+        k->Dn_curv[i][c] -= pt->a_dual[a][i] * curv;
+      }
     }
+    for (int i = 0; i < 3; ++i) k->Dn[i][c] = k->Dn_rot[i][c] + k->Dn_curv[i][c];
   }
   return 1;
 }

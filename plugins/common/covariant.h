@@ -10,7 +10,10 @@
  * Closest-point kinematics (the closest-point condition (x_s - x_m) . a_a = 0 differentiated):
  *   G        = dg/dq:        G_s = n,  G_I = -N_I n
  *   A Dxi    = C + g E,      A_ab = m_ab - g h_ab,  C_a = a_a . (du at fixed xi),  E_a = n . da_a = dN_I,a n . du_I
- *   Dn       = -a^a (E_a + h_ab Dxi^b)
+ *   Dn       = -a^a (E_a + h_ab Dxi^b) = Dn_rot + Dn_curv
+ *   split by what turns the normal (Konyukhov & Schweizerhof's rotational and curvature parts, covariant-penalty):
+ *   Dn_rot = -a^a E_a (the face's nodes move at fixed xi),  Dn_curv = -a^a h_ab Dxi^b (the point moves on a curved
+ *   face, Weingarten (13)).
  * Metric derivatives (total: nodal part plus x,ab Dxi^b):
  *   Da_a     = x,ab Dxi^b + dN_I,a (du_I),   Dm_ab = a_b . Da_a + a_a . Da_b,
  *   Dm^ab    = -m^ax Dm_xy m^yb,             Da^a = Dm^ab a_b + m^ab Da_b.
@@ -33,7 +36,9 @@ typedef struct {
   double g;                        /* gap */
   double G[COV_MAX_DOFS];          /* dg/dq */
   double Dxi[2][COV_MAX_DOFS];     /* dxi^a/dq */
-  double Dn[3][COV_MAX_DOFS];      /* dn_i/dq */
+  double Dn[3][COV_MAX_DOFS];      /* dn_i/dq = Dn_rot + Dn_curv */
+  double Dn_rot[3][COV_MAX_DOFS];  /* the part at fixed xi */
+  double Dn_curv[3][COV_MAX_DOFS]; /* the part through xi */
 } cov_kinematics;
 
 /* Derivatives of the tangents, metric, inverse metric and dual tangents at the closest point. */
