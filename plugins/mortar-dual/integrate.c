@@ -216,12 +216,10 @@ void mortar_integrals_zero(mortar_integrals *I, const mortar_pair *p) {
   I->n_cells = 0;
 }
 
-void mortar_add_point(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *xi1,
-                      const fwd *xi2, fwd weight, fwd g, mortar_integrals *I) {
-  const int ns = p->nen_s, nm = p->nen_m;
-  fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], Phi[MORTAR_MAX_NEN];
-  mortar_shape(p->slave, xi1, N1, NULL);
-  if (xi2) mortar_shape(p->master, xi2, N2, NULL);
+/* Phi_j at the slave shape functions N1. */
+static void basis_values(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *N1,
+                         fwd *Phi) {
+  const int ns = p->nen_s;
   for (int j = 0; j < ns; ++j) {
     if (basis == MORTAR_STANDARD) {
       Phi[j] = N1[j];
@@ -230,18 +228,52 @@ void mortar_add_point(const mortar_pair *p, const mortar_basis_coeffs *A, mortar
       for (int k = 1; k < ns; ++k) Phi[j] = fwd_add(Phi[j], fwd_mul(A->coeff[j][k], N1[k]));
     }
   }
+}
+
+void mortar_add_point(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *xi1,
+                      const fwd *xi2, fwd weight, fwd g, mortar_integrals *I) {
+  const int ns = p->nen_s, nm = p->nen_m;
+  fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], Phi[MORTAR_MAX_NEN];
+  mortar_shape(p->slave, xi1, N1, NULL);
+  if (xi2) mortar_shape(p->master, xi2, N2, NULL);
+  basis_values(p, A, basis, N1, Phi);
   for (int j = 0; j < ns; ++j) {
     const fwd wPhi = fwd_mul(weight, Phi[j]);
     I->gap[j] = fwd_add(I->gap[j], fwd_mul(wPhi, g));
-    if (basis == MORTAR_DUAL) {
-      I->D[j][j] = fwd_add(I->D[j][j], wPhi); /* lumped: sum_k Phi_j N_k = Phi_j */
-    } else {
-      for (int k = 0; k < ns; ++k) I->D[j][k] = fwd_add(I->D[j][k], fwd_mul(wPhi, N1[k]));
-    }
     if (xi2)
       for (int l = 0; l < nm; ++l) I->M[j][l] = fwd_add(I->M[j][l], fwd_mul(wPhi, N2[l]));
   }
   I->measure += weight.v;
+}
+
+void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n,
+                            const double *xi, const double *w, mortar_integrals *I) {
+  const int ns = p->nen_s, pd = p->slave->pdim;
+  fwd xs[MORTAR_MAX_NEN][3];
+  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)ns);
+  for (int q = 0; q < n; ++q) {
+    const fwd x_q[2] = {fwd_const(xi[q * pd]), fwd_const(pd > 1 ? xi[q * pd + 1] : 0.0)};
+    fwd N[MORTAR_MAX_NEN], Phi[MORTAR_MAX_NEN], a[2][3], jac;
+    mortar_shape(p->slave, x_q, N, NULL);
+    mortar_face_point(p->slave, xs, x_q, NULL, a);
+    if (pd == 1) {
+      jac = fwd_norm(3, a[0]);
+    } else {
+      fwd c[3];
+      fwd_cross3(a[0], a[1], c);
+      jac = fwd_norm(3, c);
+    }
+    basis_values(p, A, basis, N, Phi);
+    const fwd wj = fwd_scale(w[q], jac);
+    for (int j = 0; j < ns; ++j) {
+      const fwd wPhi = fwd_mul(wj, Phi[j]);
+      if (basis == MORTAR_DUAL) {
+        I->D[j][j] = fwd_add(I->D[j][j], wPhi); /* row sum: sum_k Phi_j N_k = Phi_j */
+      } else {
+        for (int k = 0; k < ns; ++k) I->D[j][k] = fwd_add(I->D[j][k], fwd_mul(wPhi, N[k]));
+      }
+    }
+  }
 }
 
 int mortar_segments_2d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n_gauss,

@@ -75,10 +75,14 @@ typedef struct {
 } mortar_basis_coeffs;
 void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_basis_coeffs *A);
 
-/* ---- mortar integrals of one pair [I1-I4] ---------------------------------------------------------------------
- *   D_jk = int Phi_j N_k^(1),  M_jl = int Phi_j N_l^(2)(xi^(2)),  gap_j = int Phi_j g_n   over the overlap.
- * With the dual basis D is lumped to its diagonal, D_jj = int Phi_j (exact on fully covered faces, where
- * int Phi_j N_k = delta_jk int N_k; keeps sum_k D_jk = sum_l M_jl, i.e. linear momentum, on partly covered ones). */
+/* ---- mortar integrals [I1-I4] ---------------------------------------------------------------------------------
+ *   D_jk = int_{slave face} Phi_j N_k^(1)                      (mortar_slave_integrals: the whole slave face)
+ *   M_jl = int_{overlap} Phi_j N_l^(2)(xi^(2)),  gap_j = int_{overlap} Phi_j g_n      (the pair functions)
+ * D belongs to the slave surface alone (the potential contact surface; Popp et al. 2009), so it is invertible for
+ * every slave node, covered by the master or not. With the dual basis D is diagonal, D_jj = int Phi_j (the row sum,
+ * equal to int Phi_j N_j where the rule integrates the biorthogonality exactly). Where the master covers a slave
+ * face, sum_k D_jk = sum_l M_jl (linear momentum); where it covers only part of it, the slave force exceeds the
+ * master's by the uncovered part — at the border of the master surface only. */
 typedef struct {
   int nen_s, nen_m;
   fwd D[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
@@ -89,6 +93,11 @@ typedef struct {
 } mortar_integrals;
 
 void mortar_integrals_zero(mortar_integrals *I, const mortar_pair *p);
+
+/* D of the slave face with a rule on the whole face (exact: degree 2 in the face parameters on affine faces, 3 per
+ * direction on planar QUAD4). */
+void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n,
+                            const double *xi, const double *w, mortar_integrals *I);
 
 /* Segment-based integration, 2D (Popp, Gee, Wall 2009; McDevitt & Laursen 2000): the master nodes are projected onto
  * the slave line along the interpolated averaged slave normal, the overlap [xi_a, xi_b] gets n_gauss Gauss points,

@@ -147,7 +147,9 @@ static int integrate_case(const pair_case *c, const double *xs, const double *xm
   mortar_basis_coefficients(p, c->basis, &A);
   mortar_integrals_zero(I, p);
   double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
-  const int nq = mortar_face_rule(c->st->type, c->order, xi, w);
+  int nq = mortar_face_rule(c->st->type, 3, xi, w);
+  mortar_slave_integrals(p, &A, c->basis, nq, xi, w, I);
+  nq = mortar_face_rule(c->st->type, c->order, xi, w);
   int dim = c->dim;
   switch (c->mode) {
     case MODE_SEGMENTS:
@@ -228,13 +230,10 @@ typedef struct {
   double xm[MAX_PATCH_MASTERS][12];
 } patch_masters;
 
-static void add_integrals(const mortar_pair *p, const mortar_integrals *I, const double *xs, const double *xm,
-                          int face, patch_sums *s) {
+/* M and gap of a pair (D, of the slave face alone, is added once by integrate_patch). */
+static void add_integrals(const mortar_pair *p, const mortar_integrals *I, const double *xm, int face,
+                          patch_sums *s) {
   for (int j = 0; j < p->nen_s; ++j) {
-    for (int k = 0; k < p->nen_s; ++k) {
-      s->D[j] += I->D[j][k].v;
-      for (int i = 0; i < 3; ++i) s->Dx[j][i] += I->D[j][k].v * xs[3 * k + i];
-    }
     for (int l = 0; l < p->nen_m; ++l) {
       s->Msum[j] += I->M[j][l].v;
       s->M[face][j][l] += I->M[j][l].v;
@@ -249,9 +248,15 @@ static void integrate_patch(const pair_case *c, const double *xs, const double *
                             patch_sums *s) {
   mortar_pair p;
   mortar_integrals I;
+  integrate_case(c, xs, pm->xm[0], ns, 0, &p, &I); /* D of the slave face */
+  for (int j = 0; j < p.nen_s; ++j)
+    for (int k = 0; k < p.nen_s; ++k) {
+      s->D[j] += I.D[j][k].v;
+      for (int i = 0; i < 3; ++i) s->Dx[j][i] += I.D[j][k].v * xs[3 * k + i];
+    }
   if (c->mode == MODE_SEGMENTS) {
     for (int f = 0; f < pm->n; ++f)
-      if (integrate_case(c, xs, pm->xm[f], ns, 0, &p, &I) == 0) add_integrals(&p, &I, xs, pm->xm[f], f, s);
+      if (integrate_case(c, xs, pm->xm[f], ns, 0, &p, &I) == 0) add_integrals(&p, &I, pm->xm[f], f, s);
     return;
   }
   double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
@@ -265,7 +270,7 @@ static void integrate_patch(const pair_case *c, const double *xs, const double *
       mortar_basis_coefficients(&p, c->basis, &A);
       mortar_integrals_zero(&I, &p);
       mortar_points(&p, &A, c->basis, MORTAR_NORMAL_A, 1, xi + q * pd, w + q, &I);
-      add_integrals(&p, &I, xs, pm->xm[f], f, s);
+      add_integrals(&p, &I, pm->xm[f], f, s);
       break;
     }
 }
