@@ -210,6 +210,7 @@ void mortar_integrals_zero(mortar_integrals *I, const mortar_pair *p) {
   I->nen_m = p->nen_m;
   for (int j = 0; j < MORTAR_MAX_NEN; ++j) {
     I->gap[j] = fwd_const(0.0);
+    I->cover[j] = 0.0;
     for (int k = 0; k < MORTAR_MAX_NEN; ++k) I->D[j][k] = I->M[j][k] = fwd_const(0.0);
   }
   I->measure = 0.0;
@@ -240,6 +241,7 @@ void mortar_add_point(const mortar_pair *p, const mortar_basis_coeffs *A, mortar
   for (int j = 0; j < ns; ++j) {
     const fwd wPhi = fwd_mul(weight, Phi[j]);
     I->gap[j] = fwd_add(I->gap[j], fwd_mul(wPhi, g));
+    I->cover[j] += weight.v * N1[j].v;
     if (xi2)
       for (int l = 0; l < nm; ++l) I->M[j][l] = fwd_add(I->M[j][l], fwd_mul(wPhi, N2[l]));
   }

@@ -88,6 +88,7 @@ typedef struct {
   fwd D[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   fwd M[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   fwd gap[MORTAR_MAX_NEN];
+  double cover[MORTAR_MAX_NEN]; /* int_overlap N_j (value): how much of node j's support the master covers */
   double measure;  /* integrated measure (length/area) of the overlap */
   int n_cells;     /* 2D: segments; 3D: integration triangles; concentrated/obstacle: points used */
 } mortar_integrals;
