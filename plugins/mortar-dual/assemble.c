@@ -438,7 +438,8 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
       if (ds == 0.0) continue;
       for (int i = 0; i < dim; ++i) {
         const double sign = inst->master ? -1.0 : 1.0;
-        for (int k = 0; k < nc; ++k) row[k] += ds * tau[a][i] * sign * inst->acc_W[(size_t)i * inst->n_col + o->cols + k];
+        const double *dW = inst->acc_W + (size_t)i * inst->n_col + o->cols;
+        for (int k = 0; k < nc; ++k) row[k] += ds * tau[a][i] * sign * dW[k];
       }
       if (inst->master)
         for (int h = o->hist; h < o->hist + o->n_hist; ++h)
@@ -552,9 +553,11 @@ sk_status mortar_build_columns(sk_instance *inst) {
       if (inst->master)
         for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c)
           for (int b = 0; b < inst->master->nen; ++b)
-            SK_TRY(push_node(inst, &n, SIDE_MASTER, inst->master->conn[(int64_t)inst->cand[c] * inst->master->nen + b]));
+            SK_TRY(push_node(inst, &n, SIDE_MASTER,
+                             inst->master->conn[(int64_t)inst->cand[c] * inst->master->nen + b]));
     }
-    for (int h = o->hist; h < o->hist + o->n_hist; ++h) SK_TRY(push_node(inst, &n, inst->hist_side[h], inst->hist_node[h]));
+    for (int h = o->hist; h < o->hist + o->n_hist; ++h)
+      SK_TRY(push_node(inst, &n, inst->hist_side[h], inst->hist_node[h]));
     qsort(inst->tmp_entries, (size_t)n, sizeof *inst->tmp_entries, compare_entries);
     int unique = 0;
     for (int k = 0; k < n; ++k)

@@ -341,8 +341,8 @@ static int newton_step(scene *s, double *u, const double *u_n, const double *tar
   return -1;
 }
 
-/* Quadratic decay: r_(k+1) <= 10 r_k^2 once r_k < 0.2 (above round-off; after a converged r_k the nested loop starts its next Newton
- * run); measured factors below 1. */
+/* Quadratic decay: r_(k+1) <= 10 r_k^2 once r_k < 0.2, above round-off (after a converged r_k the nested loop
+ * starts its next Newton run); measured factors below 1. */
 static int quadratic(const newton_log *log) {
   for (int k = 0; k + 1 < log->iterations && k + 1 < 32; ++k) {
     const double r = log->residuals[k], next = log->residuals[k + 1];
