@@ -260,7 +260,8 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   sk_status st = SK_OK;
   if (mortar_face_type_init(&inst->st, sv->cell_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
       (inst->master &&
-       mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape, api->contact->shape_hessian) != 0))
+       mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape,
+                             api->contact->shape_hessian) != 0))
     st = api->error(host, SK_ERR_INPUT,
                     "mortar-dual: handles straight faces only (line2 in 2D, tri3 and quad4 in 3D); surface '%s'%s%s "
                     "has curved faces",
@@ -449,7 +450,10 @@ static int select_master(sk_instance *inst, int f, int q, const double *xs, cons
     for (int b = 0; b < mv->nen; ++b) {
       const int l = mv->conn[(int64_t)m * mv->nen + b];
       double d2 = 0.0;
-      for (int i = 0; i < inst->dim; ++i) d2 += (xm[(int64_t)l * inst->dim + i] - x1[i]) * (xm[(int64_t)l * inst->dim + i] - x1[i]);
+      for (int i = 0; i < inst->dim; ++i) {
+        const double d = xm[(int64_t)l * inst->dim + i] - x1[i];
+        d2 += d * d;
+      }
       if (d2 < d_near) {
         d_near = d2;
         nearest = l;
@@ -606,7 +610,8 @@ static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *p
     for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c)
       for (int b = 0; b < nen_m; ++b)
         for (int i = 0; i < dim; ++i) {
-          const int64_t d = inst->master->dofs[(int64_t)inst->master->conn[(int64_t)inst->cand[c] * nen_m + b] * dim + i];
+          const int32_t node = inst->master->conn[(int64_t)inst->cand[c] * nen_m + b];
+          const int64_t d = inst->master->dofs[(int64_t)node * dim + i];
           rows[nr++] = d;
           cols[nc++] = d;
         }

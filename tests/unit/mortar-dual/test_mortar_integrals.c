@@ -424,8 +424,9 @@ int main(void) {
     check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_A, 4});
     snprintf(label, sizeof label, "2D points M (%s)", basis ? "dual" : "standard");
     check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_M, 4});
-    check_derivatives("2D obstacle plane", (pair_case){2, &ft_line2, NULL, (mortar_basis)basis, MODE_OBSTACLE_PLANE, 3});
-    check_derivatives("2D obstacle circle", (pair_case){2, &ft_line2, NULL, (mortar_basis)basis, MODE_OBSTACLE_SPHERE, 3});
+    const mortar_basis b = (mortar_basis)basis;
+    check_derivatives("2D obstacle plane", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_PLANE, 3});
+    check_derivatives("2D obstacle circle", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_SPHERE, 3});
     for (int t = 0; t < 4; ++t) {
       snprintf(label, sizeof label, "3D segments %s/%s (%s)", sk_elem_name(st3[t]->type), sk_elem_name(mt3[t]->type),
                basis ? "dual" : "standard");
@@ -435,8 +436,8 @@ int main(void) {
       snprintf(label, sizeof label, "3D points M %s/%s", sk_elem_name(st3[t]->type), sk_elem_name(mt3[t]->type));
       check_derivatives(label, (pair_case){3, st3[t], mt3[t], (mortar_basis)basis, MODE_POINTS_M, 3});
     }
-    check_derivatives("3D obstacle sphere quad4", (pair_case){3, &ft_quad4, NULL, (mortar_basis)basis, MODE_OBSTACLE_SPHERE, 3});
-    check_derivatives("3D obstacle sphere tri3", (pair_case){3, &ft_tri3, NULL, (mortar_basis)basis, MODE_OBSTACLE_SPHERE, 3});
+    check_derivatives("3D obstacle sphere quad4", (pair_case){3, &ft_quad4, NULL, b, MODE_OBSTACLE_SPHERE, 3});
+    check_derivatives("3D obstacle sphere tri3", (pair_case){3, &ft_tri3, NULL, b, MODE_OBSTACLE_SPHERE, 3});
     check_rigid_motion((pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 3});
     check_rigid_motion((pair_case){3, &ft_quad4, &ft_tri3, (mortar_basis)basis, MODE_SEGMENTS, 7});
     check_rigid_motion((pair_case){3, &ft_tri3, &ft_quad4, (mortar_basis)basis, MODE_POINTS_A, 3});
