@@ -104,7 +104,8 @@ struct sk_instance {
   double *acc_gap, *acc_W; /* n_col; 3 * n_col */
 
   /* history */
-  double *z_committed;      /* n_extra: the last converged z (the next attempt's initial values) */
+  double *z_committed;      /* n_extra: the last converged z of OWNED nodes, zero elsewhere (the host sums the
+                               ranks' initial values) */
   int64_t n_extra;
   int *hist_side, *hist_node;
   double *hist_value;

@@ -668,7 +668,10 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
   for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].c_state = inst->owned[oi].state;
-  if (state->extra) memcpy(inst->z_committed, state->extra, sizeof(double) * (size_t)inst->n_extra);
+  if (state->extra)
+    for (int oi = 0; oi < inst->n_owned; ++oi)
+      for (int i = 0; i < inst->dim; ++i)
+        inst->z_committed[inst->owned[oi].extra + i] = state->extra[inst->owned[oi].extra + i];
   return SK_OK;
 }
 

@@ -261,7 +261,7 @@ static void mock_view_positions(const mock_view *m, const double *x_global, doub
     for (int i = 0; i < v->dim; ++i) x[k * v->dim + i] = x_global[v->node_id[k] * v->dim + i];
 }
 
-/* ---- dense sinks over all unknowns --------------------------------------------------------------------------------- */
+/* ---- dense sinks over all unknowns ---------------------------------------------------------------------------- */
 typedef struct {
   int n;
   double F[MOCK_MAX_UNKNOWNS];

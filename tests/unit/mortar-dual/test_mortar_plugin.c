@@ -242,8 +242,8 @@ static int solve_dense(int n, double *A, double *b) {
 /* dx from the condensed system: every row r gets r - J_rz D^-1 [J_s | F_s] for each pair (z <-> s), the z rows take
  * the s rows' places, the displacement-only system is solved, dz recovered from the original s rows. */
 static int solve_condensed(const scene *s, const mock_system *sys, double *dx) {
-  static double J[MOCK_MAX_UNKNOWNS * MOCK_MAX_UNKNOWNS], F[MOCK_MAX_UNKNOWNS], R[MOCK_MAX_UNKNOWNS * MOCK_MAX_UNKNOWNS],
-      b[MOCK_MAX_UNKNOWNS];
+  static double J[MOCK_MAX_UNKNOWNS * MOCK_MAX_UNKNOWNS], R[MOCK_MAX_UNKNOWNS * MOCK_MAX_UNKNOWNS];
+  static double F[MOCK_MAX_UNKNOWNS], b[MOCK_MAX_UNKNOWNS];
   const int n = s->n_total, nd = s->n_dofs;
   memcpy(J, sys->J, sizeof(double) * (size_t)(n * n));
   memcpy(F, sys->F, sizeof(double) * (size_t)n);
