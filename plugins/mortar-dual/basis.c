@@ -48,9 +48,9 @@ void mortar_shape(const mortar_face_type *ft, const fwd *xi, fwd *N, fwd dN[][2]
   ft->shape(ft->type, x, Nv, dNv);
   if (dN) ft->shape_hessian(ft->type, x, ddN);
   for (int a = 0; a < ft->nen; ++a) {
-    N[a] = fwd_chain(Nv[a], pd, dNv + a * pd, xi);
+    fwd_set_chain(&N[a], Nv[a], pd, dNv + a * pd, xi);
     if (dN)
-      for (int k = 0; k < pd; ++k) dN[a][k] = fwd_chain(dNv[a * pd + k], pd, ddN + (a * pd + k) * pd, xi);
+      for (int k = 0; k < pd; ++k) fwd_set_chain(&dN[a][k], dNv[a * pd + k], pd, ddN + (a * pd + k) * pd, xi);
   }
 }
 
@@ -59,13 +59,13 @@ void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fw
   mortar_shape(ft, xi, N, a ? dN : NULL);
   for (int i = 0; i < 3; ++i) {
     if (pos) {
-      pos[i] = fwd_mul(N[0], x[0][i]);
-      for (int b = 1; b < ft->nen; ++b) pos[i] = fwd_add(pos[i], fwd_mul(N[b], x[b][i]));
+      fwd_set_mul(&pos[i], &N[0], &x[0][i]);
+      for (int b = 1; b < ft->nen; ++b) fwd_acc_mul(&pos[i], &N[b], &x[b][i]);
     }
     if (a)
       for (int k = 0; k < ft->pdim; ++k) {
-        a[k][i] = fwd_mul(dN[0][k], x[0][i]);
-        for (int b = 1; b < ft->nen; ++b) a[k][i] = fwd_add(a[k][i], fwd_mul(dN[b][k], x[b][i]));
+        fwd_set_mul(&a[k][i], &dN[0][k], &x[0][i]);
+        for (int b = 1; b < ft->nen; ++b) fwd_acc_mul(&a[k][i], &dN[b][k], &x[b][i]);
       }
   }
 }

@@ -64,17 +64,15 @@ static int plane_parameters(const mortar_face_type *ft, fwd x[][3], const fwd *x
   double xv[2] = {ft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0, ft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0};
   double J[4];
   for (int it = 0; it < 40; ++it) {
-    const fwd xc[2] = {fwd_const(xv[0]), fwd_const(xv[1])};
-    fwd pos[3], a[2][3];
-    mortar_face_point(ft, x, xc, pos, a);
-    double F[2];
+    double pos[3], a[2][3], aa[2][2][3], F[2];
+    mortar_face_values(ft, x, xv, pos, a, aa);
     for (int al = 0; al < 2; ++al) {
       double v = -pt->x[al].v;
-      for (int i = 0; i < 3; ++i) v += (pos[i].v - x0[i].v) * t[al][i].v;
+      for (int i = 0; i < 3; ++i) v += (pos[i] - x0[i].v) * t[al][i].v;
       F[al] = -v;
       for (int be = 0; be < 2; ++be) {
         double s = 0.0;
-        for (int i = 0; i < 3; ++i) s += a[be][i].v * t[al][i].v;
+        for (int i = 0; i < 3; ++i) s += a[be][i] * t[al][i].v;
         J[al * 2 + be] = s;
       }
     }
@@ -177,10 +175,14 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
         g.x[al] = fwd_add(c.x[al], fwd_lin(rxi[2 * q], ea[al], rxi[2 * q + 1], eb[al]));
       fwd xi1[2], xi2[2];
       if (plane_parameters(st, xs, x0, t, &g, xi1) != 0 || plane_parameters(mt, xm, x0, t, &g, xi2) != 0) continue;
-      fwd N1[MORTAR_MAX_NEN], x1[3], a1[2][3], x2[3], n1[3], c1[3], diff[3];
+      fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], x1[3], a1[2][3], x2[3], n1[3], c1[3], diff[3];
       mortar_shape(st, xi1, N1, NULL);
+      mortar_shape(mt, xi2, N2, NULL);
       mortar_face_point(st, xs, xi1, x1, a1);
-      mortar_face_point(mt, xm, xi2, x2, NULL);
+      for (int i = 0; i < 3; ++i) { /* x2 = sum_l N_l x_l */
+        fwd_set_mul(&x2[i], &N2[0], &xm[0][i]);
+        for (int l = 1; l < p->nen_m; ++l) fwd_acc_mul(&x2[i], &N2[l], &xm[l][i]);
+      }
       mortar_slave_normal(p, N1, n1);
       /* slave surface measure: dgamma = |a1 x a2| / |det(a_beta . t_alpha)| dA (the plane's area element) */
       fwd_cross3(a1[0], a1[1], c1);
@@ -190,7 +192,7 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
       for (int i = 0; i < 3; ++i) diff[i] = fwd_sub(x2[i], x1[i]);
       const fwd g_n = fwd_div(fwd_dot(3, diff, n1), fwd_norm(3, n1));
       const fwd weight = fwd_mul(fwd_scale(rw[q], jac_cell), ratio);
-      mortar_add_point(p, A, basis, xi1, xi2, weight, g_n, I);
+      mortar_add_point_shapes(p, A, basis, N1, N2, &weight, &g_n, I);
     }
     I->n_cells += 1;
   }

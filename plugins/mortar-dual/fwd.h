@@ -115,22 +115,59 @@ static inline fwd fwd_implicit(double xi, fwd f_u, double f_xi) {
   return r;
 }
 
-/* A function value v whose derivative is sum_i g[i] d x[i] (the chain rule through m arguments). */
+/* r = a function value v whose derivative is sum_i g[i] d x[i] (the chain rule through m arguments). */
+static inline void fwd_set_chain(fwd *r, double v, int m, const double *g, const fwd *x) {
+  r->v = v;
+  r->n = 0;
+  for (int i = 0; i < m; ++i) r->n = fwd_imax(r->n, x[i].n);
+  for (int k = 0; k < r->n; ++k) r->d[k] = 0.0;
+  for (int i = 0; i < m; ++i)
+    for (int k = 0; k < x[i].n; ++k) r->d[k] += g[i] * x[i].d[k];
+}
+
 static inline fwd fwd_chain(double v, int m, const double *g, const fwd *x) {
   fwd r;
-  r.v = v;
-  r.n = 0;
-  for (int i = 0; i < m; ++i) r.n = fwd_imax(r.n, x[i].n);
-  for (int k = 0; k < r.n; ++k) r.d[k] = 0.0;
-  for (int i = 0; i < m; ++i)
-    for (int k = 0; k < x[i].n; ++k) r.d[k] += g[i] * x[i].d[k];
+  fwd_set_chain(&r, v, m, g, x);
   return r;
+}
+
+/* ---- in place, through pointers: the hot loops (shape functions, face points, integrands) avoid copying whole
+ * structs, which dominates when few slots are in use ------------------------------------------------------------ */
+static inline void fwd_set_const(fwd *r, double v) {
+  r->v = v;
+  r->n = 0;
+}
+
+/* r += s * a */
+static inline void fwd_acc_scaled(fwd *r, double s, const fwd *a) {
+  r->v += s * a->v;
+  const int m = fwd_imin(r->n, a->n);
+  for (int k = 0; k < m; ++k) r->d[k] += s * a->d[k];
+  for (int k = m; k < a->n; ++k) r->d[k] = s * a->d[k];
+  if (a->n > r->n) r->n = a->n;
+}
+
+/* r += a * b */
+static inline void fwd_acc_mul(fwd *r, const fwd *a, const fwd *b) {
+  r->v += a->v * b->v;
+  const int na = a->n, nb = b->n, nm = fwd_imax(na, nb);
+  for (int k = r->n; k < nm; ++k) r->d[k] = 0.0;
+  if (nm > r->n) r->n = nm;
+  for (int k = 0; k < na; ++k) r->d[k] += a->d[k] * b->v;
+  for (int k = 0; k < nb; ++k) r->d[k] += a->v * b->d[k];
+}
+
+/* r = a * b */
+static inline void fwd_set_mul(fwd *r, const fwd *a, const fwd *b) {
+  fwd_set_const(r, 0.0);
+  fwd_acc_mul(r, a, b);
 }
 
 /* ---- small vectors (dim 2 or 3 entries; the third is unused in 2D) --------------------------------------------- */
 static inline fwd fwd_dot(int dim, const fwd *a, const fwd *b) {
-  fwd s = fwd_mul(a[0], b[0]);
-  for (int i = 1; i < dim; ++i) s = fwd_add(s, fwd_mul(a[i], b[i]));
+  fwd s;
+  fwd_set_mul(&s, &a[0], &b[0]);
+  for (int i = 1; i < dim; ++i) fwd_acc_mul(&s, &a[i], &b[i]);
   return s;
 }
 

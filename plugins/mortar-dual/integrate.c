@@ -62,8 +62,7 @@ void mortar_values(int dim, const fwd *x, double *v) {
   for (int i = 0; i < 3; ++i) v[i] = i < dim ? x[i].v : 0.0;
 }
 
-/* x(xi), a_alpha(xi) and a_alpha,beta of a face from plain node coordinates. */
-static void face_values(const mortar_face_type *ft, fwd x[][3], const double *xi, double pos[3], double a[2][3],
+void mortar_face_values(const mortar_face_type *ft, fwd x[][3], const double *xi, double pos[3], double a[2][3],
                         double aa[2][2][3]) {
   double N[MORTAR_MAX_NEN], dN[2 * MORTAR_MAX_NEN], ddN[4 * MORTAR_MAX_NEN];
   const double xq[2] = {xi[0], ft->pdim > 1 ? xi[1] : 0.0};
@@ -91,7 +90,7 @@ int mortar_along(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *x1
   mortar_values(dim, d, dv);
   for (int it = 0; it < 40; ++it) {
     double pos[3], a[2][3], aa[2][2][3], J[9], r[3];
-    face_values(mt, xm, xi, pos, a, aa);
+    mortar_face_values(mt, xm, xi, pos, a, aa);
     for (int i = 0; i < dim; ++i) {
       r[i] = -(pos[i] - x1v[i] - *t * dv[i]);
       for (int k = 0; k < pd; ++k) J[i * m + k] = a[k][i];
@@ -138,7 +137,7 @@ static int closest(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *
   mortar_values(dim, x1, x1v);
   for (int it = 0; it < 40; ++it) {
     double pos[3], a[2][3], aa[2][2][3], J[4], F[2];
-    face_values(mt, xm, xi, pos, a, aa);
+    mortar_face_values(mt, xm, xi, pos, a, aa);
     for (int k = 0; k < pd; ++k) {
       F[k] = 0.0;
       for (int i = 0; i < 3; ++i) F[k] -= (pos[i] - x1v[i]) * a[k][i];
@@ -161,7 +160,7 @@ static int closest_fwd(const mortar_face_type *mt, fwd xm[][3], int dim, const f
   if (closest(mt, xm, dim, x1, xv) != 0) return -1;
   const int pd = mt->pdim;
   double pos[3], a[2][3], aa[2][2][3], J[4], x1v[3];
-  face_values(mt, xm, xv, pos, a, aa);
+  mortar_face_values(mt, xm, xv, pos, a, aa);
   mortar_values(dim, x1, x1v);
   for (int k = 0; k < pd; ++k)
     for (int l = 0; l < pd; ++l) {
@@ -225,27 +224,34 @@ static void basis_values(const mortar_pair *p, const mortar_basis_coeffs *A, mor
     if (basis == MORTAR_STANDARD) {
       Phi[j] = N1[j];
     } else {
-      Phi[j] = fwd_mul(A->coeff[j][0], N1[0]);
-      for (int k = 1; k < ns; ++k) Phi[j] = fwd_add(Phi[j], fwd_mul(A->coeff[j][k], N1[k]));
+      fwd_set_mul(&Phi[j], &A->coeff[j][0], &N1[0]);
+      for (int k = 1; k < ns; ++k) fwd_acc_mul(&Phi[j], &A->coeff[j][k], &N1[k]);
     }
   }
 }
 
 void mortar_add_point(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *xi1,
                       const fwd *xi2, fwd weight, fwd g, mortar_integrals *I) {
-  const int ns = p->nen_s, nm = p->nen_m;
-  fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], Phi[MORTAR_MAX_NEN];
+  fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN];
   mortar_shape(p->slave, xi1, N1, NULL);
   if (xi2) mortar_shape(p->master, xi2, N2, NULL);
+  mortar_add_point_shapes(p, A, basis, N1, xi2 ? N2 : NULL, &weight, &g, I);
+}
+
+void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *N1,
+                             const fwd *N2, const fwd *weight, const fwd *g, mortar_integrals *I) {
+  const int ns = p->nen_s, nm = p->nen_m;
+  fwd Phi[MORTAR_MAX_NEN];
   basis_values(p, A, basis, N1, Phi);
   for (int j = 0; j < ns; ++j) {
-    const fwd wPhi = fwd_mul(weight, Phi[j]);
-    I->gap[j] = fwd_add(I->gap[j], fwd_mul(wPhi, g));
-    I->cover[j] += weight.v * N1[j].v;
-    if (xi2)
-      for (int l = 0; l < nm; ++l) I->M[j][l] = fwd_add(I->M[j][l], fwd_mul(wPhi, N2[l]));
+    fwd wPhi;
+    fwd_set_mul(&wPhi, weight, &Phi[j]);
+    fwd_acc_mul(&I->gap[j], &wPhi, g);
+    I->cover[j] += weight->v * N1[j].v;
+    if (N2)
+      for (int l = 0; l < nm; ++l) fwd_acc_mul(&I->M[j][l], &wPhi, &N2[l]);
   }
-  I->measure += weight.v;
+  I->measure += weight->v;
 }
 
 void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n,
@@ -268,11 +274,12 @@ void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, 
     basis_values(p, A, basis, N, Phi);
     const fwd wj = fwd_scale(w[q], jac);
     for (int j = 0; j < ns; ++j) {
-      const fwd wPhi = fwd_mul(wj, Phi[j]);
+      fwd wPhi;
+      fwd_set_mul(&wPhi, &wj, &Phi[j]);
       if (basis == MORTAR_DUAL) {
-        I->D[j][j] = fwd_add(I->D[j][j], wPhi); /* row sum: sum_k Phi_j N_k = Phi_j */
+        fwd_acc_scaled(&I->D[j][j], 1.0, &wPhi); /* row sum: sum_k Phi_j N_k = Phi_j */
       } else {
-        for (int k = 0; k < ns; ++k) I->D[j][k] = fwd_add(I->D[j][k], fwd_mul(wPhi, N[k]));
+        for (int k = 0; k < ns; ++k) fwd_acc_mul(&I->D[j][k], &wPhi, &N[k]);
       }
     }
   }

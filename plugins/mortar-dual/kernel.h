@@ -187,7 +187,7 @@ void mortar_ncp_eval(int n_t, double z_n, const double *z_t, double g, const dou
 /* ---- quadrature ------------------------------------------------------------------------------------------------ */
 /* Gauss-Legendre on [-1, 1], 1 <= n <= MORTAR_MAX_RULE. */
 void mortar_gauss_legendre(int n, double *x, double *w);
-/* Triangle rules on the unit simplex (weights sum to 1/2): 1, 3, 6, 7, 12 points (degrees 1, 2, 3 (6), 5, 6).
+/* Triangle rules on the unit simplex (weights sum to 1/2): 1, 3, 6, 7, 12 points (degrees 1, 2, 4, 5, 6).
  * Returns the number of points, or 0 for an unsupported count. */
 int mortar_triangle_rule(int n, const double **xi, const double **w);
 /* Reference rule on a whole slave face with about `order` points per direction: LINE2 n Gauss points, QUAD4 n x n,

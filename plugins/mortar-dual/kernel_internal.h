@@ -9,6 +9,9 @@ int mortar_solve_small(int n, double *A, double *B, int nrhs);
 /* Implicit function theorem for m <= 3 unknowns y of r(y, u) = 0: r evaluated with its seeds at fixed y, J = dr/dy.
  * out = y with derivatives -J^-1 dr/du. */
 int mortar_implicit(int m, const double *J, const fwd *r, const double *y, fwd *out);
+/* x(xi), a_alpha(xi) and a_alpha,beta of a face at plain parameters: values only (local Newton iterations). */
+void mortar_face_values(const mortar_face_type *ft, fwd x[][3], const double *xi, double pos[3], double a[2][3],
+                        double aa[2][2][3]);
 /* The values of dim fwd entries (zero-padded to 3). */
 void mortar_values(int dim, const fwd *x, double *v);
 /* x2(xi) = x1 + t d on the master face (Newton on values; xi, t in: start, out: root). 0 or -1. */
@@ -24,5 +27,8 @@ void mortar_slave_normal(const mortar_pair *p, const fwd *N, fwd n[3]);
 /* Adds one integration point with slave/master parameters (xi2 NULL: obstacle), weight and normal gap. */
 void mortar_add_point(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *xi1,
                       const fwd *xi2, fwd weight, fwd g, mortar_integrals *I);
+/* The same with the shape functions already evaluated there (N2 NULL: obstacle). */
+void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, const fwd *N1,
+                             const fwd *N2, const fwd *weight, const fwd *g, mortar_integrals *I);
 
 #endif

@@ -19,7 +19,8 @@ static const char *const parameters[] = {
     "c_n: complementarity parameter of the normal condition, traction per length (about E / h) [1]",
     "c_t: complementarity parameter of the tangential condition, traction per length [c_n]",
     "segment_gauss: Gauss points per 2D integration segment [3]",
-    "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 [7]",
+    "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
+    "there; else 6, exact on parallelograms]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
     "max_flips: active-set changes of a node within a step before its branch is frozen (semismooth) [8]",
     "min_cover: share of a node's support the master must cover for it to enter contact [0.5]",
@@ -188,7 +189,9 @@ static sk_status read_parameters(sk_instance *inst) {
   SK_TRY(api->param_double(host, "c_n", 0, 1.0, &inst->ncp.c_n));
   SK_TRY(api->param_double(host, "c_t", 0, inst->ncp.c_n, &inst->ncp.c_t));
   SK_TRY(api->param_int(host, "segment_gauss", 0, 3, &inst->segment_gauss));
-  SK_TRY(api->param_int(host, "cell_rule", 0, 7, &inst->cell_rule));
+  /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
+  const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
+  SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : 6, &inst->cell_rule));
   SK_TRY(api->param_int(host, "face_gauss", 0, 5, &inst->face_gauss));
   SK_TRY(api->param_int(host, "max_flips", 0, 8, &inst->max_flips));
   SK_TRY(api->param_double(host, "min_cover", 0, 0.5, &inst->min_cover));

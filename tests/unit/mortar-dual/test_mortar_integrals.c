@@ -22,7 +22,7 @@ static void check_quadrature(void) {
     }
     SK_CHECK(err < 1e-14);
   }
-  static const int sizes[] = {1, 3, 6, 7, 12}, degrees[] = {1, 2, 3, 5, 6};
+  static const int sizes[] = {1, 3, 6, 7, 12}, degrees[] = {1, 2, 4, 5, 6};
   for (int r = 0; r < 5; ++r) {
     const double *xi, *w;
     const int n = mortar_triangle_rule(sizes[r], &xi, &w);
