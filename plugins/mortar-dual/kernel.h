@@ -169,7 +169,7 @@ int mortar_tangents(int dim, const double n[3], const double ref[3], double tau[
  *   C_N = z_n - max(0, z_n - c_n g)
  *   C_T = z_t - P_B(r)(z_t + c_t s),   r = mu max(0, z_n - c_n g)   (projection onto the disc of radius r)
  * (Hueber & Wohlmuth 2005; Hueber, Stadler & Wohlmuth 2008; the max-form of Gitterle et al. 2010 is C_T times
- * max(r, |z_t + c_t s|): the same roots.) Branches: inactive (z_n - c_n g <= 0): C = (z_n, z_t); stick: C_T = -c_t s;
+ * max(r, |z_t + c_t s|): the same roots.) Branches: inactive (z_n - c_n g < 0): C = (z_n, z_t); stick: C_T = -c_t s;
  * slip: C_T = z_t - r v/|v|. Frictionless (mu = 0): C_T = z_t. The derivative is the semismooth (generalised) one of
  * the branch. `force_state` >= 0 evaluates that branch whatever the arguments (the nested active-set loop). */
 typedef enum { MORTAR_INACTIVE = 0, MORTAR_STICK = 1, MORTAR_SLIP = 2 } mortar_state;

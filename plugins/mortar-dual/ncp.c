@@ -23,7 +23,9 @@ void mortar_ncp_eval(int n_t, double z_n, const double *z_t, double g, const dou
     state = force_state;
     /* a slip branch without a slip direction is a stick; friction-free contact has no stick */
     if (state == MORTAR_SLIP && prm->mu > 0.0 && !(vlen > 0.0)) state = MORTAR_STICK;
-  } else if (!(zeta > 0.0)) {
+  } else if (zeta < 0.0) {
+    /* zeta = 0 (touching, no pressure yet: the first step of bodies that start in contact) counts as active, so
+     * that a body held only by the contact is not left floating by its first Newton step */
     state = MORTAR_INACTIVE;
   } else if (prm->mu > 0.0 && vlen <= radius) {
     state = MORTAR_STICK;
