@@ -174,7 +174,7 @@ static void add_forces(sk_instance *inst, const sk_state *state, eval_mode mode,
   for (int n = 0; n < pc->n_nodes; ++n)
     for (int i = 0; i < dim; ++i) inst->block_cols[n * dim + i] = node_dof(inst, pc->side[n], pc->node[n], i);
   sink->add_matrix(sink, nr, rows, nc, inst->block_cols, inst->block);
-  /* z columns: d f_k,i / d z_j,i = D_jk (slave rows), -M_jl (master rows) */
+  /* columns of the unknowns z~_j = A_j z_j [U1]: d f_k,i / d z~_j,i = D_jk / A_j (slave rows), -M_jl / A_j (master) */
   int64_t zcols[MORTAR_MAX_NEN * 3];
   double zblk[2 * MORTAR_MAX_NEN * 3 * MORTAR_MAX_NEN * 3];
   const int nzc = ns * dim;
@@ -190,7 +190,7 @@ static void add_forces(sk_instance *inst, const sk_state *state, eval_mode mode,
         double coef;
         if (a < ns) coef = (inst->basis == MORTAR_DUAL && j != a) ? 0.0 : I->D[j][a].v;
         else coef = -I->M[j][a - ns].v;
-        zblk[r * nzc + j * dim + i] = coef;
+        zblk[r * nzc + j * dim + i] = coef / inst->A_node[inst->slave->conn[(int64_t)f * ns + j]];
       }
   sink->add_matrix(sink, nr, rows, nzc, zcols, zblk);
 }
@@ -410,8 +410,11 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
   }
   int64_t rows[3];
   for (int c = 0; c < dim; ++c) rows[c] = mortar_z_index(inst, ec->state, o->extra, c);
+  /* the rows in force units, A_j C [U1] (with the columns z~ = A_j z, d(A_j C)/dz~ = dC/dz) */
   if (ec->mode == EVAL_RESIDUAL) {
-    ec->sink->add_vector(ec->sink, dim, rows, r.C);
+    double scaled[3];
+    for (int c = 0; c < dim; ++c) scaled[c] = A * r.C[c];
+    ec->sink->add_vector(ec->sink, dim, rows, scaled);
     return SK_OK;
   }
   if (ec->mode != EVAL_JACOBIAN) return SK_OK;
@@ -466,6 +469,7 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
       }
     }
   }
+  for (int k = 0; k < dim * nc; ++k) blk[k] *= A;
   ec->sink->add_matrix(ec->sink, dim, rows, nc, inst->col + o->cols, blk);
   return SK_OK;
 }
@@ -482,7 +486,7 @@ sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mo
     o->gap = o->cover = 0.0;
     for (int c = 0; c < 3; ++c) {
       o->W[c] = 0.0;
-      o->z[c] = c < dim && state->extra ? state->extra[o->extra + c] : 0.0;
+      o->z[c] = c < dim && state->extra ? state->extra[o->extra + c] / o->A_ref : 0.0; /* [U1] */
     }
   }
   if (mode == EVAL_JACOBIAN && inst->n_col > 0) {
@@ -501,8 +505,10 @@ sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mo
   for (int f = 0; f < sv->n_cells; ++f) {
     if (!inst->face_needed[f]) continue;
     for (int a = 0; a < sv->nen; ++a) {
-      const int64_t g = sv->node_index[sv->conn[(int64_t)f * sv->nen + a]];
-      for (int i = 0; i < 3; ++i) ec.z[a][i] = i < dim && state->extra ? state->extra[dim * g + i] : 0.0;
+      const int k = sv->conn[(int64_t)f * sv->nen + a];
+      const int64_t g = sv->node_index[k];
+      for (int i = 0; i < 3; ++i)
+        ec.z[a][i] = i < dim && state->extra ? state->extra[dim * g + i] / inst->A_node[k] : 0.0;
     }
     SK_TRY(face_pairs(inst, &ec, f, xs, xm));
   }

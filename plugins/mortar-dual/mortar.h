@@ -17,7 +17,7 @@ enum { SIDE_SLAVE = 0, SIDE_MASTER = 1 };
 typedef struct {
   int node;                 /* slave view node */
   int64_t extra;            /* index of z_j[0] among the instance's extras (dim * node_index) */
-  double A_ref;             /* reference tributary measure int N_j over the slave surface (row scaling, [C1]) */
+  double A_ref;             /* reference tributary measure int N_j over the slave surface ([C1], [U1]) */
   double ref[3];            /* tangent reference direction for the attempt (3D) */
   int state, c_state;       /* NCP branch (mortar_state) now / committed */
   int flips;                /* branch changes within the attempt (semismooth) */
@@ -72,6 +72,8 @@ struct sk_instance {
   int max_star;
 
   /* nodal normals at the current evaluation (per slave view node) */
+  double *A_node;           /* per slave view node: reference tributary measure A_j = int N_j (complete at the nodes
+                               of needed faces: check_stars) */
   double *normal;           /* 3 per node */
   double *dnormal;          /* 9 per star entry: d n_j / d x_b (3 x 3 row-major, dim x dim used) */
   double *cvec, *dc;

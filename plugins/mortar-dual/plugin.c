@@ -33,7 +33,8 @@ static void *alloc_zero(size_t n, size_t size) { return calloc(n > 0 ? n : 1, si
 static void destroy(sk_instance *inst) {
   if (!inst) return;
   if (inst->search) inst->api->contact->search_destroy(inst->search);
-  void *ptrs[] = {inst->star_face_ptr, inst->star_face, inst->star_node_ptr, inst->star_node, inst->face_star_index,
+  void *ptrs[] = {inst->A_node, inst->star_face_ptr, inst->star_face, inst->star_node_ptr, inst->star_node,
+                  inst->face_star_index,
                   inst->face_needed, inst->normal, inst->dnormal, inst->cvec, inst->dc, inst->owned,
                   inst->owned_of_node, inst->cand_ptr, inst->cand, inst->ip_master, inst->col, inst->col_side,
                   inst->col_node, inst->col_comp, inst->acc_gap, inst->acc_W, inst->z_committed, inst->hist_side,
@@ -224,10 +225,11 @@ static sk_status read_parameters(sk_instance *inst) {
   return SK_OK;
 }
 
-/* The slave surface's reference tributary measures int N_j (row scaling of [C1], [C2]); complete at owned nodes. */
+/* The slave surface's reference tributary measures A_j = int N_j ([C1], [U1]), complete at the nodes of needed faces
+ * (check_stars makes sure). */
 static void reference_measures(sk_instance *inst) {
   const sk_view *v = inst->slave;
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].A_ref = 0.0;
+  memset(inst->A_node, 0, sizeof(double) * (size_t)v->n_nodes);
   for (int f = 0; f < v->n_cells; ++f) {
     double X[12] = {0}, n[12] = {0};
     for (int a = 0; a < v->nen; ++a)
@@ -239,12 +241,10 @@ static void reference_measures(sk_instance *inst) {
     mortar_basis_coefficients(&p, MORTAR_STANDARD, &A);
     mortar_integrals_zero(&I, &p);
     mortar_slave_integrals(&p, &A, MORTAR_STANDARD, inst->n_d_points, inst->d_xi, inst->d_w, &I);
-    for (int a = 0; a < v->nen; ++a) {
-      const int oi = inst->owned_of_node[v->conn[(int64_t)f * v->nen + a]];
-      if (oi < 0) continue;
-      for (int k = 0; k < v->nen; ++k) inst->owned[oi].A_ref += I.D[a][k].v;
-    }
+    for (int a = 0; a < v->nen; ++a)
+      for (int k = 0; k < v->nen; ++k) inst->A_node[v->conn[(int64_t)f * v->nen + a]] += I.D[a][k].v;
   }
+  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].A_ref = inst->A_node[inst->owned[oi].node];
 }
 
 static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **out) {
@@ -299,6 +299,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   inst->face_star_index = alloc_zero((size_t)sv->n_cells * nen * nen, sizeof(int));
   inst->face_needed = alloc_zero((size_t)sv->n_cells, 1);
   inst->normal = alloc_zero(3 * (size_t)nn, sizeof(double));
+  inst->A_node = alloc_zero((size_t)nn, sizeof(double));
   inst->cvec = alloc_zero(3 * (size_t)nn, sizeof(double));
   inst->dnormal = alloc_zero(9 * (size_t)n_star, sizeof(double));
   inst->dc = alloc_zero(9 * (size_t)n_star, sizeof(double));
@@ -317,7 +318,8 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
       return nomem(inst);
     }
   }
-  if (!inst->face_star_index || !inst->face_needed || !inst->normal || !inst->cvec || !inst->dnormal || !inst->dc ||
+  if (!inst->face_star_index || !inst->face_needed || !inst->normal || !inst->A_node || !inst->cvec ||
+      !inst->dnormal || !inst->dc ||
       !inst->owned_of_node || !inst->owned || !inst->cand_ptr || !inst->ip_master || !inst->z_committed ||
       !inst->pair_extra || !inst->pair_row) {
     st = nomem(inst);

@@ -354,6 +354,7 @@ static int quadratic(const newton_log *log) {
 static void check_newton(const char *label, const char *const *kv, int n_keys, int strategy, int max_iterations,
                          int max_loops) {
   scene s;
+  if (getenv("NEWTON3D")) scene_3d(&s); else
   scene_2d(&s, 1);
   SK_CHECK(scene_create(&s, strategy, n_keys, kv) == SK_OK);
   double u[MOCK_MAX_UNKNOWNS] = {0}, u_n[MOCK_MAX_UNKNOWNS] = {0}, target[MOCK_MAX_UNKNOWNS] = {0};
@@ -362,9 +363,10 @@ static void check_newton(const char *label, const char *const *kv, int n_keys, i
   newton_log log;
   const double shifts[3] = {0.0, 0.004, 0.03};
   for (int step = 0; step < 3; ++step) {
-    for (int k = 0; k < 4; ++k) { /* slave nodes: down 0.02, sideways by the step's shift */
-      target[2 * k] = s.X[2 * k] + shifts[step];
-      target[2 * k + 1] = s.X[2 * k + 1] - 0.02;
+    const int d = s.dim, ns = (int)s.slave.view.n_nodes;
+    for (int k = 0; k < ns; ++k) { /* slave nodes: down 0.02, sideways by the step's shift */
+      target[d * k] = s.X[d * k] + shifts[step];
+      target[d * k + d - 1] = s.X[d * k + d - 1] - 0.02;
     }
     memcpy(u_n, u, sizeof u);
     const int st = newton_step(&s, u, u_n, target, strategy == 1, &log);
