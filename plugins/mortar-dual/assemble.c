@@ -321,8 +321,7 @@ static sk_status face_pairs(sk_instance *inst, const eval_ctx *ec, int f, const 
   for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c) {
     const int m = inst->cand[c];
     gather(inst->master, xm, m, xmf);
-    mortar_pair_set(&p, dim, &inst->st, &inst->mt, xf, xmf, nf, deriv);
-    mortar_basis_coefficients(&p, inst->basis, &A);
+    mortar_pair_set(&p, dim, &inst->st, &inst->mt, xf, xmf, nf, deriv); /* A (of x_s alone) stays valid */
     mortar_integrals_zero(&I, &p);
     if (inst->integration == INTEGRATION_SEGMENTS) {
       if (dim == 2) mortar_segments_2d(&p, &A, inst->basis, inst->segment_gauss, &I);

@@ -93,8 +93,51 @@ static int plane_parameters(const mortar_face_type *ft, fwd x[][3], const fwd *x
   return mortar_implicit(2, J, r, xv, xi);
 }
 
+/* A cheap test on values: do the two faces' boxes in the auxiliary plane (the slave face's plane at its centre,
+ * coordinates along two in-plane axes) overlap? Most candidate pairs of the broad phase do not. */
+static int plane_boxes_overlap(const mortar_pair *p) {
+  double c[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+  const double w = 1.0 / p->nen_s;
+  for (int a = 0; a < p->nen_s; ++a)
+    for (int i = 0; i < 3; ++i) {
+      c[i] += w * p->xs[a][i].v;
+      n[i] += w * p->ns[a][i].v;
+    }
+  /* in-plane axes: the first slave edge and n x it */
+  double e[3], t2[3];
+  for (int i = 0; i < 3; ++i) e[i] = p->xs[1][i].v - p->xs[0][i].v;
+  const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2], en = (e[0] * n[0] + e[1] * n[1] + e[2] * n[2]) / nn;
+  for (int i = 0; i < 3; ++i) e[i] -= en * n[i];
+  t2[0] = n[1] * e[2] - n[2] * e[1];
+  t2[1] = n[2] * e[0] - n[0] * e[2];
+  t2[2] = n[0] * e[1] - n[1] * e[0];
+  double lo[2][2] = {{INFINITY, INFINITY}, {INFINITY, INFINITY}};
+  double hi[2][2] = {{-INFINITY, -INFINITY}, {-INFINITY, -INFINITY}};
+  for (int side = 0; side < 2; ++side) {
+    const int nen = side ? p->nen_m : p->nen_s;
+    for (int a = 0; a < nen; ++a) {
+      double d[3], u[2] = {0, 0};
+      for (int i = 0; i < 3; ++i) d[i] = (side ? p->xm[a][i].v : p->xs[a][i].v) - c[i];
+      for (int i = 0; i < 3; ++i) {
+        u[0] += d[i] * e[i];
+        u[1] += d[i] * t2[i];
+      }
+      for (int k = 0; k < 2; ++k) {
+        lo[side][k] = fmin(lo[side][k], u[k]);
+        hi[side][k] = fmax(hi[side][k], u[k]);
+      }
+    }
+  }
+  /* generous: this plane is not exactly the clip's (centre of the nodes, mean normal), and a rejected pair whose true
+   * overlap is a sliver would make its (tiny) contribution jump */
+  const double tol = 0.05 * (hi[0][0] - lo[0][0] + hi[0][1] - lo[0][1]);
+  return lo[1][0] <= hi[0][0] + tol && lo[0][0] <= hi[1][0] + tol && lo[1][1] <= hi[0][1] + tol &&
+         lo[0][1] <= hi[1][1] + tol;
+}
+
 int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
                        mortar_integrals *I) {
+  if (!plane_boxes_overlap(p)) return 0;
   const mortar_face_type *st = p->slave, *mt = p->master;
   fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3];
   memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);

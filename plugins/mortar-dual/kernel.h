@@ -66,7 +66,8 @@ void mortar_shape(const mortar_face_type *ft, const fwd *xi, fwd *N, fwd dN[][2]
 void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fwd *pos, fwd a[2][3]);
 
 /* ---- multiplier bases [B1-B3] ---------------------------------------------------------------------------------- */
-/* Phi_j = sum_k coeff[j][k] N_k on the slave face. Standard: the identity. Dual (Wohlmuth 2000): A_e = D_e M_e^-1
+/* Phi_j = sum_k coeff[j][k] N_k on the slave face. The coefficients depend on x_s alone, whose slots are the same in a
+ * face-only pair and in every pair of that face: one computation serves them all. Standard: the identity. Dual (Wohlmuth 2000): A_e = D_e M_e^-1
  * with D_e = diag(int N_j), M_e = int N_j N_k over the whole current slave face, so int Phi_j N_k = delta_jk int N_k.
  * LINE2 and TRI3 give the constants (2, -1 / 3, -1), QUAD4 depends on the face's shape (derivatives included). */
 typedef struct {

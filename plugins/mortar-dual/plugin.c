@@ -590,10 +590,9 @@ static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *lay
 static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *pat) {
   const sk_view *sv = inst->slave;
   const int dim = inst->dim, nen = sv->nen, nen_m = inst->master ? inst->master->nen : 0;
-  /* an owned face's rows (its nodes, its candidates' nodes) against its nodes' stars, the candidates and its z */
-  int max_c = 0;
-  for (int f = 0; f < sv->n_cells; ++f) max_c = fwd_imax(max_c, inst->cand_ptr[f + 1] - inst->cand_ptr[f]);
-  const size_t cap = (size_t)((nen + max_c * nen_m) * dim + nen * inst->max_star * dim + nen * dim);
+  /* an owned face: its nodes' rows against their stars and z (the face part); each pair with a candidate: the
+   * face's and the candidate's rows against the stars, the candidate's nodes and z */
+  const size_t cap = (size_t)((nen + nen_m) * dim + nen * inst->max_star * dim + nen * dim);
   int64_t *rows = malloc(sizeof(int64_t) * cap), *cols = malloc(sizeof(int64_t) * cap);
   if (!rows || !cols) {
     free(rows);
@@ -612,15 +611,18 @@ static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *p
       for (int s = inst->star_node_ptr[j]; s < inst->star_node_ptr[j + 1]; ++s)
         for (int i = 0; i < dim; ++i) cols[nc++] = sv->dofs[(int64_t)inst->star_node[s] * dim + i];
     }
-    for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c)
+    pat->add_block(pat, nr, rows, nc, cols);
+    const int nr_face = nr, nc_face = nc;
+    for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c) {
+      nr = nr_face;
+      nc = nc_face;
       for (int b = 0; b < nen_m; ++b)
         for (int i = 0; i < dim; ++i) {
           const int32_t node = inst->master->conn[(int64_t)inst->cand[c] * nen_m + b];
-          const int64_t d = inst->master->dofs[(int64_t)node * dim + i];
-          rows[nr++] = d;
-          cols[nc++] = d;
+          rows[nr++] = cols[nc++] = inst->master->dofs[(int64_t)node * dim + i];
         }
-    pat->add_block(pat, nr, rows, nc, cols);
+      pat->add_block(pat, nr, rows, nc, cols);
+    }
   }
   free(rows);
   free(cols);
