@@ -87,6 +87,14 @@ typedef struct {
 
 static inline int nts_owned(const sk_instance *inst, const slave_point *p) { return inst->slave->owned[p->k]; }
 
+/* The primal-dual active-set test -lambda_n - c_n g > 0, with a node just touching (g = 0 to round-off, lambda_n =
+ * 0: bodies that start in contact) counted in: otherwise a body held by the contact alone is unsupported in the
+ * first solve (the quasi-static patch test: a singular system). The gaps of nodes placed on the master are
+ * round-off, ~1e-17 of an edge; the band is 1e-12 of the search margin (half an edge by default). */
+static inline int nts_wants_contact(const sk_instance *inst, double lambda_n, double gap) {
+  return -lambda_n - inst->c_n * gap > -1e-12 * inst->c_n * inst->search_margin;
+}
+
 /* The extra slot (0 .. stride-1) of kernel unknown nq + 1 + e, e in [f1 f2 lambda_aug1 lambda_aug2]; -1 for the
  * zero f2, lambda_aug2 of a 2D element. */
 static inline int nts_slot_of_e(const sk_instance *inst, int e) {

@@ -241,7 +241,7 @@ static sk_status update_active_set(sk_instance *inst, const sk_state *state, int
       gap = nts_gap_on_facet(inst, p, state->x, state->t, f);
     }
     const double lambda_n = p->active ? x[0] : 0.0;
-    const int want_active = -lambda_n - inst->c_n * gap > 0.0;
+    const int want_active = nts_wants_contact(inst, lambda_n, gap);
     /* `augmented`: a node whose extras are not in this loop's system waits for the converged point */
     p->wants_in = inst->strategy == NTS_AUGMENTED && want_active && !p->active && !p->in_system &&
                   p->flips < inst->max_flips;

@@ -152,8 +152,7 @@ sk_status nts_begin_step(sk_instance *inst, const sk_state *state) {
     }
     p->f_frozen[0] = p->f_gap[0] = f_init[0];
     p->f_frozen[1] = p->f_gap[1] = f_init[1];
-    /* primal-dual active set at the predictor: active if -lambda_n - c_n g > 0 */
-    p->active = -lambda_n - inst->c_n * proj.gap > 0.0;
+    p->active = nts_wants_contact(inst, lambda_n, proj.gap);
     if (p->active) {
       init[0] = lambda_n;
       init[nts_slot_of_e(inst, 2)] = lambda_aug[0];
