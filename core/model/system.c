@@ -193,8 +193,10 @@ static sk_status ensure_capacity(sk_system *sys, int64_t n) {
   return SK_OK;
 }
 
-/* Numbers the attempt's unknowns from the terms' layouts; *changed when the kept numbering differs from before. */
-static sk_status layout_unknowns(sk_system *sys, int *changed) {
+/* Numbers the attempt's unknowns from the terms' layouts; *changed when the kept numbering differs from before.
+ * again: a layout after a rejected converged point (docs/plugin-abi.md, converged): the extras keep their values at
+ * x and their number must not change; only what the plugins eliminate may. */
+static sk_status layout_unknowns(sk_system *sys, int again, int *changed) {
   sk_model *m = sys->model;
   int64_t n = m->n_dofs;
   sys->n_pairs = 0;
@@ -211,6 +213,10 @@ static sk_status layout_unknowns(sk_system *sys, int *changed) {
     if (term->n_extra < 0) return sk_error_set(SK_ERR_PLUGIN, "%s: negative layout", term->name);
     n += term->n_extra;
   }
+  if (again && n != sys->n)
+    return sk_error_set(SK_ERR_PLUGIN, "the number of extra unknowns changed from %lld to %lld within a step "
+                        "attempt (a layout after converged() may change only what is eliminated)",
+                        (long long)(sys->n - m->n_dofs), (long long)(n - m->n_dofs));
   /* the bridge and NOX count unknowns in int */
   if (n > INT_MAX - 16)
     return sk_error_set(SK_ERR_INPUT, "%lld unknowns exceed the %d the linear solvers can number", (long long)n,
@@ -243,13 +249,14 @@ static sk_status layout_unknowns(sk_system *sys, int *changed) {
         sys->kept[i] = kept;
         sys->full_of_kept[kept++] = (int)i;
       }
-      sys->x[i] = term->initial ? term->initial[j] : 0.0;
+      if (!again) sys->x[i] = term->initial ? term->initial[j] : 0.0;
     }
   }
   sys->n_kept = kept;
   if (sys->n_ranks > 1 && n > m->n_dofs) {
     /* each rank gives the starting values of its owned entities (zero elsewhere): the sum is the whole layout */
-    MPI_Allreduce(MPI_IN_PLACE, sys->x + m->n_dofs, (int)(n - m->n_dofs), MPI_DOUBLE, MPI_SUM, sys->comm);
+    if (!again)
+      MPI_Allreduce(MPI_IN_PLACE, sys->x + m->n_dofs, (int)(n - m->n_dofs), MPI_DOUBLE, MPI_SUM, sys->comm);
     int64_t counts[2] = {kept, -kept};
     MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_MAX, sys->comm);
     if (counts[0] != -counts[1]) {
@@ -294,6 +301,8 @@ static sk_status update_active_set(sk_system *sys) {
 
 /* ---- the attempt ------------------------------------------------------------------------------------------------- */
 
+static sk_status lay_out(sk_system *sys, int again);
+
 sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   sk_model *m = sys->model;
   sys->dt = dt;
@@ -314,8 +323,14 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
     status = sk_system_collective(sys, term->ops->begin_step(term, sys));
     if (status != SK_OK) return sk_error_prefix(status, "%s: begin_step: ", term->name);
   }
+  return lay_out(sys, 0);
+}
+
+/* The attempt's unknowns, pattern and condensation pairs from the terms' layouts (again: see layout_unknowns). */
+static sk_status lay_out(sk_system *sys, int again) {
+  sk_model *m = sys->model;
   int changed = 0;
-  status = sk_system_collective(sys, layout_unknowns(sys, &changed));
+  sk_status status = sk_system_collective(sys, layout_unknowns(sys, again, &changed));
   if (status != SK_OK) return status;
   sys->x_version++; /* the extras got their starting values */
   SK_TRY(sk_system_settle_pattern(sys, changed));
@@ -514,6 +529,9 @@ sk_status sk_system_solve(sk_system *sys) {
     if (loop + 1 >= max_loops)
       return sk_error_set(SK_ERR_DIVERGED, "the active set did not settle after %d outer loops "
                           "(solver.newton.max_active_set_loops)", max_loops);
+    /* the terms may eliminate other unknowns for the new set (nts-augmented: the augmented system of the active
+     * nodes only); the pattern changes only if they do */
+    SK_TRY(lay_out(sys, 1));
     if (sys->verbose && sys->rank == 0)
       fprintf(stderr, "  step %lld: a term rejected the converged point; Newton again (loop %d)\n",
               (long long)sys->step, loop + 2);

@@ -337,6 +337,16 @@ static dense_sink make_sink(kit *k, double *F, double *J, double *rhs) {
   return d;
 }
 
+static sk_status declare_pattern(kit *k) {
+  free(k->declared);
+  k->declared = NULL;
+  k->outside_pattern = 0;
+  if (!k->plugin->pattern) return SK_OK;
+  k->declared = calloc((size_t)(k->n * k->n), 1);
+  dense_pattern p = {.abi = {SK_TABLE_HEADER(sk_pattern), .add_block = dense_block}, .k = k};
+  return k->plugin->pattern(k->instance, &k->state, &p.abi);
+}
+
 sk_status kit_begin(kit *k) {
   SK_TRY(k->plugin->begin_step(k->instance, &k->state));
   memset(&k->layout, 0, sizeof k->layout);
@@ -348,13 +358,24 @@ sk_status kit_begin(kit *k) {
   if (k->layout.initial) memcpy(k->extra, k->layout.initial, sizeof(double) * (size_t)k->layout.n_extra);
   k->state.extra = k->extra;
   k->state.n_extra = k->layout.n_extra;
-  free(k->declared);
-  k->declared = NULL;
-  k->outside_pattern = 0;
-  if (!k->plugin->pattern) return SK_OK;
-  k->declared = calloc((size_t)(k->n * k->n), 1);
-  dense_pattern p = {.abi = {SK_TABLE_HEADER(sk_pattern), .add_block = dense_block}, .k = k};
-  return k->plugin->pattern(k->instance, &k->state, &p.abi);
+  return declare_pattern(k);
+}
+
+sk_status kit_layout_again(kit *k) {
+  const int64_t n_extra = k->layout.n_extra;
+  memset(&k->layout, 0, sizeof k->layout);
+  k->layout.struct_size = sizeof k->layout;
+  SK_TRY(k->plugin->layout(k->instance, &k->state, &k->layout));
+  if (k->layout.n_extra != n_extra)
+    return sk_error_set(SK_ERR_PLUGIN, "layout again: %lld extra unknowns instead of %lld",
+                        (long long)k->layout.n_extra, (long long)n_extra);
+  return declare_pattern(k);
+}
+
+sk_status kit_converged(kit *k, const double *q, int *accept) {
+  *accept = 1;
+  set_positions(k, q);
+  return k->plugin->converged ? k->plugin->converged(k->instance, &k->state, accept) : SK_OK;
 }
 
 sk_status kit_update_active_set(kit *k, const double *q, int *changed) {
@@ -378,14 +399,11 @@ sk_status kit_jacobian(kit *k, const double *q, double *J, double *rhs) {
   return k->plugin->jacobian(k->instance, &k->state, &d.abi);
 }
 
-double kit_fd_check(kit *k, const double *q0, double h, double *scale) {
+void kit_fd_jacobian(kit *k, const double *q0, double h, double *J_fd) {
   const int64_t n = k->n;
-  double *J = calloc((size_t)(n * n), sizeof(double)), *Fp = calloc((size_t)n, sizeof(double));
-  double *Fm = calloc((size_t)n, sizeof(double)), *q = malloc(sizeof(double) * (size_t)k->n_dofs);
+  double *Fp = calloc((size_t)n, sizeof(double)), *Fm = calloc((size_t)n, sizeof(double));
+  double *q = malloc(sizeof(double) * (size_t)k->n_dofs);
   memcpy(q, q0, sizeof(double) * (size_t)k->n_dofs);
-  SK_CHECK(kit_jacobian(k, q, J, NULL) == SK_OK);
-  double worst = 0.0, big = 0.0;
-  for (int64_t i = 0; i < n * n; ++i) big = fmax(big, fabs(J[i]));
   for (int64_t j = 0; j < n; ++j) {
     double *target = j < k->n_dofs ? &q[j] : &k->extra[j - k->n_dofs];
     const double saved = *target;
@@ -394,14 +412,109 @@ double kit_fd_check(kit *k, const double *q0, double h, double *scale) {
     *target = saved - h;
     SK_CHECK(kit_residual(k, q, Fm) == SK_OK);
     *target = saved;
-    for (int64_t i = 0; i < n; ++i) worst = fmax(worst, fabs((Fp[i] - Fm[i]) / (2.0 * h) - J[i * n + j]));
+    for (int64_t i = 0; i < n; ++i) J_fd[i * n + j] = (Fp[i] - Fm[i]) / (2.0 * h);
   }
   set_positions(k, q0);
-  free(J);
   free(Fp);
   free(Fm);
   free(q);
+}
+
+double kit_fd_check(kit *k, const double *q0, double h, double *scale) {
+  const int64_t n = k->n;
+  double *J = calloc((size_t)(n * n), sizeof(double)), *J_fd = calloc((size_t)(n * n), sizeof(double));
+  SK_CHECK(kit_jacobian(k, q0, J, NULL) == SK_OK);
+  kit_fd_jacobian(k, q0, h, J_fd);
+  double worst = 0.0, big = 0.0;
+  for (int64_t i = 0; i < n * n; ++i) {
+    big = fmax(big, fabs(J[i]));
+    worst = fmax(worst, fabs(J_fd[i] - J[i]));
+  }
+  free(J);
+  free(J_fd);
   if (scale) *scale = big;
+  return worst;
+}
+
+/* A (m x m, row-major) overwritten; B (m x nb) <- A^-1 B. Partial pivoting. Returns -1 when singular. */
+static int dense_solve(int m, double *A, double *B, int nb) {
+  for (int c = 0; c < m; ++c) {
+    int piv = c;
+    for (int i = c + 1; i < m; ++i)
+      if (fabs(A[i * m + c]) > fabs(A[piv * m + c])) piv = i;
+    if (A[piv * m + c] == 0.0) return -1;
+    for (int j = 0; j < m && piv != c; ++j) {
+      const double t = A[c * m + j];
+      A[c * m + j] = A[piv * m + j];
+      A[piv * m + j] = t;
+    }
+    for (int j = 0; j < nb && piv != c; ++j) {
+      const double t = B[c * nb + j];
+      B[c * nb + j] = B[piv * nb + j];
+      B[piv * nb + j] = t;
+    }
+    for (int i = c + 1; i < m; ++i) {
+      const double l = A[i * m + c] / A[c * m + c];
+      for (int j = c; j < m; ++j) A[i * m + j] -= l * A[c * m + j];
+      for (int j = 0; j < nb; ++j) B[i * nb + j] -= l * B[c * nb + j];
+    }
+  }
+  for (int c = m - 1; c >= 0; --c)
+    for (int j = 0; j < nb; ++j) {
+      double v = B[c * nb + j];
+      for (int l = c + 1; l < m; ++l) v -= A[c * m + l] * B[l * nb + j];
+      B[c * nb + j] = v / A[c * m + c];
+    }
+  return 0;
+}
+
+double kit_fd_check_condensed(kit *k, const double *q0, double h, double *scale, double *rhs_error) {
+  const int64_t n = k->n;
+  double *J = calloc((size_t)(n * n), sizeof(double)), *rhs = calloc((size_t)n, sizeof(double));
+  double *J_fd = calloc((size_t)(n * n), sizeof(double)), *F = calloc((size_t)n, sizeof(double));
+  SK_CHECK(kit_jacobian(k, q0, J, rhs) == SK_OK);
+  SK_CHECK(kit_residual(k, q0, F) == SK_OK);
+  kit_fd_jacobian(k, q0, h, J_fd);
+  int *e = malloc(sizeof(int) * (size_t)n);
+  int ne = 0;
+  for (int64_t j = k->n_dofs; j < n; ++j)
+    if (k->layout.eliminated && k->layout.eliminated[j - k->n_dofs]) e[ne++] = (int)j;
+  /* X = J_ee^-1 [J_ek | F_e] over all columns (the kept ones are read) */
+  double *Jee = calloc((size_t)(ne * ne) + 1, sizeof(double)), *X = calloc((size_t)(ne * (n + 1)) + 1, sizeof(double));
+  for (int a = 0; a < ne; ++a) {
+    for (int b = 0; b < ne; ++b) Jee[a * ne + b] = J_fd[e[a] * n + e[b]];
+    for (int64_t j = 0; j < n; ++j) X[a * (n + 1) + j] = J_fd[e[a] * n + j];
+    X[a * (n + 1) + n] = F[e[a]];
+  }
+  SK_CHECK(ne == 0 || dense_solve(ne, Jee, X, (int)n + 1) == 0);
+  unsigned char *is_e = calloc((size_t)n, 1);
+  for (int a = 0; a < ne; ++a) is_e[e[a]] = 1;
+  double worst = 0.0, big = 0.0, worst_rhs = 0.0;
+  for (int64_t i = 0; i < n; ++i) {
+    double r = 0.0;
+    for (int a = 0; a < ne; ++a) r += J_fd[i * n + e[a]] * X[a * (n + 1) + n];
+    if (!is_e[i]) worst_rhs = fmax(worst_rhs, fabs(rhs[i] - r));
+    for (int64_t j = 0; j < n; ++j) {
+      big = fmax(big, fabs(J[i * n + j]));
+      if (is_e[i] || is_e[j]) {
+        worst = fmax(worst, fabs(J[i * n + j])); /* the plugin must not touch eliminated rows or columns */
+        continue;
+      }
+      double s = J_fd[i * n + j];
+      for (int a = 0; a < ne; ++a) s -= J_fd[i * n + e[a]] * X[a * (n + 1) + j];
+      worst = fmax(worst, fabs(J[i * n + j] - s));
+    }
+  }
+  free(J);
+  free(rhs);
+  free(J_fd);
+  free(F);
+  free(e);
+  free(Jee);
+  free(X);
+  free(is_e);
+  if (scale) *scale = big;
+  if (rhs_error) *rhs_error = worst_rhs;
   return worst;
 }
 

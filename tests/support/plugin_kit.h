@@ -81,6 +81,17 @@ sk_status kit_jacobian(kit *k, const double *q, double *J, double *rhs);
 /* J against central differences of F over every unknown (positions and extras), at q and the kit's extras, with step
  * h. Returns the largest absolute error; *scale gets max |J|. The active set stays as it is (no update). */
 double kit_fd_check(kit *k, const double *q, double h, double *scale);
+/* Under plugin-local condensation (layout.eliminated): the assembled kept block against the Schur complement of
+ * central differences over the eliminated unknowns, J_kk - J_ke J_ee^-1 J_ek, and add_rhs against J_ke J_ee^-1 F_e
+ * (docs/plugin-abi.md §6). Returns the largest absolute error of the block; *rhs_error that of the right-hand side,
+ * *scale max |J|. Entries the plugin adds in eliminated rows or columns count as errors. */
+double kit_fd_check_condensed(kit *k, const double *q, double h, double *scale, double *rhs_error);
+/* Central differences of F over every unknown, J_fd (n x n, row-major), at q and the kit's extras. */
+void kit_fd_jacobian(kit *k, const double *q, double h, double *J_fd);
+/* converged() at positions q (accept = 1 when the plugin has none). */
+sk_status kit_converged(kit *k, const double *q, int *accept);
+/* After a rejected converged point: layout and pattern again, as the host does; the extras keep their values. */
+sk_status kit_layout_again(kit *k);
 /* recover() after a solve: F and dx over all n unknowns (dx's eliminated extras are written). */
 sk_status kit_recover(kit *k, const double *q, const double *F, double *dx);
 sk_status kit_commit(kit *k);

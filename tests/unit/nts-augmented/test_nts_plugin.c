@@ -15,6 +15,8 @@
 const sk_plugin *stickslip_plugin_entry(void);
 
 enum { N_NODES = 16, N_DOFS = 48, N_SLAVE = 4, N_TOTAL = N_DOFS + 5 * N_SLAVE };
+enum { CONDENSED, AUGMENTED, PAPER, DIRECT, DIRECT_ENDPOINT, N_STRATEGIES };
+static const char *const NAME[N_STRATEGIES] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint"};
 static const double SPRING = 10.0;
 
 static double X[N_DOFS];
@@ -53,6 +55,8 @@ typedef struct {
   kit k;
   double history[64][N_TOTAL];
   int n_history;
+  int loops;                /* outer loops (rejected converged points) of the last step */
+  int largest_system;       /* kept unknowns of the largest linear system of the last step */
   sk_contact_report report;
 } run;
 
@@ -100,23 +104,37 @@ static int newton_step(run *r, int step, double *residual_norm, double *momentum
   double anchor[N_DOFS];
   anchors(step, anchor);
   *momentum_error = 0.0;
-  const unsigned char *elim = r->k.layout.eliminated;
-  for (int it = 0; it < 40; ++it) {
+  r->loops = 0;
+  r->largest_system = 0;
+  int iterations = 0;
+  for (int it = 0; it < 60; ++it) {
     static dense_system s;
     double sums[6];
     assemble(r, anchor, &s, sums);
     *momentum_error = fmax(*momentum_error, max_abs(sums, 6));
     *residual_norm = max_abs(s.F, N_TOTAL);
-    if (*residual_norm < 1e-11) return it;
+    if (*residual_norm < 1e-11) {
+      /* the host's outer loop: the plugin may reject the converged point and lay out its unknowns again */
+      int accept = 1;
+      SK_CHECK(kit_converged(&r->k, r->q, &accept) == SK_OK);
+      if (accept) return iterations;
+      ++r->loops;
+      SK_CHECK(kit_layout_again(&r->k) == SK_OK);
+      continue;
+    }
+    const unsigned char *elim = r->k.layout.eliminated;
     double dx[N_TOTAL];
+    int kept = 0;
     for (int i = 0; i < N_TOTAL; ++i) {
       const int e = i >= N_DOFS && elim && elim[i - N_DOFS];
+      kept += !e;
       dx[i] = e ? 0.0 : -s.F[i] + s.rhs[i];
       if (e) { /* eliminated unknowns: the plugin never touched their rows and columns */
         for (int j = 0; j < N_TOTAL; ++j) SK_CHECK(s.J[i * N_TOTAL + j] == 0.0 && s.J[j * N_TOTAL + i] == 0.0);
         s.J[i * N_TOTAL + i] = 1.0;
       }
     }
+    if (kept > r->largest_system) r->largest_system = kept;
     if (nts_solve_dense(N_TOTAL, s.J, dx, 1) != 0) {
       SK_CHECK(!"singular global system");
       return -1;
@@ -124,6 +142,7 @@ static int newton_step(run *r, int step, double *residual_norm, double *momentum
     if (elim) SK_CHECK(kit_recover(&r->k, r->q, s.F, dx) == SK_OK);
     for (int i = 0; i < N_DOFS; ++i) r->q[i] += dx[i];
     for (int i = N_DOFS; i < N_TOTAL; ++i) r->k.extra[i - N_DOFS] += dx[i];
+    ++iterations;
     if (r->n_history < 64) {
       memcpy(r->history[r->n_history], r->q, sizeof r->q);
       memcpy(r->history[r->n_history] + N_DOFS, r->k.extra, sizeof(double) * 5 * N_SLAVE);
@@ -152,8 +171,7 @@ static int run_step(run *r, int step) {
   kit_state(&r->k, r->q_n, r->q, 0.0, 1.0, NULL);
   r->k.state.step = step;
   SK_CHECK(kit_begin(&r->k) == SK_OK);
-  SK_CHECK(r->k.layout.n_extra == 5 * N_SLAVE);
-  SK_CHECK((r->k.layout.eliminated == NULL) == (r->strategy == 1));
+  SK_CHECK(r->k.layout.n_extra == 5 * N_SLAVE && r->k.layout.eliminated != NULL);
   r->n_history = 0;
   double norm, momentum;
   const int its = newton_step(r, step, &norm, &momentum);
@@ -196,12 +214,26 @@ static void point_cb(void *ctx, const sk_contact_point *p) {
   }
 }
 
+static double solution_difference(const run *a, const run *b) {
+  double d = 0.0;
+  for (int i = 0; i < N_DOFS; ++i) d = fmax(d, fabs(a->q[i] - b->q[i]));
+  for (int k = 0; k < N_SLAVE; ++k) d = fmax(d, fabs(a->k.extra[5 * k] - b->k.extra[5 * k]) / 10.0);
+  return d;
+}
+
+static double iterate_difference(const run *a, const run *b) {
+  if (a->n_history != b->n_history) return HUGE_VAL;
+  double d = 0.0;
+  for (int k = 0; k < a->n_history; ++k)
+    for (int i = 0; i < N_TOTAL; ++i) d = fmax(d, fabs(a->history[k][i] - b->history[k][i]));
+  return d;
+}
+
 int main(void) {
   build_scene();
   const sk_plugin *pl = stickslip_plugin_entry();
   SK_CHECK(pl->abi_major == SK_ABI_MAJOR);
-  SK_CHECK(strcmp(pl->strategies[0], "reduced") == 0 && strcmp(pl->strategies[1], "none") == 0 &&
-           strcmp(pl->strategies[2], "direct") == 0 && pl->strategies[3] == NULL);
+  for (int i = 0; i < N_STRATEGIES; ++i) SK_CHECK(strcmp(pl->strategies[i], NAME[i]) == 0);
 
   /* epsilon_t is required with friction */
   {
@@ -211,53 +243,70 @@ int main(void) {
     SK_CHECK(strstr(sk_error_message(), "epsilon_t") != NULL);
     kit_free(&k);
   }
+  /* the deprecated names are the same strategies: `reduced` keeps lambda_n of every node like `condensed`, `none`
+   * nothing while no node is in contact, like `augmented` */
+  for (int alias = 5; alias <= 6; ++alias) {
+    kit k;
+    make_pair(&k, 0.3, 1);
+    SK_CHECK(strcmp(pl->strategies[alias], alias == 5 ? "reduced" : "none") == 0);
+    SK_CHECK(kit_create(&k, pl, alias) == SK_OK);
+    kit_state(&k, X, X, 0.0, 1.0, NULL);
+    SK_CHECK(kit_begin(&k) == SK_OK);
+    for (int j = 0; j < 5 * N_SLAVE; ++j) SK_CHECK(k.layout.eliminated[j] == (alias == 6 || j % 5 != 0));
+    kit_free(&k);
+  }
 
-  static run none, reduced, direct;
-  run_init(&none, 1, 0.5);
-  run_init(&reduced, 0, 0.5);
-  run_init(&direct, 2, 0.5);
+  static run runs[N_STRATEGIES];
+  for (int s = 0; s < N_STRATEGIES; ++s) run_init(&runs[s], s, 0.5);
+  run *const cond = &runs[CONDENSED];
   for (int step = 0; step < 3; ++step) {
     const int midpoint = step == 2;
-    none.alpha = reduced.alpha = direct.alpha = midpoint ? 0.5 : 1.0;
-    const int it_none = run_step(&none, step), it_red = run_step(&reduced, step), it_dir = run_step(&direct, step);
-    /* none and reduced: the same iterates */
-    double diff = 0.0;
-    SK_CHECK(none.n_history == reduced.n_history);
-    for (int k = 0; k < none.n_history && k < reduced.n_history; ++k)
-      for (int i = 0; i < N_TOTAL; ++i)
-        diff = fmax(diff, fabs(none.history[k][i] - reduced.history[k][i]));
-    double diff_direct = 0.0;
-    for (int i = 0; i < N_DOFS; ++i) diff_direct = fmax(diff_direct, fabs(none.q[i] - direct.q[i]));
-    for (int k = 0; k < N_SLAVE; ++k) diff_direct = fmax(diff_direct, fabs(none.k.extra[5 * k] - direct.k.extra[5 * k]));
-    printf("step %d (%s): iterations none %d, reduced %d, direct %d; |iterates none - reduced| = %.1e, "
-           "|solution none - direct| = %.1e\n",
-           step, midpoint ? "midpoint" : "quasi-static", it_none, it_red, it_dir, diff, diff_direct);
-    printf("  report: force (%.6f, %.6f, %.6f), active %lld, stick %lld, slip %lld, dissipated %.3e, max|Phi| %.1e\n",
-           none.report.force[0], none.report.force[1], none.report.force[2], (long long)none.report.active,
-           (long long)none.report.stick, (long long)none.report.slip, none.report.dissipated,
-           none.report.constraint_norm);
-    SK_CHECK(diff < 1e-10);
-    SK_CHECK(diff_direct < 1e-9);
-    SK_CHECK(none.report.active == N_SLAVE && reduced.report.active == N_SLAVE && direct.report.active == N_SLAVE);
-    SK_CHECK(none.report.constraint_norm < 1e-10);
-    /* equilibrium: the contact force on the slave balances the springs of the upper block */
-    double anchor[N_DOFS], spring[3] = {0, 0, 0};
-    anchors(step, anchor);
-    for (int i = 24; i < N_DOFS; ++i) spring[i % 3] += SPRING * (none.q[i] - anchor[i]);
-    for (int i = 0; i < 3; ++i) SK_CHECK_CLOSE(none.report.force[i], spring[i], 1e-9);
-    /* step 0 sticks (tiny shift), step 1 slips (shift beyond mu |lambda_n|) */
-    if (step == 0) SK_CHECK(none.report.stick == N_SLAVE);
-    if (step == 1) {
-      SK_CHECK(none.report.slip == N_SLAVE);
-      SK_CHECK(none.report.dissipated > 0.0);
+    int its[N_STRATEGIES];
+    for (int s = 0; s < N_STRATEGIES; ++s) {
+      runs[s].alpha = midpoint ? 0.5 : 1.0;
+      its[s] = run_step(&runs[s], step);
     }
-    point_summary ps = {0, 0, 0, 0, 1e300, 0.5, midpoint};
-    SK_CHECK(pl->points(none.k.instance, &none.k.state, point_cb, &ps) == SK_OK);
-    SK_CHECK(ps.count == N_SLAVE && ps.active == N_SLAVE && ps.min_pressure > 0.0);
-    SK_CHECK(ps.slip == none.report.slip && ps.stick == none.report.stick);
+    printf("step %d (%s): Newton iterations", step, midpoint ? "midpoint" : "quasi-static");
+    for (int s = 0; s < N_STRATEGIES; ++s) printf(" %s %d%s", NAME[s], its[s], runs[s].loops ? "*" : "");
+    printf(" (* outer loops: augmented %d); largest system: condensed %d, augmented %d unknowns\n",
+           runs[AUGMENTED].loops, cond->largest_system, runs[AUGMENTED].largest_system);
+    const double d_aug = solution_difference(cond, &runs[AUGMENTED]);
+    const double it_aug = iterate_difference(cond, &runs[AUGMENTED]);
+    const double d_paper = solution_difference(cond, &runs[PAPER]);
+    const double d_direct = solution_difference(cond, &runs[DIRECT]);
+    const double d_end = solution_difference(cond, &runs[DIRECT_ENDPOINT]);
+    printf("  |solution - condensed|: augmented %.1e (iterates %.1e), paper-reduced %.1e, direct %.1e, "
+           "direct-endpoint %.1e\n", d_aug, it_aug, d_paper, d_direct, d_end);
+    printf("  report: force (%.6f, %.6f, %.6f), active %lld, stick %lld, slip %lld, dissipated %.3e, max|Phi| %.1e\n",
+           cond->report.force[0], cond->report.force[1], cond->report.force[2], (long long)cond->report.active,
+           (long long)cond->report.stick, (long long)cond->report.slip, cond->report.dissipated,
+           cond->report.constraint_norm);
+    /* the system sizes: n + n_s (condensed), n + 5 n_c (augmented, all four nodes active) */
+    SK_CHECK(cond->largest_system == N_DOFS + N_SLAVE);
+    SK_CHECK(runs[AUGMENTED].largest_system == N_DOFS + 5 * N_SLAVE);
+    /* a new contact is taken in by an outer loop under augmented only; a persisting one needs none */
+    SK_CHECK(runs[AUGMENTED].loops == (step == 0 ? 1 : 0) && cond->loops == 0);
+    if (step > 0) SK_CHECK(it_aug < 1e-12);
+    /* the master facet is planar and fixed here: h_f(y_hat) = 0 and the term (78) drops from (53) vanishes */
+    SK_CHECK(d_aug < 1e-11 && d_end < 1e-11 && d_paper < 1e-11);
+    SK_CHECK(midpoint ? d_direct > 1e-6 : d_direct < 1e-11);
+    for (int s = 0; s < N_STRATEGIES; ++s) {
+      run *r = &runs[s];
+      SK_CHECK(r->report.active == N_SLAVE && r->report.constraint_norm < 1e-10);
+      /* equilibrium: the contact force on the slave balances the springs of the upper block */
+      double anchor[N_DOFS], spring[3] = {0, 0, 0};
+      anchors(step, anchor);
+      for (int i = 24; i < N_DOFS; ++i) spring[i % 3] += SPRING * (r->q[i] - anchor[i]);
+      for (int i = 0; i < 3; ++i) SK_CHECK_CLOSE(r->report.force[i], spring[i], 1e-9);
+      /* step 0 sticks (tiny shift), step 1 slips (shift beyond mu |lambda_n|) */
+      if (step == 0) SK_CHECK(r->report.stick == N_SLAVE);
+      if (step == 1) SK_CHECK(r->report.slip == N_SLAVE && r->report.dissipated > 0.0);
+      point_summary ps = {0, 0, 0, 0, 1e300, 0.5, midpoint};
+      SK_CHECK(pl->points(r->k.instance, &r->k.state, point_cb, &ps) == SK_OK);
+      SK_CHECK(ps.count == N_SLAVE && ps.active == N_SLAVE && ps.min_pressure > 0.0);
+      SK_CHECK(ps.slip == r->report.slip && ps.stick == r->report.stick);
+    }
   }
-  kit_free(&none.k);
-  kit_free(&reduced.k);
-  kit_free(&direct.k);
+  for (int s = 0; s < N_STRATEGIES; ++s) kit_free(&runs[s].k);
   return sk_test_finish("test_nts_plugin");
 }
