@@ -192,8 +192,6 @@ static sk_status read_body_plugin(const sk_cfg *entry, const sk_model *model, sk
   return SK_OK;
 }
 
-static const char *const material_names[] = {"hooke", "svk", "neo-hooke", NULL};
-
 static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
   const sk_cfg *list = sk_cfg_get(root, "bodies");
   if (!list || sk_cfg_kind_of(list) != SK_CFG_SEQ || sk_cfg_size(list) < 1)
@@ -212,13 +210,15 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     SK_TRY(require_group(model, sk_cfg_get(entry, "group"), group_name, model->dim, &body->group));
     const sk_cfg *material = sk_cfg_get(entry, "material");
     if (!material) return sk_error_set(SK_ERR_INPUT, "%s: body '%s' needs a `material`", sk_cfg_where(entry), name);
-    int kind;
+    int choice;
+    sk_material_model kind;
     double E, nu, density;
-    SK_TRY(sk_cfg_choice(material, "model", 1, material_names, 0, &kind));
+    SK_TRY(sk_cfg_choice(material, "model", 1, sk_material_model_names, 0, &choice));
+    SK_TRY(sk_material_model_from_name(sk_material_model_names[choice], &kind));
     SK_TRY(sk_cfg_double(material, "E", 1, 0, &E));
     SK_TRY(sk_cfg_double(material, "nu", 1, 0, &nu));
     SK_TRY(sk_cfg_double(material, "density", model->time.integrator->dynamic, 0, &density));
-    sk_status status = sk_material_init(&body->material, (sk_material_model)kind, E, nu, density);
+    sk_status status = sk_material_init(&body->material, kind, E, nu, density);
     if (status != SK_OK) return sk_error_prefix(status, "%s: body '%s': ", sk_cfg_where(material), name);
     body->solid.type = body->group->type;
     body->solid.dim = model->dim;
