@@ -332,32 +332,6 @@ static uint64_t capabilities_needed(const sk_model *model, const sk_contact_pair
   return caps;
 }
 
-/* A library named libstickslip-<name>.so that failed to load (wrong ABI, missing symbol): its message explains an
- * "unknown plugin" better than the list of good ones. */
-typedef struct {
-  char file[SK_NAME_MAX + 32];
-  char message[1024];
-} broken_search;
-
-static void find_broken(void *ctx, const char *path, const char *message) {
-  broken_search *b = ctx;
-  const char *slash = strrchr(path, '/');
-  if (!b->message[0] && strcmp(slash ? slash + 1 : path, b->file) == 0)
-    snprintf(b->message, sizeof b->message, "%s", message);
-}
-
-static sk_status load_plugin(const char *name, const sk_plugin **plugin) {
-  sk_status status = sk_plugin_load(name, plugin);
-  if (status == SK_OK) return SK_OK;
-  char first[1024];
-  snprintf(first, sizeof first, "%s", sk_error_message());
-  broken_search b = {.message = ""};
-  snprintf(b.file, sizeof b.file, "libstickslip-%s.so", name);
-  sk_plugin_each(NULL, find_broken, &b);
-  if (b.message[0]) return sk_error_set(status, "plugin '%s' cannot be used: %s", name, b.message);
-  return sk_error_set(status, "%s", first);
-}
-
 static sk_status read_contact(const sk_cfg *root, const char *plugin_override, sk_scene *scene) {
   sk_model *model = &scene->model;
   const sk_cfg *list = sk_cfg_get(root, "contact");
@@ -375,7 +349,7 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
     copy_name(pair->name, name);
     SK_TRY(sk_cfg_string(entry, "plugin", 1, NULL, &plugin_name));
     if (plugin_override) plugin_name = plugin_override;
-    sk_status status = load_plugin(plugin_name, &pair->plugin);
+    sk_status status = sk_plugin_load(plugin_name, &pair->plugin);
     if (status != SK_OK)
       return sk_error_prefix(status, "%s: contact pair '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), name);
     SK_TRY(sk_cfg_string(entry, "slave", 1, NULL, &slave_name));
