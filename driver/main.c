@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include "stickslip/bridge.h"
+#include "stickslip/interrupt.h"
+#include "stickslip/mesh.h"
 #include "stickslip/plugins.h"
 #include "stickslip/run.h"
 #include "stickslip/scene.h"
@@ -39,11 +41,13 @@ static void usage_main(FILE *out) {
 
 static void usage_run(FILE *out, const char *command) {
   fprintf(out,
-          "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...]%s\n"
+          "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--trust-scripts]%s\n"
           "\n"
           "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene)\n"
           "  --set key=value      override any scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
-          "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n",
+          "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n"
+          "  --trust-scripts      let the scene's .geo scripts run shell commands and write files (SystemCall,\n"
+          "                       Print, Save, CreateDir, Printf > file); refused otherwise. Only for scripts you trust\n",
           command, strcmp(command, "run") == 0 ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
   if (strcmp(command, "run") == 0)
     fprintf(out,
@@ -60,7 +64,7 @@ typedef struct {
   const char *out;
   const char **sets;
   int n_sets;
-  int steps, quiet, verbose;
+  int steps, quiet, verbose, trust_scripts;
 } arguments;
 
 /* Returns 0 on success, 1 on bad usage (message printed), 2 when help was printed. */
@@ -96,6 +100,8 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       }
       args->steps = (int)steps;
       ++i;
+    } else if (strcmp(a, "--trust-scripts") == 0) {
+      args->trust_scripts = 1;
     } else if (allow_run_options && strcmp(a, "--quiet") == 0) {
       args->quiet = 1;
     } else if (allow_run_options && strcmp(a, "--verbose") == 0) {
@@ -158,9 +164,15 @@ static int command_plugins(int argc, char **argv) {
   return 0;
 }
 
-static int fail(const char *context) {
-  if (rank_of_world() == 0) fprintf(stderr, "stickslip: %s%s\n", context, sk_error_message());
-  return 1;
+/* 1 for every failure, 128 + the signal number when stopped by SIGINT/SIGTERM (the shell's convention). */
+static int exit_code(sk_status status) {
+  int sig = sk_interrupt_requested();
+  return status == SK_ERR_INTERRUPTED && sig ? 128 + sig : 1;
+}
+
+static int fail(sk_status status) {
+  if (rank_of_world() == 0) fprintf(stderr, "stickslip: %s\n", sk_error_message());
+  return exit_code(status);
 }
 
 static int command_scene(int argc, char **argv, int run) {
@@ -171,11 +183,12 @@ static int command_scene(int argc, char **argv, int run) {
     return parsed == 2 ? 0 : 1;
   }
   sk_log_verbosity = args.verbose;
+  sk_mesh_trust_scripts(args.trust_scripts);
   sk_scene scene;
   sk_status status = sk_scene_load(args.scene, args.n_sets, args.sets, args.plugin, MPI_COMM_WORLD, &scene);
   int code = 0;
   if (status != SK_OK) {
-    code = fail("");
+    code = fail(status);
   } else if (!run) {
     if (rank_of_world() == 0) {
       const sk_model *m = &scene.model;
@@ -220,6 +233,7 @@ static int command_scene(int argc, char **argv, int run) {
 
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
+  sk_interrupt_install(); /* after MPI_Init, which may install handlers of its own */
   int code;
   if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
     if (rank_of_world() == 0) usage_main(argc < 2 ? stderr : stdout);

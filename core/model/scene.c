@@ -2,6 +2,7 @@
 #define _GNU_SOURCE
 #include "stickslip/scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -84,7 +85,14 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   const char *name;
   SK_TRY(sk_cfg_string(entry, "name", 0, "", &name));
   snprintf(prefix, SK_NAME_MAX, "%s", name);
-  sk_status status = sk_mesh_load(path, list, n_params, dim_wanted, mesh);
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.dim = dim_wanted;
+  int max_elements = (int)options.max_elements;
+  SK_TRY(sk_cfg_int(entry, "max_elements", 0, max_elements, &max_elements));
+  SK_TRY(sk_cfg_double(entry, "time_limit", 0, options.time_limit, &options.time_limit));
+  options.max_elements = max_elements;
+  sk_status status = sk_mesh_load_with(path, list, n_params, &options, mesh);
   if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(entry));
 
   double translate[3] = {0, 0, 0}, axis[3] = {0, 0, 1}, angle = 0;
@@ -100,6 +108,8 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
     if (angle != 0) rotate_vector(axis, angle * M_PI / 180.0, x);
     for (int i = 0; i < 3; ++i) x[i] += translate[i];
   }
+  status = sk_mesh_check_elements(mesh); /* a translation by 1e308 overflows */
+  if (status != SK_OK) return sk_error_prefix(status, "%s: after translate/rotate: ", sk_cfg_where(entry));
   return SK_OK;
 }
 
@@ -205,6 +215,21 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     first += body->group->n_elems;
   }
   model->n_elements = first;
+  /* two bodies on one group, or on overlapping groups, would count the same elements twice */
+  const sk_group **groups = calloc((size_t)model->n_bodies, sizeof *groups);
+  char (*labels)[SK_NAME_MAX + 16] = calloc((size_t)model->n_bodies, sizeof *labels);
+  const char **names = calloc((size_t)model->n_bodies, sizeof *names);
+  sk_status status = groups && labels && names ? SK_OK : sk_error_set(SK_ERR_NOMEM, "out of memory");
+  for (int b = 0; b < model->n_bodies && status == SK_OK; ++b) {
+    groups[b] = model->bodies[b].group;
+    snprintf(labels[b], sizeof labels[b], "body '%s'", model->bodies[b].name);
+    names[b] = labels[b];
+  }
+  if (status == SK_OK) status = sk_mesh_check_disjoint(&model->mesh, groups, names, model->n_bodies);
+  free(groups);
+  free(labels);
+  free(names);
+  if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(list));
   return SK_OK;
 }
 
@@ -427,6 +452,9 @@ static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
   SK_TRY(sk_cfg_int(node, "max_cuts", 0, 6, &time->max_cuts));
   if (!(time->dt > 0)) return fail_at(sk_cfg_get(node, "dt"), "%s", "must be positive");
   if (!(time->t_end > time->t_start)) return fail_at(sk_cfg_get(node, "end"), "%s", "must be larger than `start`");
+  /* a step below the resolution of t would never advance it (t + dt == t): the run would loop forever */
+  if (time->dt < 64 * DBL_EPSILON * fmax(fabs(time->t_start), fabs(time->t_end)))
+    return fail_at(sk_cfg_get(node, "dt"), "%s", "is too small to advance the time between `start` and `end`");
   if (time->max_cuts < 0 || time->max_cuts > 30) return fail_at(sk_cfg_get(node, "max_cuts"), "%s", "must be 0..30");
   time->dt_min = time->dt / pow(2.0, time->max_cuts);
   return SK_OK;
@@ -538,7 +566,9 @@ static sk_status build_mass(sk_model *model) {
       for (int a = 0; a < g->nen; ++a)
         for (int i = 0; i < dim; ++i) X[a * dim + i] = model->mesh.x[3 * conn[a] + i];
       double *M = model->element_mass + model->element_mass_offset[body->first_element + e];
-      SK_TRY(sk_solid_mass(&body->solid, X, M));
+      sk_status status = sk_solid_mass(&body->solid, X, M);
+      if (status != SK_OK)
+        return sk_error_prefix(status, "mesh %s: body '%s', element %d: ", model->mesh.source, body->name, e);
       for (int a = 0; a < g->nen; ++a) {
         int row = conn[a];
         const int *rc = model->mass_cols + model->mass_row_ptr[row];
