@@ -175,6 +175,21 @@ static int fail(sk_status status) {
   return exit_code(status);
 }
 
+/* Where the results of a failed run are, exactly: the --out folder, DIR.incomplete next to finished results that
+ * were kept, the staging folder when it could not be put in place, or nowhere (a write error: the disk is full). */
+static void report_results_after_failure(const arguments *args, const sk_run_summary *summary) {
+  if (!args->out) return;
+  if (summary->results_dir[0]) {
+    fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"failed\")\n", summary->final_time,
+            summary->steps, summary->results_dir);
+    if (strcmp(summary->results_dir, args->out) != 0 && access(args->out, F_OK) == 0)
+      fprintf(stderr, "stickslip: the results already in %s were kept\n", args->out);
+  } else {
+    fprintf(stderr, "stickslip: no results were written%s%s%s\n", access(args->out, F_OK) == 0 ? "; " : "",
+            access(args->out, F_OK) == 0 ? args->out : "", access(args->out, F_OK) == 0 ? " is unchanged" : "");
+  }
+}
+
 static int command_scene(int argc, char **argv, int run) {
   arguments args;
   int parsed = parse_arguments(argc, argv, run ? "run" : "check", &args);
@@ -207,20 +222,21 @@ static int command_scene(int argc, char **argv, int run) {
                               .verbose = args.verbose,
                               .max_steps = args.steps};
     sk_run_summary summary;
+    /* The stepper does not poll sk_interrupt_agreed() yet (issue 15, item 7: with the ABI v2 stepper): until it
+     * does, a signal during the run keeps its default action instead of being recorded and ignored. */
+    sk_interrupt_uninstall();
     status = sk_run(&scene, &options, &summary);
     if (rank_of_world() == 0) {
       if (status != SK_OK) {
         fprintf(stderr, "stickslip: %s: %s\n", args.scene, sk_error_message());
-        if (args.out && summary.steps > 0)
-          fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"failed\")\n",
-                  summary.final_time, summary.steps, args.out);
-        code = 1;
+        report_results_after_failure(&args, &summary);
+        code = exit_code(status);
       } else {
         printf("%s: %d steps to t = %g, %d Newton iterations, %d linear solves, %.2f s (assembly %.2f, contact "
                "%.2f, solve %.2f)\n",
                args.scene, summary.steps, summary.final_time, summary.newton_iterations, summary.linear_solves,
                summary.wall_seconds, summary.assembly_seconds, summary.contact_seconds, summary.solve_seconds);
-        if (args.out) printf("results: %s/ (history.csv, summary.json, results.pvd)\n", args.out);
+        if (summary.results_dir[0]) printf("results: %s/ (history.csv, summary.json, results.pvd)\n", summary.results_dir);
       }
     } else if (status != SK_OK) {
       code = 1;

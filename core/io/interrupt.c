@@ -24,6 +24,11 @@ void sk_interrupt_install(void) {
   sigaction(SIGTERM, &action, NULL);
 }
 
+void sk_interrupt_uninstall(void) {
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+}
+
 int sk_interrupt_requested(void) { return (int)received; }
 
 int sk_interrupt_agreed(MPI_Comm comm) {

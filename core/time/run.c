@@ -1112,7 +1112,9 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
     sk_pvd_close(out.pvd);
     out.pvd = NULL;
     if (out_status == SK_OK) out_status = write_summary(&s, &out, summary->failed ? "failed" : "ok");
-    if (out_status == SK_OK) out_status = sk_outdir_commit(out.dir, options->out_dir);
+    if (out_status == SK_OK)
+      out_status = sk_outdir_commit(out.dir, options->out_dir, summary->failed ? SK_RESULTS_FAILED : SK_RESULTS_OK,
+                                    summary->results_dir, sizeof summary->results_dir);
     else sk_outdir_abort(out.dir);
     if (status == SK_OK) status = out_status;
     else sk_error_set(status, "%s", message);

@@ -19,6 +19,8 @@ extern "C" {
 
 /* Installs the SIGINT and SIGTERM handlers (idempotent). */
 void sk_interrupt_install(void);
+/* Back to the default actions (the process ends at once on SIGINT/SIGTERM). */
+void sk_interrupt_uninstall(void);
 /* The signal received on this process (SIGINT, SIGTERM), or 0. Async-signal-safe to call anywhere. */
 int sk_interrupt_requested(void);
 /* The signal received on any rank of `comm`, or 0: collective (one MPI_Allreduce of an int), so that all ranks stop
