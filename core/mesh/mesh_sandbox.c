@@ -136,7 +136,7 @@ corrupt:
 
 /* ---- the child ------------------------------------------------------------------------------------------------ */
 
-_Noreturn static void run_child(int fd, sk_mesh_sandbox_work work, void *arg, sk_mesh *mesh) {
+_Noreturn static void run_child(int fd, int err_fd, sk_mesh_sandbox_work work, void *arg, sk_mesh *mesh) {
 #ifdef PR_SET_PDEATHSIG
   prctl(PR_SET_PDEATHSIG, SIGKILL); /* never outlive stickslip (a script stuck in a loop would) */
 #endif
@@ -144,14 +144,15 @@ _Noreturn static void run_child(int fd, sk_mesh_sandbox_work work, void *arg, sk
    * libraries (MPI's backtrace printer, ours) runs here. */
   const int signals[] = {SIGINT, SIGTERM, SIGPIPE, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
   for (size_t k = 0; k < sizeof signals / sizeof signals[0]; ++k) signal(signals[k], SIG_DFL);
-  /* gmsh may print or (GetValue) read the terminal: it gets neither. */
+  /* gmsh may print or (GetValue) read the terminal: it gets neither. What reaches stderr (a C library abort
+   * message, a sanitizer report) goes to the parent, which quotes it when the child ends badly. */
   int null = open("/dev/null", O_RDWR);
   if (null >= 0) {
     dup2(null, STDIN_FILENO);
     dup2(null, STDOUT_FILENO);
-    dup2(null, STDERR_FILENO);
     if (null > STDERR_FILENO) close(null);
   }
+  dup2(err_fd, STDERR_FILENO);
   child_fd = fd;
   sk_status status = work(arg, mesh);
   uint64_t length = 0;
@@ -200,25 +201,41 @@ static int append(byte_buffer *b, const char *data, size_t n) {
   return 1;
 }
 
+/* The end of what the child wrote to stderr: its last non-empty line, for messages. */
+static void last_line(const byte_buffer *err, char *out, size_t n) {
+  out[0] = '\0';
+  size_t end = err->used;
+  while (end > 0 && (err->data[end - 1] == '\n' || err->data[end - 1] == ' ')) --end;
+  size_t begin = end;
+  while (begin > 0 && err->data[begin - 1] != '\n') --begin;
+  if (end > begin) snprintf(out, n, ": %.*s", (int)(end - begin), err->data + begin);
+}
+
 sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sandbox_limits *limits, sk_mesh *mesh) {
   const char *source = mesh->source;
-  int fds[2];
+  int fds[2], errs[2];
   if (pipe2(fds, O_CLOEXEC) != 0)
     return sk_error_set(SK_ERR_IO, "mesh %s: cannot create a pipe for the mesh generator: %s", source, strerror(errno));
+  if (pipe2(errs, O_CLOEXEC) != 0) {
+    close(fds[0]);
+    close(fds[1]);
+    return sk_error_set(SK_ERR_IO, "mesh %s: cannot create a pipe for the mesh generator: %s", source, strerror(errno));
+  }
   fflush(NULL); /* nothing buffered in the parent is written twice */
   pid_t pid = fork();
   if (pid < 0) {
-    close(fds[0]);
-    close(fds[1]);
+    for (int k = 0; k < 2; ++k) close(fds[k]), close(errs[k]);
     return sk_error_set(SK_ERR_IO, "mesh %s: cannot start the mesh generator: %s", source, strerror(errno));
   }
   if (pid == 0) {
     close(fds[0]);
-    run_child(fds[1], work, arg, mesh);
+    close(errs[0]);
+    run_child(fds[1], errs[1], work, arg, mesh);
   }
   close(fds[1]);
+  close(errs[1]);
 
-  byte_buffer in = {0};
+  byte_buffer in = {0}, err = {0};
   char phase[256] = "starting gmsh";
   size_t parsed = 0; /* bytes of `in` already taken apart into frames */
   char *mesh_frame = NULL, *error_frame = NULL;
@@ -226,29 +243,35 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
   double start = seconds_now();
   sk_status status = SK_OK;
   const char *stop = NULL; /* why the parent stopped the child */
-  for (int open_pipe = 1; open_pipe;) {
-    struct pollfd p = {.fd = fds[0], .events = POLLIN};
-    int ready = poll(&p, 1, 50);
-    if (ready > 0) {
+  int open_pipes = 2;
+  struct pollfd p[2] = {{.fd = fds[0], .events = POLLIN}, {.fd = errs[0], .events = POLLIN}};
+  while (open_pipes > 0) {
+    int ready = poll(p, 2, 50);
+    for (int k = 0; ready > 0 && k < 2; ++k) {
+      if (p[k].fd < 0 || !(p[k].revents & (POLLIN | POLLHUP | POLLERR))) continue;
       char chunk[65536];
-      ssize_t got = read(fds[0], chunk, sizeof chunk);
-      if (got > 0 && !append(&in, chunk, (size_t)got)) {
+      ssize_t got = read(p[k].fd, chunk, sizeof chunk);
+      if (got == 0 || (got < 0 && errno != EINTR && errno != EAGAIN)) {
+        p[k].fd = -1;
+        --open_pipes;
+      } else if (got > 0 && k == 1) {
+        if (err.used > 8192) err.used = 0; /* only the end matters */
+        append(&err, chunk, (size_t)got);
+      } else if (got > 0 && !append(&in, chunk, (size_t)got)) {
         stop = "out of memory";
-      } else if (got == 0 || (got < 0 && errno != EINTR && errno != EAGAIN)) {
-        open_pipe = 0;
       }
-      /* take complete frames apart */
-      while (!stop && in.used - parsed >= 9) {
-        uint64_t length;
-        memcpy(&length, in.data + parsed + 1, sizeof length);
-        if (in.used - parsed - 9 < length) break;
-        char kind = in.data[parsed];
-        char *payload = in.data + parsed + 9;
-        if (kind == FRAME_PHASE) snprintf(phase, sizeof phase, "%.*s", (int)length, payload);
-        if (kind == FRAME_MESH) mesh_frame = payload, mesh_length = length;
-        if (kind == FRAME_ERROR) error_frame = payload;
-        parsed += 9 + length;
-      }
+    }
+    /* take complete frames apart */
+    while (!stop && in.used - parsed >= 9) {
+      uint64_t length;
+      memcpy(&length, in.data + parsed + 1, sizeof length);
+      if (in.used - parsed - 9 < length) break;
+      char kind = in.data[parsed];
+      char *payload = in.data + parsed + 9;
+      if (kind == FRAME_PHASE) snprintf(phase, sizeof phase, "%.*s", (int)length, payload);
+      if (kind == FRAME_MESH) mesh_frame = payload, mesh_length = length;
+      if (kind == FRAME_ERROR) error_frame = payload;
+      parsed += 9 + length;
     }
     size_t resident = resident_bytes(pid);
     if (stop) {
@@ -265,9 +288,12 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
     }
   }
   close(fds[0]);
+  close(errs[0]);
   int wait_status = 0;
   while (waitpid(pid, &wait_status, 0) < 0 && errno == EINTR) {
   }
+  char said[600];
+  last_line(&err, said, sizeof said);
   /* frames point into in.data, which stays valid until the end */
   if (stop && strcmp(stop, "interrupted") == 0) {
     status = sk_error_set(SK_ERR_INTERRUPTED, "mesh %s: interrupted by %s while %s", source,
@@ -289,14 +315,15 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
     status = sk_error_set(code > 0 ? (sk_status)code : SK_ERR_INTERNAL, "%s", error_frame + sizeof code);
   } else if (WIFSIGNALED(wait_status)) {
     int sig = WTERMSIG(wait_status);
-    status = sk_error_set(SK_ERR_INPUT, "mesh %s: gmsh crashed (%s) while %s%s", source, strsignal(sig), phase,
-                          sig == SIGKILL ? " (killed from outside: out of memory?)" : "");
+    status = sk_error_set(SK_ERR_INPUT, "mesh %s: gmsh crashed (%s) while %s%s%s", source, strsignal(sig), phase,
+                          sig == SIGKILL ? " (killed from outside: out of memory?)" : "", said);
   } else if (!mesh_frame) {
-    status = sk_error_set(SK_ERR_INPUT, "mesh %s: gmsh stopped without a mesh (exit status %d) while %s (does the "
-                          "script call Exit?)", source, WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1, phase);
+    status = sk_error_set(SK_ERR_INPUT, "mesh %s: gmsh stopped without a mesh (exit status %d) while %s%s", source,
+                          WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1, phase, said);
   } else {
     status = deserialize(mesh_frame, mesh_length, mesh);
   }
   free(in.data);
+  free(err.data);
   return status;
 }
