@@ -28,31 +28,23 @@
 /* Nodes of the elements of the entity (dim, tag), `nen` per element, first-order corners only (malloc'ed, or NULL
  * when there are none). *count elements. Line, triangle and quadrangle elements: gmsh types 1, 2, 3. */
 static size_t *entity_corners(int dim, int tag, int *nen, size_t *count) {
-  int ierr = 0, *types = NULL;
-  size_t n_types = 0, **tags = NULL, *tags_n = NULL, tags_nn = 0, **nodes = NULL, *nodes_n = NULL, nodes_nn = 0;
-  gmshModelMeshGetElements(&types, &n_types, &tags, &tags_n, &tags_nn, &nodes, &nodes_n, &nodes_nn, dim, tag, &ierr);
-  size_t *corners = NULL, total = 0;
-  *nen = 0;
-  for (size_t t = 0; t < n_types; ++t) total += tags_n[t];
+  sk_gmsh_elements got;
+  sk_gmsh_elements_get(dim, tag, &got);
+  size_t total = 0;
+  for (size_t t = 0; t < got.n_types; ++t) total += got.tags_n[t];
   /* one element type per entity is what gmsh makes; a mix is counted as quadrangles (triangles padded) */
   int width = dim == 1 ? 2 : 4;
-  corners = total ? malloc(total * (size_t)width * sizeof *corners) : NULL;
-  size_t k = 0;
-  for (size_t t = 0; corners && t < n_types; ++t) {
-    int per = types[t] == 1 ? 2 : types[t] == 2 ? 3 : types[t] == 3 ? 4 : 0;
-    size_t stride = tags_n[t] ? nodes_n[t] / tags_n[t] : 0;
-    for (size_t e = 0; per && e < tags_n[t]; ++e, ++k)
-      for (int a = 0; a < width; ++a) corners[k * (size_t)width + (size_t)a] = nodes[t][e * stride + (size_t)(a < per ? a : 0)];
+  size_t *corners = total ? malloc(total * (size_t)width * sizeof *corners) : NULL, k = 0;
+  for (size_t t = 0; corners && t < got.n_types; ++t) {
+    int per = got.types[t] == 1 ? 2 : got.types[t] == 2 ? 3 : got.types[t] == 3 ? 4 : 0;
+    size_t stride = got.tags_n[t] ? got.nodes_n[t] / got.tags_n[t] : 0;
+    for (size_t e = 0; per && e < got.tags_n[t]; ++e, ++k)
+      for (int a = 0; a < width; ++a)
+        corners[k * (size_t)width + (size_t)a] = got.nodes[t][e * stride + (size_t)(a < per ? a : 0)];
   }
   *count = corners ? k : 0;
   *nen = width;
-  for (size_t t = 0; t < tags_nn; ++t) gmshFree(tags[t]);
-  for (size_t t = 0; t < nodes_nn; ++t) gmshFree(nodes[t]);
-  gmshFree(types);
-  gmshFree(tags);
-  gmshFree(tags_n);
-  gmshFree(nodes);
-  gmshFree(nodes_n);
+  sk_gmsh_elements_free(&got);
   return corners;
 }
 
@@ -242,18 +234,11 @@ static double volume_estimate(int tag, const node_table *nodes) {
 
 /* Elements of any type of the entity (dim, tag). */
 static double entity_elements(int dim, int tag) {
-  int ierr = 0, *types = NULL;
-  size_t n_types = 0, **tags = NULL, *tags_n = NULL, tags_nn = 0, **nodes = NULL, *nodes_n = NULL, nodes_nn = 0;
-  gmshModelMeshGetElements(&types, &n_types, &tags, &tags_n, &tags_nn, &nodes, &nodes_n, &nodes_nn, dim, tag, &ierr);
+  sk_gmsh_elements got;
+  sk_gmsh_elements_get(dim, tag, &got);
   double count = 0;
-  for (size_t t = 0; t < tags_nn; ++t) count += (double)tags_n[t];
-  for (size_t t = 0; t < tags_nn; ++t) gmshFree(tags[t]);
-  for (size_t t = 0; t < nodes_nn; ++t) gmshFree(nodes[t]);
-  gmshFree(types);
-  gmshFree(tags);
-  gmshFree(tags_n);
-  gmshFree(nodes);
-  gmshFree(nodes_n);
+  for (size_t t = 0; t < got.n_types; ++t) count += (double)got.tags_n[t];
+  sk_gmsh_elements_free(&got);
   return count;
 }
 

@@ -15,6 +15,20 @@ void sk_geo_names_free(char **names, int n_names);
  * mesh_orient.c). */
 sk_status sk_mesh_orient(sk_mesh *mesh);
 
+/* ---- gmsh's element arrays (mesh_load.c) -------------------------------------------------------------------- */
+
+/* What gmshModelMeshGetElements returns for one entity: per element type t, tags_n[t] elements with their tags and
+ * nodes (nodes_n[t] = tags_n[t] * nodes per element). */
+typedef struct {
+  int *types;
+  size_t n_types, **tags, *tags_n, tags_nn, **nodes, *nodes_n, nodes_nn;
+} sk_gmsh_elements;
+
+/* The elements of the entity (dim, tag) (tag -1: all of dimension dim). Returns gmsh's ierr; free the arrays with
+ * sk_gmsh_elements_free in every case. */
+int sk_gmsh_elements_get(int dim, int tag, sk_gmsh_elements *elements);
+void sk_gmsh_elements_free(sk_gmsh_elements *elements);
+
 /* ---- the mesh generator's child process (mesh_sandbox.c) ---------------------------------------------------- */
 
 typedef struct {

@@ -63,6 +63,25 @@ static int gmsh_failed(int ierr, const char *path, const char *what) {
   return failed;
 }
 
+int sk_gmsh_elements_get(int dim, int tag, sk_gmsh_elements *e) {
+  int ierr = 0;
+  memset(e, 0, sizeof *e);
+  gmshModelMeshGetElements(&e->types, &e->n_types, &e->tags, &e->tags_n, &e->tags_nn, &e->nodes, &e->nodes_n,
+                           &e->nodes_nn, dim, tag, &ierr);
+  return ierr;
+}
+
+void sk_gmsh_elements_free(sk_gmsh_elements *e) {
+  for (size_t t = 0; t < e->tags_nn; ++t) gmshFree(e->tags[t]);
+  for (size_t t = 0; t < e->nodes_nn; ++t) gmshFree(e->nodes[t]);
+  gmshFree(e->types);
+  gmshFree(e->tags);
+  gmshFree(e->tags_n);
+  gmshFree(e->nodes);
+  gmshFree(e->nodes_n);
+  memset(e, 0, sizeof *e);
+}
+
 /* ---- .geo parameters --------------------------------------------------------------------------------------- */
 
 static int is_identifier(const char *name) {
@@ -211,18 +230,16 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
   size_t n_elems = 0, capacity = 0;
   size_t *conn = NULL;
   for (size_t e = 0; e < n_entities && status == SK_OK; ++e) {
-    int *types = NULL;
-    size_t n_types = 0, **tags = NULL, *tags_n = NULL, tags_nn = 0, **nodes = NULL, *nodes_n = NULL, nodes_nn = 0;
-    gmshModelMeshGetElements(&types, &n_types, &tags, &tags_n, &tags_nn, &nodes, &nodes_n, &nodes_nn, dim,
-                             entities[e], &ierr);
+    sk_gmsh_elements got;
+    ierr = sk_gmsh_elements_get(dim, entities[e], &got);
     if (gmsh_failed(ierr, path, "read elements")) status = SK_ERR_INPUT;
-    for (size_t t = 0; t < n_types && status == SK_OK; ++t) {
-      int index = element_type_index(types[t]);
+    for (size_t t = 0; t < got.n_types && status == SK_OK; ++t) {
+      int index = element_type_index(got.types[t]);
       if (index < 0) {
         status = sk_error_set(SK_ERR_INPUT,
                               "mesh %s: physical group '%s' has elements of gmsh type %d, which stickslip does not "
                               "support (supported: point1, line2, line3, tri3, quad4, quad9, tet4, hex8, hex27)",
-                              path, group->name, types[t]);
+                              path, group->name, got.types[t]);
       } else if (type_index >= 0 && index != type_index) {
         status = sk_error_set(SK_ERR_INPUT,
                               "mesh %s: physical group '%s' mixes element types %s and %s (one type per group: "
@@ -230,7 +247,7 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
                               path, group->name, element_types[type_index].name, element_types[index].name);
       } else {
         type_index = index;
-        size_t count = nodes_n[t];
+        size_t count = got.nodes_n[t];
         if (n_elems * (size_t)element_types[index].nen + count > capacity) {
           size_t new_capacity = 2 * capacity + count;
           size_t *bigger = realloc(conn, new_capacity * sizeof *conn);
@@ -241,17 +258,11 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
           conn = bigger;
           capacity = new_capacity;
         }
-        memcpy(conn + n_elems * (size_t)element_types[index].nen, nodes[t], count * sizeof *conn);
+        memcpy(conn + n_elems * (size_t)element_types[index].nen, got.nodes[t], count * sizeof *conn);
         n_elems += count / (size_t)element_types[index].nen;
       }
     }
-    for (size_t t = 0; t < tags_nn; ++t) gmshFree(tags[t]);
-    for (size_t t = 0; t < nodes_nn; ++t) gmshFree(nodes[t]);
-    gmshFree(types);
-    gmshFree(tags);
-    gmshFree(tags_n);
-    gmshFree(nodes);
-    gmshFree(nodes_n);
+    sk_gmsh_elements_free(&got);
   }
   gmshFree(entities);
   if (status == SK_OK && n_elems == 0)

@@ -15,12 +15,6 @@
 
 static char root[] = "/tmp/sk_outdir_XXXXXX";
 
-static int contains(const char *haystack, const char *needle) {
-  int found = haystack && strstr(haystack, needle) != NULL;
-  if (!found) fprintf(stderr, "  expected '%s' in: %s\n", needle, haystack ? haystack : "(null)");
-  return found;
-}
-
 static void path_of(char *out, size_t n, const char *name) { snprintf(out, n, "%s/%s", root, name); }
 
 static void write_file(const char *dir, const char *name, const char *text) {
@@ -69,7 +63,7 @@ static void test_replace_only_own_files(void) {
   SK_CHECK(run_once(out, "history.csv", "1", SK_RESULTS_OK, final, sizeof final) == SK_OK);
   SK_CHECK(strcmp(final, out) == 0 && file_exists(out, "history.csv"));
   const char *manifest = read_text(out, SK_OUTDIR_MARKER);
-  SK_CHECK(contains(manifest, "status: ok\n") && contains(manifest, "\nhistory.csv\n"));
+  SK_CHECK(sk_test_contains(manifest, "status: ok\n") && sk_test_contains(manifest, "\nhistory.csv\n"));
   /* the next run replaces it completely */
   SK_CHECK(run_once(out, "summary.json", "2", SK_RESULTS_OK, final, sizeof final) == SK_OK);
   SK_CHECK(file_exists(out, "summary.json") && !file_exists(out, "history.csv"));
@@ -77,7 +71,7 @@ static void test_replace_only_own_files(void) {
   write_file(out, "notes.txt", "precious");
   char staging[1024];
   SK_CHECK(sk_outdir_begin(out, staging, sizeof staging) == SK_ERR_IO);
-  SK_CHECK(contains(sk_error_message(), "refusing to replace") && contains(sk_error_message(), "'notes.txt'"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "refusing to replace") && sk_test_contains(sk_error_message(), "'notes.txt'"));
   SK_CHECK(file_exists(out, "notes.txt") && file_exists(out, "summary.json"));
   /* item 6: a summary.json that merely says "stickslip" does not make a folder stickslip's */
   char thesis[512];
@@ -86,8 +80,8 @@ static void test_replace_only_own_files(void) {
   write_file(thesis, "summary.json", "stickslip\n");
   write_file(thesis, "thesis.tex", "precious");
   SK_CHECK(sk_outdir_begin(thesis, staging, sizeof staging) == SK_ERR_IO);
-  SK_CHECK(contains(sk_error_message(), "it holds 'summary.json', 'thesis.tex', which stickslip did not write"));
-  SK_CHECK(contains(sk_error_message(), "not a stickslip results folder"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "it holds 'summary.json', 'thesis.tex', which stickslip did not write"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "not a stickslip results folder"));
   SK_CHECK(file_exists(thesis, "thesis.tex"));
   /* ... and at the end, when the file appeared during the run: the new results stay where they are, and say so */
   char late[512];
@@ -96,7 +90,7 @@ static void test_replace_only_own_files(void) {
   mkdir(late, 0777);
   write_file(late, "notes.txt", "precious");
   SK_CHECK(sk_outdir_commit(staging, late, SK_RESULTS_OK, final, sizeof final) == SK_ERR_IO);
-  SK_CHECK(contains(sk_error_message(), "the new results are in") && strcmp(final, staging) == 0);
+  SK_CHECK(sk_test_contains(sk_error_message(), "the new results are in") && strcmp(final, staging) == 0);
   SK_CHECK(file_exists(late, "notes.txt") && file_exists(staging, SK_OUTDIR_MARKER));
   /* a bare marker of an older stickslip: its usual file names may be replaced, nothing else */
   char legacy[512];
@@ -108,7 +102,7 @@ static void test_replace_only_own_files(void) {
   SK_CHECK(run_once(legacy, "history.csv", "2", SK_RESULTS_OK, final, sizeof final) == SK_OK);
   write_file(legacy, SK_OUTDIR_MARKER, "stickslip output directory: may be replaced by the next run\n");
   write_file(legacy, "plot.png", "mine");
-  SK_CHECK(sk_outdir_begin(legacy, staging, sizeof staging) == SK_ERR_IO && contains(sk_error_message(), "plot.png"));
+  SK_CHECK(sk_outdir_begin(legacy, staging, sizeof staging) == SK_ERR_IO && sk_test_contains(sk_error_message(), "plot.png"));
   /* an empty folder may be replaced; a plain file, "" and "/" may not */
   char empty[512];
   path_of(empty, sizeof empty, "runs/empty/");
@@ -118,7 +112,7 @@ static void test_replace_only_own_files(void) {
   path_of(runs, sizeof runs, "runs");
   write_file(runs, "plain", "data");
   path_of(plain, sizeof plain, "runs/plain");
-  SK_CHECK(sk_outdir_begin(plain, staging, sizeof staging) == SK_ERR_IO && contains(sk_error_message(), "not a directory"));
+  SK_CHECK(sk_outdir_begin(plain, staging, sizeof staging) == SK_ERR_IO && sk_test_contains(sk_error_message(), "not a directory"));
   SK_CHECK(sk_outdir_begin("", staging, sizeof staging) == SK_ERR_INPUT);
   SK_CHECK(sk_outdir_begin("/", staging, sizeof staging) == SK_ERR_INPUT);
 }
@@ -133,7 +127,7 @@ static void test_unfinished(void) {
   SK_CHECK(strcmp(final, incomplete) == 0);
   SK_CHECK(strcmp(read_text(out, "history.csv"), "good") == 0);
   SK_CHECK(strcmp(read_text(incomplete, "history.csv"), "failed") == 0);
-  SK_CHECK(contains(read_text(incomplete, SK_OUTDIR_MARKER), "status: failed"));
+  SK_CHECK(sk_test_contains(read_text(incomplete, SK_OUTDIR_MARKER), "status: failed"));
   SK_CHECK(run_once(out, "history.csv", "stopped", SK_RESULTS_INTERRUPTED, final, sizeof final) == SK_OK);
   SK_CHECK(strcmp(final, incomplete) == 0 && strcmp(read_text(incomplete, "history.csv"), "stopped") == 0);
   SK_CHECK(strcmp(read_text(out, "history.csv"), "good") == 0);
@@ -166,7 +160,7 @@ static void test_current_directory(void) {
   SK_CHECK(getcwd(saved, sizeof saved) != NULL);
   SK_CHECK(chdir(inner) == 0);
   SK_CHECK(sk_outdir_begin(".", staging, sizeof staging) == SK_ERR_INPUT);
-  SK_CHECK(contains(sk_error_message(), "--out '.' is the current directory or contains it"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "--out '.' is the current directory or contains it"));
   SK_CHECK(sk_outdir_begin("..", staging, sizeof staging) == SK_ERR_INPUT);
   SK_CHECK(sk_outdir_begin("./", staging, sizeof staging) == SK_ERR_INPUT);
   SK_CHECK(access("..partial-1", F_OK) != 0);
@@ -193,7 +187,7 @@ static void test_stale_staging(void) {
   dup2(saved, fileno(stderr));
   close(saved);
   SK_CHECK(status == SK_OK);
-  SK_CHECK(contains(read_text(root, "stale.log"), "killed.partial-999999999 holds the unfinished results of process "
+  SK_CHECK(sk_test_contains(read_text(root, "stale.log"), "killed.partial-999999999 holds the unfinished results of process "
                                                   "999999999"));
   SK_CHECK(file_exists(stale, "history.csv"));
   SK_CHECK(sk_outdir_abort(staging) == SK_OK);

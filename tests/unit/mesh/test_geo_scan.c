@@ -12,12 +12,6 @@
 
 static char dir[] = "/tmp/stickslip-geo-scan-XXXXXX";
 
-static int contains(const char *text, const char *part) {
-  int found = strstr(text, part) != NULL;
-  if (!found) fprintf(stderr, "  expected '%s' in: %s\n", part, text);
-  return found;
-}
-
 /* A unit square with a physical surface, after `prelude`. */
 static const char *script(const char *name, const char *prelude) {
   static char path[256];
@@ -39,8 +33,8 @@ static void expect(const char *path, sk_status code, const char *part1, const ch
   if (status != code) fprintf(stderr, "%s: status %d: %s\n", path, status, sk_error_message());
   SK_CHECK(status == code);
   if (status == SK_OK) sk_mesh_free(&mesh);
-  if (part1) SK_CHECK(contains(sk_error_message(), part1));
-  if (part2) SK_CHECK(contains(sk_error_message(), part2));
+  if (part1) SK_CHECK(sk_test_contains(sk_error_message(), part1));
+  if (part2) SK_CHECK(sk_test_contains(sk_error_message(), part2));
 }
 
 static int exists(const char *name) {

@@ -12,12 +12,6 @@
 
 static char dir[] = "/tmp/stickslip-check-test-XXXXXX";
 
-static int contains(const char *text, const char *part) {
-  int found = strstr(text, part) != NULL;
-  if (!found) fprintf(stderr, "  expected '%s' in: %s\n", part, text);
-  return found;
-}
-
 /* A .msh 2.2 file with the nodes of a unit cube (1..8; the top at z = 1, or 0 when `flat`), one more node (9) and the
  * given elements section. */
 static const char *write_msh_top(const char *name, const char *node9, const char *elements, int flat) {
@@ -42,7 +36,7 @@ static void expect_refused(const char *path, const char *part1, const char *part
   sk_mesh mesh;
   sk_status status = sk_mesh_load(path, NULL, 0, 0, &mesh);
   SK_CHECK(status == SK_ERR_INPUT);
-  SK_CHECK(contains(sk_error_message(), part1) && contains(sk_error_message(), part2));
+  SK_CHECK(sk_test_contains(sk_error_message(), part1) && sk_test_contains(sk_error_message(), part2));
   SK_CHECK(mesh.groups == NULL && mesh.x == NULL);
   if (status == SK_OK) sk_mesh_free(&mesh);
 }
@@ -75,11 +69,11 @@ int main(void) {
     const sk_group *one[1] = {block};
     const char *names[2] = {"body 'a'", "body 'b'"};
     SK_CHECK(sk_mesh_check_disjoint(&mesh, one, names, 1) == SK_ERR_INPUT);
-    SK_CHECK(contains(sk_error_message(), "twice.msh: physical group 'block', element 1") &&
-             contains(sk_error_message(), "is listed twice in the group (also as element 0)"));
+    SK_CHECK(sk_test_contains(sk_error_message(), "twice.msh: physical group 'block', element 1") &&
+             sk_test_contains(sk_error_message(), "is listed twice in the group (also as element 0)"));
     const sk_group *same[2] = {block, block};
     SK_CHECK(sk_mesh_check_disjoint(&mesh, same, names, 2) == SK_ERR_INPUT);
-    SK_CHECK(contains(sk_error_message(), "body 'a' and body 'b' both use physical group 'block'"));
+    SK_CHECK(sk_test_contains(sk_error_message(), "body 'a' and body 'b' both use physical group 'block'"));
     sk_mesh_free(&mesh);
   }
   SK_CHECK(sk_mesh_load(write_msh("overlap.msh", "2 2 2", "2\n1 5 2 1 1 1 2 3 4 5 6 7 8\n2 5 2 2 2 2 3 4 1 6 7 8 5\n"),
@@ -88,7 +82,7 @@ int main(void) {
     const sk_group *both[2] = {sk_mesh_find_group(&mesh, "block"), sk_mesh_find_group(&mesh, "other")};
     const char *names[2] = {"body 'a'", "body 'b'"};
     SK_CHECK(both[0] && both[1] && sk_mesh_check_disjoint(&mesh, both, names, 2) == SK_ERR_INPUT);
-    SK_CHECK(contains(sk_error_message(), "body 'a' and body 'b' overlap"));
+    SK_CHECK(sk_test_contains(sk_error_message(), "body 'a' and body 'b' overlap"));
     sk_mesh_free(&mesh);
   }
   /* every bundled mesh passes the element checks (sk_mesh_load runs them) */

@@ -21,12 +21,6 @@ static double seconds(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int contains(const char *text, const char *part) {
-  int found = strstr(text, part) != NULL;
-  if (!found) fprintf(stderr, "  expected '%s' in: %s\n", part, text);
-  return found;
-}
-
 static long body_elements(const sk_mesh *mesh) {
   long n = 0;
   for (int g = 0; g < mesh->n_groups; ++g) n += mesh->groups[g].dim == mesh->dim ? mesh->groups[g].n_elems : 0;
@@ -60,7 +54,7 @@ static void check_script(const char *path, const sk_mesh_param *params, int n_pa
   double estimate = about ? atof(about + 6) : -1;
   printf("%-26s %8ld elements, estimated before meshing the %s: %8.0f (ratio %.2f)\n", path, count,
          dim == 3 ? "volumes" : "surfaces", estimate, estimate / (double)count);
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "mesh.max_elements = 1"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "mesh.max_elements = 1"));
   /* within the limit at twice the count, refused at half of it */
   status = load_limited(path, params, n_params, 2 * count, 0, &mesh);
   if (status != SK_OK) fprintf(stderr, "%s at 2x its count: %s\n", path, sk_error_message());
@@ -70,7 +64,7 @@ static void check_script(const char *path, const sk_mesh_param *params, int n_pa
   SK_CHECK(status == SK_ERR_INPUT);
   char limit[64];
   snprintf(limit, sizeof limit, "mesh.max_elements = %ld", count / 2);
-  SK_CHECK(contains(sk_error_message(), limit));
+  SK_CHECK(sk_test_contains(sk_error_message(), limit));
 }
 
 static void write_file(const char *path, const char *text) {
@@ -105,20 +99,20 @@ int main(void) {
   sk_status status = load_limited("meshes/hertz-2d.geo", runaway, 1, 10000, 0, &mesh);
   double spent = seconds() - t0;
   printf("hertz-2d refine 1e6: refused after %.2f s: %s\n", spent, sk_error_message());
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "meshing the curves alone asked for the mesh size at"));
-  SK_CHECK(contains(sk_error_message(), "mesh.max_elements = 10000") && contains(sk_error_message(), "refine = 1e+06"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "meshing the curves alone asked for the mesh size at"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "mesh.max_elements = 10000") && sk_test_contains(sk_error_message(), "refine = 1e+06"));
   /* a runaway transfinite count (no size is asked for): the child's memory limit */
   t0 = seconds();
   status = load_limited("meshes/block.geo", runaway, 1, 10000, 0, &mesh);
   spent = seconds() - t0;
   printf("block refine 1e6: refused after %.2f s: %s\n", spent, sk_error_message());
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "gmsh used more than 275 MB while meshing the curves"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "gmsh used more than 275 MB while meshing the curves"));
 
   /* a mesh size of zero: gmsh throws inside an OpenMP region, which used to abort stickslip */
   const sk_mesh_param zero[] = {{"h_contact", 0}};
   status = sk_mesh_load("meshes/hertz-2d.geo", zero, 1, 0, &mesh);
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "Wrong mesh element size"));
-  SK_CHECK(contains(sk_error_message(), "h_contact = 0") && contains(sk_error_message(), "meshes/hertz-2d.geo"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "Wrong mesh element size"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "h_contact = 0") && sk_test_contains(sk_error_message(), "meshes/hertz-2d.geo"));
 
   /* a script that never ends: stopped at the time limit, naming what gmsh was doing */
   snprintf(path, sizeof path, "%s/loop.geo", dir);
@@ -126,18 +120,18 @@ int main(void) {
   t0 = seconds();
   status = load_limited(path, NULL, 0, SK_MESH_DEFAULT_MAX_ELEMENTS, 1.0, &mesh);
   spent = seconds() - t0;
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "did not finish within 1 s while evaluating"));
-  SK_CHECK(contains(sk_error_message(), "mesh.time_limit"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "did not finish within 1 s while evaluating"));
+  SK_CHECK(sk_test_contains(sk_error_message(), "mesh.time_limit"));
   SK_CHECK(spent < 5.0);
   unlink(path);
 
   /* a .msh over the limit is refused after reading (it has no estimate) */
   status = load_limited("meshes/two-elements.msh", NULL, 0, 1, 0, &mesh);
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "has 2 elements of dimension 3"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "has 2 elements of dimension 3"));
 
   /* bad limits */
   status = load_limited("meshes/block.geo", NULL, 0, 0, 0, &mesh);
-  SK_CHECK(status == SK_ERR_INPUT && contains(sk_error_message(), "max_elements must be at least 1"));
+  SK_CHECK(status == SK_ERR_INPUT && sk_test_contains(sk_error_message(), "max_elements must be at least 1"));
   rmdir(dir);
   return sk_test_finish("test_mesh_guard");
 }
