@@ -5,11 +5,13 @@ test_results_folder.py.)"""
 import os
 import re
 import shutil
+import signal
+import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_bad_input import BLOCK, CONTACT, MESHES, ROOT, Case, replace, scene_text  # noqa: E402
+from test_bad_input import BIN, BLOCK, CONTACT, MESHES, ROOT, Case, replace, scene_text  # noqa: E402
 
 HERTZ = scene_text("hertz-2d.yaml")
 PLUGINS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(os.environ.get(
@@ -192,8 +194,41 @@ def special_files(c):
     c.expect_failure(r"hertz-2d\.geo: .*mesh\.max_elements = 1000000", r"h_contact = 1e-09")
 
 
+def interrupt_while_meshing(c):
+    """Item 7 (before the run): SIGINT or SIGTERM while gmsh works ends stickslip at once with a message and the
+    shell's exit code, stops the mesh generator, and writes nothing."""
+    c.write("For i In {1:1e15}\n  x = i;\nEndFor\n", "loop.geo")
+    scene = c.write(replace(BLOCK, os.path.join(MESHES, "block.geo"), "loop.geo").replace(
+        "  parameters: {nx: 3, ny: 3, nz: 3}\n", ""))
+    env = dict(os.environ)
+    env.pop("STICKSLIP_PLUGIN_PATH", None)
+    for sig, code, name in [(signal.SIGINT, 130, "SIGINT"), (signal.SIGTERM, 143, "SIGTERM")]:
+        proc = subprocess.Popen([BIN, "run", scene, "--out", c.out, "--quiet"], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True, env=env, cwd=c.dir)
+        # wait for the mesh generator: a child process named like its parent (MPI starts another, orted)
+        deadline, child = time.time() + 60, ""
+        while time.time() < deadline and proc.poll() is None and not child:
+            child = subprocess.run(["pgrep", "-x", "-P", str(proc.pid), "stickslip"], capture_output=True,
+                                   text=True).stdout.strip()
+            time.sleep(0.05)
+        c.check(child != "", "the mesh generator started")
+        proc.send_signal(sig)
+        try:
+            out, err = proc.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = proc.communicate()
+        print("$ stickslip run (%s while gmsh runs)\nexit %d\nstderr: %s" % (name, proc.returncode, err))
+        c.check(proc.returncode == code, "exit %d after %s (got %d)" % (code, name, proc.returncode))
+        c.check(re.search(r"loop\.geo: interrupted by %s.* while (evaluating the script|starting gmsh)" % name, err)
+                is not None, "the message says what was interrupted")
+        c.check(not os.path.exists(c.out), "nothing written")
+        c.check(child == "" or not os.path.exists("/proc/" + child.split()[0]), "no mesh generator left behind")
+
+
 CASES = {f.__name__: f for f in [gmsh_exception, mesh_size_guard, broken_plugin_files, empty_sections, non_finite,
-                                 geometry_errors, shared_group, collapsed_element, system_call, special_files]}
+                                 geometry_errors, shared_group, collapsed_element, system_call, special_files,
+                                 interrupt_while_meshing]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:
