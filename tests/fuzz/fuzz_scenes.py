@@ -11,7 +11,7 @@ for every fifth case, `stickslip run --steps 2 --out DIR`, and fails on:
 The cases are a deterministic function of --seed and the case number; --count and --seconds bound the pass (it stops
 starting new cases after --seconds). Every failing case is kept in --keep (scene, command, output) to replay.
 
-  python3 tests/fuzz/fuzz_scenes.py                                  # short pass (CI: ctest fuzz_scenes_short)
+  python3 tests/fuzz/fuzz_scenes.py --count 100 --seconds 180          # short pass (CI: ctest fuzz_scenes_short)
   python3 tests/fuzz/fuzz_scenes.py --count 5000 --seconds 7200 --seed 7   # long pass, on demand
 """
 import argparse
