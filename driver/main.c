@@ -180,8 +180,8 @@ static int fail(sk_status status) {
 static void report_results_after_failure(const arguments *args, const sk_run_summary *summary) {
   if (!args->out) return;
   if (summary->results_dir[0]) {
-    fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"failed\")\n", summary->final_time,
-            summary->steps, summary->results_dir);
+    fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"%s\")\n", summary->final_time,
+            summary->steps, summary->results_dir, summary->failed ? "failed" : "ok");
     if (strcmp(summary->results_dir, args->out) != 0 && access(args->out, F_OK) == 0)
       fprintf(stderr, "stickslip: the results already in %s were kept\n", args->out);
   } else {
