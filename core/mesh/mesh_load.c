@@ -470,9 +470,10 @@ static int has_suffix(const char *text, const char *suffix) {
   return n >= m && strcmp(text + n - m, suffix) == 0;
 }
 
-/* gmsh's resident memory stays below 1 kB per element on every mesh measured (tests/unit/mesh/test_mesh_guard.c
- * prints the figures: 0.47-0.87 kB with gmsh 4.8.4), plus ~45 MB for gmsh itself: twice that plus a margin is a
- * limit no mesh within mesh.max_elements reaches, which stops a runaway mesh early. */
+/* gmsh's peak resident memory per element stays below 1 kB on every mesh measured (0.35-0.85 kB with gmsh 4.8.4:
+ * build/bin/bench_mesh_memory, tests/bench/mesh-memory), and the child starts with what it shares with stickslip
+ * (libraries, MPI): 2 kB per element plus 256 MB is a limit no mesh within mesh.max_elements reaches, which stops a
+ * runaway mesh early. */
 static size_t memory_limit_for(long max_elements) { return ((size_t)256 << 20) + (size_t)max_elements * 2048; }
 
 void sk_mesh_options_default(sk_mesh_options *options) {
