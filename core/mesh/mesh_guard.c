@@ -5,9 +5,10 @@
  *
  * The estimates, each checked against the limit before the next stage runs:
  * - during the curves (1D): gmsh integrates 1/h along each curve to place its nodes and asks the global size callback
- *   at every sample; the number of asks grows with the nodes being placed (measured on meshes/hertz-2d.geo: 21 644
- *   asks for 200 curve nodes at refine 1, 3.1 million for 1.94 million at refine 1e4, 27 million for 19 million at
- *   refine 1e5), so more than 4 asks per allowed element (+ 10^6) means the curves alone exceed the limit;
+ *   at every sample; the asks grow with the nodes being placed (build/bin/bench_mesh_limits, meshes/hertz-2d.geo:
+ *   21 660 asks for 208 curve nodes at refine 1, 119 350 for 19 450 at refine 100, 3.1 million for 1.94 million at
+ *   refine 10^4), so more than 4 asks per allowed element (+ 10^6 for the fixed share) means the curves alone
+ *   exceed the limit (the curve nodes of a mesh are fewer than its elements);
  * - before the surfaces (2D): a surface bounded by n curve segments gets about n^2/16 elements (exact for a
  *   structured square: n = 4k segments, k^2 quads);
  * - before the volumes (3D): a volume bounded by f surface elements gets about (f/6)^(3/2) (exact for a structured

@@ -471,7 +471,7 @@ static int has_suffix(const char *text, const char *suffix) {
 }
 
 /* gmsh's peak resident memory per element stays below 1 kB on every mesh measured (0.35-0.85 kB with gmsh 4.8.4:
- * build/bin/bench_mesh_memory, tests/bench/mesh-memory), and the child starts with what it shares with stickslip
+ * build/bin/bench_mesh_limits, tests/bench/mesh-limits), and the child starts with what it shares with stickslip
  * (libraries, MPI): 2 kB per element plus 256 MB is a limit no mesh within mesh.max_elements reaches, which stops a
  * runaway mesh early. */
 static size_t memory_limit_for(long max_elements) { return ((size_t)256 << 20) + (size_t)max_elements * 2048; }
