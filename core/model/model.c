@@ -100,7 +100,9 @@ static sk_status build_mass(sk_model *model) {
       for (int a = 0; a < g->nen; ++a)
         for (int i = 0; i < dim; ++i) X[a * dim + i] = model->mesh.x[3 * conn[a] + i];
       double *M = model->element_mass + model->element_mass_offset[body->first_element + e];
-      SK_TRY(sk_solid_mass(&body->solid, X, M));
+      sk_status status = sk_solid_mass(&body->solid, X, M);
+      if (status != SK_OK)
+        return sk_error_prefix(status, "mesh %s: body '%s', element %d: ", model->mesh.source, body->name, e);
       for (int a = 0; a < g->nen; ++a) {
         int row = conn[a];
         const int *rc = model->mass_cols + model->mass_row_ptr[row];

@@ -2,6 +2,7 @@
 #define _GNU_SOURCE
 #include "stickslip/scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -73,7 +74,14 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   const char *name;
   SK_TRY(sk_cfg_string(entry, "name", 0, "", &name));
   snprintf(prefix, SK_NAME_MAX, "%s", name);
-  sk_status status = sk_mesh_load(path, list, n_params, dim_wanted, mesh);
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.dim = dim_wanted;
+  int max_elements = (int)options.max_elements;
+  SK_TRY(sk_cfg_int(entry, "max_elements", 0, max_elements, &max_elements));
+  SK_TRY(sk_cfg_double(entry, "time_limit", 0, options.time_limit, &options.time_limit));
+  options.max_elements = max_elements;
+  sk_status status = sk_mesh_load_with(path, list, n_params, &options, mesh);
   if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(entry));
 
   double translate[3] = {0, 0, 0}, axis[3] = {0, 0, 1}, angle = 0;
@@ -89,6 +97,8 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
     if (angle != 0) rotate_vector(axis, angle * M_PI / 180.0, x);
     for (int i = 0; i < 3; ++i) x[i] += translate[i];
   }
+  status = sk_mesh_check_elements(mesh); /* a translation by 1e308 overflows */
+  if (status != SK_OK) return sk_error_prefix(status, "%s: after translate/rotate: ", sk_cfg_where(entry));
   return SK_OK;
 }
 
@@ -155,7 +165,6 @@ static sk_status require_group(const sk_model *model, const sk_cfg *at, const ch
   return SK_OK;
 }
 
-static sk_status load_plugin(const char *name, const sk_plugin **plugin);
 static sk_status choose_strategy(const sk_cfg *entry, const sk_plugin *plugin, int *strategy);
 static int straight_faces(const sk_surface *surface) {
   return surface->face_type == SK_LINE2 || surface->face_type == SK_TRI3;
@@ -175,7 +184,7 @@ static sk_status read_body_plugin(const sk_cfg *entry, const sk_model *model, sk
                           sk_cfg_where(entry), body->name);
     return SK_OK;
   }
-  sk_status status = load_plugin(plugin_name, &body->plugin);
+  sk_status status = sk_plugin_load(plugin_name, &body->plugin);
   if (status != SK_OK)
     return sk_error_prefix(status, "%s: body '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), body->name);
   SK_TRY(check_kind(sk_cfg_get(entry, "plugin"), body->plugin, SK_KIND_BODY, "body", body->name));
@@ -232,6 +241,21 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     SK_TRY(read_body_plugin(entry, model, body));
   }
   model->n_elements = first;
+  /* two bodies on one group, or on overlapping groups, would count the same elements twice */
+  const sk_group **groups = calloc((size_t)model->n_bodies, sizeof *groups);
+  char (*labels)[SK_NAME_MAX + 16] = calloc((size_t)model->n_bodies, sizeof *labels);
+  const char **names = calloc((size_t)model->n_bodies, sizeof *names);
+  sk_status status = groups && labels && names ? SK_OK : sk_error_set(SK_ERR_NOMEM, "out of memory");
+  for (int b = 0; b < model->n_bodies && status == SK_OK; ++b) {
+    groups[b] = model->bodies[b].group;
+    snprintf(labels[b], sizeof labels[b], "body '%s'", model->bodies[b].name);
+    names[b] = labels[b];
+  }
+  if (status == SK_OK) status = sk_mesh_check_disjoint(&model->mesh, groups, names, model->n_bodies);
+  free(groups);
+  free(labels);
+  free(names);
+  if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(list));
   return SK_OK;
 }
 
@@ -372,32 +396,6 @@ static sk_status choose_strategy(const sk_cfg *entry, const sk_plugin *plugin, i
   return SK_OK;
 }
 
-/* A library named libstickslip-<name>.so that failed to load (wrong ABI, missing symbol): its message explains an
- * "unknown plugin" better than the list of good ones. */
-typedef struct {
-  char file[SK_NAME_MAX + 32];
-  char message[1024];
-} broken_search;
-
-static void find_broken(void *ctx, const char *path, const char *message) {
-  broken_search *b = ctx;
-  const char *slash = strrchr(path, '/');
-  if (!b->message[0] && strcmp(slash ? slash + 1 : path, b->file) == 0)
-    snprintf(b->message, sizeof b->message, "%s", message);
-}
-
-static sk_status load_plugin(const char *name, const sk_plugin **plugin) {
-  sk_status status = sk_plugin_load(name, plugin);
-  if (status == SK_OK) return SK_OK;
-  char first[1024];
-  snprintf(first, sizeof first, "%s", sk_error_message());
-  broken_search b = {.message = ""};
-  snprintf(b.file, sizeof b.file, "libstickslip-%s.so", name);
-  sk_plugin_each(NULL, find_broken, &b);
-  if (b.message[0]) return sk_error_set(status, "plugin '%s' cannot be used: %s", name, b.message);
-  return sk_error_set(status, "%s", first);
-}
-
 static sk_status read_contact(const sk_cfg *root, const char *plugin_override, sk_scene *scene) {
   sk_model *model = &scene->model;
   const sk_cfg *list = sk_cfg_get(root, "contact");
@@ -416,7 +414,7 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
     copy_name(pair->name, name);
     SK_TRY(sk_cfg_string(entry, "plugin", 1, NULL, &plugin_name));
     if (plugin_override) plugin_name = plugin_override;
-    sk_status status = load_plugin(plugin_name, &pair->plugin);
+    sk_status status = sk_plugin_load(plugin_name, &pair->plugin);
     if (status != SK_OK)
       return sk_error_prefix(status, "%s: contact pair '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), name);
     SK_TRY(sk_cfg_string(entry, "slave", 1, NULL, &slave_name));
@@ -475,6 +473,9 @@ static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
   SK_TRY(sk_cfg_int(node, "max_cuts", 0, 6, &time->max_cuts));
   if (!(time->dt > 0)) return fail_at(sk_cfg_get(node, "dt"), "%s", "must be positive");
   if (!(time->t_end > time->t_start)) return fail_at(sk_cfg_get(node, "end"), "%s", "must be larger than `start`");
+  /* a step below the resolution of t would never advance it (t + dt == t): the run would loop forever */
+  if (time->dt < 64 * DBL_EPSILON * fmax(fabs(time->t_start), fabs(time->t_end)))
+    return fail_at(sk_cfg_get(node, "dt"), "%s", "is too small to advance the time between `start` and `end`");
   if (time->max_cuts < 0 || time->max_cuts > 30) return fail_at(sk_cfg_get(node, "max_cuts"), "%s", "must be 0..30");
   return SK_OK;
 }

@@ -395,7 +395,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   return sk_json_close(json);
 }
 
-sk_status sk_recorder_close(sk_recorder *rec, const sk_run_summary *summary, sk_status status) {
+sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status) {
   const sk_model *m = &rec->scene->model;
   /* results: complete files up to the last converged step, then the folder is swapped in atomically */
   double *points = NULL;
@@ -415,7 +415,10 @@ sk_status sk_recorder_close(sk_recorder *rec, const sk_run_summary *summary, sk_
     sk_pvd_close(rec->pvd);
     rec->pvd = NULL;
     if (out_status == SK_OK) out_status = write_summary(rec, summary);
-    if (out_status == SK_OK) out_status = sk_outdir_commit(rec->dir, rec->options->out_dir);
+    if (out_status == SK_OK)
+      out_status = sk_outdir_commit(rec->dir, rec->options->out_dir,
+                                    summary->failed ? SK_RESULTS_FAILED : SK_RESULTS_OK, summary->results_dir,
+                                    sizeof summary->results_dir);
     else sk_outdir_abort(rec->dir);
     rec->dir[0] = '\0';
     if (status == SK_OK) status = out_status;

@@ -16,9 +16,10 @@ sk_status sk_recorder_initial(sk_recorder *rec);
 sk_status sk_recorder_step(sk_recorder *rec, int steps_done, int last);
 /* The total energy of the last row (for the progress line). */
 double sk_recorder_total_energy(const sk_recorder *rec);
-/* contact.csv at the final state, summary.json, and the folder swapped in (or dropped on an output error). Returns
+/* contact.csv at the final state, summary.json, and the folder swapped in (or dropped on an output error); sets
+ * summary->results_dir to where the files are. Returns
  * `status` unless the output failed. Collective. */
-sk_status sk_recorder_close(sk_recorder *rec, const sk_run_summary *summary, sk_status status);
+sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status);
 void sk_recorder_free(sk_recorder *rec);
 
 #endif

@@ -197,8 +197,10 @@ def two_tori_coarse_full(c):
     switch rule in begin_step, docs/plugins/nts-augmented.md); angular momentum constant; contact; friction."""
     results, _ = run("scenes/two-tori-coarse.yaml", "--set", "solver.linear.solver=direct")
     rows = results.rows
-    c.check(len(rows) == 501 and results.summary["status"] == "ok", "500 steps to t = 5, status ok (%d rows)"
-            % len(rows))
+    # a frozen node that is in tension when in contact and penetrates when released (converged() rejects both) makes
+    # the step cut once or twice (measured: 1 cut at step 129, 502 steps)
+    c.check(abs(rows[-1]["time"] - 5.0) < 1e-9 and results.summary["status"] == "ok" and 501 <= len(rows) <= 505,
+            "t = 5 reached, status ok, in %d steps (500 at dt = 0.01, <= 4 more from step cuts)" % (len(rows) - 1))
     energy0 = rows[0]["total_energy"]
     tol = 1e-10 * energy0
     increase, step = max((b["total_energy"] - a["total_energy"], int(b["step"])) for a, b in zip(rows, rows[1:]))

@@ -44,7 +44,8 @@ typedef enum {
   SK_ERR_DIVERGED = 4,  /* Newton, a local Newton or a linear solve failed (the step is cut and retried) */
   SK_ERR_PLUGIN = 5,    /* a plugin failed to load, has the wrong ABI or lacks a capability */
   SK_ERR_INTERNAL = 6,  /* a broken invariant: a bug */
-  SK_ERR_NOMEM = 7      /* out of memory: returned with a message, never an abort */
+  SK_ERR_NOMEM = 7,     /* out of memory: returned with a message, never an abort */
+  SK_ERR_INTERRUPTED = 8 /* SIGINT/SIGTERM: stopped on the user's request (stickslip/interrupt.h) */
 } sk_status;
 
 /* Propagates a failing status to the caller. */

@@ -27,6 +27,8 @@ typedef struct {
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;
   char message[1024];
+  char results_dir[4096];  /* where the result files are (out_dir, out_dir.incomplete, the staging folder when it
+                              could not be put in place), "" when none were written (no --out, or a write error) */
 } sk_run_summary;
 
 /* Runs the scene to its end time (collective). On a failure after the run started (a step that cannot be solved
