@@ -31,7 +31,10 @@ def numeric(value):
 
 def load_yaml(path):
     with open(path) as f:
-        data = yaml.safe_load(f)
+        try:
+            data = yaml.safe_load(f)
+        except yaml.YAMLError as e:
+            raise DeclarationError("%s: %s" % (path, str(e).replace("\n", " ")))
     if not isinstance(data, dict):
         raise DeclarationError("%s: expected a map at the top level" % path)
     return data
@@ -47,7 +50,7 @@ def _check_keys(path, where, data, allowed):
 # --- expressions: "$name" and "$(expression)" over numeric variables ------------------------------------------------
 
 _ALLOWED_NODES = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Load, ast.Add, ast.Sub,
-                  ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd, ast.Call)
+                  ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd, ast.Call, ast.List, ast.Tuple)
 _FUNCTIONS = {"sqrt": math.sqrt, "min": min, "max": max}
 
 
@@ -82,6 +85,22 @@ def substitute(value, variables, where):
     return value
 
 
+def environment(variables, values, where):
+    """Variables and swept values; a variable written "$(expression)" is derived from the others (e.g. a penalty
+    from a swept factor and E), evaluated once the swept values are known."""
+    env = {**variables, **values}
+    for _ in range(3):  # derived variables may use derived variables
+        pending = {k: v for k, v in env.items() if isinstance(v, str) and v.startswith("$")}
+        if not pending:
+            return env
+        for k, v in pending.items():
+            try:
+                env[k] = substitute(v, {n: x for n, x in env.items() if n not in pending}, "%s: %s" % (where, k))
+            except DeclarationError:
+                continue
+    raise DeclarationError("%s: cannot evaluate the variables %s" % (where, ", ".join(sorted(pending))))
+
+
 def sweep_value(value, variables, where):
     """A sweep value: a number, or an expression string such as "1e3*E"."""
     if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -93,6 +112,8 @@ def sweep_value(value, variables, where):
 
 def yaml_flow(value):
     """A value as a YAML flow scalar or collection for `--set key=value`."""
+    if value is None:
+        return "~"
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
@@ -108,7 +129,8 @@ def yaml_flow(value):
 
 BENCHMARK_KEYS = {"scene", "title", "error", "error_label", "reference", "pairs", "variables", "sweeps", "quick",
                   "linear_solvers", "set", "timeout", "notes", "plot"}
-STRESS_KEYS = BENCHMARK_KEYS | {"measure", "bounds", "short", "kind", "dt_ladder", "expect"}
+STRESS_KEYS = (BENCHMARK_KEYS - {"error", "error_label", "reference", "quick"}) | {"short", "dt_ladder", "expect",
+                                                                                  "core", "revolutions", "closed"}
 SWEEP_KEYS = {"key", "set", "values"}
 
 
@@ -152,7 +174,7 @@ class Benchmark:
         self.pairs = data.get("pairs", "all")
         self.variables = {k: numeric(v) for k, v in (data.get("variables") or {}).items()}
         self.sweeps = [Sweep(path, n, d) for n, d in (data.get("sweeps") or {}).items()]
-        self.quick = dict(data.get("quick") or {})
+        self.quick = dict(data.get("quick") or data.get("short") or {})
         for name in self.quick:
             if name not in [s.name for s in self.sweeps]:
                 raise DeclarationError("%s: quick.%s: not a sweep" % (path, name))
@@ -174,7 +196,7 @@ def load_benchmarks(folder="benchmarks", kind="benchmark"):
 # --- plugin declarations -------------------------------------------------------------------------------------------
 
 ENTRY_KEYS = {"parameters", "set", "sweep", "strategies", "linear_solvers", "scene", "label", "strategy_key", "notes",
-              "pressure_output"}
+              "pressure_output", "bounds", "expect_failure"}
 DECLARATION_KEYS = ENTRY_KEYS | {"plugin", "kind", "benchmarks", "stress"}
 
 
@@ -198,7 +220,9 @@ class Declaration:
             for name, entry in entries.items():
                 entry = entry or {}
                 _check_keys(path, "%s.%s" % (section, name), entry, ENTRY_KEYS)
-                self.entries[(section, name)] = {**self.defaults, **entry}
+                # the top-level keys are defaults of the benchmark entries; stress entries stand alone (a stress
+                # case fixes what the benchmarks sweep)
+                self.entries[(section, name)] = {**self.defaults, **entry} if section == "benchmarks" else entry
 
 
 def load_declarations():
@@ -273,7 +297,7 @@ def _sweep_product(sweeps, variables, subset, where):
     out = []
     for combo in itertools.product(*axes):
         vals = {s.name: v for s, v in combo}
-        env = {**variables, **vals}
+        env = environment(variables, vals, where)
         sets = {}
         for s, _ in combo:
             sets.update(substitute(s.set, env, s.where))
@@ -281,7 +305,7 @@ def _sweep_product(sweeps, variables, subset, where):
     return out
 
 
-def expand(bench, declaration, section, plugins, quick=False):
+def expand(bench, declaration, section, plugins, quick=False, subset=None, default_strategy_only=False):
     """The runs of one plugin on one benchmark (or stress case); [] when the plugin does not declare it."""
     entry = declaration.entries.get((section, bench.name))
     if entry is None:
@@ -290,19 +314,22 @@ def expand(bench, declaration, section, plugins, quick=False):
     scene = entry.get("scene", bench.scene)
     listed = plugins.get(declaration.plugin, {}).get("strategies") or [None]
     strategies = entry.get("strategies", listed)
+    if default_strategy_only:
+        strategies = strategies[:1]
     solvers = entry.get("linear_solvers", bench.linear_solvers)
     own = [Sweep(declaration.path, n, d) for n, d in (entry.get("sweep") or {}).items()]
-    subset = bench.quick if quick else {}
-    if quick:  # a quick run keeps the first value of the declaration's own sweeps
-        subset = {**subset, **{s.name: s.values[:1] for s in own}}
+    if subset is None:
+        subset = bench.quick if quick else {}
+        if quick:  # a quick run keeps the first value of the declaration's own sweeps
+            subset = {**subset, **{s.name: s.values[:1] for s in own}}
     runs = []
     pairs = _pair_indices(bench, scene) if declaration.kind == "pair" else []
     for strategy in strategies:
         for solver in solvers:
             for bvals, bsets in _sweep_product(bench.sweeps, bench.variables, subset, bench.path):
-                env = {**bench.variables, **bvals}
+                env = environment(bench.variables, bvals, bench.path)
                 for pvals, psets in _sweep_product(own, env, subset, where):
-                    env2 = {**env, **pvals}
+                    env2 = environment(bench.variables, {**bvals, **pvals}, where)
                     overrides = {**substitute(bench.set, env2, bench.path + ": set"), **bsets, **psets}
                     args = []
                     if declaration.kind == "pair":
