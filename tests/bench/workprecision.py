@@ -6,7 +6,7 @@ and the plot in docs/benchmarks.md. Formats and design: docs/benchmarks.md.
   python3 tests/bench/workprecision.py hertz-2d [more benchmarks]   # run (reusing finished runs), plot, write docs
   python3 tests/bench/workprecision.py --all                         # every benchmark
   python3 tests/bench/workprecision.py --list                        # benchmarks, declarations, runs they expand to
-  python3 tests/bench/workprecision.py --check                       # + `stickslip check` of one run per pair
+  python3 tests/bench/workprecision.py --check [--strict]            # + `stickslip check` of one run per curve
   options: --quick (the benchmarks' quick subsets; docs untouched unless --docs), --fresh (rerun finished runs),
            --plugin NAME (only these plugins), --jobs N (runs at once, default 1), --binary PATH"""
 import argparse
@@ -46,6 +46,9 @@ def plan(benchmarks, decls, installed, names, only, quick, section="benchmarks")
 
 
 def list_plan(benchmarks, planned, check, binary):
+    """Prints the runs per benchmark and curve; with check, `stickslip check` of one run per curve. Returns the
+    number of failed checks."""
+    failed = 0
     for name, (runs, notes) in planned.items():
         bench = benchmarks[name]
         print("%s: %s (%s; error: %s)" % (name, bench.title, bench.scene, bench.error_label))
@@ -66,6 +69,8 @@ def list_plan(benchmarks, planned, check, binary):
                                       capture_output=True, text=True)
                 print("  check %-34s %s" % (r.label, "ok" if proc.returncode == 0 else "FAILED: " +
                                             proc.stderr.strip()[-300:]))
+                failed += proc.returncode != 0
+    return failed
 
 
 def run_benchmark(bench, runs, notes, args):
@@ -155,6 +160,7 @@ def main():
     p.add_argument("--all", action="store_true")
     p.add_argument("--list", action="store_true")
     p.add_argument("--check", action="store_true")
+    p.add_argument("--strict", action="store_true", help="with --check: exit 1 when a check fails")
     p.add_argument("--quick", action="store_true")
     p.add_argument("--docs", action="store_true")
     p.add_argument("--fresh", action="store_true")
@@ -183,7 +189,9 @@ def main():
     if undeclared:
         print("note: plugins without a declaration in tests/bench/plugins/: %s" % ", ".join(undeclared))
     if args.list or args.check:
-        list_plan(benchmarks, planned, args.check, args.binary)
+        failed = list_plan(benchmarks, planned, args.check, args.binary)
+        if args.strict and failed:
+            sys.exit("workprecision: %d declaration(s) refused by `stickslip check`" % failed)
         return
     for name, (runs, notes) in planned.items():
         bench = benchmarks[name]

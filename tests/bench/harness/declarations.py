@@ -130,7 +130,8 @@ def yaml_flow(value):
 BENCHMARK_KEYS = {"scene", "title", "error", "error_label", "reference", "pairs", "variables", "sweeps", "quick",
                   "linear_solvers", "set", "timeout", "notes", "plot"}
 STRESS_KEYS = (BENCHMARK_KEYS - {"error", "error_label", "reference", "quick"}) | {"short", "dt_ladder", "expect",
-                                                                                  "core", "revolutions", "closed"}
+                                                                                  "core", "revolutions", "closed",
+                                                                                  "bounds"}
 SWEEP_KEYS = {"key", "set", "values"}
 
 
@@ -196,7 +197,7 @@ def load_benchmarks(folder="benchmarks", kind="benchmark"):
 # --- plugin declarations -------------------------------------------------------------------------------------------
 
 ENTRY_KEYS = {"parameters", "set", "sweep", "strategies", "linear_solvers", "scene", "label", "strategy_key", "notes",
-              "pressure_output", "bounds", "expect_failure"}
+              "pressure_output", "bounds", "expect_failure", "short"}
 DECLARATION_KEYS = ENTRY_KEYS | {"plugin", "kind", "benchmarks", "stress"}
 
 
@@ -271,7 +272,7 @@ class Run:
 
     @property
     def tag(self):
-        parts = [self.plugin or "reference", self.strategy or "", self.solver or ""]
+        parts = [self.plugin or self.label, self.strategy or "", self.solver or ""]
         parts += ["%s%s" % (k, _short(v)) for k, v in sorted(self.values.items())]
         return re.sub(r"[^A-Za-z0-9.+_-]+", "_", "-".join(p for p in parts if p))
 

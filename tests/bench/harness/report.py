@@ -90,6 +90,8 @@ def fmt(v, spec="%.3g"):
         return "–"
     if isinstance(v, float) and not math.isfinite(v):
         return "–"
+    if isinstance(v, int) and not isinstance(v, bool) and spec == "%.3g":
+        return str(v)
     return spec % v if isinstance(v, (int, float)) else str(v)
 
 

@@ -10,6 +10,14 @@ EXACT_CHANGES = "active_set_changes"
 NEWTON_CHANGES = "newton_active_set_changes"
 
 
+# every key metrics() may write (a reused record drops them before they are computed again)
+METRIC_KEYS = ("converged", "steps", "step_cuts", "newton_iterations", "final_time", "energy_increase",
+               "energy_change", "energy_step_increase", "energy_drift_per_revolution", "momentum_drift",
+               "angular_momentum_drift", "angular_momentum_drift_per_revolution", "revolutions", "flips_exact",
+               "flips", "flips_max_step", "flip_reversals", "newton_flips", "contact_steps", "max_active",
+               "max_constraint_violation", "input_error")
+
+
 def state_changes(prev, row):
     """Lower bound on the contact points whose state (inactive / frictionless contact / stick / slip) changed between
     two rows: half the sum of the count changes of the four states (each change moves one point between two)."""
