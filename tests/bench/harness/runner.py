@@ -36,7 +36,8 @@ def execute(run, group, timeout, fresh=False, binary=BIN, log=print):
             record = json.load(f)
         if record.get("command") == cmd[1:]:
             results = _results(results_dir)
-            record["folder"] = folder
+            record.update({"folder": folder, "label": run.label, "values": run.values, "strategy": run.strategy,
+                           "solver": run.solver, "plugin": run.plugin})
             if results is not None:  # the evaluators run again: their verdict is not cached
                 record.pop("message", None)
                 record.update({k: results.summary.get(k) for k in SUMMARY_KEYS if k in results.summary})
