@@ -39,8 +39,6 @@ def case_runs(case, decls, installed, only, short, ladder):
         if plugin not in installed:
             notes.append("%s: declared, but not built" % plugin)
             continue
-        if short and d.entries[("stress", case.name)].get("short") is False:
-            continue  # the declaration keeps this case out of the short pass (it says why)
         targets.append(d)
     for d in targets:
         runs += _expand(case, d, installed, subset, "", short=short)
@@ -75,8 +73,7 @@ def _expand(case, declaration, installed, subset, kind, extra_set=None, short=Fa
                     args += ["--set", "%s=%s" % (key, dec.yaml_flow(value))]
                 runs.append(dec.Run(case.name, None, None, None, dict(vals), args, CORE, case.scene))
         else:
-            runs = dec.expand(case, declaration, "stress", installed, quick=False, subset=subset,
-                              default_strategy_only=short)
+            runs = dec.expand(case, declaration, "stress", installed, quick=False, subset=subset, short=short)
     finally:
         case.set.clear()
         case.set.update(saved)
@@ -90,6 +87,8 @@ def _expand(case, declaration, installed, subset, kind, extra_set=None, short=Fa
 def measure(case, run, args):
     record, results = runner.execute(run, "stress/" + case.name, case.timeout, args.fresh, args.binary)
     record["kind"] = getattr(run, "kind", "")
+    record["bounds"] = run.options.get("bounds") or {}  # the declaration's, read by the CI check
+    record["expect_failure"] = run.options.get("expect_failure") or {}
     for k in stress_metrics.METRIC_KEYS:
         record.pop(k, None)
     if results is not None:
@@ -115,11 +114,9 @@ def bounds_for(case, decls, record):
     sources = [case.data.get("expect") or {}]
     if record["plugin"] is None:  # the core alone: the case's own bounds
         sources.append(case.data.get("bounds") or {})
-    elif record["plugin"] in decls:
-        entry = decls[record["plugin"]].entries.get(("stress", case.name), {})
-        sources.append(entry.get("bounds") or {})
-        failures = entry.get("expect_failure") or {}
-        expected_failure = failures.get(value_key(record))
+    else:
+        sources.append(record.get("bounds") or {})
+        expected_failure = (record.get("expect_failure") or {}).get(value_key(record))
     for src in sources:
         for key in ("all", value_key(record)):
             for k, v in (src.get(key) or {}).items():

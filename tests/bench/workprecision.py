@@ -36,11 +36,11 @@ def plan(benchmarks, decls, installed, names, only, quick, section="benchmarks")
             if plugin not in installed:
                 notes.append("%s: declared, but not built (not listed by `stickslip plugins`)" % plugin)
                 continue
-            if not os.path.exists(os.path.join(dec.ROOT, d.entries[(section, name)].get("scene", bench.scene))):
-                notes.append("%s: scene %s is not in the tree" % (plugin, d.entries[(section, name)].get(
-                    "scene", bench.scene)))
-                continue
-            runs += dec.expand(bench, d, section, installed, quick)
+            for r in dec.expand(bench, d, section, installed, quick):
+                if os.path.exists(os.path.join(dec.ROOT, r.scene)):
+                    runs.append(r)
+                elif "%s: scene %s is not in the tree" % (r.label, r.scene) not in notes:
+                    notes.append("%s: scene %s is not in the tree" % (r.label, r.scene))
         out[name] = (runs, notes)
     return out
 

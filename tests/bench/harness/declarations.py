@@ -219,11 +219,20 @@ class Declaration:
             if not isinstance(entries, dict):
                 raise DeclarationError("%s: %s: expected a map name -> entry" % (path, section))
             for name, entry in entries.items():
-                entry = entry or {}
-                _check_keys(path, "%s.%s" % (section, name), entry, ENTRY_KEYS)
-                # the top-level keys are defaults of the benchmark entries; stress entries stand alone (a stress
-                # case fixes what the benchmarks sweep)
-                self.entries[(section, name)] = {**self.defaults, **entry} if section == "benchmarks" else entry
+                # one entry, or a list of variants (each its own curve: give each a distinct `label`)
+                variants = entry if isinstance(entry, list) else [entry or {}]
+                out = []
+                for i, variant in enumerate(variants):
+                    where = "%s.%s" % (section, name) + ("[%d]" % i if isinstance(entry, list) else "")
+                    if not isinstance(variant, dict):
+                        raise DeclarationError("%s: %s: expected a map" % (path, where))
+                    _check_keys(path, where, variant, ENTRY_KEYS)
+                    # the top-level keys are defaults of the benchmark entries; stress entries stand alone (a
+                    # stress case fixes what the benchmarks sweep)
+                    out.append({**self.defaults, **variant} if section == "benchmarks" else dict(variant))
+                if len(out) > 1 and len({v.get("label") for v in out}) < len(out):
+                    raise DeclarationError("%s: %s.%s: variants need distinct labels" % (path, section, name))
+                self.entries[(section, name)] = out
 
 
 def load_declarations():
@@ -284,6 +293,8 @@ def _short(v):
 def _pair_indices(bench, scene_path):
     if bench.pairs != "all":
         return list(bench.pairs)
+    if not os.path.exists(os.path.join(ROOT, scene_path)):
+        return []  # the caller reports the missing scene
     with open(os.path.join(ROOT, scene_path)) as f:
         scene = yaml.safe_load(f)
     return list(range(len(scene.get("contact") or [])))
@@ -306,16 +317,23 @@ def _sweep_product(sweeps, variables, subset, where):
     return out
 
 
-def expand(bench, declaration, section, plugins, quick=False, subset=None, default_strategy_only=False):
-    """The runs of one plugin on one benchmark (or stress case); [] when the plugin does not declare it."""
-    entry = declaration.entries.get((section, bench.name))
-    if entry is None:
-        return []
+def expand(bench, declaration, section, plugins, quick=False, subset=None, short=False):
+    """The runs of one plugin on one benchmark (or stress case), over the variants of its entry; [] when the plugin
+    does not declare it. short (the stress suite's short pass): the default strategy only, and no variant that says
+    `short: false`."""
+    runs = []
+    for entry in declaration.entries.get((section, bench.name), []):
+        if not (short and entry.get("short") is False):
+            runs += _expand_variant(bench, declaration, section, plugins, quick, subset, short, entry)
+    return runs
+
+
+def _expand_variant(bench, declaration, section, plugins, quick, subset, short, entry):
     where = "%s: %s.%s" % (declaration.path, section, bench.name)
     scene = entry.get("scene", bench.scene)
     listed = plugins.get(declaration.plugin, {}).get("strategies") or [None]
     strategies = entry.get("strategies", listed)
-    if default_strategy_only:
+    if short:
         strategies = strategies[:1]
     solvers = entry.get("linear_solvers", bench.linear_solvers)
     own = [Sweep(declaration.path, n, d) for n, d in (entry.get("sweep") or {}).items()]
