@@ -15,3 +15,5 @@ endforeach()
 add_test(NAME bench_declarations
          COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/tests/bench/workprecision.py --check --strict)
 set_tests_properties(bench_declarations PROPERTIES LABELS "stress" ENVIRONMENT "${stress_environment}")
+add_test(NAME bench_harness COMMAND ${Python3_EXECUTABLE} ${CMAKE_SOURCE_DIR}/tests/bench/harness/test_harness.py)
+set_tests_properties(bench_harness PROPERTIES LABELS "stress")
