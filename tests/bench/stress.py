@@ -95,7 +95,8 @@ def measure(case, run, args):
         env = dec.environment(case.variables, run.values, case.path)
         revs = case.data.get("revolutions")
         revs = dec.sweep_value(revs, env, case.path + ": revolutions") if revs is not None else None
-        record.update(stress_metrics.metrics(results, bool(case.data.get("closed")), revs))
+        record.update(stress_metrics.metrics(results, bool(case.data.get("closed")), revs,
+                                             float(env.get("length", 1.0))))
     else:  # the driver refused the input (no results): a broken case or declaration, never a finding
         record["converged"], record["input_error"] = False, True
     runner.save(record)
@@ -193,7 +194,8 @@ def largest_stable(case, records):
 
 def document(case, records, notes, ladder):
     rows = []
-    for r in sorted((r for r in records if not r.get("kind")), key=lambda r: (r["label"], value_key(r))):
+    for r in sorted((r for r in records if not r.get("kind")),
+                    key=lambda r: (r["label"], [v for k, v in sorted(r["values"].items())])):
         converged = "yes" if r.get("converged") else "**input error**" if r.get("input_error") else "**no**"
         rows.append([r["label"], value_key(r) or "–", converged,
                      report.fmt(r.get("steps")), report.fmt(r.get("step_cuts")), report.fmt(r.get("newton_iterations")),

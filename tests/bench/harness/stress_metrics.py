@@ -31,29 +31,35 @@ def _vector(row, prefix):
     return [row[prefix + c] for c in "xyz"]
 
 
-def _drift(rows, prefix):
-    v0 = _vector(rows[0], prefix)
-    norm = math.sqrt(sum(v * v for v in v0))
-    if norm == 0.0:
+def _norm(v):
+    return math.sqrt(sum(x * x for x in v))
+
+
+def _drift(rows, prefix, scale):
+    """max_t |v(t) - v(0)| / scale, None without a scale (a body at rest)."""
+    if not scale > 0.0:
         return None
-    return max(math.dist(_vector(r, prefix), v0) for r in rows) / norm
+    v0 = _vector(rows[0], prefix)
+    return max(math.dist(_vector(r, prefix), v0) for r in rows) / scale
 
 
-def metrics(results, closed, revolutions=None):
+def metrics(results, closed, revolutions=None, length=1.0):
     """The stress quantities of one run (see docs/stability.md); the energy balance only for closed systems (no
-    loads, supports or moving obstacles do work on them)."""
+    loads, supports or moving obstacles do work on them). Momentum drifts are relative to |p(0)| and to
+    max(|L(0)|, |p(0)| length): a body falling along an axis through the origin has L(0) = 0 to round-off."""
     rows, s = results.rows, results.summary
     out = {"converged": s.get("status") == "ok", "steps": s.get("steps"), "step_cuts": s.get("step_cuts"),
            "newton_iterations": s.get("newton_iterations"), "final_time": s.get("final_time")}
     if closed:
         out.update(energy_balance(rows, revolutions))
-    out["momentum_drift"] = _drift(rows, "momentum_")
-    out["angular_momentum_drift"] = _drift(rows, "angular_momentum_")
+    p0, L0 = _vector(rows[0], "momentum_"), _vector(rows[0], "angular_momentum_")
+    L_scale = max(_norm(L0), _norm(p0) * length)
+    out["momentum_drift"] = _drift(rows, "momentum_", _norm(p0))
+    out["angular_momentum_drift"] = _drift(rows, "angular_momentum_", L_scale)
     if revolutions:
         out["revolutions"] = revolutions
     if revolutions and out["angular_momentum_drift"] is not None:
-        L0 = _vector(rows[0], "angular_momentum_")
-        final = math.dist(_vector(rows[-1], "angular_momentum_"), L0) / math.sqrt(sum(v * v for v in L0))
+        final = math.dist(_vector(rows[-1], "angular_momentum_"), L0) / L_scale
         out["angular_momentum_drift_per_revolution"] = final / revolutions
     if EXACT_CHANGES in rows[0]:
         changes = [r[EXACT_CHANGES] for r in rows[1:]]
