@@ -141,9 +141,10 @@ def _interpolate(times, values, t):
 
 
 def reaction_history(results, bench, run, reference):
-    """max_t |R(t) - R_ref(t)| / max_t |R_ref(t)|: the support reaction vector (the columns listed in the
-    benchmark's `variables.columns`) over the run's steps, the converged reference interpolated linearly in t.
-    A run that did not reach the end time is an error (its history is incomplete)."""
+    """max_t |R_h(t) - R_ref(t)| / max_t |R_ref(t)| over the reference's (finer) time points: the support reaction
+    vector (the columns listed in the benchmark's `variables.columns`), the run's history interpolated linearly
+    between its steps, so that a coarse step is charged for what it misses between its points. A run that did not
+    reach the end time is an error (its history is incomplete)."""
     if reference is None:
         raise DeclarationError("%s: reaction_history needs a converged reference run" % bench.path)
     columns = bench.variables["columns"]
@@ -152,11 +153,13 @@ def reaction_history(results, bench, run, reference):
     scale = max(math.sqrt(sum(col[i] ** 2 for col in ref)) for i in range(len(t_ref)))
     if abs(results.rows[-1]["time"] - t_ref[-1]) > 1e-9 * max(1.0, t_ref[-1]):
         raise ValueError("the run ended at t = %g before the reference's %g" % (results.rows[-1]["time"], t_ref[-1]))
+    times = results.column("time")
+    mine = [results.column(c) for c in columns]
     worst, at = 0.0, 0.0
-    for row in results.rows:
-        d = math.sqrt(sum((row[c] - _interpolate(t_ref, col, row["time"])) ** 2 for c, col in zip(columns, ref)))
+    for i, t in enumerate(t_ref):
+        d = math.sqrt(sum((_interpolate(times, col, t) - rcol[i]) ** 2 for col, rcol in zip(mine, ref)))
         if d > worst:
-            worst, at = d, row["time"]
+            worst, at = d, t
     return {"error": worst / scale, "at_time": at, "scale": scale}
 
 
