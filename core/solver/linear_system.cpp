@@ -42,6 +42,7 @@
 
 #include "bridge_internal.hpp"
 #include "stickslip/bridge.h"
+#include "stickslip/condense.h"
 
 namespace {
 
@@ -141,6 +142,7 @@ struct sk_linear_system {
   RCP<Epetra_LinearProblem> epetra_problem;
   RCP<Amesos_BaseSolver> amesos;
   sk_linear_solver_kind amesos_kind = SK_LINEAR_DIRECT;
+  sk_linear_solver_kind last_kind = SK_LINEAR_AUTO;  // the backend of the last solve (sk_linsys_solve_again)
 
   // iterative
   RCP<MueLuOperator> muelu;
@@ -835,6 +837,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     if (is_direct(kind)) sys->amesos = Teuchos::null;
   }
   status = agree(sys->comm, status, "sk_linsys_solve");
+  sys->last_kind = kind;
   if (status == SK_ERR_DIVERGED && sys->options.kind == SK_LINEAR_AUTO && !is_direct(kind)) {
     // AUTO promises an answer when one exists: fall back to the direct solver, for this pattern from now on
     if (sys->options.verbose && sys->rank == 0)
@@ -849,6 +852,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
       status = status_from_exception(SK_ERR_DIVERGED, "direct", std::current_exception());
     }
     status = agree(sys->comm, status, "sk_linsys_solve");
+    sys->last_kind = kind;
     report->iterations = iterations;
     report->refactored_symbolic = 1;
   }
@@ -872,4 +876,55 @@ sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y) {
   }
 }
 
+// Another right-hand side with the operator of the last solve (condense.h): Amesos v1 (MUMPS, KLU — the direct
+// default) solves with its current factorisation; the other backends solve again in full (the same answer without
+// the saving).
+sk_status sk_linsys_solve_again(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
+  sk_linear_report local_report{};
+  if (!report) report = &local_report;
+  *report = sk_linear_report{};
+  const sk_linear_solver_kind kind = sys->last_kind;
+  if (sys->amesos.is_null() || sys->amesos_kind != kind || !is_direct(kind) || kind == SK_LINEAR_DIRECT_KLU2)
+    return sk_linsys_solve(sys, b, x, report);
+  const double start = now_seconds();
+  sk_status status = SK_OK;
+  try {
+    const int first_row = sys->row_offsets[sys->rank];
+    const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+    std::copy(b + first_row, b + first_row + n_owned, sys->epetra_b->Values());
+    int code = sys->amesos->Solve(), worst = 0;
+    code = code < 0 ? code : -code;
+    MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MIN, sys->comm);
+    if (worst != 0) return sk_error_set(SK_ERR_DIVERGED, "solve again (%s): error %d", amesos_backend_name(kind), worst);
+    std::vector<int> counts(sys->size), displs(sys->size);
+    for (int r = 0; r < sys->size; ++r) {
+      displs[r] = sys->row_offsets[r];
+      counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+    }
+    MPI_Allgatherv(sys->epetra_x->Values(), n_owned, MPI_DOUBLE, x, counts.data(), displs.data(), MPI_DOUBLE,
+                   sys->comm);
+  } catch (...) {
+    status = status_from_exception(SK_ERR_DIVERGED, "sk_linsys_solve_again", std::current_exception());
+  }
+  report->seconds = now_seconds() - start;
+  return agree(sys->comm, status, "sk_linsys_solve_again");
+}
+
 }  // extern "C"
+
+namespace stickslip::bridge {
+
+system_rows rows_of(const sk_linear_system *sys) {
+  system_rows rows;
+  rows.n = sys->n;
+  rows.row_ptr = sys->row_ptr.data();
+  rows.cols = sys->cols.data();
+  rows.first_row = sys->row_offsets.empty() ? 0 : sys->row_offsets[sys->rank];
+  rows.n_owned = sys->row_offsets.empty() ? 0 : sys->row_offsets[sys->rank + 1] - rows.first_row;
+  rows.owned_values = sys->owned_values.data();
+  rows.owned_value_begin = sys->owned_value_begin;
+  rows.row_offsets = sys->row_offsets.data();
+  return rows;
+}
+
+}  // namespace stickslip::bridge

@@ -161,7 +161,9 @@ static int border_edges(const sk_surface *s) {
 
 static void build_quadratic_box(int serendipity) {
   const sk_mesh_param params[] = {{"nx", 2}, {"ny", 3}, {"nz", 2}};
-  const sk_mesh_options options = {.dim = 0, .order = 2, .serendipity = serendipity};
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.order = 2, options.serendipity = serendipity;
   sk_mesh mesh;
   SK_CHECK(sk_mesh_load_with("meshes/block.geo", params, 3, &options, &mesh) == SK_OK);
   if (!mesh.n_groups) return;
@@ -190,7 +192,9 @@ static void build_quadratic_box(int serendipity) {
  * interpolation error of the coarse mesh; flat tri3 faces have h = 0). */
 static void build_quadratic_sphere(void) {
   const sk_mesh_param params[] = {{"refine", 0.5}};
-  const sk_mesh_options options = {.dim = 0, .order = 2, .serendipity = 0};
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.order = 2;
   sk_mesh mesh;
   SK_CHECK(sk_mesh_load_with("meshes/hertz-3d.geo", params, 1, &options, &mesh) == SK_OK);
   if (!mesh.n_groups) return;

@@ -18,7 +18,9 @@
 
 static int load(const char *path, const sk_mesh_param *params, int n_params, int order, int serendipity,
                 sk_mesh *mesh) {
-  const sk_mesh_options options = {.dim = 0, .order = order, .serendipity = serendipity};
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.order = order, options.serendipity = serendipity;
   sk_status status = sk_mesh_load_with(path, params, n_params, &options, mesh);
   if (status != SK_OK) fprintf(stderr, "loading %s failed: %s\n", path, sk_error_message());
   SK_CHECK(status == SK_OK);
@@ -279,7 +281,9 @@ static void test_sphere(void) {
 
 static void test_bad_options(void) {
   sk_mesh mesh;
-  sk_mesh_options options = {.dim = 0, .order = 3, .serendipity = 0};
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.order = 3;
   SK_CHECK(sk_mesh_load_with("meshes/block.geo", NULL, 0, &options, &mesh) == SK_ERR_INPUT);
   SK_CHECK(strstr(sk_error_message(), "order 3") != NULL && strstr(sk_error_message(), "block.geo") != NULL);
   options.order = 1, options.serendipity = 1;
