@@ -55,6 +55,10 @@ static sk_status create_terms(sk_system *sys) {
   }
   SK_TRY(sk_term_traction_create(sys, &term));
   SK_TRY(add_term(sys, term));
+  for (int k = 0; k < m->n_resultants; ++k) {
+    SK_TRY(sk_term_resultant_create(sys, k, &term));
+    SK_TRY(add_term(sys, term));
+  }
   /* body plugins before pair plugins: a pair instance may reach its body's instance at create */
   for (int b = 0; b < m->n_bodies; ++b) {
     if (!m->bodies[b].plugin) continue;

@@ -11,8 +11,12 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
 }
 static void destroy(sk_instance *in) { (void)in; }
 static sk_status step(sk_instance *in, const sk_state *st) { return (void)in, (void)st, refuse(); }
-static sk_status layout(sk_instance *in, const sk_state *st, sk_layout *l) { return (void)in, (void)st, (void)l, refuse(); }
-static sk_status assemble(sk_instance *in, const sk_state *st, sk_sink *s) { return (void)in, (void)st, (void)s, refuse(); }
+static sk_status layout(sk_instance *in, const sk_state *st, sk_layout *l) {
+  return (void)in, (void)st, (void)l, refuse();
+}
+static sk_status assemble(sk_instance *in, const sk_state *st, sk_sink *s) {
+  return (void)in, (void)st, (void)s, refuse();
+}
 static void reject(sk_instance *in) { (void)in; }
 static sk_status report(sk_instance *in, const sk_state *st, sk_contact_report *r) {
   return (void)in, (void)st, (void)r, refuse();

@@ -131,5 +131,90 @@ def quadratic_output(c):
                 "--set %s=%s refused: %s" % (key, value, bad.stderr.strip().splitlines()[-1]))
 
 
+BLOCK = "scenes/compressed-block.yaml"
+RESULTANT = (3.0, -2.0, -100.0)  # a 10 % compression with some shear: the top stretches by about 3 %
+
+
+def resultant_runs(*args, area="reference", np=1, law="neo-hooke-bonet"):
+    load = "{name: load, group: zmax, resultant: [%g, %g, %g], area: %s, history: [[0, 0], [1, 1]]}" % (
+        RESULTANT + (area,))
+    return run(BLOCK, "--set", "mesh.parameters={nx: 2, ny: 2, nz: 2}", "--set", "boundary.3=" + load, "--set",
+               "bodies.0.material.model=" + law, "--set", "output.vtu_every=4", *args, np=np)[0]
+
+
+def reaction_balance(c, results, label):
+    """Sum of the reactions of the three roller conditions + history(t) R = 0 at every step."""
+    worst = 0.0
+    for row in results.rows:
+        for i, axis in enumerate("xyz"):
+            total = sum(row["reaction_%s_%s" % (name, axis)] for name in ("roller-x", "roller-y", "base"))
+            worst = max(worst, abs(total + row["time"] * RESULTANT[i]))
+    c.check(worst <= 1e-12 * abs(RESULTANT[2]), "%s: reactions = -R(t) to %.1e (R = %s)" % (label, worst, RESULTANT))
+
+
+def resultant_load(c):
+    """boundary `resultant`: the compressed block (rollers) under R = (3, -2, -100) on its top, ramped over 4 steps,
+    neo-Hooke, second-order hex27 (QUAD9 top faces) and hex20 (QUAD8: negative corner weights), over the reference and
+    the current area. The reactions equal -R(t) at every step (measured <= 6e-14 against 100); over the reference area
+    the run equals the one with the uniform traction R / A (A = 1) to round-off; over the current area the top
+    (stretched sideways by nu) carries the same total force spread differently (displacements differ from the
+    reference-area run by 0.36 % of the largest, hex27), and Newton still converges quadratically: 4 iterations per
+    step for both areas (the current area's Jacobian is exact, test_resultant)."""
+    for label, args in (("hex27", ("--set", "mesh.order=2")),
+                        ("hex20", ("--set", "mesh.order=2", "--set", "mesh.serendipity=true"))):
+        for area in ("reference", "current"):
+            results = resultant_runs(*args, area=area)
+            reaction_balance(c, results, "%s, %s area" % (label, area))
+            if area == "reference":
+                traction = run(BLOCK, "--set", "mesh.parameters={nx: 2, ny: 2, nz: 2}", "--set",
+                               "bodies.0.material.model=neo-hooke-bonet", "--set", "output.vtu_every=0", "--set",
+                               "boundary.3={name: load, group: zmax, traction: [%g, %g, %g], "
+                               "history: [[0, 0], [1, 1]]}" % RESULTANT, *args)[0]
+                names = [k for k in results.rows[-1] if k.startswith("reaction_")]
+                worst = max(abs(results.rows[-1][k] - traction.rows[-1][k]) for k in names)
+                c.check(worst <= 1e-12 * abs(RESULTANT[2]), "%s: resultant over the reference area = traction R / A "
+                        "(reactions equal to %.1e)" % (label, worst))
+                reference = results.last_vtu()["displacement"]
+            else:
+                current = results.last_vtu()["displacement"]
+                change = max(abs(a - b) for u, v in zip(reference, current) for a, b in zip(u, v))
+                largest = max(abs(a) for u in reference for a in u)
+                c.check(0.002 <= change / largest <= 0.006, "%s: the current area changes the displacements by "
+                        "%.2f %% of the largest (measured 0.36 %% on hex27)" % (label, 100 * change / largest))
+            iterations = results.summary["newton_iterations"] / results.summary["steps"]
+            print("%s, %s area: %.1f Newton iterations per step" % (label, area, iterations))
+            c.check(iterations <= 4, "%s, %s area: %.1f Newton iterations per step (measured 4)" % (label, area,
+                                                                                              iterations))
+
+
+def resultant_load_mpi(c):
+    """The resultant over the current area on 2 ranks equals the 1-rank run (reactions to 1e-10)."""
+    one = resultant_runs("--set", "mesh.order=2", area="current")
+    two = resultant_runs("--set", "mesh.order=2", area="current", np=2)
+    reaction_balance(c, two, "hex27, current area, 2 ranks")
+    names = [k for k in one.rows[-1] if k.startswith("reaction_")]
+    worst = max(abs(one.rows[-1][k] - two.rows[-1][k]) for k in names)
+    c.check(worst <= 1e-10, "np 1 vs 2: reactions equal to %.1e" % worst)
+
+
+def quadratic_refusals(c):
+    """Plugins that cannot take second-order faces refuse them before the run, naming the pair, the surface and its
+    faces (hertz-3d with mesh.order 2: TRI6 faces on both surfaces); none runs with a silently wrong result."""
+    import os
+    import subprocess
+    from stickslip_results import ROOT
+    binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
+    for plugin, needle in (("nts-augmented", "first-order slave faces only"),
+                           ("covariant-penalty", "TRI6 and QUAD8 are not supported"),
+                           ("mortar-dual", "first-order faces only")):
+        proc = subprocess.run([binary, "check", os.path.join(ROOT, "scenes/hertz-3d.yaml"), "--plugin", plugin,
+                               "--set", "mesh.order=2", "--set", "contact.0.parameters={}"],
+                              capture_output=True, text=True)
+        message = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ""
+        c.check(proc.returncode == 1 and needle in message and "sphere-contact" in message and "6-node" in message,
+                "%s refuses TRI6 faces: %s" % (plugin, message))
+
+
 if __name__ == "__main__":
-    main([patch_test_3d, hertz_3d_quadratic, hertz_2d_quadratic, hertz_3d_quadratic_mpi, quadratic_output])
+    main([patch_test_3d, hertz_3d_quadratic, hertz_2d_quadratic, hertz_3d_quadratic_mpi, quadratic_output,
+          resultant_load, resultant_load_mpi, quadratic_refusals])
