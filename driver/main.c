@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "stickslip/bridge.h"
+#include "stickslip/fe.h"
 #include "stickslip/interrupt.h"
 #include "stickslip/mesh.h"
 #include "stickslip/plugins.h"
@@ -42,7 +43,7 @@ static void usage_run(FILE *out, const char *command) {
   fprintf(out,
           "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--trust-scripts]%s\n"
           "\n"
-          "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene)\n"
+          "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene; refused without pairs)\n"
           "  --set key=value      override any scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
           "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n"
           "  --trust-scripts      let the scene's .geo scripts run shell commands and write files (SystemCall,\n"
@@ -202,6 +203,10 @@ static int command_scene(int argc, char **argv, int run) {
   sk_scene scene;
   sk_status status = sk_scene_load(args.scene, args.n_sets, args.sets, args.plugin, MPI_COMM_WORLD, &scene);
   int code = 0;
+  if (status == SK_OK && args.plugin && scene.model.n_pairs == 0) {
+    status = sk_error_set(SK_ERR_INPUT, "--plugin %s: %s has no contact pairs (no `contact` list), so no plugin "
+                          "would be used", args.plugin, args.scene);
+  }
   if (status != SK_OK) {
     code = fail(status);
   } else if (!run) {
@@ -210,10 +215,13 @@ static int command_scene(int argc, char **argv, int run) {
       printf("%s: ok — %dD, %d nodes, %d elements in %d bodies, %d dofs, %d contact pairs, %g to %g by %g\n",
              args.scene, m->dim, m->n_nodes, m->n_elements, m->n_bodies, m->n_dofs, m->n_pairs, m->time.t_start,
              m->time.t_end, m->time.dt);
+      for (int b = 0; b < m->n_bodies; ++b)
+        printf("  body '%s': %d %s elements\n", m->bodies[b].name, m->bodies[b].group->n_elems,
+               sk_elem_name(m->bodies[b].group->type));
       for (int k = 0; k < m->n_pairs; ++k)
-        printf("  pair '%s': plugin %s, strategy %s, slave %s (%d nodes), master %s\n", m->pairs[k].name,
+        printf("  pair '%s': plugin %s, strategy %s, slave %s (%d nodes, %s faces), master %s\n", m->pairs[k].name,
                m->pairs[k].plugin->name, m->pairs[k].plugin->strategies[m->pairs[k].strategy],
-               m->pairs[k].slave.name, m->pairs[k].slave.n_nodes,
+               m->pairs[k].slave.name, m->pairs[k].slave.n_nodes, sk_elem_name(m->pairs[k].slave.face_type),
                m->pairs[k].has_obstacle ? m->pairs[k].obstacle.name : m->pairs[k].master.name);
       for (int b = 0; b < m->n_bodies; ++b)
         if (m->bodies[b].plugin)

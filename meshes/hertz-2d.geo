@@ -1,7 +1,7 @@
 // Hertz contact in plane strain, half model (x >= 0, symmetry line x = 0): the lower half of a cylinder of
 // radius R (a quarter disk, centre (0, gap + R)) resting on a block [0, block_width] x [-block_height, 0].
-// The load goes on the cylinder's flat top (cylinder-top, at the centre height). All-quad unstructured mesh,
-// graded from size h_contact near the contact point to h_far; sizes are divided by refine.
+// The load goes on the cylinder's flat top (cylinder-top, at the centre height). All-quad unstructured mesh (quads = 0:
+// triangles), graded from size h_contact near the contact point to h_far; sizes are divided by refine.
 DefineConstant[
   R = 1,
   gap = 0,
@@ -9,10 +9,12 @@ DefineConstant[
   contact_angle = 30,      // degrees from the bottom of the cylinder covered by cylinder-contact
   h_contact = 0.02, h_far = 0.2,
   contact_zone = 0.3,      // distance from the contact point over which the mesh is fine
+  quads = 1,               // 1: quadrilaterals (Blossom recombination), 0: triangles of the same sizes
   refine = 1
 ];
-If (R <= 0 || gap < 0 || block_width <= 0 || block_height <= 0 || contact_angle <= 0 || contact_angle >= 90)
-  Error("hertz-2d.geo: need R, block_width, block_height > 0, gap >= 0 and 0 < contact_angle < 90");
+If (R <= 0 || gap < 0 || block_width <= 0 || block_height <= 0 || contact_angle <= 0 || contact_angle >= 90 ||
+    (quads != 0 && quads != 1))
+  Error("hertz-2d.geo: need R, block_width, block_height > 0, gap >= 0, 0 < contact_angle < 90 and quads 0 or 1");
   Abort;
 EndIf
 // Two separate bodies touching at one point: their points must not be merged.
@@ -59,9 +61,10 @@ Background Field = 2;
 Mesh.MeshSizeExtendFromBoundary = 0;
 Mesh.MeshSizeFromPoints = 0;
 Mesh.MeshSizeFromCurvature = 0;
-// Quads only: Blossom recombination that always finishes all-quad (halving sizes, hence the factor 2 above).
+// Quads: Blossom recombination that always finishes all-quad (triangles and quads of one size setting have about the
+// same number of nodes: 1279 and 1468 at refine 1).
 Mesh.Algorithm = 6; // Frontal-Delaunay (8, "for quads", crashes with a background field in gmsh 4.8.4)
-Mesh.RecombineAll = 1;
+Mesh.RecombineAll = quads;
 Mesh.RecombinationAlgorithm = 3;
 
 Physical Surface("cylinder") = {1};

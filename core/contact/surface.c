@@ -9,34 +9,25 @@
 #include "stickslip/contact.h"
 #include "stickslip/fe.h"
 
-static const sk_face_domain line_domain = {
-    .pdim = 1, .n_corners = 2, .corner = {{-1, 0}, {1, 0}}, .edge_w = {{1, 0}, {-1, 0}}, .edge_offset = {1, 1},
-    .centre = {0, 0}, .lebesgue = 1.0};
-static const sk_face_domain line3_domain = {
-    .pdim = 1, .n_corners = 2, .corner = {{-1, 0}, {1, 0}}, .edge_w = {{1, 0}, {-1, 0}}, .edge_offset = {1, 1},
-    .centre = {0, 0}, .lebesgue = 1.25};
-static const sk_face_domain tri_domain = {.pdim = 2,
-                                          .n_corners = 3,
-                                          .corner = {{0, 0}, {1, 0}, {0, 1}},
-                                          .edge_w = {{0, 1}, {-1, -1}, {1, 0}},
-                                          .edge_offset = {0, 1, 0},
-                                          .centre = {1.0 / 3.0, 1.0 / 3.0},
-                                          .lebesgue = 1.0};
-static const sk_face_domain quad_domain = {.pdim = 2,
-                                           .n_corners = 4,
-                                           .corner = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}},
-                                           .edge_w = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}},
-                                           .edge_offset = {1, 1, 1, 1},
-                                           .centre = {0, 0},
-                                           .lebesgue = 1.0};
-/* Biquadratic Lagrange on [-1,1]^2: the 1D Lebesgue constant 5/4 squared. */
-static const sk_face_domain quad9_domain = {.pdim = 2,
-                                            .n_corners = 4,
-                                            .corner = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}},
-                                            .edge_w = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}},
-                                            .edge_offset = {1, 1, 1, 1},
-                                            .centre = {0, 0},
-                                            .lebesgue = 1.5625};
+/* One parametric domain per face shape; they differ only in the Lebesgue constant max sum |N_a| of the face's
+ * interpolation (linear 1; line3 5/4; tri6 5/3 in the centroid, where the corner functions are -1/9 and the edge
+ * functions 4/9; quad8 3 in the centre, corner functions -1/4 and edge functions 1/2 there; quad9 (5/4)^2). */
+#define LINE_DOMAIN(L)                                                                                              \
+  {.pdim = 1, .n_corners = 2, .corner = {{-1, 0}, {1, 0}}, .edge_w = {{1, 0}, {-1, 0}}, .edge_offset = {1, 1},        \
+   .centre = {0, 0}, .lebesgue = (L)}
+#define TRI_DOMAIN(L)                                                                                               \
+  {.pdim = 2, .n_corners = 3, .corner = {{0, 0}, {1, 0}, {0, 1}}, .edge_w = {{0, 1}, {-1, -1}, {1, 0}},               \
+   .edge_offset = {0, 1, 0}, .centre = {1.0 / 3.0, 1.0 / 3.0}, .lebesgue = (L)}
+#define QUAD_DOMAIN(L)                                                                                              \
+  {.pdim = 2, .n_corners = 4, .corner = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}},                                       \
+   .edge_w = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}}, .edge_offset = {1, 1, 1, 1}, .centre = {0, 0}, .lebesgue = (L)}
+static const sk_face_domain line_domain = LINE_DOMAIN(1.0), line3_domain = LINE_DOMAIN(1.25);
+static const sk_face_domain tri_domain = TRI_DOMAIN(1.0), tri6_domain = TRI_DOMAIN(5.0 / 3.0);
+static const sk_face_domain quad_domain = QUAD_DOMAIN(1.0), quad8_domain = QUAD_DOMAIN(3.0),
+                            quad9_domain = QUAD_DOMAIN(1.5625);
+#undef LINE_DOMAIN
+#undef TRI_DOMAIN
+#undef QUAD_DOMAIN
 
 const sk_face_domain *sk_face_domain_of(sk_elem_type type) {
   switch (type) {
@@ -45,6 +36,8 @@ const sk_face_domain *sk_face_domain_of(sk_elem_type type) {
   case SK_TRI3: return &tri_domain;
   case SK_QUAD4: return &quad_domain;
   case SK_QUAD9: return &quad9_domain;
+  case SK_TRI6: return &tri6_domain;
+  case SK_QUAD8: return &quad8_domain;
   default: return NULL;
   }
 }

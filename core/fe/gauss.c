@@ -57,6 +57,7 @@ int sk_face_quadrature(sk_elem_type type, int order, int max_points, double (*xi
       return n;
     }
     case SK_QUAD4:
+    case SK_QUAD8:
     case SK_QUAD9: {
       const int n = (order + 2) / 2;
       if (n > GAUSS_MAX) return 0;
@@ -70,7 +71,8 @@ int sk_face_quadrature(sk_elem_type type, int order, int max_points, double (*xi
         }
       return n * n;
     }
-    case SK_TRI3: {
+    case SK_TRI3:
+    case SK_TRI6: {
       if (order <= 2) { /* the symmetric 3-point rule (Strang & Fix), degree 2 */
         if (max_points < 3) return -3;
         const double pts[3][2] = {{1.0 / 6.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 6.0}, {1.0 / 6.0, 2.0 / 3.0}};

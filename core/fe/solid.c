@@ -319,37 +319,56 @@ static const double gauss5_x[5] = {-0.90617984593866399280, -0.53846931010568309
 static const double gauss5_w[5] = {0.23692688505618908751, 0.47862867049936646804, 0.56888888888888888889,
                                    0.47862867049936646804, 0.23692688505618908751};
 
-/* Mass integrand N_a N_b det J on a distorted (non-affine) tensor-product element has degree 4 (linear) or up
- * to 9 (quadratic) per direction, beyond the stiffness rule, so the mass uses 3 or 5 Gauss points per direction
- * to stay exact (total mass and inertia tensor reproduced). Simplices use their affine-exact rule. */
+/* Mass rules. N_a N_b det J on a distorted (non-affine) element has a higher degree than the stiffness rule
+ * integrates: per direction 4 on a quad4/hex8, up to 9 on a curved quad9/hex27 (7 on quad8/hex20); total degree 6 on
+ * a curved tri6, 7 on a curved tet10. So that the total mass and the inertia tensor sum_ab M_ab X_a X_b^T =
+ * integral rho0 X X^T are exact, linear tensor elements use 3 Gauss points per direction, quadratic ones 5, and
+ * quadratic simplices the collapsed (Duffy) product of 5-point Gauss rules: with x = u, y = v (1 - u),
+ * z = w (1 - u)(1 - v) the Jacobian (1 - u)^(d-1) (1 - v)^(d-2) raises the degree in u by d - 1, so 5 points
+ * (degree 9) are exact for total degree 8 on triangles and 7 on tetrahedra. tri3/tet4 use their own rule (affine). */
+static int mass_point(sk_elem_type type, int dim, int q, double *xi, double *weight) {
+  const int order = sk_elem_order(type), simplex = sk_elem_is_simplex(type);
+  if (simplex && order == 1) {
+    int nq;
+    const double *qxi, *qw;
+    sk_elem_quadrature(type, &nq, &qxi, &qw);
+    if (q >= nq) return 0;
+    for (int k = 0; k < dim; ++k) xi[k] = qxi[q * dim + k];
+    *weight = qw[q];
+    return 1;
+  }
+  const int n1 = order == 2 ? 5 : 3;
+  const double *gx = order == 2 ? gauss5_x : gauss3_x, *gw = order == 2 ? gauss5_w : gauss3_w;
+  if (q >= (dim == 2 ? n1 * n1 : n1 * n1 * n1)) return 0;
+  double t[3];
+  *weight = 1.0;
+  for (int k = 0, rest = q; k < dim; ++k, rest /= n1) {
+    t[k] = gx[rest % n1];
+    *weight *= gw[rest % n1];
+  }
+  if (!simplex) {
+    for (int k = 0; k < dim; ++k) xi[k] = t[k];
+    return 1;
+  }
+  double remaining = 1.0; /* Duffy: each coordinate takes its share of what the earlier ones left */
+  for (int k = 0; k < dim; ++k) {
+    const double s = 0.5 * (1.0 + t[k]);
+    xi[k] = s * remaining;
+    *weight *= 0.5 * remaining;
+    remaining *= 1.0 - s;
+  }
+  return 1;
+}
+
 sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M) {
   SK_TRY(check_solid(el, X, "sk_solid_mass"));
   if (!M) return sk_error_set(SK_ERR_INPUT, "sk_solid_mass: NULL output");
   const int dim = el->dim, nen = sk_elem_nen(el->type);
   const double rho = el->mat->density;
   double Mloc[SK_MAX_NEN * SK_MAX_NEN] = {0};
-  const int simplex = el->type == SK_TRI3 || el->type == SK_TET4;
-  const int quadratic = el->type == SK_QUAD9 || el->type == SK_HEX27;
-  const int n1 = quadratic ? 5 : 3;
-  const double *gx = quadratic ? gauss5_x : gauss3_x, *gw = quadratic ? gauss5_w : gauss3_w;
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
-  if (!simplex) nq = dim == 2 ? n1 * n1 : n1 * n1 * n1;
-  for (int q = 0; q < nq; ++q) {
-    double xi[3], weight, N[SK_MAX_NEN], dNdX[SK_MAX_NEN * 3], wdet;
-    if (simplex) {
-      for (int k = 0; k < dim; ++k) xi[k] = qxi[q * dim + k];
-      weight = qw[q];
-    } else {
-      int rest = q;
-      weight = 1.0;
-      for (int k = 0; k < dim; ++k) {
-        xi[k] = gx[rest % n1];
-        weight *= gw[rest % n1];
-        rest /= n1;
-      }
-    }
+  double xi[3], weight;
+  for (int q = 0; mass_point(el->type, dim, q, xi, &weight); ++q) {
+    double N[SK_MAX_NEN], dNdX[SK_MAX_NEN * 3], wdet;
     SK_TRY(reference_gradients(el->type, dim, nen, X, xi, weight, N, dNdX, &wdet, q));
     for (int a = 0; a < nen; ++a)
       for (int b = a; b < nen; ++b) Mloc[a * nen + b] += rho * wdet * N[a] * N[b];
@@ -362,17 +381,14 @@ sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M) {
 double sk_solid_volume(const sk_solid *el, const double *X) {
   if (!el || !X || (el->dim != 2 && el->dim != 3) || sk_elem_pdim(el->type) != el->dim) return 0.0;
   const int dim = el->dim, nen = sk_elem_nen(el->type);
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
-  double volume = 0.0;
-  for (int q = 0; q < nq; ++q) {
+  double volume = 0.0, xi[3], weight; /* the mass rule: exact also for curved quadratic elements */
+  for (int q = 0; mass_point(el->type, dim, q, xi, &weight); ++q) {
     double dN[SK_MAX_NEN * 3], J[9] = {0};
-    sk_elem_shape(el->type, qxi + q * dim, NULL, dN);
+    sk_elem_shape(el->type, xi, NULL, dN);
     for (int a = 0; a < nen; ++a)
       for (int k = 0; k < dim; ++k)
         for (int l = 0; l < dim; ++l) J[k * dim + l] += X[a * dim + k] * dN[a * dim + l];
-    volume += qw[q] * (dim == 2 ? J[0] * J[3] - J[1] * J[2] : sk_fe_det3(J));
+    volume += weight * (dim == 2 ? J[0] * J[3] - J[1] * J[2] : sk_fe_det3(J));
   }
   return volume;
 }
@@ -406,22 +422,43 @@ sk_status sk_solid_cauchy(const sk_solid *el, const double *X, const double *u, 
   return SK_OK;
 }
 
-/* Surface measure sqrt(det(a^T a)) of the tangent vectors a_k = dX/dxi_k, and shape values, at one point. */
-static double face_measure(sk_elem_type type, int dim, const double *X, const double *xi, double *N) {
+/* Area element J = |a1 x a2| (3D; 2D: |a1|) of the tangents a_k = dX/dxi_k at one point, shape values N and, when
+ * dJ is not NULL, dJ[b*dim + j] = dJ/dX_bj: n . (N_b,1 e_j x a2 + N_b,2 a1 x e_j) = N_b,1 (a2 x n)_j + N_b,2 (n x a1)_j
+ * in 3D, N_b,1 a1_j / J in 2D. */
+static double face_measure(sk_elem_type type, int dim, const double *X, const double *xi, double *N, double *dJ) {
   const int nen = sk_elem_nen(type), pdim = sk_elem_pdim(type);
   double dN[SK_MAX_NEN * 3], a[2][3] = {{0}};
   sk_elem_shape(type, xi, N, dN);
+  if (pdim == 0) {
+    if (dJ)
+      for (int i = 0; i < nen * dim; ++i) dJ[i] = 0.0;
+    return 1.0;
+  }
   for (int k = 0; k < pdim; ++k)
     for (int n = 0; n < nen; ++n)
       for (int i = 0; i < dim; ++i) a[k][i] += X[n * dim + i] * dN[n * pdim + k];
-  if (pdim == 0) return 1.0;
-  double g11 = 0.0, g12 = 0.0, g22 = 0.0;
-  for (int i = 0; i < dim; ++i) {
-    g11 += a[0][i] * a[0][i];
-    g12 += a[0][i] * a[1][i];
-    g22 += a[1][i] * a[1][i];
+  if (pdim == 1) {
+    const double J = sqrt(a[0][0] * a[0][0] + a[0][1] * a[0][1] + a[0][2] * a[0][2]);
+    for (int b = 0; dJ && b < nen; ++b)
+      for (int j = 0; j < dim; ++j) dJ[b * dim + j] = J > 0.0 ? dN[b] * a[0][j] / J : 0.0;
+    return J;
   }
-  return pdim == 1 ? sqrt(g11) : sqrt(fmax(g11 * g22 - g12 * g12, 0.0));
+  const double c[3] = {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2],
+                       a[0][0] * a[1][1] - a[0][1] * a[1][0]};
+  const double J = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (dJ) {
+    double a2xn[3] = {0, 0, 0}, nxa1[3] = {0, 0, 0};
+    if (J > 0.0) {
+      const double n[3] = {c[0] / J, c[1] / J, c[2] / J};
+      a2xn[0] = a[1][1] * n[2] - a[1][2] * n[1], a2xn[1] = a[1][2] * n[0] - a[1][0] * n[2];
+      a2xn[2] = a[1][0] * n[1] - a[1][1] * n[0];
+      nxa1[0] = n[1] * a[0][2] - n[2] * a[0][1], nxa1[1] = n[2] * a[0][0] - n[0] * a[0][2];
+      nxa1[2] = n[0] * a[0][1] - n[1] * a[0][0];
+    }
+    for (int b = 0; b < nen; ++b)
+      for (int j = 0; j < dim; ++j) dJ[b * dim + j] = dN[b * 2] * a2xn[j] + dN[b * 2 + 1] * nxa1[j];
+  }
+  return J;
 }
 
 static int face_valid(sk_elem_type type, int dim, const double *X) {
@@ -429,34 +466,39 @@ static int face_valid(sk_elem_type type, int dim, const double *X) {
   return X && (dim == 2 || dim == 3) && pdim >= 0 && pdim < dim && pdim <= 2;
 }
 
-void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f) {
-  if (!f) return;
-  const int valid = face_valid(type, dim, X) && t;
-  const int nen = sk_elem_nen(type);
-  for (int i = 0; i < nen * dim; ++i) f[i] = 0.0;
-  if (!valid) return;
+void sk_face_weights(sk_elem_type type, int dim, const double *X, double *w, double *dw) {
+  const int nen = sk_elem_nen(type), ndof = nen * dim;
+  if (w)
+    for (int a = 0; a < nen; ++a) w[a] = 0.0;
+  if (dw)
+    for (int i = 0; i < nen * ndof; ++i) dw[i] = 0.0;
+  if (!face_valid(type, dim, X)) return;
   const int pdim = sk_elem_pdim(type);
   int nq;
   const double *qxi, *qw;
   sk_elem_quadrature(type, &nq, &qxi, &qw);
   for (int q = 0; q < nq; ++q) {
-    double N[SK_MAX_NEN];
-    const double w = qw[q] * face_measure(type, dim, X, qxi + q * pdim, N);
-    for (int a = 0; a < nen; ++a)
-      for (int i = 0; i < dim; ++i) f[a * dim + i] += w * N[a] * t[i];
+    double N[SK_MAX_NEN], dJ[SK_MAX_NEN * 3];
+    const double J = face_measure(type, dim, X, qxi + q * pdim, N, dw ? dJ : NULL);
+    for (int a = 0; a < nen; ++a) {
+      if (w) w[a] += qw[q] * N[a] * J;
+      for (int c = 0; dw && c < ndof; ++c) dw[a * ndof + c] += qw[q] * N[a] * dJ[c];
+    }
   }
 }
 
+void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f) {
+  if (!f) return;
+  const int nen = sk_elem_nen(type);
+  double w[SK_MAX_NEN];
+  sk_face_weights(type, dim, X, w, NULL);
+  for (int a = 0; a < nen; ++a)
+    for (int i = 0; i < dim; ++i) f[a * dim + i] = t ? w[a] * t[i] : 0.0;
+}
+
 double sk_face_area(sk_elem_type type, int dim, const double *X) {
-  if (!face_valid(type, dim, X)) return 0.0;
-  const int pdim = sk_elem_pdim(type);
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(type, &nq, &qxi, &qw);
-  double area = 0.0;
-  for (int q = 0; q < nq; ++q) {
-    double N[SK_MAX_NEN];
-    area += qw[q] * face_measure(type, dim, X, qxi + q * pdim, N);
-  }
+  double w[SK_MAX_NEN], area = 0.0;
+  sk_face_weights(type, dim, X, w, NULL);
+  for (int a = 0; a < sk_elem_nen(type); ++a) area += w[a];
   return area;
 }

@@ -14,20 +14,25 @@ static sk_vtu_encoding vtu_encoding = SK_VTU_RAW_APPENDED;
 void sk_vtu_set_encoding(sk_vtu_encoding encoding) { vtu_encoding = encoding; }
 
 static const int vtk_cell_ids[SK_ELEM_TYPE_COUNT] = {
-    [SK_POINT1] = 1, [SK_LINE2] = 3, [SK_LINE3] = 21, [SK_TRI3] = 5,   [SK_QUAD4] = 9,
-    [SK_QUAD9] = 28, [SK_TET4] = 10, [SK_HEX8] = 12,  [SK_HEX27] = 29,
+    [SK_POINT1] = 1, [SK_LINE2] = 3, [SK_LINE3] = 21, [SK_TRI3] = 5,   [SK_QUAD4] = 9,  [SK_QUAD9] = 28,
+    [SK_TET4] = 10,  [SK_HEX8] = 12, [SK_HEX27] = 29, [SK_TRI6] = 22,  [SK_QUAD8] = 23, [SK_TET10] = 24,
+    [SK_HEX20] = 25,
 };
 static const int nodes_per_cell[SK_ELEM_TYPE_COUNT] = {
-    [SK_POINT1] = 1, [SK_LINE2] = 2, [SK_LINE3] = 3, [SK_TRI3] = 3,   [SK_QUAD4] = 4,
-    [SK_QUAD9] = 9,  [SK_TET4] = 4,  [SK_HEX8] = 8,  [SK_HEX27] = 27,
+    [SK_POINT1] = 1, [SK_LINE2] = 2, [SK_LINE3] = 3,   [SK_TRI3] = 3, [SK_QUAD4] = 4,  [SK_QUAD9] = 9,
+    [SK_TET4] = 4,   [SK_HEX8] = 8,  [SK_HEX27] = 27,  [SK_TRI6] = 6, [SK_QUAD8] = 8,  [SK_TET10] = 10,
+    [SK_HEX20] = 20,
 };
 
-/* VTK node k = gmsh node order[k]. line3 and quad9 agree (corners, edge midpoints in edge order, centre). For
- * hex27 gmsh lists edges (0,1) (0,3) (0,4) (1,2) (1,5) (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7) and faces
- * z- y- x- x+ y+ z+, while VTK lists edges (0,1) (1,2) (2,3) (3,0) (4,5) (5,6) (6,7) (7,4) (0,4) (1,5) (2,6)
- * (3,7) and faces x- x+ y- y+ z- z+ (vtkTriQuadraticHexahedron; same permutation as meshio). */
+/* VTK node k = gmsh node order[k]. line3, tri6, quad8 and quad9 agree (corners, edge midpoints in edge order,
+ * centre). tet10: gmsh's last two edges are (2,3) (1,3), VTK's (1,3) (2,3). For hex20 and hex27 gmsh lists edges
+ * (0,1) (0,3) (0,4) (1,2) (1,5) (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7) and faces z- y- x- x+ y+ z+, while VTK
+ * lists edges (0,1) (1,2) (2,3) (3,0) (4,5) (5,6) (6,7) (7,4) (0,4) (1,5) (2,6) (3,7) and faces x- x+ y- y+ z- z+
+ * (vtkQuadraticHexahedron, vtkTriQuadraticHexahedron; same permutation as meshio). */
 static const int identity_order[27] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13,
                                        14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26};
+static const int tet10_order[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
+/* hex20 is the first 20 entries (vtkQuadraticHexahedron has hex27's edge order). */
 static const int hex27_order[27] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  11, 13, 9,  16, 18,
                                     19, 17, 10, 12, 14, 15, 22, 23, 21, 24, 20, 25, 26};
 
@@ -35,7 +40,10 @@ int sk_vtu_cell_type(sk_elem_type type) {
   return (unsigned)type < SK_ELEM_TYPE_COUNT ? vtk_cell_ids[type] : -1;
 }
 
-const int *sk_vtu_node_order(sk_elem_type type) { return type == SK_HEX27 ? hex27_order : identity_order; }
+const int *sk_vtu_node_order(sk_elem_type type) {
+  if (type == SK_HEX27 || type == SK_HEX20) return hex27_order;
+  return type == SK_TET10 ? tet10_order : identity_order;
+}
 
 /* ---- encoding --------------------------------------------------------------------------------------------- */
 

@@ -23,6 +23,8 @@ static const struct {
     {15, SK_POINT1, 0, 1, "point1"}, {1, SK_LINE2, 1, 2, "line2"},  {8, SK_LINE3, 1, 3, "line3"},
     {2, SK_TRI3, 2, 3, "tri3"},      {3, SK_QUAD4, 2, 4, "quad4"},  {10, SK_QUAD9, 2, 9, "quad9"},
     {4, SK_TET4, 3, 4, "tet4"},      {5, SK_HEX8, 3, 8, "hex8"},    {12, SK_HEX27, 3, 27, "hex27"},
+    {9, SK_TRI6, 2, 6, "tri6"},      {16, SK_QUAD8, 2, 8, "quad8"}, {11, SK_TET10, 3, 10, "tet10"},
+    {17, SK_HEX20, 3, 20, "hex20"},
 };
 enum { N_ELEMENT_TYPES = sizeof element_types / sizeof element_types[0] };
 
@@ -238,7 +240,8 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
       if (index < 0) {
         status = sk_error_set(SK_ERR_INPUT,
                               "mesh %s: physical group '%s' has elements of gmsh type %d, which stickslip does not "
-                              "support (supported: point1, line2, line3, tri3, quad4, quad9, tet4, hex8, hex27)",
+                              "support (supported: point1, line2, line3, tri3, tri6, quad4, quad8, quad9, tet4, tet10, "
+                              "hex8, hex20, hex27)",
                               path, group->name, got.types[t]);
       } else if (type_index >= 0 && index != type_index) {
         status = sk_error_set(SK_ERR_INPUT,
@@ -411,8 +414,20 @@ typedef struct {
   const char *path;        /* the file, for messages */
   const char *open_path;   /* the file gmsh opens (the parameter wrapper, or the file itself) */
   int is_geo, dim;
+  int order, serendipity;  /* sk_mesh_options' */
   sk_mesh_guard guard;
 } load_job;
+
+/* Second-order elements from the first-order mesh of the current model. gmsh puts the new nodes on the geometry
+ * (curved boundaries stay curved) for a .geo script and on straight edges for a .msh file, which has no geometry. */
+static sk_status raise_order(const char *path, int order, int serendipity) {
+  int ierr = 0;
+  gmshOptionSetNumber("Mesh.SecondOrderIncomplete", serendipity ? 1 : 0, &ierr);
+  if (gmsh_failed(ierr, path, "set Mesh.SecondOrderIncomplete")) return SK_ERR_INPUT;
+  gmshModelMeshSetOrder(order, &ierr);
+  if (gmsh_failed(ierr, path, "make second-order elements")) return SK_ERR_INPUT;
+  return SK_OK;
+}
 
 static const char *failed_path; /* the file gmsh_failed names (the child is single-threaded) */
 
@@ -446,6 +461,10 @@ static sk_status load_in_child(void *arg, sk_mesh *mesh) {
    * process aborts. With 0 gmsh logs them and goes on, and stage_failed() stops after the stage. */
   gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
   if (status == SK_OK && job->is_geo) status = sk_mesh_generate_guarded(&job->guard, dim, stage_failed);
+  if (status == SK_OK && job->order > 0) {
+    sk_mesh_sandbox_phase("making the elements second order");
+    status = raise_order(path, job->order, job->serendipity);
+  }
   if (status == SK_OK) {
     sk_mesh_sandbox_phase("reading the mesh from gmsh");
     mesh->dim = dim;
@@ -506,6 +525,11 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
                         options->max_elements);
   if (!(options->time_limit > 0))
     return sk_error_set(SK_ERR_INPUT, "mesh %s: time_limit must be positive (got %g s)", path, options->time_limit);
+  if (options->order < 0 || options->order > 2)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: element order %d requested; stickslip elements are of order 1 or 2",
+                        path, options->order);
+  if (options->serendipity && options->order != 2)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: serendipity elements (quad8, hex20) need element order 2", path);
 
   int is_geo = has_suffix(path, ".geo");
   if (!is_geo && !has_suffix(path, ".msh"))
@@ -525,6 +549,7 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
   char wrapper[1024] = "";
   if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
   load_job job = {.path = path, .open_path = wrapper[0] ? wrapper : path, .is_geo = is_geo, .dim = dim,
+                  .order = options->order, .serendipity = options->serendipity,
                   .guard = {.path = path, .parameters = parameters, .max_elements = options->max_elements}};
   sk_mesh_sandbox_limits limits = {.time_limit = options->time_limit,
                                    .memory_limit = memory_limit_for(options->max_elements),

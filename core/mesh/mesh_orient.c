@@ -8,32 +8,32 @@
 #include <string.h>
 
 #include "mesh_internal.h"
+#include "stickslip/fe.h"
 
-/* Reorders one element in place so that its orientation is reversed, keeping gmsh's node-ordering rules. */
+/* Node permutations that reverse an element's orientation within gmsh's node-ordering rules: new node a = old node
+ * perm[a]. Lines and tri3/tet4 swap two corners, quads run the other way round, hexes swap bottom and top; edge,
+ * face and body nodes follow their corners. */
+static const int reverse_line[3] = {1, 0, 2}; /* a line3's middle node is node 2 in both directions */
+static const int reverse_tri[6] = {0, 2, 1, 5, 4, 3};
+static const int reverse_quad[9] = {0, 3, 2, 1, 7, 6, 5, 4, 8};
+static const int reverse_tet[10] = {0, 2, 1, 3, 6, 5, 4, 7, 9, 8};
+static const int reverse_hex[27] = {4,  5,  6,  7,  0,  1,  2,  3,  16, 17, 10, 18, 12, 19,
+                                    14, 15, 8,  9,  11, 13, 25, 21, 22, 23, 24, 20, 26};
+
 static void reverse_element(sk_elem_type type, int *conn) {
-  int copy[27];
-  static const int quad9[9] = {0, 3, 2, 1, 7, 6, 5, 4, 8};
-  static const int hex8[8] = {4, 5, 6, 7, 0, 1, 2, 3};
+  const int *perm = NULL;
   switch (type) {
-    case SK_LINE2: case SK_LINE3: /* a line3's middle node is node 2 in both directions */
-      copy[0] = conn[0], conn[0] = conn[1], conn[1] = copy[0];
-      break;
-    case SK_TRI3: case SK_TET4:
-      copy[0] = conn[1], conn[1] = conn[2], conn[2] = copy[0];
-      break;
-    case SK_QUAD4:
-      copy[0] = conn[1], conn[1] = conn[3], conn[3] = copy[0];
-      break;
-    case SK_QUAD9:
-      memcpy(copy, conn, 9 * sizeof *conn);
-      for (int a = 0; a < 9; ++a) conn[a] = copy[quad9[a]];
-      break;
-    case SK_HEX8:
-      memcpy(copy, conn, 8 * sizeof *conn);
-      for (int a = 0; a < 8; ++a) conn[a] = copy[hex8[a]];
-      break;
-    default: break; /* hex27, points: left as gmsh wrote them */
+    case SK_LINE2: case SK_LINE3: perm = reverse_line; break;
+    case SK_TRI3: case SK_TRI6: perm = reverse_tri; break;
+    case SK_QUAD4: case SK_QUAD8: case SK_QUAD9: perm = reverse_quad; break;
+    case SK_TET4: case SK_TET10: perm = reverse_tet; break;
+    case SK_HEX8: case SK_HEX20: case SK_HEX27: perm = reverse_hex; break;
+    default: return; /* points */
   }
+  const int nen = sk_elem_nen(type);
+  int copy[SK_MAX_NEN];
+  memcpy(copy, conn, (size_t)nen * sizeof *conn);
+  for (int a = 0; a < nen; ++a) conn[a] = copy[perm[a]];
 }
 
 static void sub(const double *a, const double *b, double *d) {
@@ -49,11 +49,11 @@ static double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] 
 /* Sign of the element's orientation measured from its corners (0 when not handled). */
 static double body_orientation(const sk_mesh *mesh, const sk_group *group, const int *conn) {
   const double *x[8];
-  int corners = group->type == SK_HEX8 ? 8 : group->type == SK_TET4 ? 4 : group->type == SK_TRI3 ? 3 : 4;
-  for (int a = 0; a < corners; ++a) x[a] = mesh->x + 3 * conn[a];
+  const int corners = sk_elem_corners(group->type);
+  for (int a = 0; a < corners && a < 8; ++a) x[a] = mesh->x + 3 * conn[a];
   double d1[3], d2[3], d3[3], n[3];
   switch (group->type) {
-    case SK_TRI3: case SK_QUAD4: case SK_QUAD9: {
+    case SK_TRI3: case SK_TRI6: case SK_QUAD4: case SK_QUAD8: case SK_QUAD9: {
       double twice = 0; /* shoelace over the corners */
       for (int a = 0; a < corners; ++a) {
         int b = (a + 1) % corners;
@@ -61,11 +61,11 @@ static double body_orientation(const sk_mesh *mesh, const sk_group *group, const
       }
       return twice;
     }
-    case SK_TET4:
+    case SK_TET4: case SK_TET10:
       sub(x[1], x[0], d1), sub(x[2], x[0], d2), sub(x[3], x[0], d3);
       cross(d1, d2, n);
       return dot(n, d3);
-    case SK_HEX8: {
+    case SK_HEX8: case SK_HEX20: case SK_HEX27: {
       /* bottom face normal (by its diagonals) against the direction to the top face */
       double up[3] = {0, 0, 0};
       sub(x[2], x[0], d1), sub(x[3], x[1], d2);
@@ -78,7 +78,7 @@ static double body_orientation(const sk_mesh *mesh, const sk_group *group, const
   }
 }
 
-/* Normal of a boundary element (not normalised); 2D edges in the plane z = 0 use (t_y, -t_x). */
+/* Normal of a boundary element from its corners (not normalised); 2D edges in the plane z = 0 use (t_y, -t_x). */
 static void face_normal(const sk_mesh *mesh, sk_elem_type type, const int *conn, double *n) {
   const double *x0 = mesh->x + 3 * conn[0], *x1 = mesh->x + 3 * conn[1];
   double d1[3], d2[3];
@@ -88,11 +88,11 @@ static void face_normal(const sk_mesh *mesh, sk_elem_type type, const int *conn,
       n[0] = x1[1] - x0[1];
       n[1] = -(x1[0] - x0[0]);
       break;
-    case SK_TRI3:
+    case SK_TRI3: case SK_TRI6:
       sub(x1, x0, d1), sub(mesh->x + 3 * conn[2], x0, d2);
       cross(d1, d2, n);
       break;
-    case SK_QUAD4: case SK_QUAD9:
+    case SK_QUAD4: case SK_QUAD8: case SK_QUAD9:
       sub(mesh->x + 3 * conn[2], x0, d1), sub(mesh->x + 3 * conn[3], x1, d2);
       cross(d1, d2, n);
       break;
@@ -100,22 +100,9 @@ static void face_normal(const sk_mesh *mesh, sk_elem_type type, const int *conn,
   }
 }
 
+/* Corners of the boundary elements the orientation handles (lines, triangles, quads); 0 for others. */
 static int face_corner_count(sk_elem_type type) {
-  switch (type) {
-    case SK_LINE2: case SK_LINE3: return 2;
-    case SK_TRI3: return 3;
-    case SK_QUAD4: case SK_QUAD9: return 4;
-    default: return 0;
-  }
-}
-
-static int body_corner_count(sk_elem_type type) {
-  switch (type) {
-    case SK_TRI3: return 3;
-    case SK_QUAD4: case SK_QUAD9: case SK_TET4: return 4;
-    case SK_HEX8: case SK_HEX27: return 8;
-    default: return 0;
-  }
+  return sk_elem_pdim(type) == 1 || sk_elem_pdim(type) == 2 ? sk_elem_corners(type) : 0;
 }
 
 sk_status sk_mesh_orient(sk_mesh *mesh) {
@@ -138,7 +125,7 @@ sk_status sk_mesh_orient(sk_mesh *mesh) {
     const sk_group *group = &mesh->groups[g];
     if (group->dim != mesh->dim) continue;
     for (int e = 0; e < group->n_elems; ++e)
-      for (int a = 0; a < body_corner_count(group->type); ++a) ++start[group->conn[(size_t)e * group->nen + a] + 1];
+      for (int a = 0; a < sk_elem_corners(group->type); ++a) ++start[group->conn[(size_t)e * group->nen + a] + 1];
   }
   for (int n = 0; n < mesh->n_nodes; ++n) start[n + 1] += start[n];
   int *fill = malloc(((size_t)mesh->n_nodes + 1) * sizeof *fill);
@@ -152,7 +139,7 @@ sk_status sk_mesh_orient(sk_mesh *mesh) {
     const sk_group *group = &mesh->groups[g];
     if (group->dim != mesh->dim) continue;
     for (int e = 0; e < group->n_elems; ++e)
-      for (int a = 0; a < body_corner_count(group->type); ++a) {
+      for (int a = 0; a < sk_elem_corners(group->type); ++a) {
         int k = fill[group->conn[(size_t)e * group->nen + a]]++;
         entry[2 * k] = g, entry[2 * k + 1] = e;
       }
@@ -167,7 +154,7 @@ sk_status sk_mesh_orient(sk_mesh *mesh) {
       for (int k = start[conn[0]]; k < start[conn[0] + 1]; ++k) {
         const sk_group *body = &mesh->groups[entry[2 * k]];
         const int *body_conn = body->conn + (size_t)entry[2 * k + 1] * body->nen;
-        int body_corners = body_corner_count(body->type), shared = 0;
+        int body_corners = sk_elem_corners(body->type), shared = 0;
         for (int a = 0; a < corners; ++a)
           for (int b = 0; b < body_corners; ++b) shared += conn[a] == body_conn[b];
         if (shared < corners) continue;

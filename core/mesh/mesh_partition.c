@@ -3,28 +3,14 @@
 #include <stdlib.h>
 
 #include "mesh_internal.h"
+#include "stickslip/fe.h"
 
-/* Corner nodes come first in gmsh's ordering, so quadratic elements are partitioned by their corners. */
-static int corner_count(sk_elem_type type) {
-  switch (type) {
-    case SK_POINT1: return 1;
-    case SK_LINE2: case SK_LINE3: return 2;
-    case SK_TRI3: return 3;
-    case SK_QUAD4: case SK_QUAD9: case SK_TET4: return 4;
-    case SK_HEX8: case SK_HEX27: return 8;
-    default: return 0;
-  }
-}
-
-/* Corners shared by two elements adjacent across a face. */
+/* Corners shared by two elements adjacent across a face (the corners of a face; 1 for lines). Corner nodes come
+ * first in gmsh's ordering, so quadratic elements are partitioned by their corners. */
 static int face_corner_count(sk_elem_type type) {
-  switch (type) {
-    case SK_POINT1: case SK_LINE2: case SK_LINE3: return 1;
-    case SK_TRI3: case SK_QUAD4: case SK_QUAD9: return 2;
-    case SK_TET4: return 3;
-    case SK_HEX8: case SK_HEX27: return 4;
-    default: return 1;
-  }
+  sk_elem_type face_type;
+  if (sk_elem_faces(type, &face_type, NULL, NULL) <= 0) return 1;
+  return sk_elem_corners(face_type);
 }
 
 sk_status sk_mesh_partition(const sk_mesh *mesh, const sk_group *const *bodies, int n_bodies, int n_parts, int *part) {
@@ -36,7 +22,7 @@ sk_status sk_mesh_partition(const sk_mesh *mesh, const sk_group *const *bodies, 
   for (int b = 0; b < n_bodies; ++b) {
     if (!bodies[b]) return sk_error_set(SK_ERR_INTERNAL, "sk_mesh_partition: body %d is NULL", b);
     n_elems += (size_t)bodies[b]->n_elems;
-    n_corners += (size_t)bodies[b]->n_elems * (size_t)corner_count(bodies[b]->type);
+    n_corners += (size_t)bodies[b]->n_elems * (size_t)sk_elem_corners(bodies[b]->type);
     int common = face_corner_count(bodies[b]->type);
     if (ncommon == 0 || common < ncommon) ncommon = common;
   }
@@ -60,7 +46,7 @@ sk_status sk_mesh_partition(const sk_mesh *mesh, const sk_group *const *bodies, 
     eptr[0] = 0;
     for (int b = 0; b < n_bodies; ++b) {
       const sk_group *group = bodies[b];
-      int corners = corner_count(group->type);
+      int corners = sk_elem_corners(group->type);
       for (int i = 0; i < group->n_elems; ++i, ++e) {
         for (int a = 0; a < corners; ++a) eind[k++] = group->conn[(size_t)i * (size_t)group->nen + (size_t)a];
         eptr[e + 1] = (idx_t)k;

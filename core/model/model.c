@@ -169,6 +169,7 @@ void sk_model_free(sk_model *model) {
   for (int k = 0; k < model->n_dirichlet; ++k) free(model->dirichlet[k].nodes);
   free(model->dirichlet);
   free(model->tractions);
+  free(model->resultants);
   free(model->bodies);
   free(model->element_part);
   free(model->node_owner);

@@ -56,7 +56,7 @@ static void rotate_vector(const double axis_in[3], double angle, double v[3]) {
   for (int i = 0; i < 3; ++i) v[i] = v[i] * c + cross[i] * s + k[i] * kv * (1.0 - c);
 }
 
-/* Loads one mesh entry {file, parameters, name, rotate, translate}. */
+/* Loads one mesh entry {file, parameters, order, serendipity, max_elements, time_limit, name, rotate, translate}. */
 static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *mesh, char *prefix) {
   const char *file;
   SK_TRY(sk_cfg_string(entry, "file", 1, NULL, &file));
@@ -71,9 +71,6 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
     list[i].name = sk_cfg_key_at(params, i);
     SK_TRY(sk_cfg_as_double(sk_cfg_at(params, i), &list[i].value));
   }
-  const char *name;
-  SK_TRY(sk_cfg_string(entry, "name", 0, "", &name));
-  snprintf(prefix, SK_NAME_MAX, "%s", name);
   sk_mesh_options options;
   sk_mesh_options_default(&options);
   options.dim = dim_wanted;
@@ -81,6 +78,15 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   SK_TRY(sk_cfg_int(entry, "max_elements", 0, max_elements, &max_elements));
   SK_TRY(sk_cfg_double(entry, "time_limit", 0, options.time_limit, &options.time_limit));
   options.max_elements = max_elements;
+  SK_TRY(sk_cfg_int(entry, "order", 0, 0, &options.order));
+  if (options.order < 0 || options.order > 2)
+    return fail_at(sk_cfg_get(entry, "order"), "%s", "must be 1 or 2 (or absent: the elements as meshed)");
+  SK_TRY(sk_cfg_bool(entry, "serendipity", 0, 0, &options.serendipity));
+  if (options.serendipity && options.order != 2)
+    return fail_at(sk_cfg_get(entry, "serendipity"), "%s", "needs `order: 2` (quad8/hex20 are second-order)");
+  const char *name;
+  SK_TRY(sk_cfg_string(entry, "name", 0, "", &name));
+  snprintf(prefix, SK_NAME_MAX, "%s", name);
   sk_status status = sk_mesh_load_with(path, list, n_params, &options, mesh);
   if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(entry));
 
@@ -267,7 +273,8 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
   if (list && sk_cfg_kind_of(list) != SK_CFG_SEQ) return fail_at(list, "%s", "expects a list of conditions");
   model->dirichlet = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_dirichlet));
   model->tractions = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_traction));
-  if (!model->dirichlet || !model->tractions)
+  model->resultants = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_resultant));
+  if (!model->dirichlet || !model->tractions || !model->resultants)
     return sk_error_set(SK_ERR_NOMEM, "%s: out of memory for the boundary conditions", sk_cfg_where(root));
   for (int k = 0; k < n; ++k) {
     const sk_cfg *entry = sk_cfg_at(list, k);
@@ -276,9 +283,12 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
     SK_TRY(sk_cfg_string(entry, "name", 0, group_name, &name));
     const sk_cfg *displacement = sk_cfg_get(entry, "displacement");
     const sk_cfg *traction = sk_cfg_get(entry, "traction");
-    if (!!displacement == !!traction)
-      return sk_error_set(SK_ERR_INPUT, "%s: boundary '%s' needs exactly one of `displacement` or `traction`",
-                          sk_cfg_where(entry), name);
+    const sk_cfg *resultant = sk_cfg_get(entry, "resultant");
+    if (!!displacement + !!traction + !!resultant != 1)
+      return sk_error_set(SK_ERR_INPUT, "%s: boundary '%s' needs exactly one of `displacement`, `traction` or "
+                          "`resultant`", sk_cfg_where(entry), name);
+    if (!resultant && sk_cfg_get(entry, "area"))
+      return fail_at(sk_cfg_get(entry, "area"), "%s", "belongs to a `resultant` condition");
     const sk_group *group;
     if (displacement) {
       SK_TRY(require_group(model, sk_cfg_get(entry, "group"), group_name, -1, &group));
@@ -298,6 +308,18 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
         SK_TRY(sk_cfg_as_double(c, &bc->value[i]));
       }
       SK_TRY(read_history(entry, "history", &bc->history));
+    } else if (resultant) {
+      SK_TRY(require_group(model, sk_cfg_get(entry, "group"), group_name, model->dim - 1, &group));
+      sk_resultant *load = &model->resultants[model->n_resultants++];
+      copy_name(load->name, name);
+      load->faces = group;
+      SK_TRY(sk_cfg_vector(entry, "resultant", 1, model->dim, NULL, load->resultant));
+      const char *area;
+      SK_TRY(sk_cfg_string(entry, "area", 0, "reference", &area));
+      if (strcmp(area, "reference") != 0 && strcmp(area, "current") != 0)
+        return fail_at(sk_cfg_get(entry, "area"), "is '%s'; expected reference or current", area);
+      load->current_area = strcmp(area, "current") == 0;
+      SK_TRY(read_history(entry, "history", &load->history));
     } else {
       SK_TRY(require_group(model, sk_cfg_get(entry, "group"), group_name, model->dim - 1, &group));
       sk_traction *load = &model->tractions[model->n_tractions++];

@@ -55,6 +55,10 @@ static sk_status create_terms(sk_system *sys) {
   }
   SK_TRY(sk_term_traction_create(sys, &term));
   SK_TRY(add_term(sys, term));
+  for (int k = 0; k < m->n_resultants; ++k) {
+    SK_TRY(sk_term_resultant_create(sys, k, &term));
+    SK_TRY(add_term(sys, term));
+  }
   /* body plugins before pair plugins: a pair instance may reach its body's instance at create */
   for (int b = 0; b < m->n_bodies; ++b) {
     if (!m->bodies[b].plugin) continue;
@@ -304,6 +308,7 @@ static sk_status update_active_set(sk_system *sys) {
 static sk_status lay_out(sk_system *sys, int again);
 
 sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
+  sys->step_solvers = 0;
   sk_model *m = sys->model;
   sys->dt = dt;
   sys->t = sys->t_n + dt;
@@ -421,12 +426,13 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
 
 /* The kept system J_c dy = b; with stickslip.condense pairs through the condenser (reduced solve + recovery). */
 static sk_status linear_solve(sk_system *sys, const double *b, double *y) {
-  sk_linear_report report;
+  sk_linear_report report = {0};
   const double t0 = now_seconds();
   sk_status status = sys->condensing ? sk_condenser_solve(sys->condenser, sys->linsys, b, y, &report)
                                      : sk_linsys_solve(sys->linsys, b, y, &report);
   sys->t_solve += now_seconds() - t0;
   sys->linear_solves++;
+  if (report.solved) sys->step_solvers |= 1u << report.backend;
   return status;
 }
 
@@ -470,12 +476,13 @@ static sk_status cb_solve(void *ctx, const double *x, const double *F, double *d
 sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y) {
   /* b, y in the full numbering; the kept part is solved, eliminated entries stay 0 */
   for (int64_t k = 0; k < sys->n_kept; ++k) sys->b[k] = b[sys->full_of_kept[k]];
-  sk_linear_report report;
+  sk_linear_report report = {0};
   const double t0 = now_seconds();
   sk_status status = sys->condensing ? sk_condenser_solve_again(sys->condenser, sys->linsys, sys->b, sys->y, &report)
                                      : sk_linsys_solve_again(sys->linsys, sys->b, sys->y, &report);
   sys->t_solve += now_seconds() - t0;
   sys->linear_solves++;
+  if (report.solved) sys->step_solvers |= 1u << report.backend;
   SK_TRY(status);
   for (int64_t i = 0; i < sys->n; ++i) y[i] = sys->kept[i] >= 0 ? sys->y[sys->kept[i]] : 0.0;
   return SK_OK;

@@ -83,6 +83,7 @@ struct sk_system {
   /* bookkeeping */
   sk_newton_report newton;  /* the last solve of a step (iterations summed over active-set loops) */
   int linear_solves;
+  unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
   int64_t unknowns_max, linear_size_max;

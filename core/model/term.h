@@ -15,7 +15,7 @@ typedef struct sk_system sk_system;
 typedef struct sk_term sk_term;
 
 typedef struct sk_term_ops {
-  const char *kind; /* "bulk", "dirichlet", "traction", "plugin" */
+  const char *kind; /* "bulk", "dirichlet", "traction", "resultant", "plugin" */
   void (*destroy)(sk_term *term);
   /* Start of an attempt, before the plugins see the step: the predictor of the term's unknowns in sys->x. */
   sk_status (*predict)(sk_term *term, sk_system *sys);
@@ -60,6 +60,7 @@ struct sk_term {
 /* The terms of core/model (each returns a new term or an error). */
 sk_status sk_term_bulk_create(sk_system *sys, int body, sk_term **term);      /* term_bulk.c */
 sk_status sk_term_traction_create(sk_system *sys, sk_term **term);            /* term_bulk.c */
+sk_status sk_term_resultant_create(sk_system *sys, int k, sk_term **term);    /* term_resultant.c */
 sk_status sk_term_dirichlet_create(sk_system *sys, sk_term **term);           /* term_dirichlet.c */
 /* A plugin instance attached to body `body` (>= 0) or contact pair `pair` (>= 0); term_plugin.c. */
 sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **term);

@@ -376,6 +376,14 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   term->body = body;
   term->pair = pair;
   sk_status status = setup(term, sys, body, pair);
+  /* A plugin built before ABI 2.1 does not know the second-order element types: it would misread them. */
+  for (int v = 0; status == SK_OK && term->plugin->abi_minor < 1 && v < term->attach.n_views; ++v)
+    if (term->attach.views[v]->cell_type >= SK_TRI6)
+      status = sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' is built for plugin ABI %u.%u, which predates the "
+                            "second-order element types of '%s' (%s cells): rebuild it against ABI %u.%u",
+                            term->base.name, term->plugin->name, term->plugin->abi_major, term->plugin->abi_minor,
+                            term->attach.views[v]->name, sk_elem_name(term->attach.views[v]->cell_type),
+                            SK_ABI_MAJOR, SK_ABI_MINOR);
   if (status == SK_OK) {
     status = term->table.create(sk_host_api_table(), &term->host, &term->attach, &term->instance);
     if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);

@@ -838,6 +838,8 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
   }
   status = agree(sys->comm, status, "sk_linsys_solve");
   sys->last_kind = kind;
+  report->solved = 1;
+  report->backend = kind;
   if (status == SK_ERR_DIVERGED && sys->options.kind == SK_LINEAR_AUTO && !is_direct(kind)) {
     // AUTO promises an answer when one exists: fall back to the direct solver, for this pattern from now on
     if (sys->options.verbose && sys->rank == 0)
@@ -853,6 +855,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     }
     status = agree(sys->comm, status, "sk_linsys_solve");
     sys->last_kind = kind;
+    report->backend = kind;
     report->iterations = iterations;
     report->refactored_symbolic = 1;
   }
@@ -886,6 +889,8 @@ sk_status sk_linsys_solve_again(sk_linear_system *sys, const double *b, double *
   const sk_linear_solver_kind kind = sys->last_kind;
   if (sys->amesos.is_null() || sys->amesos_kind != kind || !is_direct(kind) || kind == SK_LINEAR_DIRECT_KLU2)
     return sk_linsys_solve(sys, b, x, report);
+  report->solved = 1;
+  report->backend = kind;
   const double start = now_seconds();
   sk_status status = SK_OK;
   try {

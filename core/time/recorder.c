@@ -46,6 +46,10 @@ struct sk_recorder {
   double dissipated;       /* accumulated over the steps */
   double total_energy;     /* of the last row */
   int vtu_count;
+  /* the linear solvers that ran, by step ranges: "mumps (steps 1-12), gmres-muelu (steps 13-40)" */
+  char solvers_used[1024];
+  unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
+  int range_first, range_last;
 };
 
 static double now_seconds(void) {
@@ -347,8 +351,37 @@ sk_status sk_recorder_initial(sk_recorder *rec) {
   return status;
 }
 
+/* Appends the open range of steps that used the same linear solvers to solvers_used. */
+static void close_solver_range(sk_recorder *rec) {
+  if (rec->range_first == 0) return;
+  char names[256] = "";
+  for (int k = 0; k < 32; ++k)
+    if (rec->range_solvers & (1u << k))
+      snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", names[0] ? " + " : "",
+               sk_linear_solver_name((sk_linear_solver_kind)k));
+  const size_t used = strlen(rec->solvers_used);
+  char steps[64];
+  if (rec->range_first == rec->range_last) snprintf(steps, sizeof steps, "step %d", rec->range_first);
+  else snprintf(steps, sizeof steps, "steps %d-%d", rec->range_first, rec->range_last);
+  snprintf(rec->solvers_used + used, sizeof rec->solvers_used - used, "%s%s (%s)", used ? ", " : "",
+           names[0] ? names : "none", steps);
+  rec->range_first = 0;
+}
+
+static void note_solvers(sk_recorder *rec, int step) {
+  const unsigned solvers = rec->sys->step_solvers;
+  if (rec->range_first > 0 && solvers == rec->range_solvers && step == rec->range_last + 1) {
+    rec->range_last = step;
+    return;
+  }
+  close_solver_range(rec);
+  rec->range_solvers = solvers;
+  rec->range_first = rec->range_last = step;
+}
+
 sk_status sk_recorder_step(sk_recorder *rec, int steps_done, int last) {
   sk_system *sys = rec->sys;
+  note_solvers(rec, steps_done);
   sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
   sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, sys->newton.iterations, &contact);
@@ -388,6 +421,8 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_string(json, "plugin", m->n_pairs ? plugins : "none");
   sk_json_string(json, "strategy", m->n_pairs ? strategies : "none");
   sk_json_string(json, "linear_solver", sk_linear_solver_name(rec->scene->solver.linear.kind));
+  close_solver_range(rec);
+  sk_json_string(json, "linear_solvers_used", rec->solvers_used[0] ? rec->solvers_used : "none");
   sk_json_number(json, "wall_seconds", sum->wall_seconds);
   sk_json_number(json, "assembly_seconds", sum->assembly_seconds);
   sk_json_number(json, "contact_seconds", sum->contact_seconds);

@@ -260,6 +260,12 @@ static int compare_id(const void *a, const void *b) {
 /* D_pp = integral of phi_p over the slave surface (reference), accumulated into weight[slave view node]. */
 static sk_status dual_weights(sk_instance *inst, const sk_view *slave, double *weight) {
   const sk_contact_services *cs = inst->api->contact;
+  /* Integrals of phi_p are zero (TRI6) or negative (QUAD8) at the corners of serendipity/P2 faces: their corners
+   * would carry no or a tensile contact force (docs/plugins/penalty-nts.md#quadratic-faces). */
+  if (slave->cell_type == SK_TRI6 || slave->cell_type == SK_QUAD8)
+    return inst->api->error(inst->host, SK_ERR_INPUT, "corotational: slave surface '%s' has %s faces, whose corner "
+                            "nodes get no positive contact weight; use first-order elements or hex27 (QUAD9 faces)",
+                            slave->name, slave->cell_type == SK_TRI6 ? "TRI6" : "QUAD8");
   double xi[16][2], w[16];
   const int nq = cs->quadrature(slave->cell_type, 3, 16, xi, w);
   if (nq <= 0) return inst->api->error(inst->host, SK_ERR_INTERNAL, "no quadrature for the slave faces");

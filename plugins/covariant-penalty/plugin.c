@@ -205,7 +205,10 @@ static sk_status cp_create_checked(sk_instance *in) {
   const sk_view *carrier = in->master ? in->master : in->slave; /* the surface whose faces carry the geometry */
   if (cp_face_init(&in->face, carrier->cell_type, in->cs->shape, in->cs->shape_hessian) != 0 ||
       (in->slave->cell_type != SK_QUAD4 && in->slave->cell_type != SK_QUAD9 && in->slave->cell_type != SK_TRI3))
-    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty supports QUAD4, QUAD9 and TRI3 faces");
+    return in->api->error(in->host, SK_ERR_INPUT, "%s: covariant-penalty supports QUAD4, QUAD9 and TRI3 faces; slave "
+                          "surface '%s' has %d-node faces%s%s%s (TRI6 and QUAD8 are not supported)", at->name,
+                          in->slave->name, in->slave->nen, in->master ? ", master '" : "",
+                          in->master ? in->master->name : "", in->master ? "'" : "");
   SK_TRY(read_parameters(in));
   SK_TRY(make_entities(in));
   const double size = mean_face_size(in->slave);

@@ -266,9 +266,10 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
        mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape,
                              api->contact->shape_hessian) != 0))
     st = api->error(host, SK_ERR_INPUT,
-                    "mortar-dual: handles straight faces only (line2 in 2D, tri3 and quad4 in 3D); surface '%s'%s%s "
-                    "has curved faces",
-                    sv->name, inst->master ? " or '" : "", inst->master ? inst->master->name : "");
+                    "%s: mortar-dual handles first-order faces only (line2 in 2D, tri3 and quad4 in 3D); slave "
+                    "surface '%s' has %d-node faces%s%s%s",
+                    attach->name, sv->name, sv->nen, inst->master ? ", master '" : "",
+                    inst->master ? inst->master->name : "", inst->master ? "'" : "");
   if (st == SK_OK) st = read_parameters(inst);
   if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
     inst->condense = api->get_extension(host, SK_EXT_CONDENSE);

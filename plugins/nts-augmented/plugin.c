@@ -107,12 +107,21 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   inst->stride = 1 + 2 * inst->pdim;
   if (!master && !attach->obstacle)
     return api->error(host, SK_ERR_INPUT, "%s: nts-augmented needs a master surface or a plane obstacle", inst->name);
+  /* Second-order slave faces are refused: nodal constraints on them need weights that are positive under a uniform
+   * pressure, which the corners of TRI6/QUAD8 faces do not have (docs/plugins/penalty-nts.md#quadratic-faces), and
+   * mean_edge reads the corners of first-order faces only. */
+  const sk_elem_type slave_type = slave->cell_type;
+  if (slave_type != (inst->dim == 3 ? SK_TRI3 : SK_LINE2) && slave_type != (inst->dim == 3 ? SK_QUAD4 : SK_LINE2))
+    return api->error(host, SK_ERR_INPUT,
+                      "%s: nts-augmented handles first-order slave faces only (tri3 and quad4 in 3D, line2 in 2D); "
+                      "slave surface '%s' has %d-node faces (second-order elements, mesh.order: 2?): use penalty-nts, "
+                      "covariant-penalty or a first-order mesh", inst->name, slave->name, slave->nen);
   const sk_elem_type facet_type = master ? master->cell_type : inst->dim == 3 ? SK_QUAD4 : SK_LINE2;
   if (nts_facet_init(&inst->facet, facet_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
       (inst->dim == 2) != (facet_type == SK_LINE2))
     return api->error(host, SK_ERR_INPUT,
                       "%s: nts-augmented handles tri3 and quad4 master faces in 3D and line2 in 2D (master surface "
-                      "'%s' has other faces)", inst->name, master ? master->name : "?");
+                      "'%s' has %d-node faces)", inst->name, master ? master->name : "?", master ? master->nen : 0);
   inst->strategy = attach->strategy < N_STRATEGIES ? (nts_strategy)attach->strategy
                                                    : alias_of[attach->strategy - N_STRATEGIES];
   if (attach->strategy >= N_STRATEGIES)

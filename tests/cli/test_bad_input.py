@@ -157,6 +157,33 @@ def unknown_scheme(c):
                      r"midpoint")
 
 
+def plugin_without_contact(c):
+    """--plugin on a scene without contact pairs would silently change nothing: refused, for run and check."""
+    for command in ("run", "check"):
+        c.run_scene(BLOCK, "--plugin", "penalty-nts", command=command)
+        c.expect_failure(r"--plugin penalty-nts", r"scene\.yaml has no contact pairs")
+
+
+def mesh_order(c):
+    """mesh.order out of range, and serendipity without order 2, name the key."""
+    c.run_scene(replace(BLOCK, "  file: ", "  order: 3\n  file: "))
+    c.expect_failure(r"scene\.yaml:\d+", r"key 'mesh\.order'", r"1 or 2")
+    c.run_scene(replace(BLOCK, "  file: ", "  serendipity: true\n  file: "))
+    c.expect_failure(r"scene\.yaml:\d+", r"key 'mesh\.serendipity'", r"order: 2")
+
+
+def old_minor_plugin(c):
+    """A plugin built for ABI 2.0 is not attached to second-order faces (it predates their element types); on a
+    first-order mesh the host gets past that check (the test plugin then fails in create, on purpose)."""
+    env = {"STICKSLIP_PLUGIN_PATH": os.environ["STICKSLIP_CLI_MINOR0_DIR"]}
+    scene = replace(replace(CONTACT, "plugin: penalty-nts", "plugin: old-minor"), "  file: ",
+                    "  order: 2\n  serendipity: true\n  file: ")  # hex20: QUAD8 faces (quad9 is an ABI 2.0 type)
+    c.run_scene(scene, command="check", env=env)
+    c.expect_failure(r"old-minor", r"ABI 2\.0", r"'zmin' \(quad8 cells\)", r"rebuild it against ABI 2\.1")
+    c.run_scene(replace(CONTACT, "plugin: penalty-nts", "plugin: old-minor"), command="check", env=env)
+    c.check(c.proc.returncode != 0 and "predates" not in c.proc.stderr, "first-order faces pass the ABI check")
+
+
 def unknown_plugin(c):
     c.run_scene(replace(CONTACT, "plugin: penalty-nts", "plugin: mortar-magic"))
     c.expect_failure(r"scene\.yaml:\d+", r"contact pair 'floor'", r"unknown plugin 'mortar-magic'",
@@ -272,7 +299,7 @@ CASES = {f.__name__: f for f in [
     malformed_yaml, unknown_key, missing_mesh_file, unknown_mesh_parameter, missing_group, material_nu, material_E,
     negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map, bad_set, unknown_option,
     missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin, capability_mismatch, unknown_strategy,
-    inverted_element]}
+    inverted_element, plugin_without_contact, mesh_order, old_minor_plugin]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:

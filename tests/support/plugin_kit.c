@@ -143,12 +143,11 @@ void kit_param_text(kit *k, const char *key, const char *value) {
 
 static int compare_int(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
 
-static int corners_of(sk_elem_type type) { return type == SK_LINE2 || type == SK_LINE3 ? 2 : type == SK_TRI3 ? 3 : 4; }
 
 /* The core surface of n_faces faces (mesh node ids): sorted node list, neighbours through shared corners (2D: the
  * end point itself). The caller frees conn, nodes and face_neighbors. */
 static void make_surface(sk_surface *s, int dim, sk_elem_type type, int nen, int n_faces, const int *conn) {
-  const int nc = corners_of(type);
+  const int nc = sk_elem_corners(type);
   memset(s, 0, sizeof *s);
   snprintf(s->name, sizeof s->name, "surface");
   s->dim = dim;

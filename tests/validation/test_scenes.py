@@ -86,6 +86,11 @@ def compressed_block(c):
         stress = vtu["cauchy_stress"]
         worst = max(abs(s[8] + p) for s in stress)
         c.check(worst <= 1e-9, "refine %d: sigma_zz = -p in every element (worst error %.2e)" % (refine, worst))
+        used = results.summary["linear_solvers_used"]
+        c.check(used == "mumps (steps 1-4)", "refine %d: summary.json names the solver auto chose: %s" % (refine, used))
+    results, _ = run("scenes/compressed-block.yaml", "--set", "solver.linear.solver=gmres-ilu")
+    used = results.summary["linear_solvers_used"]
+    c.check(used == "gmres-ilu (steps 1-4)", "a chosen iterative solver is reported as used: %s" % used)
 
 
 def compressed_block_neo_hooke(c):

@@ -42,6 +42,8 @@ typedef struct {
   double relative_residual;/* ||b - A x|| / ||b|| measured after the solve */
   double seconds;          /* wall time of the solve (factorisation included) */
   int refactored_symbolic; /* 1 when a symbolic factorisation / preconditioner setup had to be redone */
+  int solved;              /* 1 when a solver ran (0: b = 0, x = 0 without one) */
+  sk_linear_solver_kind backend; /* with solved: the solver that produced x (auto resolved, after any fallback) */
 } sk_linear_report;
 
 typedef struct sk_linear_system sk_linear_system;

@@ -4,8 +4,8 @@
  * plugin can read them without linking the core.
  *
  * Positions. Functions take the current nodal positions q as the global unknown layout: q[node*dim + i]. A surface
- * of a 3D body has 2D faces (TRI3, QUAD4, QUAD9) with parameters xi[2]; in 2D faces are LINE2/LINE3 with xi[1] and
- * the second tangent is e_z (so a1 x e_z is the in-plane outward normal). Normals point out of the body. */
+ * of a 3D body has 2D faces (TRI3, TRI6, QUAD4, QUAD8, QUAD9) with parameters xi[2]; in 2D faces are LINE2/LINE3 with
+ * xi[1] and the second tangent is e_z (so a1 x e_z is the in-plane outward normal). Normals point out of the body. */
 #ifndef STICKSLIP_CONTACT_H
 #define STICKSLIP_CONTACT_H
 
@@ -21,7 +21,7 @@ extern "C" {
 typedef struct {
   char name[64];          /* physical group name */
   int dim;                /* spatial dimension (2 or 3) */
-  sk_elem_type face_type; /* LINE2, LINE3, TRI3, QUAD4, QUAD9 */
+  sk_elem_type face_type; /* LINE2, LINE3, TRI3, TRI6, QUAD4, QUAD8, QUAD9 */
   int nen;                /* nodes per face */
   int n_faces;
   int *conn;              /* n_faces * nen global node ids, oriented so normals point out of the body */

@@ -22,12 +22,18 @@ enum { SK_MAX_NEN = 27, SK_MAX_QP = 64 };
 /* ---- element types ---------------------------------------------------------------------------------------- */
 int sk_elem_nen(sk_elem_type type);           /* nodes per element */
 int sk_elem_pdim(sk_elem_type type);          /* parametric dimension */
+int sk_elem_order(sk_elem_type type);         /* polynomial order: 1 (linear) or 2 (quadratic); 0 for point1 */
+int sk_elem_corners(sk_elem_type type);       /* corner (vertex) nodes; they come first in the node ordering */
+int sk_elem_is_simplex(sk_elem_type type);    /* tri3, tri6, tet4, tet10 */
 const char *sk_elem_name(sk_elem_type type);  /* "hex8", ... */
 /* Shape functions N[a] and parametric derivatives dN[a*pdim + k] at xi (length pdim). Either output may be NULL. */
 void sk_elem_shape(sk_elem_type type, const double *xi, double *N, double *dN);
 /* Second parametric derivatives ddN[(a*pdim + k)*pdim + l] (needed for surface curvature). */
 void sk_elem_shape_hessian(sk_elem_type type, const double *xi, double *ddN);
-/* Quadrature exact for the element's mass matrix on an affine element: n points xi[q*pdim + k], weights w[q]. */
+/* The element's integration rule (stiffness, loads, areas): n points xi[q*pdim + k], weights w[q]. Gauss with
+ * order + 1 points per direction on lines, quads and hexes (quad8/hex20: 3); degree 2 on simplices (3 points on
+ * triangles, 4 on tetrahedra), which is exact for the stiffness of an affine tri6/tet10 and the mass of an affine
+ * tri3/tet4. sk_solid_mass uses richer rules of its own (exact for curved quadratic elements). */
 void sk_elem_quadrature(sk_elem_type type, int *n, const double **xi, const double **w);
 /* Gauss rule on a face type (LINE2/3, TRI3, QUAD4/9) exact for polynomials of degree `order` in the face
  * parameters: up to max_points points xi[q][0..pdim) and weights w[q] (summing to the reference face's measure: 2,
@@ -99,7 +105,7 @@ sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const 
  * inertia integral rho0 X X^T. */
 sk_status sk_solid_mass(const sk_solid *el, const double *X, double *M);
 
-/* Element volume (area in 2D) in the reference configuration. */
+/* Element volume (area in 2D) in the reference configuration, with the mass rule (exact for curved elements). */
 double sk_solid_volume(const sk_solid *el, const double *X);
 
 /* Cauchy stress (3x3) averaged over the element's quadrature points, for output. */
@@ -109,8 +115,12 @@ sk_status sk_solid_cauchy(const sk_solid *el, const double *X, const double *u, 
 /* Consistent load vector of a traction t (dim components, per unit reference area/length) on a face element of
  * type `type` (LINE2/LINE3 in 2D, TRI3/QUAD4/QUAD9 in 3D), X packed nen*dim. f is nen*dim. */
 void sk_face_traction(sk_elem_type type, int dim, const double *X, const double *t, double *f);
-/* Reference area (length in 2D) of a face. */
+/* Area (length in 2D) of a face at positions X (reference or current). */
 double sk_face_area(sk_elem_type type, int dim, const double *X);
+/* Nodal weights of a face at positions X: w[a] = integral of N_a dA (they sum to the area; a uniform traction t puts
+ * w[a] t on node a) and, when dw is not NULL, their derivatives dw[a*nen*dim + b*dim + j] = d w_a / d X_bj (for loads
+ * that follow the current area). With the element rule (exact for N_a on straight faces). */
+void sk_face_weights(sk_elem_type type, int dim, const double *X, double *w, double *dw);
 
 #ifdef __cplusplus
 }

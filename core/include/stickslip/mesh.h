@@ -57,9 +57,12 @@ typedef struct {
   long max_elements;  /* refuse a mesh with more elements of dimension `dim`, estimated before each meshing stage
                          (.geo) and counted after; > 0 */
   double time_limit;  /* seconds gmsh may take for the whole load (script, meshing); > 0 */
+  int order;          /* 0: the elements as meshed or stored; 1 or 2: gmsh makes them first or second order (a
+                         second-order .geo mesh puts the new nodes on the geometry, a .msh one on straight edges) */
+  int serendipity;    /* with order 2: quad8/hex20 instead of quad9/hex27 (tri6/tet10 either way) */
 } sk_mesh_options;
 
-void sk_mesh_options_default(sk_mesh_options *options); /* dim 0, the default limits */
+void sk_mesh_options_default(sk_mesh_options *options); /* dim 0, the default limits, order 0 */
 /* sk_mesh_load with options (sk_mesh_load is this with the defaults and `dim`). Besides sk_mesh_load's errors:
  * "mesh X: the mesh would have about 2.4e+09 elements, more than mesh.max_elements = 1000000 (parameters: ...)",
  * gmsh crashes and time or memory limits ("... while meshing the surfaces (2D)"), SK_ERR_INTERRUPTED on SIGINT/

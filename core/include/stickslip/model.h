@@ -61,6 +61,17 @@ typedef struct {
   sk_history history;
 } sk_traction;
 
+/* A prescribed total force on a face group (boundary `resultant:`): the uniform traction R / A over the group's
+ * faceted area A, reference or current, so that the nodal forces w_a R / A sum to R exactly on any faces (curved,
+ * quadratic: w_a = integral N_a dA, negative at QUAD8 corners). Assembled by term_resultant.c. */
+typedef struct {
+  char name[SK_NAME_MAX];
+  const sk_group *faces;
+  double resultant[3];     /* total force, multiplied by `history` */
+  int current_area;        /* 0: over the reference area (a dead load), 1: over the current area (follows x) */
+  sk_history history;
+} sk_resultant;
+
 typedef struct {
   char name[SK_NAME_MAX];
   const sk_plugin *plugin;
@@ -95,6 +106,8 @@ typedef struct sk_model {
   sk_dirichlet *dirichlet;
   int n_tractions;
   sk_traction *tractions;
+  int n_resultants;
+  sk_resultant *resultants;
   double body_force[3];    /* per unit mass */
   int n_pairs;
   sk_contact_pair *pairs;

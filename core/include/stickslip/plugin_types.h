@@ -29,7 +29,7 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 0u
+#define SK_ABI_MINOR 1u /* 1: the element types TRI6, QUAD8, TET10, HEX20 */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -66,6 +66,10 @@ typedef enum {
   SK_TET4,
   SK_HEX8,
   SK_HEX27,
+  SK_TRI6,           /* minor 1: second-order elements (the scene key mesh.order: 2) */
+  SK_QUAD8,          /* minor 1: serendipity, quad9 without the centre node */
+  SK_TET10,          /* minor 1 */
+  SK_HEX20,          /* minor 1: serendipity, hex27 without face and body centres */
   SK_ELEM_TYPE_COUNT /* the count of THIS header's version; new types are appended before it (a minor version) */
 } sk_elem_type;
 
@@ -117,7 +121,8 @@ typedef struct sk_view {
   const char *name;            /* the surface's or body's name in the scene */
   int dim;                     /* spatial dimension, 2 or 3 (positions and dofs have dim entries per node) */
   int body;                    /* index of the body (the one the surface bounds) */
-  sk_elem_type cell_type;      /* faces: LINE2, LINE3, TRI3, QUAD4, QUAD9; bodies: the element type */
+  sk_elem_type cell_type;      /* faces: LINE2, LINE3, TRI3, QUAD4, QUAD9, TRI6, QUAD8; bodies: the element type
+                                  (a plugin refuses a type it does not handle, naming it) */
   int nen;                     /* nodes per cell */
   int32_t n_cells;             /* cells of this view on this rank (owned + ghosted) */
   const int32_t *conn;         /* n_cells * nen view node indices (faces: oriented so normals point out of the body) */

@@ -1,5 +1,6 @@
-/* Hand-built contact surfaces for the contact tests: structured patches of LINE2/LINE3 (2D) and TRI3/QUAD4/QUAD9
- * (3D) faces on a mapped parameter grid, with adjacency found by brute force (independent of sk_surface_build). */
+/* Hand-built contact surfaces for the contact tests: structured patches of LINE2/LINE3 (2D) and TRI3/TRI6/QUAD4/
+ * QUAD8/QUAD9 (3D) faces on a mapped parameter grid, with adjacency found by brute force (independent of
+ * sk_surface_build). */
 #ifndef CONTACT_TEST_UTIL_H
 #define CONTACT_TEST_UTIL_H
 
@@ -17,7 +18,7 @@ typedef void (*patch_map)(double u, double v, const void *ctx, double *x);
 typedef struct {
   sk_surface surface;
   double *q;   /* positions, dim per node */
-  int n_nodes; /* nodes of the grid (all on the surface) */
+  int n_nodes; /* nodes of the grid (all on the surface, except the cell centres of a QUAD8 patch) */
 } test_patch;
 
 static inline void test_patch_neighbors(sk_surface *s) {
@@ -39,8 +40,9 @@ static inline void test_patch_neighbors(sk_surface *s) {
     }
 }
 
-/* nu x nv cells of `type` over (u, v) in [u0, u1] x [v0, v1] (2D types ignore v). Corners run counter-clockwise
- * in (u, v), so a flat patch z = 0 mapped by identity has normal +z (3D); a 2D line along +u has normal -y. */
+/* nu x nv cells of `type` over (u, v) in [u0, u1] x [v0, v1] (2D types ignore v); triangles split each cell along
+ * its diagonal. Corners run counter-clockwise in (u, v), so a flat patch z = 0 mapped by identity has normal +z
+ * (3D); a 2D line along +u has normal -y. Quadratic faces take their nodes from a grid of twice the density. */
 static inline void test_patch_make(test_patch *p, sk_elem_type type, int nu, int nv, double u0, double u1, double v0,
                                    double v1, patch_map map, const void *ctx) {
   memset(p, 0, sizeof *p);
@@ -48,7 +50,7 @@ static inline void test_patch_make(test_patch *p, sk_elem_type type, int nu, int
   snprintf(s->name, sizeof s->name, "patch");
   s->face_type = type;
   s->nen = sk_elem_nen(type);
-  int quadratic = type == SK_LINE3 || type == SK_QUAD9;
+  int quadratic = sk_elem_order(type) == 2, triangles = sk_elem_is_simplex(type);
   int step = quadratic ? 2 : 1;
   if (type == SK_LINE2 || type == SK_LINE3) {
     s->dim = 2;
@@ -71,7 +73,7 @@ static inline void test_patch_make(test_patch *p, sk_elem_type type, int nu, int
     }
   } else {
     s->dim = 3;
-    s->n_edges = type == SK_TRI3 ? 3 : 4;
+    s->n_edges = triangles ? 3 : 4;
     int mu = nu * step + 1, mv = nv * step + 1;
     p->n_nodes = mu * mv;
     p->q = malloc((size_t)p->n_nodes * 3 * sizeof(double));
@@ -79,32 +81,42 @@ static inline void test_patch_make(test_patch *p, sk_elem_type type, int nu, int
       for (int i = 0; i < mu; ++i)
         map(u0 + (u1 - u0) * i / (mu - 1), v0 + (v1 - v0) * j / (mv - 1), ctx, p->q + 3 * (j * mu + i));
 #define NODE(i, j) ((j) * mu + (i))
-    s->n_faces = nu * nv * (type == SK_TRI3 ? 2 : 1);
+    s->n_faces = nu * nv * (triangles ? 2 : 1);
     s->conn = malloc((size_t)s->n_faces * s->nen * sizeof(int));
     int f = 0;
     for (int j = 0; j < nv; ++j)
       for (int i = 0; i < nu; ++i) {
         int I = i * step, J = j * step;
         int *c = s->conn + (size_t)f * s->nen;
-        if (type == SK_TRI3) {
-          int a = NODE(I, J), b = NODE(I + 1, J), cc = NODE(I + 1, J + 1), d = NODE(I, J + 1);
+        if (triangles) {
+          int a = NODE(I, J), b = NODE(I + step, J), cc = NODE(I + step, J + step), d = NODE(I, J + step);
+          int *c2 = c + s->nen;
           c[0] = a, c[1] = b, c[2] = cc;
-          c[3] = a, c[4] = cc, c[5] = d;
+          c2[0] = a, c2[1] = cc, c2[2] = d;
+          if (quadratic) { /* edge nodes (0-1) (1-2) (2-0) */
+            c[3] = NODE(I + 1, J), c[4] = NODE(I + 2, J + 1), c[5] = NODE(I + 1, J + 1);
+            c2[3] = NODE(I + 1, J + 1), c2[4] = NODE(I + 1, J + 2), c2[5] = NODE(I, J + 1);
+          }
           f += 2;
         } else {
           c[0] = NODE(I, J), c[1] = NODE(I + step, J), c[2] = NODE(I + step, J + step), c[3] = NODE(I, J + step);
           if (quadratic) {
             c[4] = NODE(I + 1, J), c[5] = NODE(I + 2, J + 1), c[6] = NODE(I + 1, J + 2), c[7] = NODE(I, J + 1);
-            c[8] = NODE(I + 1, J + 1);
+            if (type == SK_QUAD9) c[8] = NODE(I + 1, J + 1);
           }
           f += 1;
         }
       }
 #undef NODE
   }
-  s->n_nodes = p->n_nodes;
+  /* The surface's nodes: the grid nodes its faces use, ascending. */
+  char *used = calloc((size_t)p->n_nodes, 1);
+  for (int k = 0; k < s->n_faces * s->nen; ++k) used[s->conn[k]] = 1;
   s->nodes = malloc((size_t)p->n_nodes * sizeof(int));
-  for (int i = 0; i < p->n_nodes; ++i) s->nodes[i] = i;
+  s->n_nodes = 0;
+  for (int i = 0; i < p->n_nodes; ++i)
+    if (used[i]) s->nodes[s->n_nodes++] = i;
+  free(used);
   test_patch_neighbors(s);
 }
 

@@ -119,7 +119,7 @@ static void check_type(sk_elem_type type, double lebesgue) {
     for (int i = 0; i < dofs; ++i) qs[i] = (1 - t) * q0[i] + t * q1[i];
     int f = (int)(test_random(&seed) * s->n_faces);
     double xi[2] = {-1 + 2 * test_random(&seed), two_d ? 0 : -1 + 2 * test_random(&seed)};
-    if (type == SK_TRI3) xi[0] = 0.5 * (xi[0] + 1) * 0.5, xi[1] = 0.5 * (xi[1] + 1) * 0.5;
+    if (sk_elem_is_simplex(type)) xi[0] = 0.5 * (xi[0] + 1) * 0.5, xi[1] = 0.5 * (xi[1] + 1) * 0.5;
     sk_surface_geometry(s, f, xi, qs, &p);
     int n = sk_search_query(search, p.x, p.x, found, s->n_faces), hit = 0;
     for (int k = 0; k < n; ++k) hit |= found[k] == f;
@@ -163,6 +163,8 @@ int main(void) {
   check_type(SK_QUAD4, 1.0);
   check_type(SK_TRI3, 1.0);
   check_type(SK_QUAD9, 1.5625);
+  check_type(SK_TRI6, 5.0 / 3.0);
+  check_type(SK_QUAD8, 3.0);
   check_type(SK_LINE2, 1.0);
   check_type(SK_LINE3, 1.25);
   quad9_bulge();

@@ -1,5 +1,7 @@
 /* sk_surface_build on hand-made meshes: faces given with the wrong orientation come out outward (normal pointing
- * away from the body), node lists sorted, adjacency across edges / end points, and errors naming group and face. */
+ * away from the body), node lists sorted, adjacency across edges / end points, and errors naming group and face; on
+ * second-order gmsh meshes (hex27, hex20, tet10): outward quadratic faces, full adjacency, and the curvature of the
+ * sphere's tri6 faces. */
 #include <string.h>
 
 #include "contact_test_util.h"
@@ -7,7 +9,8 @@
 
 /* Outward on a convex body: the normal at each face centre points away from the body's centroid. */
 static void check_outward(const sk_surface *s, const double *q, const double *centroid) {
-  double xi[2] = {s->face_type == SK_TRI3 ? 1.0 / 3.0 : 0.0, s->face_type == SK_TRI3 ? 1.0 / 3.0 : 0.0};
+  const double c = sk_elem_is_simplex(s->face_type) ? 1.0 / 3.0 : 0.0;
+  double xi[2] = {c, c};
   for (int f = 0; f < s->n_faces; ++f) {
     sk_surface_point p;
     sk_surface_geometry(s, f, xi, q, &p);
@@ -141,7 +144,98 @@ static void build_tet(void) {
   sk_surface_free(&s);
 }
 
+/* Positions of a mesh in the dof layout (dim per node). */
+static double *mesh_positions(const sk_mesh *mesh) {
+  double *q = malloc((size_t)mesh->n_nodes * mesh->dim * sizeof *q);
+  for (int n = 0; n < mesh->n_nodes; ++n)
+    for (int i = 0; i < mesh->dim; ++i) q[n * mesh->dim + i] = mesh->x[3 * n + i];
+  return q;
+}
+
+/* Edges of a surface without a neighbour. */
+static int border_edges(const sk_surface *s) {
+  int count = 0;
+  for (int k = 0; k < s->n_faces * s->n_edges; ++k) count += s->face_neighbors[k] < 0;
+  return count;
+}
+
+static void build_quadratic_box(int serendipity) {
+  const sk_mesh_param params[] = {{"nx", 2}, {"ny", 3}, {"nz", 2}};
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.order = 2, options.serendipity = serendipity;
+  sk_mesh mesh;
+  SK_CHECK(sk_mesh_load_with("meshes/block.geo", params, 3, &options, &mesh) == SK_OK);
+  if (!mesh.n_groups) return;
+  double *q = mesh_positions(&mesh);
+  const sk_group *body = sk_mesh_find_group(&mesh, "body");
+  const double centroid[3] = {0.5, 0.5, 0.5};
+  sk_surface s;
+  SK_CHECK(sk_surface_build(&mesh, sk_mesh_find_group(&mesh, "zmax"), body, 0, &s) == SK_OK);
+  SK_CHECK(s.face_type == (serendipity ? SK_QUAD8 : SK_QUAD9) && s.n_faces == 6 && s.n_edges == 4);
+  SK_CHECK(s.n_nodes == 5 * 7 - (serendipity ? 6 : 0)); /* a 5 x 7 grid of nodes; quad8 has no face centres */
+  SK_CHECK(border_edges(&s) == 2 * (2 + 3));
+  check_outward(&s, q, centroid);
+  sk_surface_free(&s);
+  const char *sides[] = {"xmin", "xmax", "ymin", "ymax", "zmin"};
+  for (int k = 0; k < 5; ++k) {
+    SK_CHECK(sk_surface_build(&mesh, sk_mesh_find_group(&mesh, sides[k]), body, 0, &s) == SK_OK);
+    check_outward(&s, q, centroid);
+    sk_surface_free(&s);
+  }
+  free(q);
+  sk_mesh_free(&mesh);
+}
+
+/* The eighth sphere of hertz-3d.geo as tet10: its tri6 skin faces outward, is one connected sheet (border edges only
+ * on the three cut planes) and carries the sphere's curvature, m^ab h_ab = -2/R at every face centre (to the
+ * interpolation error of the coarse mesh; flat tri3 faces have h = 0). */
+static void build_quadratic_sphere(void) {
+  const sk_mesh_param params[] = {{"refine", 0.5}};
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.order = 2;
+  sk_mesh mesh;
+  SK_CHECK(sk_mesh_load_with("meshes/hertz-3d.geo", params, 1, &options, &mesh) == SK_OK);
+  if (!mesh.n_groups) return;
+  double *q = mesh_positions(&mesh);
+  sk_surface s;
+  SK_CHECK(sk_surface_build(&mesh, sk_mesh_find_group(&mesh, "sphere-contact"), sk_mesh_find_group(&mesh, "sphere"),
+                            0, &s) == SK_OK);
+  SK_CHECK(s.face_type == SK_TRI6 && s.nen == 6 && s.n_edges == 3);
+  const double centre[3] = {0, 0, 1};
+  double worst = 0.0, xi[2] = {1.0 / 3.0, 1.0 / 3.0};
+  for (int f = 0; f < s.n_faces; ++f) {
+    sk_surface_point p;
+    sk_surface_geometry(&s, f, xi, q, &p);
+    double out = 0.0, trace = 0.0;
+    for (int i = 0; i < 3; ++i) out += (p.x[i] - centre[i]) * p.n[i];
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) trace += p.m_inv[a][b] * p.h[a][b];
+    SK_CHECK(out > 0.9);
+    worst = fmax(worst, fabs(trace / 2.0 + 1.0));
+  }
+  printf("tet10 eighth sphere, %d tri6 faces: |m^ab h_ab / 2 + 1/R| <= %.3f\n", s.n_faces, worst);
+  SK_CHECK(worst < 0.05); /* measured 0.033 */
+  int border = 0;
+  for (int f = 0; f < s.n_faces; ++f)
+    for (int e = 0; e < 3; ++e) {
+      if (s.face_neighbors[f * 3 + e] >= 0) continue;
+      const double *a = mesh.x + 3 * s.conn[f * 6 + e], *b = mesh.x + 3 * s.conn[f * 6 + (e + 1) % 3];
+      /* a border edge lies in one of the cut planes x = 0, y = 0, z = 1 */
+      border += (fabs(a[0]) < 1e-9 && fabs(b[0]) < 1e-9) || (fabs(a[1]) < 1e-9 && fabs(b[1]) < 1e-9) ||
+                (fabs(a[2] - 1) < 1e-9 && fabs(b[2] - 1) < 1e-9);
+    }
+  SK_CHECK(border == border_edges(&s) && border > 0);
+  sk_surface_free(&s);
+  free(q);
+  sk_mesh_free(&mesh);
+}
+
 int main(void) {
+  build_quadratic_box(0);
+  build_quadratic_box(1);
+  build_quadratic_sphere();
   build_2d();
   build_3d();
   build_tet();

@@ -19,8 +19,39 @@ static inline double fe_rand(void) {
 }
 
 /* Solid element types per dimension. */
-static const sk_elem_type fe_solids_2d[] = {SK_TRI3, SK_QUAD4, SK_QUAD9};
-static const sk_elem_type fe_solids_3d[] = {SK_TET4, SK_HEX8, SK_HEX27};
+static const sk_elem_type fe_solids_2d[] = {SK_TRI3, SK_QUAD4, SK_TRI6, SK_QUAD8, SK_QUAD9};
+static const sk_elem_type fe_solids_3d[] = {SK_TET4, SK_HEX8, SK_TET10, SK_HEX20, SK_HEX27};
+enum { FE_N_SOLIDS = sizeof fe_solids_2d / sizeof fe_solids_2d[0] };
+
+/* 7-point Gauss-Legendre (degree 13): a reference rule independent of the library's 2-, 3- and 5-point ones. */
+static const double fe_gl7_x[7] = {-0.94910791234275849, -0.74153118559939446, -0.40584515137739718, 0.0,
+                                   0.40584515137739718,  0.74153118559939446,  0.94910791234275849};
+static const double fe_gl7_w[7] = {0.12948496616886968, 0.2797053914892767, 0.38183005050511903, 0.4179591836734694,
+                                   0.38183005050511903, 0.2797053914892767, 0.12948496616886968};
+
+/* Point q of a rich reference rule on the reference element of `type` (pdim 1..3): 7^pdim Gauss points on
+ * [-1,1]^pdim, on simplices collapsed (Duffy: x = u, y = v (1-u), z = w (1-u)(1-v)); exact for degree 13 per
+ * direction on lines/quads/hexes and total degree 11 on simplices. Returns 0 past the last point. */
+static inline int fe_reference_point(sk_elem_type type, int q, double *xi, double *w) {
+  const int pdim = sk_elem_pdim(type);
+  const int n = pdim == 1 ? 7 : pdim == 2 ? 49 : 343;
+  if (q >= n) return 0;
+  double remaining = 1.0;
+  *w = 1.0;
+  for (int k = 0, rest = q; k < pdim; ++k, rest /= 7) {
+    const double t = fe_gl7_x[rest % 7];
+    *w *= fe_gl7_w[rest % 7];
+    if (!sk_elem_is_simplex(type)) {
+      xi[k] = t;
+      continue;
+    }
+    const double s = 0.5 * (1.0 + t);
+    xi[k] = s * remaining;
+    *w *= 0.5 * remaining;
+    remaining *= 1.0 - s;
+  }
+  return 1;
+}
 
 /* A distorted element of `type` in dimension dim == pdim: the reference nodes scaled, sheared, shifted, then
  * every node perturbed by up to `perturb` (mid-nodes too: curved edges for quadratic elements). */
@@ -34,6 +65,16 @@ static inline void fe_distorted_element(sk_elem_type type, int dim, double pertu
       for (int k = 0; k < dim; ++k) x += affine[i * 3 + k] * xi[a * dim + k];
       X[a * dim + i] = x + perturb * fe_rand();
     }
+}
+
+/* The element rule integrates det J exactly on every test element except a curved tet10: there det J is cubic and the
+ * 4-point rule (degree 2, the standard full integration of tet10) is not exact, so identities that need the exact
+ * volume (energy = volume * W, patch tests) use a tet10 with straight edges: edge nodes at their corners' mean. */
+static inline void fe_straighten_tet10(sk_elem_type type, int dim, double *X) {
+  static const int edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {2, 3}, {1, 3}};
+  if (type != SK_TET10) return;
+  for (int e = 0; e < 6; ++e)
+    for (int i = 0; i < dim; ++i) X[(4 + e) * dim + i] = 0.5 * (X[edges[e][0] * dim + i] + X[edges[e][1] * dim + i]);
 }
 
 /* A random deformation gradient F = I + scale * random (det F > 0 for scale <= 0.3), 3x3 (plane: F33 = 1,

@@ -1,4 +1,5 @@
-/* Element catalogue: shape functions (partition of unity, Kronecker property, linear completeness), derivative
+/* Element catalogue: shape functions (partition of unity, Kronecker property, linear and, for quadratic elements,
+ * quadratic completeness), derivative
  * and Hessian finite-difference checks, quadrature exactness, face tables (on the boundary, outward, and the
  * divergence theorem reproducing the element volume). */
 #include "fe_test_util.h"
@@ -7,7 +8,7 @@
 /* A random point inside the reference element. */
 static void random_point(sk_elem_type type, double *xi) {
   const int pdim = sk_elem_pdim(type);
-  if (type == SK_TRI3 || type == SK_TET4) {
+  if (sk_elem_is_simplex(type)) {
     double sum = 0.0;
     for (int k = 0; k < pdim; ++k) sum += (xi[k] = 0.5 * (fe_rand() + 1.0));
     for (int k = 0; k < pdim; ++k) xi[k] *= 0.9 / fmax(sum, 0.9); /* inside the simplex */
@@ -71,6 +72,18 @@ static void check_shapes(sk_elem_type type) {
     SK_CHECK(worst_d < 1e-8);
     SK_CHECK(worst_dd < 1e-8);
     SK_CHECK(hess_sym < 1e-14);
+    /* Quadratic elements reproduce every quadratic polynomial (serendipity ones too): sum N_a p(xi_a) = p(xi) for
+     * the monomials xi_k xi_l, which catches a wrong edge function or a mid-node out of place. */
+    if (sk_elem_order(type) == 2) {
+      double worst_q = 0.0;
+      for (int k = 0; k < pdim; ++k)
+        for (int l = k; l < pdim; ++l) {
+          double p = 0.0;
+          for (int a = 0; a < nen; ++a) p += N[a] * node_xi[a * pdim + k] * node_xi[a * pdim + l];
+          worst_q = fmax(worst_q, fabs(p - xi[k] * xi[l]));
+        }
+      SK_CHECK(worst_q < 1e-14);
+    }
     if (trial == 0) printf("  %-6s FD error: dN %.2e  ddN %.2e\n", sk_elem_name(type), worst_d, worst_dd);
   }
 }
@@ -80,7 +93,7 @@ static double factorial(int n) { return n <= 1 ? 1.0 : n * factorial(n - 1); }
 /* Exact integral of xi^p eta^q zeta^r over the reference element. */
 static double exact_monomial(sk_elem_type type, const int *e) {
   const int pdim = sk_elem_pdim(type);
-  if (type == SK_TRI3 || type == SK_TET4) {
+  if (sk_elem_is_simplex(type)) {
     double num = 1.0;
     int total = 0;
     for (int k = 0; k < pdim; ++k) num *= factorial(e[k]), total += e[k];
@@ -97,10 +110,10 @@ static void check_quadrature(sk_elem_type type) {
   const double *xi, *w;
   sk_elem_quadrature(type, &n, &xi, &w);
   SK_CHECK(n >= 1 && n <= SK_MAX_QP);
-  const int simplex = type == SK_TRI3 || type == SK_TET4;
-  const int quadratic = type == SK_LINE3 || type == SK_QUAD9 || type == SK_HEX27;
-  /* Gauss with 2 (3) points per direction: every monomial of degree <= 3 (5) per direction; simplices: total
-   * degree <= 2. One degree more must fail somewhere (the rule is no richer than documented). */
+  const int simplex = sk_elem_is_simplex(type);
+  const int quadratic = sk_elem_order(type) == 2;
+  /* Gauss with 2 (3) points per direction: every monomial of degree <= 3 (5) per direction; simplices (tri6 and
+   * tet10 too): total degree <= 2. One degree more must fail somewhere (the rule is no richer than documented). */
   const int max_deg = simplex ? 2 : quadratic ? 5 : 3;
   int e[3] = {0, 0, 0}, exact_all = 1, beyond_exact = 1;
   const int range = max_deg + 2;
@@ -123,7 +136,7 @@ static void check_quadrature(sk_elem_type type) {
   SK_CHECK(!beyond_exact);
   double volume = 0.0;
   for (int q = 0; q < n; ++q) volume += w[q];
-  const double ref_volume = type == SK_TRI3 ? 0.5 : type == SK_TET4 ? 1.0 / 6.0 : pow(2.0, pdim);
+  const double ref_volume = simplex ? (pdim == 2 ? 0.5 : 1.0 / 6.0) : pow(2.0, pdim);
   SK_CHECK_CLOSE(volume, ref_volume, 1e-15);
 }
 
@@ -152,7 +165,7 @@ static void check_faces(sk_elem_type type) {
   const int *faces;
   int fnen;
   const int nf = sk_elem_faces(type, &face_type, &faces, &fnen);
-  SK_CHECK(nf == (type == SK_TRI3 ? 3 : type == SK_QUAD4 || type == SK_QUAD9 || type == SK_TET4 ? 4 : 6));
+  SK_CHECK(nf == (dim == 2 ? sk_elem_corners(type) : sk_elem_is_simplex(type) ? 4 : 6));
   SK_CHECK(fnen == sk_elem_nen(face_type));
   SK_CHECK(sk_elem_pdim(face_type) == dim - 1);
   const double *node_xi = sk_elem_node_coords(type);
@@ -174,8 +187,8 @@ static void check_faces(sk_elem_type type) {
       double N[SK_MAX_NEN];
       sk_elem_shape(face_type, fxi + b * (dim - 1), N, NULL);
       /* Map through the face's corner nodes only (linear part), compare with the node's coordinates. */
-      const int ncorner = dim == 2 ? 2 : (face_type == SK_TRI3 ? 3 : 4);
-      sk_elem_type corner_type = dim == 2 ? SK_LINE2 : (face_type == SK_TRI3 ? SK_TRI3 : SK_QUAD4);
+      const int ncorner = sk_elem_corners(face_type);
+      sk_elem_type corner_type = dim == 2 ? SK_LINE2 : (sk_elem_is_simplex(face_type) ? SK_TRI3 : SK_QUAD4);
       double Nc[4];
       sk_elem_shape(corner_type, fxi + b * (dim - 1), Nc, NULL);
       for (int k = 0; k < dim; ++k) {
@@ -185,7 +198,8 @@ static void check_faces(sk_elem_type type) {
       }
     }
     SK_CHECK(worst < 1e-14);
-    double mid[2] = {face_type == SK_TRI3 ? 1.0 / 3.0 : 0.0, face_type == SK_TRI3 ? 1.0 / 3.0 : 0.0};
+    const double centre_xi = sk_elem_is_simplex(face_type) ? 1.0 / 3.0 : 0.0;
+    double mid[2] = {centre_xi, centre_xi};
     face_normal(face_type, dim, Xf, mid, n);
     double outward = 0.0;
     for (int k = 0; k < dim; ++k) outward += n[k] * (fc[k] - centre[k]);
@@ -194,21 +208,18 @@ static void check_faces(sk_elem_type type) {
   /* Divergence theorem on a distorted element. */
   double X[SK_MAX_NEN * 3];
   fe_distorted_element(type, dim, 0.08, X);
-  double flux = 0.0;
-  int nq;
-  const double *qxi, *qw;
-  sk_elem_quadrature(face_type, &nq, &qxi, &qw);
+  double flux = 0.0, s[2], w;
   for (int f = 0; f < nf; ++f) {
     double Xf[SK_MAX_NEN * 3];
     for (int b = 0; b < fnen; ++b)
       for (int k = 0; k < dim; ++k) Xf[b * dim + k] = X[faces[f * fnen + b] * dim + k];
-    for (int q = 0; q < nq; ++q) {
+    for (int q = 0; fe_reference_point(face_type, q, s, &w); ++q) { /* X.n is of degree 4 on a curved tri6 */
       double N[SK_MAX_NEN], n[3], x[3] = {0, 0, 0};
-      sk_elem_shape(face_type, qxi + q * (dim - 1), N, NULL);
-      face_normal(face_type, dim, Xf, qxi + q * (dim - 1), n);
+      sk_elem_shape(face_type, s, N, NULL);
+      face_normal(face_type, dim, Xf, s, n);
       for (int b = 0; b < fnen; ++b)
         for (int k = 0; k < dim; ++k) x[k] += N[b] * Xf[b * dim + k];
-      for (int k = 0; k < dim; ++k) flux += qw[q] * x[k] * n[k] / dim;
+      for (int k = 0; k < dim; ++k) flux += w * x[k] * n[k] / dim;
     }
   }
   static const sk_material dummy = {SK_MAT_SVK, 1, 0, 0, 0.5, 1};
@@ -220,14 +231,16 @@ static void check_faces(sk_elem_type type) {
 }
 
 int main(void) {
-  static const char *const names[SK_ELEM_TYPE_COUNT] = {"point1", "line2", "line3", "tri3", "quad4",
-                                                       "quad9",  "tet4",  "hex8",  "hex27"};
-  static const int nens[SK_ELEM_TYPE_COUNT] = {1, 2, 3, 3, 4, 9, 4, 8, 27};
-  static const int pdims[SK_ELEM_TYPE_COUNT] = {0, 1, 1, 2, 2, 2, 3, 3, 3};
+  static const char *const names[SK_ELEM_TYPE_COUNT] = {"point1", "line2", "line3", "tri3",  "quad4", "quad9", "tet4",
+                                                       "hex8",   "hex27", "tri6",  "quad8", "tet10", "hex20"};
+  static const int nens[SK_ELEM_TYPE_COUNT] = {1, 2, 3, 3, 4, 9, 4, 8, 27, 6, 8, 10, 20};
+  static const int pdims[SK_ELEM_TYPE_COUNT] = {0, 1, 1, 2, 2, 2, 3, 3, 3, 2, 2, 3, 3};
+  static const int orders[SK_ELEM_TYPE_COUNT] = {0, 1, 2, 1, 1, 2, 1, 1, 2, 2, 2, 2, 2};
   for (int t = 0; t < SK_ELEM_TYPE_COUNT; ++t) {
     SK_CHECK(strcmp(sk_elem_name((sk_elem_type)t), names[t]) == 0);
     SK_CHECK(sk_elem_nen((sk_elem_type)t) == nens[t]);
     SK_CHECK(sk_elem_pdim((sk_elem_type)t) == pdims[t]);
+    SK_CHECK(sk_elem_order((sk_elem_type)t) == orders[t]);
   }
   /* Out-of-range types are rejected, not dereferenced. */
   SK_CHECK(sk_elem_nen(SK_ELEM_TYPE_COUNT) == 0);

@@ -6,7 +6,7 @@
 #include "sk_test.h"
 
 int main(void) {
-  static const int gmsh_type[SK_ELEM_TYPE_COUNT] = {15, 1, 8, 2, 3, 10, 4, 5, 12};
+  static const int gmsh_type[SK_ELEM_TYPE_COUNT] = {15, 1, 8, 2, 3, 10, 4, 5, 12, 9, 16, 11, 17};
   int ierr = 0;
   gmshInitialize(0, NULL, 0, &ierr);
   SK_CHECK(ierr == 0);

@@ -114,7 +114,8 @@ int main(void) {
   for (int m = SK_MAT_HOOKE; m < SK_MAT_MODEL_COUNT; ++m)
     if (sk_material_init(&materials[m], (sk_material_model)m, 100.0, 0.3, 1.0) != SK_OK) return 1;
   for (int dim = 2; dim <= 3; ++dim)
-    for (int t = 0; t < 3; ++t)
-      for (int m = 0; m < SK_MAT_MODEL_COUNT; ++m) check_midpoint(dim == 2 ? fe_solids_2d[t] : fe_solids_3d[t], dim, &materials[m]);
+    for (int t = 0; t < FE_N_SOLIDS; ++t)
+      for (int m = 0; m < SK_MAT_MODEL_COUNT; ++m)
+        check_midpoint(dim == 2 ? fe_solids_2d[t] : fe_solids_3d[t], dim, &materials[m]);
   return sk_test_finish("fe_midpoint");
 }

@@ -21,17 +21,22 @@ static double uniform_energy(const sk_material *mat, const double F[9]) {
   return W;
 }
 
-/* Single distorted element under u = A X: W = volume * W(C); f vs dW/du and K vs df/du by central differences. */
+/* Single distorted element under u = A X: W = volume * W(C); f vs dW/du and K vs df/du by central differences
+ * (on a curved element: the mid-nodes are perturbed too). */
 static void check_element(sk_elem_type type, int dim, const sk_material *mat) {
   const int nen = sk_elem_nen(type), ndof = nen * dim;
   const sk_solid el = {type, dim, mat};
   double X[SK_MAX_NEN * 3], u[SK_MAX_NEN * 3], F[9], W;
   fe_distorted_element(type, dim, 0.08, X);
+  double Xs[SK_MAX_NEN * 3];
+  memcpy(Xs, X, sizeof Xs);
+  fe_straighten_tet10(type, dim, Xs);
   fe_random_gradient(dim, 0.25, F);
-  fe_linear_displacement(dim, nen, F, X, u);
-  SK_CHECK(sk_solid_internal(&el, X, u, &W, NULL, NULL) == SK_OK);
+  fe_linear_displacement(dim, nen, F, Xs, u);
+  SK_CHECK(sk_solid_internal(&el, Xs, u, &W, NULL, NULL) == SK_OK);
+  SK_CHECK_CLOSE(W, sk_solid_volume(&el, Xs) * uniform_energy(mat, F), 1e-12 * fabs(W));
   const double volume = sk_solid_volume(&el, X);
-  SK_CHECK_CLOSE(W, volume * uniform_energy(mat, F), 1e-12 * fabs(W));
+  fe_linear_displacement(dim, nen, F, X, u);
 
   /* A non-uniform finite deformation. */
   for (int i = 0; i < ndof; ++i) u[i] += 0.03 * fe_rand();
@@ -116,10 +121,34 @@ static double signed_volume(int dim, const double *X, const int *nodes) {
          a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
 }
 
+/* Appends a simplex on the lattice from its corner lattice coordinates; quadratic simplices get their edge nodes at
+ * the lattice points halfway (corners lie on even lattice coordinates). Positively oriented. */
+static void add_simplex(sk_elem_type type, int dim, patch *p, int corners[4][3]) {
+  int *conn = p->conn + p->n_elems++ * p->nen;
+  for (int a = 0; a <= dim; ++a) conn[a] = lattice_id(dim, corners[a]);
+  if (signed_volume(dim, p->X, conn) < 0.0)
+    for (int i = 0; i < 3; ++i) {
+      const int swap = corners[1][i];
+      corners[1][i] = corners[2][i], corners[2][i] = swap;
+    }
+  for (int a = 0; a <= dim; ++a) conn[a] = lattice_id(dim, corners[a]);
+  if (sk_elem_order(type) < 2) return;
+  const double *xi = sk_elem_node_coords(type);
+  for (int a = dim + 1; a < p->nen; ++a) { /* edge node: the mean of the two corners its coordinates name */
+    int l[3] = {0, 0, 0};
+    double bary[4] = {1.0, 0, 0, 0};
+    for (int k = 0; k < dim; ++k) bary[0] -= xi[a * dim + k], bary[k + 1] = xi[a * dim + k];
+    for (int c = 0; c <= dim; ++c)
+      for (int i = 0; i < dim; ++i) l[i] += (int)lround(bary[c] * 2.0) * corners[c][i];
+    for (int i = 0; i < dim; ++i) l[i] /= 2;
+    conn[a] = lattice_id(dim, l);
+  }
+}
+
 /* PATCH_CELLS^dim unit cells on a lattice of half-unit spacing; simplices split each cell (2 triangles, 6 Kuhn
  * tetrahedra). Every node is perturbed, so elements are distorted and quadratic edges curved. */
 static void build_patch(sk_elem_type type, int dim, patch *p) {
-  const int nen = sk_elem_nen(type), simplex = type == SK_TRI3 || type == SK_TET4;
+  const int nen = sk_elem_nen(type), simplex = sk_elem_is_simplex(type);
   const int n_lattice = dim == 2 ? LATTICE * LATTICE : LATTICE * LATTICE * LATTICE;
   for (int n = 0; n < n_lattice; ++n) {
     int rest = n;
@@ -145,26 +174,25 @@ static void build_patch(sk_elem_type type, int dim, patch *p) {
       continue;
     }
     if (dim == 2) {
-      int c[4], l[3];
       static const int corner[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
-      for (int k = 0; k < 4; ++k) l[0] = origin[0] + corner[k][0], l[1] = origin[1] + corner[k][1], c[k] = lattice_id(2, l);
-      const int tris[2][3] = {{c[0], c[1], c[2]}, {c[0], c[2], c[3]}};
-      for (int t = 0; t < 2; ++t) memcpy(p->conn + p->n_elems++ * 3, tris[t], sizeof tris[t]);
+      static const int tris[2][3] = {{0, 1, 2}, {0, 2, 3}};
+      for (int t = 0; t < 2; ++t) {
+        int c[4][3] = {{0}};
+        for (int k = 0; k < 3; ++k)
+          for (int i = 0; i < 2; ++i) c[k][i] = origin[i] + corner[tris[t][k]][i];
+        add_simplex(type, 2, p, c);
+      }
       continue;
     }
     static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
     for (int t = 0; t < 6; ++t) {
-      int l[3] = {origin[0], origin[1], origin[2]};
-      int *conn = p->conn + p->n_elems++ * 4;
-      conn[0] = lattice_id(3, l);
+      int c[4][3];
+      memcpy(c[0], origin, sizeof c[0]);
       for (int k = 0; k < 3; ++k) {
-        l[perms[t][k]] += 2;
-        conn[k + 1] = lattice_id(3, l);
+        memcpy(c[k + 1], c[k], sizeof c[k]);
+        c[k + 1][perms[t][k]] += 2;
       }
-      if (signed_volume(3, p->X, conn) < 0.0) {
-        const int swap = conn[1];
-        conn[1] = conn[2], conn[2] = swap;
-      }
+      add_simplex(type, 3, p, c);
     }
   }
 }
@@ -180,6 +208,12 @@ static int patch_interior(int dim, int node) {
 static void check_patch(sk_elem_type type, int dim, const sk_material *mat) {
   static patch p;
   build_patch(type, dim, &p);
+  for (int e = 0; type == SK_TET10 && e < p.n_elems; ++e) { /* straight edges (fe_straighten_tet10) */
+    double Xe[10 * 3];
+    for (int a = 0; a < 10; ++a) memcpy(Xe + 3 * a, p.X + 3 * p.conn[e * 10 + a], 3 * sizeof *Xe);
+    fe_straighten_tet10(type, 3, Xe);
+    for (int a = 4; a < 10; ++a) memcpy(p.X + 3 * p.conn[e * 10 + a], Xe + 3 * a, 3 * sizeof *Xe);
+  }
   const int n_nodes = dim == 2 ? LATTICE * LATTICE : LATTICE * LATTICE * LATTICE;
   const sk_solid el = {type, dim, mat};
   double F[9], u_all[MAX_PATCH_NODES * 3], f_all[MAX_PATCH_NODES * 3] = {0}, W_total = 0.0, volume = 0.0;
@@ -218,18 +252,14 @@ static void check_patch(sk_elem_type type, int dim, const sk_material *mat) {
 }
 
 /* ---- mass ----------------------------------------------------------------------------------------------------- */
-static const double gl5_x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
-static const double gl5_w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-                                0.2369268850561891};
-
-/* integral X X^T and volume over a tensor-product element by 5-point Gauss (exact for the test elements). */
-static void tensor_inertia(sk_elem_type type, int dim, const double *X, double *inertia, double *volume) {
-  const int nen = sk_elem_nen(type), n = dim == 2 ? 25 : 125;
+/* integral X X^T and volume over an element by the test's reference rule (exact for the test elements). */
+static void reference_inertia(sk_elem_type type, int dim, const double *X, double *inertia, double *volume) {
+  const int nen = sk_elem_nen(type);
   memset(inertia, 0, 9 * sizeof *inertia);
   *volume = 0.0;
-  for (int q = 0; q < n; ++q) {
-    double xi[3], w = 1.0, N[SK_MAX_NEN], dN[SK_MAX_NEN * 3], J[9] = {0}, x[3] = {0, 0, 0};
-    for (int k = 0, rest = q; k < dim; ++k, rest /= 5) xi[k] = gl5_x[rest % 5], w *= gl5_w[rest % 5];
+  double xi[3], w;
+  for (int q = 0; fe_reference_point(type, q, xi, &w); ++q) {
+    double N[SK_MAX_NEN], dN[SK_MAX_NEN * 3], J[9] = {0}, x[3] = {0, 0, 0};
     sk_elem_shape(type, xi, N, dN);
     for (int a = 0; a < nen; ++a)
       for (int i = 0; i < dim; ++i) {
@@ -266,7 +296,7 @@ static void check_mass(sk_elem_type type, int dim) {
         exact[i * 3 + j] = volume * s / ((dim + 1) * (dim + 2));
       }
   } else {
-    tensor_inertia(type, dim, X, exact, &volume);
+    reference_inertia(type, dim, X, exact, &volume);
   }
   double total = 0.0, inertia[9] = {0}, asym = 0.0;
   for (int a = 0; a < nen; ++a)
@@ -375,6 +405,42 @@ static void check_faces(void) {
   SK_CHECK(sk_face_area(SK_QUAD4, 3, NULL) == 0.0);
 }
 
+/* Face weights w_a = integral N_a dA on curved, distorted faces of every face type in 2D and 3D: they sum to the
+ * area, and their derivatives with respect to the node positions (loads that follow the current area) against
+ * central differences. */
+static void check_face_weights(void) {
+  static const sk_elem_type faces[] = {SK_LINE2, SK_LINE3, SK_TRI3, SK_TRI6, SK_QUAD4, SK_QUAD8, SK_QUAD9};
+  for (int t = 0; t < 7; ++t) {
+    const sk_elem_type type = faces[t];
+    const int pdim = sk_elem_pdim(type), dim = pdim + 1, nen = sk_elem_nen(type), ndof = nen * dim;
+    const double *xi = sk_elem_node_coords(type);
+    double X[SK_MAX_NEN * 3], w[SK_MAX_NEN], wp[SK_MAX_NEN], wm[SK_MAX_NEN], dw[SK_MAX_NEN * SK_MAX_NEN * 3];
+    for (int a = 0; a < nen; ++a) { /* a bent, sheared face: the last coordinate a quadratic of the first ones */
+      double s = xi[a * pdim], r = pdim == 2 ? xi[a * pdim + 1] : 0.0;
+      X[a * dim] = 1.2 * s + 0.2 * r + 0.05 * fe_rand();
+      if (pdim == 2) X[a * dim + 1] = 0.9 * r - 0.1 * s + 0.05 * fe_rand();
+      X[a * dim + dim - 1] = 0.3 * s * s - 0.2 * r * r + 0.1 * s * r + 0.05 * fe_rand();
+    }
+    sk_face_weights(type, dim, X, w, dw);
+    double sum = 0.0;
+    for (int a = 0; a < nen; ++a) sum += w[a];
+    SK_CHECK_CLOSE(sum, sk_face_area(type, dim, X), 1e-14);
+    const double h = 1e-6;
+    double err = 0.0, scale = fe_max_abs(dw, nen * ndof);
+    for (int c = 0; c < ndof; ++c) {
+      const double keep = X[c];
+      X[c] = keep + h;
+      sk_face_weights(type, dim, X, wp, NULL);
+      X[c] = keep - h;
+      sk_face_weights(type, dim, X, wm, NULL);
+      X[c] = keep;
+      for (int a = 0; a < nen; ++a) err = fmax(err, fabs((wp[a] - wm[a]) / (2 * h) - dw[a * ndof + c]) / scale);
+    }
+    printf("  face weights %-5s area %.6f, relative FD error of dw/dX %.1e\n", sk_elem_name(type), sum, err);
+    SK_CHECK(err < 1e-8);
+  }
+}
+
 static void check_bad_input(void) {
   double X[8 * 3], u[8 * 3] = {0}, f[8 * 3], M[64];
   fe_distorted_element(SK_HEX8, 3, 0.05, X);
@@ -406,18 +472,19 @@ int main(void) {
   for (int m = SK_MAT_HOOKE; m < SK_MAT_MODEL_COUNT; ++m)
     if (sk_material_init(&materials[m], (sk_material_model)m, 100.0, 0.3, 1.0) != SK_OK) return 1;
   for (int dim = 2; dim <= 3; ++dim)
-    for (int t = 0; t < 3; ++t)
+    for (int t = 0; t < FE_N_SOLIDS; ++t)
       for (int m = 0; m < SK_MAT_MODEL_COUNT; ++m) {
         const sk_elem_type type = dim == 2 ? fe_solids_2d[t] : fe_solids_3d[t];
         check_element(type, dim, &materials[m]);
         check_patch(type, dim, &materials[m]);
       }
-  for (int t = 0; t < 3; ++t) {
+  for (int t = 0; t < FE_N_SOLIDS; ++t) {
     check_mass(fe_solids_2d[t], 2);
     check_mass(fe_solids_3d[t], 3);
   }
   check_cauchy();
   check_faces();
+  check_face_weights();
   check_bad_input();
   return sk_test_finish("fe_solid");
 }

@@ -3,7 +3,8 @@
  * derivative of the residual (central differences of the assembled operator, inside the declared pattern) for
  * LINE2/LINE3, QUAD4 (warped, a point near an edge), QUAD9 (curved) masters and for plane/sphere/parabolic-cylinder/
  * circle obstacles; friction stick and slip tangents with committed history; force and moment balance; frame
- * indifference; the return map; parameter errors; tributary areas. */
+ * indifference; the return map; parameter errors; tributary areas; TRI6 faces (curved master, slave with the
+ * modified-basis weights and the lumped pressure recovery) and the QUAD8 slave refusal. */
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -917,6 +918,125 @@ static void test_kinked_master_selection(void) {
   scene_destroy(&s);
 }
 
+/* ---- quadratic faces ------------------------------------------------------------------------------------------ */
+static const double tri6_xi[6][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
+
+/* A curved TRI6 master under a TRI3 slave: residual = energy gradient and Jacobian = its derivative, frictionless and
+ * with friction (the curvature h_ab and the Christoffel symbols of the quadratic face enter both). */
+static void test_tri6_master(void) {
+  double X[9 * 3];
+  for (int a = 0; a < 6; ++a) {
+    const double x = 2.0 * tri6_xi[a][0], y = 2.0 * tri6_xi[a][1];
+    X[3 * a] = x, X[3 * a + 1] = y, X[3 * a + 2] = 0.15 * x * x - 0.1 * y * y + 0.05 * x * y;
+  }
+  const double slave_x[3][3] = {{0.3, 0.3, 0.02}, {1.1, 0.4, 0.1}, {0.4, 1.1, -0.05}};
+  for (int a = 0; a < 3; ++a) memcpy(X + 3 * (6 + a), slave_x[a], sizeof slave_x[a]);
+  const int master[] = {0, 1, 2, 3, 4, 5}, slave[] = {6, 8, 7};
+  for (int friction = 0; friction <= 1; ++friction) {
+    scene s;
+    scene_init(&s, 3, 9, X);
+    scene_master(&s, SK_TRI6, 6, 1, master);
+    scene_slave(&s, SK_TRI3, 3, 1, slave);
+    scene_param(&s, "penalty", 2e3);
+    scene_param(&s, "area_weighted", 0);
+    if (friction) scene_param(&s, "mu", 0.3), scene_param(&s, "penalty_tangential", 1e3);
+    SK_CHECK(scene_create(&s) == SK_OK);
+    double q1[27];
+    memcpy(q1, X, sizeof q1);
+    for (int a = 6; a < 9; ++a) q1[3 * a] += 0.01, q1[3 * a + 2] -= 0.03;
+    q1[3 * 4 + 2] += 0.02; /* the master's edge node rises: the face bends during the step */
+    test_step st = make_state(&s, X, q1, 0.0, 1.0);
+    SK_CHECK(scene_begin(&s, &st) == SK_OK);
+    point_list list;
+    points_at(&s, &st, q1, &list);
+    SK_CHECK(count_state(&list, 0) == 0);
+    if (!friction) check_residual_is_energy_gradient(&s, &st, 2e3, "3D tri6 curved master frictionless");
+    const char *label = friction ? "3D tri6 curved master friction" : "3D tri6 curved master frictionless";
+    check_jacobian_is_residual_derivative(&s, &st, label);
+    scene_destroy(&s);
+  }
+}
+
+/* A flat TRI6 slave (legs 2, area 2) over a flat QUAD4 master, area weighted. Weights of the modified basis: 2/15 of
+ * the area at the corners, 1/5 at the edge nodes. With the corners touching and the edge nodes penetrating so that
+ * their forces are the consistent loads of a uniform pressure p (0 at corners, A/3 at edge nodes), every node reports
+ * p through the lumped recovery, where the plain force / weight would give 0 and 5/3 p. The Jacobian of the slave
+ * (all six nodes active) is checked by central differences. */
+static void test_tri6_slave(void) {
+  const double eps = 1e3, p = 2.0, A = 2.0;
+  double X[10 * 3];
+  const double square[4][2] = {{-1, -1}, {3, -1}, {3, 3}, {-1, 3}};
+  for (int a = 0; a < 4; ++a) X[3 * a] = square[a][0], X[3 * a + 1] = square[a][1], X[3 * a + 2] = 0.0;
+  for (int a = 0; a < 6; ++a) {
+    double *x = X + 3 * (4 + a);
+    x[0] = 2.0 * tri6_xi[a][0], x[1] = 2.0 * tri6_xi[a][1], x[2] = 0.0; /* flat in the reference: weights exact */
+  }
+  double q0[30];
+  memcpy(q0, X, sizeof q0);
+  for (int a = 3; a < 6; ++a) q0[3 * (4 + a) + 2] = -p * (A / 3.0) / (eps * A / 5.0);
+  const int master[] = {0, 1, 2, 3}, slave[] = {4, 6, 5, 9, 8, 7}; /* clockwise seen from above: normal -z */
+  scene s;
+  scene_init(&s, 3, 10, X);
+  scene_master(&s, SK_QUAD4, 4, 1, master);
+  scene_slave(&s, SK_TRI6, 6, 1, slave);
+  scene_param(&s, "penalty", eps);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  test_step st = make_state(&s, s.X, q0, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
+  double F[MAX_DOFS];
+  residual_at(&s, &st, q0, F);
+  double total = 0.0;
+  for (int a = 0; a < 6; ++a) {
+    const double expected = a < 3 ? 0.0 : p * A / 3.0; /* force on the slave node, +z */
+    SK_CHECK_CLOSE(-F[(4 + a) * 3 + 2], expected, 1e-12);
+    total += -F[(4 + a) * 3 + 2];
+  }
+  SK_CHECK_CLOSE(total, p * A, 1e-12);
+  point_list list;
+  points_at(&s, &st, q0, &list);
+  SK_CHECK(list.n == 6);
+  for (int i = 0; i < list.n; ++i) SK_CHECK_CLOSE(list.p[i].pressure, p, 1e-12);
+  /* All nodes penetrating (no node at the kink of the penalty): the Jacobian by central differences. */
+  double q[30];
+  memcpy(q, X, sizeof q);
+  for (int a = 0; a < 6; ++a) q[3 * (4 + a) + 2] -= 0.002 * (1 + a);
+  test_step moved = make_state(&s, s.X, q, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &moved) == SK_OK);
+  check_jacobian_is_residual_derivative(&s, &moved, "3D tri6 slave area weighted");
+  scene_destroy(&s);
+}
+
+/* QUAD8 slave faces are refused with a message that names the way out; as a master QUAD8 works. */
+static void test_quad8_slave_refused(void) {
+  double X[12 * 3] = {0};
+  const double quad8_xi[8][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+  for (int a = 0; a < 8; ++a) X[3 * a] = quad8_xi[a][0], X[3 * a + 1] = quad8_xi[a][1];
+  for (int a = 0; a < 4; ++a) X[3 * (8 + a)] = 0.5 * quad8_xi[a][0], X[3 * (8 + a) + 1] = 0.5 * quad8_xi[a][1],
+                              X[3 * (8 + a) + 2] = 0.01;
+  const int quad8[] = {0, 1, 2, 3, 4, 5, 6, 7}, quad4[] = {8, 11, 10, 9};
+  scene s;
+  scene_init(&s, 3, 12, X);
+  scene_master(&s, SK_QUAD4, 4, 1, quad4);
+  scene_slave(&s, SK_QUAD8, 8, 1, quad8);
+  scene_param(&s, "penalty", 1e3);
+  SK_CHECK(scene_create(&s) == SK_ERR_INPUT);
+  SK_CHECK(strstr(sk_error_message(), "QUAD8") != NULL && strstr(sk_error_message(), "hex27") != NULL);
+  scene_destroy(&s);
+  scene_init(&s, 3, 12, X);
+  scene_master(&s, SK_QUAD8, 8, 1, quad8);
+  scene_slave(&s, SK_QUAD4, 4, 1, quad4);
+  scene_param(&s, "penalty", 1e3);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  double q[36];
+  memcpy(q, X, sizeof q);
+  for (int a = 8; a < 12; ++a) q[3 * a + 2] = -0.01 - 0.001 * a;
+  test_step st = make_state(&s, X, q, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
+  check_jacobian_is_residual_derivative(&s, &st, "3D quad8 master");
+  scene_destroy(&s);
+}
+
 int main(void) {
   test_line2_frictionless();
   test_line3_frictionless();
@@ -933,5 +1053,8 @@ int main(void) {
   test_kinked_master_selection();
   test_parameter_errors();
   test_reject_keeps_history();
+  test_tri6_master();
+  test_tri6_slave();
+  test_quad8_slave_refused();
   return sk_test_finish("penalty-nts");
 }

@@ -1,0 +1,62 @@
+"""Hertz benchmark cases (2D cylinder, 3D sphere) per element type and plugin: one run of the driver with its cost
+(unknowns, wall and CPU time, peak memory) and its errors against Hertz's closed forms (tests/validation/
+hertz_profile.py defines them)."""
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
+sys.path.insert(0, os.path.join(ROOT, "tests", "validation"))
+from hertz_profile import PROFILE_RANGE, hertz_reference, profile_errors  # noqa: E402,F401
+from stickslip_results import Results  # noqa: E402
+from test_contact_scenes import reference_points  # noqa: E402
+
+# element label -> (dimension, scene, --set overrides); quadratic elements are the linear mesh made second order.
+ELEMENTS = {
+    "tri3": (2, "scenes/hertz-2d.yaml", ["mesh.parameters.quads=0"]),
+    "quad4": (2, "scenes/hertz-2d.yaml", []),
+    "tri6": (2, "scenes/hertz-2d.yaml", ["mesh.parameters.quads=0", "mesh.order=2"]),
+    "quad9": (2, "scenes/hertz-2d.yaml", ["mesh.order=2"]),
+    "tet4": (3, "scenes/hertz-3d.yaml", []),
+    "tet10": (3, "scenes/hertz-3d.yaml", ["mesh.order=2"]),
+    "hex8": (3, "scenes/hertz-3d-hex.yaml", []),
+    "hex27": (3, "scenes/hertz-3d-hex.yaml", ["mesh.order=2"]),
+}
+
+
+def run_timed(scene, sets, out):
+    """Runs the driver (one rank, one thread for BLAS/OpenMP so that CPU time means one core); returns (Results,
+    user + system CPU seconds, peak resident memory in MiB) of that child process alone."""
+    binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
+    command = [binary, "run", os.path.join(ROOT, scene), "--out", out, "--quiet"]
+    for s in sets:
+        command += ["--set", s]
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    stderr = proc.stderr.read()
+    if proc.returncode != 0:
+        raise RuntimeError("run failed (%d): %s\n%s" % (proc.returncode, " ".join(command), stderr))
+    return Results(out), usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
+
+
+def run_case(element, plugin, refine, keep=None):
+    """One benchmark run: a dict of cost and errors, and the profile [(r/a, p/p0)] at reference positions."""
+    dim, scene, sets = ELEMENTS[element]
+    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"]
+    if plugin != "penalty-nts":
+        sets += ["contact.0.plugin=%s" % plugin, "contact.0.parameters={}"]
+    out = keep or os.path.join(tempfile.mkdtemp(prefix="stickslip-bench-hertz-"), "results")
+    results, cpu, rss = run_timed(scene, sets, out)
+    load, a, p0 = hertz_reference(dim, results)
+    points = reference_points(results, radial=dim == 3)
+    row = {"dim": dim, "element": element, "plugin": plugin, "refine": refine,
+           "unknowns": int(results.summary["unknowns"]), "newton": int(results.summary["newton_iterations"]),
+           "wall": results.summary["wall_seconds"], "cpu": cpu, "rss_mib": rss, "load": load, "a_exact": a}
+    row.update(profile_errors(points, a, p0))
+    profile = [(r / a, p / p0) for r, p, g, n in points if not math.isnan(g) and r <= 2.0 * a]
+    return row, profile
