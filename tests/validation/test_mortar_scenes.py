@@ -234,14 +234,46 @@ def mortar_ironing_2d(c):
     c.check(0.52 <= min(ratios) and max(ratios) <= 0.56, "F_x / F_y in [%.4f, %.4f]" % (min(ratios), max(ratios)))
 
 
+def mortar_condensed(c):
+    """Strategy condensed (the host eliminates z on the assembled operator through stickslip.condense) against
+    saddle-point: the same histories to round-off on the 2D patch test (refine 1, 2: a roller fixes x at one slave
+    node, whose z_x stays an unknown of the condensed system: 67 = 66 + 1 unknowns at refine 1), the 3D patch test
+    (hex8/quad4) and the first 15 steps of Hammer's benchmark (frictionless, coarse; dt = 0.08 as in mortar_mpi, so
+    that no gap closes exactly at the end of a step); measured differences <= 3.4e-15 relative to the largest force
+    or energy. The condensed systems are displacement-sized."""
+    cases = [(PATCH_2D, ("--set", "mesh.parameters.refine=%d" % r)) for r in (1, 2)]
+    cases += [(PATCH_3D, ()), (HAMMER, (*COARSE, "--set", "time.end=1.2", "--set", "time.dt=0.08"))]
+    for scene, args in cases:
+        saddle, _ = run(scene, *args, "--set", "contact.0.strategy=saddle-point")
+        condensed, _ = run(scene, *args, "--set", "contact.0.strategy=condensed")
+        n_disp = condensed.summary["unknowns"] - saddle.summary["unknowns"] + saddle.summary["linear_system_size"]
+        print("%s %s: unknowns %d, linear system %d (saddle-point) and %d (condensed)"
+              % (scene, " ".join(args), saddle.summary["unknowns"], saddle.summary["linear_system_size"],
+                 condensed.summary["linear_system_size"]))
+        c.check(condensed.summary["linear_system_size"] < saddle.summary["linear_system_size"] <= n_disp,
+                "%s: the condensed system is smaller (%d < %d)" % (scene, condensed.summary["linear_system_size"],
+                                                                  saddle.summary["linear_system_size"]))
+        c.check(len(saddle.rows) == len(condensed.rows), "%s: the same steps" % scene)
+        forces = ("contact_force_x", "contact_force_y", "contact_force_z")
+        force_scale = max(max(abs(v) for v in saddle.column(k)) for k in forces)
+        for name in forces + ("strain_energy",):
+            a, b = saddle.column(name), condensed.column(name)
+            scale = force_scale if name in forces else max(max(abs(v) for v in a), 1e-300)
+            diff = max(abs(x - y) for x, y in zip(a, b)) / scale
+            c.check(diff <= 1e-12, "%s: %s equal to %.1e" % (scene, name, diff))
+        c.check(saddle.column("active_points") == condensed.column("active_points"),
+                "%s: same active counts %s" % (scene, [(r["time"], a, b) for r, a, b in zip(
+                    saddle.rows, saddle.column("active_points"), condensed.column("active_points")) if a != b]))
+
+
 def mortar_mpi(c):
-    """The patch test and the first 15 steps of Hammer's benchmark (coarse, friction: pressing and the start of the
-    sliding; dt = 0.08 so that the gap does not close exactly at the end of a step, where round-off would pick
-    the contact state of a node touching with zero pressure) on 1 and 2 ranks: the same histories to round-off
-    (measured 9e-17 and 5e-15 relative to the largest force or energy of the run)."""
+    """The patch test (saddle-point and condensed) and the first 15 steps of Hammer's benchmark (coarse, friction:
+    pressing and the start of the sliding; dt = 0.08 so that the gap does not close exactly at the end of a step,
+    where round-off would pick the contact state of a node touching with zero pressure) on 1 and 2 ranks: the same
+    histories to round-off (measured 9e-17 and 5e-15 relative to the largest force or energy of the run)."""
     coarse = (*COARSE, "--set", "time.end=1.2", "--set", "time.dt=0.08", "--set", "contact.0.parameters.mu=0.3",
               "--set", "contact.0.parameters.basis=standard", "--set", "solver.newton.line_search=backtrack")
-    for scene, args in ((PATCH_2D, ()), (HAMMER, coarse)):
+    for scene, args in ((PATCH_2D, ()), (PATCH_2D, ("--set", "contact.0.strategy=condensed")), (HAMMER, coarse)):
         one, _ = run(scene, *args)
         two, _ = run(scene, *args, np=2)
         c.check(two.summary["ranks"] == 2, "%s: the second run used 2 ranks" % scene)
@@ -257,4 +289,4 @@ def mortar_mpi(c):
 if __name__ == "__main__":
     main([mortar_patch_test_2d, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_hammer_benchmark_friction,
           mortar_block_on_plane, mortar_mpi, mortar_hertz_2d, mortar_hertz_3d, mortar_ring,
-          mortar_ring_friction, mortar_ironing_2d])
+          mortar_ring_friction, mortar_ironing_2d, mortar_condensed])
