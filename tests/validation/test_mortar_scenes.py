@@ -26,8 +26,9 @@ def spread(values):
 def mortar_patch_test_2d(c):
     """Non-matching blocks under p = 10, frictionless, segment-based integration: the contact pressure is the same
     at every slave node to round-off, for both bases and both strategies where they apply, at refine 1, 2, 3
-    (measured spread 1e-14, total 10 to 1e-15). Its value is p times the reference over the current interface
-    length (the Hooke solution widens the interface by 0.39 %: 9.9612). Concentrated integration (Hammer's Gauss
+    (measured spread 1e-14, total 10 to 1e-15). The output is the nominal pressure (per reference length): p to
+    1e-15; the traction per current length z_n is p L0 / L = 9.9612 (the Hooke solution widens the interface by
+    0.39 %). Concentrated integration (Hammer's Gauss
     points) is not exact: measured spread 0.38 % (refine 1), 0.39 % (2), recorded here, checked to exceed 1e-4."""
     for refine in (1, 2, 3):
         for basis in ("dual", "standard"):
@@ -38,9 +39,9 @@ def mortar_patch_test_2d(c):
             width = max(q["x"] for q in results.contact_points()) - min(q["x"] for q in results.contact_points())
             c.check(len(p) == 5 * refine + 1, "refine %d %s: every slave node in contact (%d)" % (refine, basis, len(p)))
             c.check(spread(p) <= 1e-10, "refine %d %s: uniform pressure, spread %.1e" % (refine, basis, spread(p)))
-            c.check(abs(sum(p) / len(p) * width - 10.0) <= 1e-10 * 10,
-                    "refine %d %s: pressure x current width = p x reference width (%.15g)"
-                    % (refine, basis, sum(p) / len(p) * width))
+            c.check(abs(sum(p) / len(p) - 10.0) <= 1e-10 * 10,
+                    "refine %d %s: nominal pressure = p (%.15g; current width %.6g)"
+                    % (refine, basis, sum(p) / len(p), width))
             c.check(abs(last["contact_force_y"] - 10.0) <= 1e-10 * 10,
                     "refine %d %s: total contact force %.15g" % (refine, basis, last["contact_force_y"]))
     for refine in (1, 2):
@@ -148,9 +149,8 @@ def mortar_hertz_2d(c):
     """Hammer's Hertz line contact (E = 96 GPa, nu = 0.35, top lowered 0.015 mm), h = 0.05 mm at the contact: the
     pressure profile against Hertz for the load the run carries. Measured (refine 1): F = 237.01 N/mm (the thesis's
     206.45 is for its own, unstated cylinder and block sizes: F at a given approach depends on them, b(F) does not),
-    b = 0.6214 mm, l2 error 3.24e-3, peak pressure 242.30 against p0 = 242.81 (0.21 %), the last active node at
-    x = 0.5947 (the next, 0.6443, beyond b is free). Refine 0.5: l2 1.6e-2; refine 2: 8.0e-3 (the node next to b,
-    whose support straddles the edge of contact, dominates: 12.3 against 5.8)."""
+    b = 0.6214 mm, l2 error 3.67e-3, peak (nominal) pressure 242.05 against p0 = 242.81 (0.31 %), the last active
+    node at x = 0.5947 (the next, 0.6443, beyond b is free). Refinement: docs/plugins/mortar-dual.md, section 8."""
     results, _ = run("scenes/mortar-hertz-2d.yaml", "--set", "output.vtu_every=0")
     F, b, p0, l2, active = hertz_2d_profile(results)
     peak = max(p["pressure"] for p in active)
@@ -159,7 +159,7 @@ def mortar_hertz_2d(c):
     print("Hertz 2D: F = %.4f, b = %.5f, p0 = %.3f, peak %.3f, l2 error %.3e, active to x = %.4f"
           % (F, b, p0, peak, l2, edge))
     c.check(l2 <= 4e-3, "pressure profile: relative l2 error %.2e <= 4e-3" % l2)
-    c.check(abs(peak - p0) <= 3e-3 * p0, "peak pressure %.3f against p0 = %.3f" % (peak, p0))
+    c.check(abs(peak - p0) <= 4e-3 * p0, "peak pressure %.3f against p0 = %.3f" % (peak, p0))
     c.check(b - 0.05 < edge < b < free, "contact edge between the nodes %.4f and %.4f around b = %.4f"
             % (edge, free, b))
     c.check(230 < F < 245, "load F = %.2f N/mm" % F)
@@ -167,8 +167,8 @@ def mortar_hertz_2d(c):
 
 def mortar_hertz_3d(c):
     """Hertz point contact (sphere R = 1 on a stiff block, quarter model, TRI3 faces with clipping): measured
-    F = 5.0795, a = 0.1514, peak pressure 108.35 against p0 = 105.81 (2.4 %), relative l2 error of the profile 0.153
-    over r < 1.25 a (h_contact = 0.05: three elements across a), active nodes to r = 0.1454 < a."""
+    F = 5.0795, a = 0.1514, peak (nominal) pressure 104.91 against p0 = 105.81 (0.85 %), relative l2 error of the
+    profile 0.151 over r < 1.25 a (h_contact = 0.05: three elements across a), active nodes to r = 0.1454 < a."""
     results, _ = run("scenes/mortar-hertz-3d.yaml", "--set", "output.vtu_every=0")
     F = 4 * abs(results.rows[-1]["reaction_top_z"])
     e_star = 1 / ((1 - 0.09) / 1000 + (1 - 0.09) / 1e6)
@@ -182,8 +182,8 @@ def mortar_hertz_3d(c):
     edge = max(math.hypot(p["x"], p["y"]) for p in points if p["state"] > 0)
     print("Hertz 3D: F = %.4f, a = %.4f, p0 = %.2f, peak %.2f, l2 error %.3f, active to r = %.4f"
           % (F, a, p0, peak, l2, edge))
-    c.check(abs(peak - p0) <= 0.03 * p0, "peak pressure %.2f against p0 = %.2f" % (peak, p0))
-    c.check(l2 <= 0.17, "pressure profile: relative l2 error %.3f <= 0.17" % l2)
+    c.check(abs(peak - p0) <= 0.01 * p0, "peak pressure %.2f against p0 = %.2f" % (peak, p0))
+    c.check(l2 <= 0.16, "pressure profile: relative l2 error %.3f <= 0.16" % l2)
     c.check(a - 0.05 < edge < a, "active nodes to r = %.4f, a = %.4f" % (edge, a))
 
 
