@@ -331,6 +331,37 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   return lay_out(sys, 0);
 }
 
+/* A slave row that a Dirichlet condition fixes is the condition's row (term_dirichlet.c replaces it), no longer the
+ * contact force's: the multiplier component paired with it has no D entry there and cannot be eliminated through it
+ * (found: a roller on the slave surface's corner node made the D block singular in the patch test). Such pairs are
+ * dropped and their groups shrink; the multiplier stays an unknown of the condensed system with its own row. */
+static sk_status drop_fixed_pairs(sk_system *sys) {
+  const sk_model *m = sys->model;
+  if (m->n_dirichlet == 0 || sys->n_pairs == 0) return SK_OK;
+  unsigned char *fixed = calloc((size_t)m->n_dofs, 1);
+  if (!fixed) return out_of_memory("the fixed rows of the condensation pairs", m->n_dofs);
+  for (int k = 0; k < m->n_dirichlet; ++k)
+    for (int j = 0; j < m->dirichlet[k].n_nodes; ++j)
+      for (int i = 0; i < m->dim; ++i)
+        if (m->dirichlet[k].fixed[i]) fixed[(int64_t)m->dirichlet[k].nodes[j] * m->dim + i] = 1;
+  int64_t kept = 0;
+  for (int64_t first = 0; first < sys->n_pairs;) {
+    const int block = sys->pair_block[first];
+    int free_rows = 0;
+    for (int b = 0; b < block; ++b) free_rows += !fixed[sys->pair_row[first + b]];
+    for (int b = 0; b < block; ++b)
+      if (!fixed[sys->pair_row[first + b]]) {
+        sys->pair_z[kept] = sys->pair_z[first + b];
+        sys->pair_row[kept] = sys->pair_row[first + b];
+        sys->pair_block[kept++] = free_rows;
+      }
+    first += block;
+  }
+  sys->n_pairs = kept;
+  free(fixed);
+  return SK_OK;
+}
+
 /* The attempt's unknowns, pattern and condensation pairs from the terms' layouts (again: see layout_unknowns). */
 static sk_status lay_out(sk_system *sys, int again) {
   sk_model *m = sys->model;
@@ -340,6 +371,7 @@ static sk_status lay_out(sk_system *sys, int again) {
   sys->x_version++; /* the extras got their starting values */
   SK_TRY(sk_system_settle_pattern(sys, changed));
   sys->condensing = 0;
+  SK_TRY(sk_system_collective(sys, drop_fixed_pairs(sys)));
   int64_t pairs_anywhere = 0;
   MPI_Allreduce(&sys->n_pairs, &pairs_anywhere, 1, MPI_INT64_T, MPI_SUM, sys->comm);
   if (pairs_anywhere > 0) {

@@ -74,6 +74,7 @@ struct sk_instance {
   /* nodal normals at the current evaluation (per slave view node) */
   double *A_node;           /* per slave view node: reference tributary measure A_j = int N_j (complete at the nodes
                                of needed faces: check_stars) */
+  double *A_current;        /* the same over the current surface, for the output's nominal pressure (points) */
   double *normal;           /* 3 per node */
   double *dnormal;          /* 9 per star entry: d n_j / d x_b (3 x 3 row-major, dim x dim used) */
   double *cvec, *dc;

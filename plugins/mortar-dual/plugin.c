@@ -33,7 +33,7 @@ static void *alloc_zero(size_t n, size_t size) { return calloc(n > 0 ? n : 1, si
 static void destroy(sk_instance *inst) {
   if (!inst) return;
   if (inst->search) inst->api->contact->search_destroy(inst->search);
-  void *ptrs[] = {inst->A_node, inst->star_face_ptr, inst->star_face, inst->star_node_ptr, inst->star_node,
+  void *ptrs[] = {inst->A_node, inst->A_current, inst->star_face_ptr, inst->star_face, inst->star_node_ptr, inst->star_node,
                   inst->face_star_index,
                   inst->face_needed, inst->normal, inst->dnormal, inst->cvec, inst->dc, inst->owned,
                   inst->owned_of_node, inst->cand_ptr, inst->cand, inst->ip_master, inst->col, inst->col_side,
@@ -225,15 +225,15 @@ static sk_status read_parameters(sk_instance *inst) {
   return SK_OK;
 }
 
-/* The slave surface's reference tributary measures A_j = int N_j ([C1], [U1]), complete at the nodes of needed faces
- * (check_stars makes sure). */
-static void reference_measures(sk_instance *inst) {
+/* The slave surface's tributary measures int N_j at positions x (dim per view node), complete at the nodes of needed
+ * faces (check_stars makes sure): at X, A_j of [C1], [U1]; at x, the current ones of the output. */
+static void tributary_measures(const sk_instance *inst, const double *x, double *measure) {
   const sk_view *v = inst->slave;
-  memset(inst->A_node, 0, sizeof(double) * (size_t)v->n_nodes);
+  memset(measure, 0, sizeof(double) * (size_t)v->n_nodes);
   for (int f = 0; f < v->n_cells; ++f) {
     double X[12] = {0}, n[12] = {0};
     for (int a = 0; a < v->nen; ++a)
-      for (int i = 0; i < v->dim; ++i) X[3 * a + i] = v->X[(int64_t)v->conn[(int64_t)f * v->nen + a] * v->dim + i];
+      for (int i = 0; i < v->dim; ++i) X[3 * a + i] = x[(int64_t)v->conn[(int64_t)f * v->nen + a] * v->dim + i];
     mortar_pair p;
     mortar_basis_coeffs A;
     mortar_integrals I;
@@ -242,8 +242,12 @@ static void reference_measures(sk_instance *inst) {
     mortar_integrals_zero(&I, &p);
     mortar_slave_integrals(&p, &A, MORTAR_STANDARD, inst->n_d_points, inst->d_xi, inst->d_w, &I);
     for (int a = 0; a < v->nen; ++a)
-      for (int k = 0; k < v->nen; ++k) inst->A_node[v->conn[(int64_t)f * v->nen + a]] += I.D[a][k].v;
+      for (int k = 0; k < v->nen; ++k) measure[v->conn[(int64_t)f * v->nen + a]] += I.D[a][k].v;
   }
+}
+
+static void reference_measures(sk_instance *inst) {
+  tributary_measures(inst, inst->slave->X, inst->A_node);
   for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].A_ref = inst->A_node[inst->owned[oi].node];
 }
 
@@ -301,6 +305,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   inst->face_needed = alloc_zero((size_t)sv->n_cells, 1);
   inst->normal = alloc_zero(3 * (size_t)nn, sizeof(double));
   inst->A_node = alloc_zero((size_t)nn, sizeof(double));
+  inst->A_current = alloc_zero((size_t)nn, sizeof(double));
   inst->cvec = alloc_zero(3 * (size_t)nn, sizeof(double));
   inst->dnormal = alloc_zero(9 * (size_t)n_star, sizeof(double));
   inst->dc = alloc_zero(9 * (size_t)n_star, sizeof(double));
@@ -319,7 +324,8 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
       return nomem(inst);
     }
   }
-  if (!inst->face_star_index || !inst->face_needed || !inst->normal || !inst->A_node || !inst->cvec ||
+  if (!inst->face_star_index || !inst->face_needed || !inst->normal || !inst->A_node || !inst->A_current ||
+      !inst->cvec ||
       !inst->dnormal || !inst->dc ||
       !inst->owned_of_node || !inst->owned || !inst->cand_ptr || !inst->ip_master || !inst->z_committed ||
       !inst->pair_extra || !inst->pair_row) {
@@ -706,21 +712,26 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
   return SK_OK;
 }
 
+/* Output: z_j is a traction per current measure (the slave force is D_jj z_j, D over the current surface); pressure
+ * and traction are written per reference measure, z_j A_j(x) / A_j(X) (the nodal force over the reference tributary
+ * measure, as penalty-nts writes them): in the patch test that is p itself, where z_j = p L_0 / L. */
 static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
   if (!state->extra) mortar_compute_normals(inst, state->x[0]);
   const int dim = inst->dim;
+  tributary_measures(inst, state->x[0], inst->A_current);
   for (int oi = 0; oi < inst->n_owned; ++oi) {
     const owned_node *o = &inst->owned[oi];
     const double *n = inst->normal + 3 * o->node;
+    const double nominal = inst->A_current[o->node] / o->A_ref;
     sk_contact_point pt = {.struct_size = sizeof pt};
     double zn = 0.0;
     for (int i = 0; i < dim; ++i) zn += n[i] * o->z[i];
     for (int i = 0; i < 3; ++i) {
       pt.x[i] = i < dim ? state->x[0][(int64_t)o->node * dim + i] : 0.0;
       pt.normal[i] = n[i];
-      pt.traction[i] = o->z[i] - zn * n[i];
+      pt.traction[i] = (o->z[i] - zn * n[i]) * nominal;
     }
-    pt.pressure = state->extra ? zn : 0.0;
+    pt.pressure = state->extra ? zn * nominal : 0.0;
     pt.gap = o->gap / o->A_ref;
     pt.state = o->state == MORTAR_INACTIVE ? 0 : (o->state == MORTAR_SLIP && inst->friction ? 2 : 1);
     pt.slave_node = inst->slave->node_id[o->node];

@@ -96,9 +96,28 @@ static sk_instance *mock_body_instance(sk_host *host, int body) {
   return NULL;
 }
 
+static sk_status mock_condense_pair(sk_host *host, int64_t n_groups, int block, const int64_t *extra_index,
+                                    const int64_t *rows) {
+  kit *k = kit_of(host);
+  const int64_t n = n_groups * block;
+  free(k->pair_extra);
+  free(k->pair_row);
+  k->pair_extra = malloc(sizeof(int64_t) * (size_t)(n + 1));
+  k->pair_row = malloc(sizeof(int64_t) * (size_t)(n + 1));
+  if (n > 0) {
+    memcpy(k->pair_extra, extra_index, sizeof(int64_t) * (size_t)n);
+    memcpy(k->pair_row, rows, sizeof(int64_t) * (size_t)n);
+  }
+  k->n_pairs = n;
+  k->pair_block = block;
+  return SK_OK;
+}
+
+static const sk_condense_ext mock_condense = {SK_TABLE_HEADER(sk_condense_ext), .pair = mock_condense_pair};
+
 static const void *mock_extension(sk_host *host, const char *id) {
-  (void)host, (void)id;
-  return NULL;
+  (void)host;
+  return strcmp(id, SK_EXT_CONDENSE) == 0 ? &mock_condense : NULL;
 }
 
 /* ---- meshes and views ------------------------------------------------------------------------------------------- */
@@ -249,6 +268,8 @@ void kit_free(kit *k) {
   free(k->host);
   free(k->extra);
   free(k->declared);
+  free(k->pair_extra);
+  free(k->pair_row);
   memset(k, 0, sizeof *k);
 }
 

@@ -7,7 +7,8 @@
  * the views) and dense sinks over all unknowns [positions (dim per mesh node) | the instance's extra unknowns]. The
  * plugin is driven through its ABI table exactly as the host drives it; kit_fd_check compares the Jacobian the plugin
  * assembles with central differences of the residual it assembles, over every unknown, and counts Jacobian entries
- * outside the pattern the plugin declared. */
+ * outside the pattern the plugin declared. The mock api offers stickslip.condense.v1 and records the pairs (the
+ * elimination itself is the host's, core/solver/condense.cpp). */
 #ifndef STICKSLIP_PLUGIN_KIT_H
 #define STICKSLIP_PLUGIN_KIT_H
 
@@ -50,6 +51,11 @@ typedef struct kit {
   double *extra;                   /* the extra unknowns (n_extra) */
   unsigned char *declared;         /* n x n: entries declared by pattern() (NULL when the plugin has none) */
   int64_t outside_pattern;         /* Jacobian entries outside the declared pattern (and outside node blocks) */
+  /* what the instance declared through stickslip.condense.v1 in its last layout(): groups of `pair_block` pairs,
+   * extra index pair_extra[i] with displacement row pair_row[i] */
+  int64_t n_pairs;
+  int pair_block;
+  int64_t *pair_extra, *pair_row;
 } kit;
 
 void kit_init(kit *k, int dim, int n_nodes, const double *X);

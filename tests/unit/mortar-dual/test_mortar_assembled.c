@@ -1,0 +1,213 @@
+/* mortar-dual's assembled operator through the plugin test kit (tests/support/plugin_kit.h), driven as the host
+ * drives it: a committed step (the friction history D^n, M^n), then a step to perturbed positions with given
+ * multipliers z; the Jacobian the plugin assembles against central differences of the residual it assembles over
+ * every unknown (positions of slave and master, z), the active set frozen at that point. Cases: 2D segments (dual
+ * and standard bases), concentrated integration with normal fields A and M, moving rigid obstacles (line, circle),
+ * 3D quad4/tri3 segments with clipping (both bases) and concentrated points; frictionless, stick and slip. Every
+ * entry lies in the declared pattern. Under strategy `condensed` the pairs the plugin declares through
+ * stickslip.condense.v1 are the ones the host can eliminate: each slave row with its own node's z, D diagonal (no
+ * other paired z in a paired row) and invertible. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mortar.h" /* the instance: the node states the case reaches */
+#include "plugin_kit.h"
+#include "sk_test.h"
+
+const sk_plugin *stickslip_plugin_entry(void);
+
+static const double FD_STEP = 1e-7;
+
+/* 2D: an upper body's bottom (4 slave nodes, 3 faces, normal -y) over a lower body's top (5 master nodes, 4 faces,
+ * normal +y), non-matching and slightly curved; without a master: the slave alone (for obstacles). */
+static void mesh_2d(kit *k, int with_master) {
+  static const double xs[4] = {0.0, 0.35, 0.7, 1.0}, xm[5] = {1.2, 0.85, 0.5, 0.2, -0.2};
+  double X[18];
+  for (int i = 0; i < 4; ++i) {
+    X[2 * i] = xs[i];
+    X[2 * i + 1] = 0.01 * sin(3.0 * xs[i]);
+  }
+  for (int i = 0; i < 5; ++i) {
+    X[2 * (4 + i)] = xm[i];
+    X[2 * (4 + i) + 1] = -0.004 + 0.02 * xm[i] * xm[i];
+  }
+  kit_init(k, 2, with_master ? 9 : 4, X);
+  static const int slave[6] = {0, 1, 1, 2, 2, 3}, master[8] = {4, 5, 5, 6, 6, 7, 7, 8};
+  kit_surface(k, 0, SK_LINE2, 2, 3, slave);
+  if (with_master) kit_surface(k, 1, SK_LINE2, 2, 4, master);
+}
+
+/* 3D: a 2 x 2 quad4 slave patch (normal -z, slightly warped) over a tri3 master (2 x 2 squares split in two,
+ * normal +z, curved), offset and rotated against each other. */
+static void mesh_3d(kit *k) {
+  double X[54];
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int a = 3 * j + i, m = 9 + a;
+      X[3 * a] = 0.5 * i + 0.02 * j;
+      X[3 * a + 1] = 0.5 * j - 0.03 * i;
+      X[3 * a + 2] = 0.01 * (i - 1) * (j - 1);
+      X[3 * m] = -0.1 + 0.62 * i;
+      X[3 * m + 1] = -0.15 + 0.64 * j;
+      X[3 * m + 2] = -0.005 - 0.01 * (i - 1) * (i - 1);
+    }
+  kit_init(k, 3, 18, X);
+  int slave[16], master[24], ns = 0, nm = 0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int a = 3 * j + i, b = 9 + a;
+      const int quad[4] = {a, a + 3, a + 4, a + 1}; /* clockwise from above: outward normal -z */
+      const int t1[3] = {b, b + 1, b + 4}, t2[3] = {b, b + 4, b + 3};
+      memcpy(slave + 4 * ns++, quad, sizeof quad);
+      memcpy(master + 3 * nm++, t1, sizeof t1);
+      memcpy(master + 3 * nm++, t2, sizeof t2);
+    }
+  kit_surface(k, 0, SK_QUAD4, 4, 4, slave);
+  kit_surface(k, 1, SK_TRI3, 3, 8, master);
+}
+
+/* key=value pairs, numbers as numbers */
+static void params(kit *k, const char *const *kv) {
+  for (int i = 0; kv[i]; i += 2) {
+    char *end = NULL;
+    const double v = strtod(kv[i + 1], &end);
+    if (end && *end == '\0') kit_param(k, kv[i], v);
+    else kit_param_text(k, kv[i], kv[i + 1]);
+  }
+}
+
+/* The condense pairs: every owned slave node's `dim` z with its `dim` displacement rows; in a paired row no other
+ * pair's z, the own D_jj block diagonal and nonzero. */
+static void check_pairs(const kit *k, const double *J) {
+  const int64_t n = k->n, nd = k->n_dofs;
+  SK_CHECK(k->pair_block == k->dim);
+  SK_CHECK(k->n_pairs == k->layout.n_extra);
+  int bad = 0;
+  for (int64_t p = 0; p < k->n_pairs; ++p) {
+    const int64_t row = k->pair_row[p], own = nd + k->pair_extra[p];
+    for (int64_t q = 0; q < k->n_pairs; ++q) {
+      const double v = J[row * n + nd + k->pair_extra[q]];
+      if (q == p) bad += v <= 0.0; /* D_jj = int Phi_j > 0 (the sign of F1: + D^T z on the slave) */
+      else bad += v != 0.0;
+    }
+    bad += J[row * n + own] == 0.0;
+  }
+  printf("    %lld pairs in blocks of %d, %d violations\n", (long long)k->n_pairs, k->pair_block, bad);
+  SK_CHECK(bad == 0);
+}
+
+typedef struct {
+  const char *label;
+  int dim, with_master, strategy;
+  const sk_obstacle *obstacle;
+  const char *const *kv;
+} fd_case;
+
+static double check_case(const fd_case *c) {
+  kit k;
+  if (c->dim == 3) mesh_3d(&k);
+  else mesh_2d(&k, c->with_master);
+  if (c->obstacle) kit_obstacle(&k, c->obstacle);
+  params(&k, c->kv);
+  SK_CHECK(kit_create(&k, stickslip_plugin_entry(), c->strategy) == SK_OK);
+  /* the committed step at the reference positions, z = 0 */
+  kit_state(&k, k.X, k.X, 0.0, 0.0, NULL);
+  SK_CHECK(kit_begin(&k) == SK_OK);
+  SK_CHECK(kit_commit(&k) == SK_OK);
+  /* the new step: positions perturbed by up to 0.002, compressive z with a tangential part */
+  double q[54];
+  unsigned long long seed = 12345;
+  const int dim = c->dim;
+  for (int i = 0; i < k.n_dofs; ++i) {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    q[i] = k.X[i] + 0.004 * ((double)(seed >> 11) / 9007199254740992.0 - 0.5);
+  }
+  kit_state(&k, k.X, q, 0.0, 1.0, NULL);
+  SK_CHECK(kit_begin(&k) == SK_OK);
+  for (int64_t e = 0; e < k.layout.n_extra; ++e) {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    const double r = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
+    k.extra[e] = e % dim == dim - 1 ? -(1.0 + r) : 0.6 * r; /* slave normal ~ -e_dim: z_n = n.z > 0 */
+  }
+  int changed = 0;
+  SK_CHECK(kit_update_active_set(&k, q, &changed) == SK_OK);
+  double scale = 0.0;
+  const double err = kit_fd_check(&k, q, FD_STEP, &scale) / scale;
+  int states[3] = {0, 0, 0};
+  for (int i = 0; i < k.instance->n_owned; ++i) ++states[k.instance->owned[i].state];
+  printf("  %s: |J - FD| / max|J| = %.2e (max|J| %.2e), inactive/stick/slip %d/%d/%d, outside pattern %lld\n",
+         c->label, err, scale, states[0], states[1], states[2], (long long)k.outside_pattern);
+  SK_CHECK(err < 1e-8); /* measured 2.9e-9 at worst (3D segments, friction) */
+  SK_CHECK(k.outside_pattern == 0);
+  SK_CHECK(scale > 0.0);
+  SK_CHECK(states[1] + states[2] > 0);
+  if (c->strategy == STRATEGY_CONDENSED) {
+    double *J = calloc((size_t)(k.n * k.n), sizeof(double));
+    SK_CHECK(kit_jacobian(&k, q, J, NULL) == SK_OK);
+    check_pairs(&k, J);
+    free(J);
+  }
+  kit_free(&k);
+  return err;
+}
+
+/* Strategy and basis names as the host passes them; errors that name the problem. */
+static void check_errors(void) {
+  kit k;
+  mesh_2d(&k, 1);
+  kit_param_text(&k, "basis", "standard");
+  SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_CONDENSED) == SK_ERR_INPUT);
+  SK_CHECK(strstr(sk_error_message(), "needs basis: dual") != NULL);
+  kit_free(&k);
+  mesh_2d(&k, 1);
+  kit_param_text(&k, "normal", "M");
+  SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_SADDLE_POINT) == SK_ERR_INPUT);
+  SK_CHECK(strstr(sk_error_message(), "concentrated") != NULL);
+  kit_free(&k);
+}
+
+int main(void) {
+  sk_obstacle line, circle;
+  memset(&line, 0, sizeof line);
+  line.kind = SK_OBSTACLE_PLANE; /* y = -0.002, moving along x by 0.01 per unit time */
+  line.point[1] = -0.002;
+  line.normal[1] = 1.0;
+  line.n_motion = 2;
+  line.motion_t[1] = 1.0;
+  line.motion_d[1][0] = 0.01;
+  circle = line;
+  circle.kind = SK_OBSTACLE_SPHERE; /* a circle of radius 1.998 centred 2 below x = 0.5 */
+  circle.point[0] = 0.5;
+  circle.point[1] = -2.0;
+  circle.radius = 1.998;
+  static const char *const dual[] = {"mu", "0.3", "c_n", "30", NULL};
+  static const char *const standard[] = {"mu", "0.3", "c_n", "30", "basis", "standard", NULL};
+  static const char *const frictionless[] = {"c_n", "30", NULL};
+  static const char *const frictionless_std[] = {"c_n", "30", "basis", "standard", NULL};
+  static const char *const slip[] = {"mu", "0.05", "c_n", "30", NULL};
+  static const char *const con_a[] = {"mu", "0.3", "c_n", "30", "integration", "concentrated", NULL};
+  static const char *const con_m[] = {"mu", "0.3", "c_n", "30", "integration", "concentrated", "normal", "M", NULL};
+  static const char *const con_3d[] = {"mu", "0.3", "c_n", "30", "integration", "concentrated", "face_gauss", "3",
+                                       NULL};
+  const fd_case cases[] = {
+      {"2D segments dual, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, dual},
+      {"2D segments dual, mu 0.3 (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, dual},
+      {"2D segments dual, mu 0.05 (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, slip},
+      {"2D segments standard, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, standard},
+      {"2D segments dual frictionless (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, frictionless},
+      {"2D concentrated A, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, con_a},
+      {"2D concentrated M, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, con_m},
+      {"2D moving line obstacle, mu 0.3", 2, 0, STRATEGY_SADDLE_POINT, &line, dual},
+      {"2D moving circle obstacle, mu 0.3 (condensed)", 2, 0, STRATEGY_CONDENSED, &circle, dual},
+      {"3D segments quad4/tri3 dual, mu 0.3", 3, 1, STRATEGY_SADDLE_POINT, NULL, dual},
+      {"3D segments quad4/tri3 dual, mu 0.3 (condensed)", 3, 1, STRATEGY_CONDENSED, NULL, dual},
+      {"3D segments quad4/tri3 standard frictionless", 3, 1, STRATEGY_SADDLE_POINT, NULL, frictionless_std},
+      {"3D concentrated A, mu 0.3", 3, 1, STRATEGY_SADDLE_POINT, NULL, con_3d},
+  };
+  double worst = 0.0;
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) worst = fmax(worst, check_case(&cases[i]));
+  printf("worst |J - FD| / max|J| over %zu cases: %.2e\n", sizeof cases / sizeof cases[0], worst);
+  check_errors();
+  return sk_test_finish("test_mortar_assembled");
+}
