@@ -3,5 +3,6 @@
 # the 2D / rigid-obstacle scenes of penalty-nts (patch test, Hertz 2D, block on a plane) with this plugin's multipliers.
 stickslip_scene_tests(test_nts_scenes.py
   two_elements_midpoint two_elements_dt02 two_elements_strategies two_elements_direct_vs_reduced
-  two_elements_newton_quadratic two_tori_coarse two_tori_coarse_full nts_patch_test_2d nts_hertz_2d nts_block_on_plane)
+  two_elements_newton_quadratic two_tori_coarse two_tori_coarse_friction two_tori_coarse_full
+  nts_patch_test_2d nts_hertz_2d nts_block_on_plane)
 set_tests_properties(validation_two_tori_coarse_full PROPERTIES TIMEOUT 900)

@@ -33,7 +33,7 @@ def difference(a, b):
 
 def table(title, args, strategies):
     print("\n%s: %s" % (title, " ".join(args)))
-    print("| strategy | steps | Newton iterations | linear system | E end | dissipated | p, L drift | max |Phi| "
+    print("| strategy | steps | Newton iterations | linear system | E end | dissipated | p, L drift | max \\|Phi\\| "
           "| history vs condensed | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     ref = None
