@@ -38,6 +38,8 @@ typedef struct {
   double c_extra[NTS_MAX_STRIDE];
   /* this step */
   int facet, active, flips;
+  int corrections;             /* converged() set this frozen node's contact state right (this attempt) */
+  double tension, penetration; /* the violations that made it do so last (lambda_n > 0 in contact, -gap released) */
   int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
   int return_map;              /* after max_flips: the return map itself picks the branch at every evaluation */
   int in_system;               /* `augmented`: the node's extras are unknowns of the linear system this loop */

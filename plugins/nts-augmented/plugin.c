@@ -280,7 +280,36 @@ static sk_status update_active_set(sk_instance *inst, const sk_state *state, int
 }
 
 /* The converged point is rejected (Newton again from it) when `augmented` must take in a new contact, or when a
- * node frozen by max_flips is in tension or penetrates: no step ends with such a node. */
+ * node frozen by max_flips is in tension or penetrates: no step ends with such a node.
+ * A frozen node can be in a state that is consistent neither in contact nor out of it at this dt: in contact it
+ * pulls (lambda_n > 0), released it penetrates (the coarse two tori, step 129: node 532, lambda_n 6.0 against
+ * |lambda_n| up to 2e4, gap -9.5e-6). The discrete problem then has no complementary solution for that node with the
+ * rest of the set; the midpoint force at y_hat, the gap at t_{n+1} and the non-associated friction make its normal
+ * response non-monotone. Accepting the smaller violation would end the step penetrating (the next step's
+ * activation then does the work |lambda_n| |g_n| on the bodies, the energy increase the facet-switch rule removed)
+ * or pulling (Signorini violated), so the step is cut instead, which restores a consistent state (measured: the
+ * half steps converge). The cut comes as soon as the set cycles, when the node needs a third correction (both
+ * states rejected, one twice), rather than after solver.newton.max_active_set_loops outer loops. */
+static sk_status correct_frozen(sk_instance *inst, slave_point *p, int to_active, double violation) {
+  if (p->corrections >= 2)
+    return inst->api->error(inst->host, SK_ERR_DIVERGED,
+                            "%s: nts-augmented: frozen slave node %lld has no consistent contact state at this dt: "
+                            "in contact it pulls (lambda_n %g), released it penetrates (gap %g); the step is cut",
+                            inst->name, (long long)p->node, to_active ? p->tension : violation,
+                            -(to_active ? violation : p->penetration));
+  ++p->corrections;
+  if (to_active) {
+    p->penetration = violation;
+    inst->api->log(inst->host, 2, "%s: nts-augmented: frozen slave node %lld penetrates (gap %g): in contact",
+                   inst->name, (long long)p->node, -violation);
+  } else {
+    p->tension = violation;
+    inst->api->log(inst->host, 2, "%s: nts-augmented: frozen slave node %lld in tension (lambda_n %g): released",
+                   inst->name, (long long)p->node, violation);
+  }
+  return SK_OK;
+}
+
 static sk_status converged(sk_instance *inst, const sk_state *state, int *accept) {
   *accept = 1;
   double lambda_max = 0.0;
@@ -303,8 +332,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
     }
     if (p->flips < inst->max_flips) continue;
     if (p->active && x[0] > TENSION_FRACTION * lambda_max) {
-      inst->api->log(inst->host, 2, "%s: nts-augmented: frozen slave node %lld in tension (lambda_n %g): released",
-                     inst->name, (long long)p->node, x[0]);
+      SK_TRY(correct_frozen(inst, p, 0, x[0]));
       p->active = 0;
       p->f_frozen[0] = x[1];
       p->f_frozen[1] = inst->pdim == 2 ? x[2] : 0.0;
@@ -313,8 +341,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
       double f[2] = {p->f_frozen[0], p->f_frozen[1]};
       const double gap = nts_gap_on_facet(inst, p, state->x, state->t, f);
       if (gap < -PENETRATION_FRACTION * inst->search_margin) {
-        inst->api->log(inst->host, 2, "%s: nts-augmented: frozen slave node %lld penetrates (gap %g): in contact",
-                       inst->name, (long long)p->node, gap);
+        SK_TRY(correct_frozen(inst, p, 1, -gap));
         p->active = 1;
         p->slip = 0;
         *accept = 0;

@@ -85,6 +85,8 @@ sk_status nts_begin_step(sk_instance *inst, const sk_state *state) {
     sk_projection proj;
     SK_TRY(find_facet(inst, p, state, &proj));
     p->flips = 0;
+    p->corrections = 0;
+    p->tension = p->penetration = 0.0;
     p->slip = 0;
     p->return_map = 0;
     p->wants_in = 0;

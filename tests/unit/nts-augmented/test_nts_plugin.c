@@ -229,6 +229,42 @@ static double iterate_difference(const run *a, const run *b) {
   return d;
 }
 
+/* converged() on frozen nodes (max_flips 0: every node's contact state is frozen from begin_step): a node found
+ * penetrating is put in contact, one in tension released; a node that needs a third correction in one attempt has
+ * no consistent state at this dt, and the step is cut (SK_ERR_DIVERGED naming the node) instead of the outer loop
+ * cycling to its limit. A new attempt starts afresh. */
+static void frozen_node_cycle(const sk_plugin *pl) {
+  kit k;
+  make_pair(&k, 0.0, 0);
+  kit_param(&k, "max_flips", 0.0);
+  SK_CHECK(kit_create(&k, pl, CONDENSED) == SK_OK);
+  double apart[N_DOFS], pressed[N_DOFS];
+  memcpy(apart, X, sizeof X);
+  memcpy(pressed, X, sizeof X);
+  for (int I = 8; I < N_NODES; ++I) pressed[3 * I + 2] -= 0.2; /* slave face 0.1 below the master face */
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    kit_state(&k, apart, apart, 0.0, 1.0, NULL);
+    SK_CHECK(kit_begin(&k) == SK_OK);
+    int accept = 0;
+    SK_CHECK(kit_converged(&k, apart, &accept) == SK_OK && accept); /* apart, released: consistent */
+    SK_CHECK(kit_converged(&k, pressed, &accept) == SK_OK && !accept); /* penetrates: in contact */
+    SK_CHECK(kit_layout_again(&k) == SK_OK);
+    for (int n = 0; n < N_SLAVE; ++n) k.extra[5 * n] = 1.0; /* pulls */
+    SK_CHECK(kit_converged(&k, apart, &accept) == SK_OK && !accept); /* in tension: released */
+    SK_CHECK(kit_layout_again(&k) == SK_OK);
+    if (attempt == 0) {
+      /* penetrates again: neither state is consistent */
+      SK_CHECK(kit_converged(&k, pressed, &accept) == SK_ERR_DIVERGED);
+      const char *message = sk_error_message();
+      SK_CHECK(strstr(message, "no consistent contact state") && strstr(message, "lambda_n 1") &&
+               strstr(message, "gap -0.1"));
+      printf("frozen node cycle: %s\n", message);
+      if (pl->reject_step) pl->reject_step(k.instance); /* the host cuts the step; the next attempt begins */
+    }
+  }
+  kit_free(&k);
+}
+
 int main(void) {
   build_scene();
   const sk_plugin *pl = stickslip_plugin_entry();
@@ -255,6 +291,8 @@ int main(void) {
     for (int j = 0; j < 5 * N_SLAVE; ++j) SK_CHECK(k.layout.eliminated[j] == (alias == 6 || j % 5 != 0));
     kit_free(&k);
   }
+
+  frozen_node_cycle(pl);
 
   static run runs[N_STRATEGIES];
   for (int s = 0; s < N_STRATEGIES; ++s) run_init(&runs[s], s, 0.5);
