@@ -287,11 +287,9 @@ static sk_status build_pattern(stepper *s) {
     if (touched[r]) s->local_rows[s->n_local_rows++] = r;
   free(touched);
 
-  /* Pure displacement systems get MueLu's elasticity setup (whole-node aggregates, rigid-body-mode nullspace);
-   * systems with plugin unknowns are saddle points, for which the direct solver is the measured choice. */
-  int displacement_only = nk == m->n_dofs;
-  SK_TRY(sk_linsys_set_block_size(s->sys, displacement_only ? dim : 1));
-  if (displacement_only) SK_TRY(sk_linsys_set_coordinates(s->sys, m->n_nodes, dim, m->X));
+  /* The displacements are the bridge's nodal block (whole-node aggregates, rigid-body-mode nullspace); plugin
+   * unknowns after them are constraint rows, which its iterative solvers take through their Schur complement. */
+  SK_TRY(sk_linsys_set_coordinates(s->sys, m->n_nodes, dim, m->X));
   SK_TRY(sk_linsys_set_pattern(s->sys, nk, s->row_ptr, s->cols, s->n_local_rows, s->local_rows));
   s->values = sk_linsys_values(s->sys);
 
