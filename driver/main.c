@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "mpi_start.h"
 #include "stickslip/bridge.h"
 #include "stickslip/plugins.h"
 #include "stickslip/run.h"
@@ -16,11 +17,7 @@
 
 extern int sk_log_verbosity;
 
-static int rank_of_world(void) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+static int rank_of_world(void) { return sk_driver_rank(); }
 
 static void usage_main(FILE *out) {
   fprintf(out,
@@ -164,6 +161,7 @@ static int fail(const char *context) {
 }
 
 static int command_scene(int argc, char **argv, int run) {
+  sk_driver_mpi_init(&argc, &argv); /* the only commands that need a communicator */
   arguments args;
   int parsed = parse_arguments(argc, argv, run ? "run" : "check", &args);
   if (parsed != 0) {
@@ -219,7 +217,6 @@ static int command_scene(int argc, char **argv, int run) {
 }
 
 int main(int argc, char **argv) {
-  MPI_Init(&argc, &argv);
   int code;
   if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
     if (rank_of_world() == 0) usage_main(argc < 2 ? stderr : stdout);
@@ -239,6 +236,6 @@ int main(int argc, char **argv) {
               argv[1]);
     code = 1;
   }
-  MPI_Finalize();
+  sk_driver_mpi_finalize();
   return code;
 }
