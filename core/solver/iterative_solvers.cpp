@@ -14,12 +14,14 @@
 // kRefreshGrowth times the iterations it took right after the last computation, or fails.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
 #include <MueLu_CreateTpetraPreconditioner.hpp>
 #include <Teuchos_ParameterList.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include "bridge_internal.hpp"
 #include "linear_system.hpp"
@@ -51,6 +53,9 @@ RCP<Teuchos::ParameterList> muelu_parameters(const sk_linear_system *sys) {
     p->sublist("coarse: params").set("relaxation: type", "Symmetric Gauss-Seidel");
     p->sublist("coarse: params").set("relaxation: sweeps", 4);
   }
+  // an expert's override, for measuring other settings without rebuilding (docs/linear-solvers.md)
+  if (const char *xml = std::getenv("STICKSLIP_MUELU_XML"))
+    Teuchos::updateParametersFromXmlFileAndBroadcast(xml, p.ptr(), *sys->tcomm);
   return p;
 }
 

@@ -343,6 +343,13 @@ sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind
   return SK_OK;
 }
 
+sk_status sk_linsys_set_tolerance(sk_linear_system *sys, double tolerance) {
+  if (!(tolerance > 0) || !(tolerance < 1))
+    return sk_error_set(SK_ERR_INPUT, "linear system: tolerance %g must lie in (0, 1)", tolerance);
+  sys->options.tolerance = tolerance;
+  return SK_OK;
+}
+
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size) {
   // checked against the unknowns by the next sk_linsys_set_pattern, which callers make after this
   if (block_size < 1) return sk_error_set(SK_ERR_INPUT, "linear system: block size %d must be >= 1", block_size);

@@ -1,7 +1,8 @@
 // stickslip — STICKSLIP_DUMP_SYSTEMS=DIR: every linear solve writes its system for offline study (a debugging and
 // benchmarking aid, docs/linear-solvers.md): DIR/system-NNNNN.mtx (MatrixMarket, the assembled matrix),
 // DIR/system-NNNNN.rhs (b, one value per line) and DIR/meta-NNNNN.txt ("n block_size coordinate_dim
-// n_coordinates", then the coordinates, one per line). STICKSLIP_DUMP_FIRST=K skips the first K solves. Rank 0
+// n_coordinates", then the coordinates, one per line). STICKSLIP_DUMP_FIRST=K and
+// STICKSLIP_DUMP_LAST=L write only solves K..L (counted from 0). Rank 0
 // writes; the other ranks send their rows.
 #include <cstdio>
 #include <cstdlib>
@@ -14,8 +15,8 @@ void dump_system(sk_linear_system *sys, const double *b) {
   static int counter = 0;
   const char *dir = std::getenv("STICKSLIP_DUMP_SYSTEMS");
   if (!dir || !*dir) return;
-  const char *first = std::getenv("STICKSLIP_DUMP_FIRST");
-  if (first && counter < std::atoi(first)) {
+  const char *first = std::getenv("STICKSLIP_DUMP_FIRST"), *last = std::getenv("STICKSLIP_DUMP_LAST");
+  if ((first && counter < std::atoi(first)) || (last && counter > std::atoi(last))) {
     ++counter;
     return;
   }

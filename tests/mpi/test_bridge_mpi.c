@@ -203,7 +203,8 @@ static void check_newton(void) {
   sk_newton_options newton;
   sk_newton_options_default(&newton);
   newton.line_search = SK_LINE_SEARCH_BACKTRACK;
-  sk_newton_callbacks callbacks = {&p, cubic_residual, cubic_jacobian, cubic_solve, NULL};
+  sk_newton_callbacks callbacks = {
+      .ctx = &p, .residual = cubic_residual, .jacobian = cubic_jacobian, .solve = cubic_solve};
   for (int i = 0; i < NEWTON_N; ++i) x[i] = 3.0;
   sk_newton_report report;
   const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &newton, &callbacks, NEWTON_N, x, &report);

@@ -75,6 +75,9 @@ sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_l
 void sk_linsys_destroy(sk_linear_system *sys);
 /* Switches the solver (collective; e.g. to `direct` after an iterative solver failed, see sk_linear_failure). */
 sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind);
+/* The Krylov relative residual tolerance of the next solves (an inexact Newton's forcing term); direct solvers
+ * ignore it. */
+sk_status sk_linsys_set_tolerance(sk_linear_system *sys, double tolerance);
 /* Unknowns per mesh node for systems without coordinates (default 1): MueLu aggregates whole nodes and rows are
  * distributed in whole nodes. Call before sk_linsys_set_pattern. */
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size);
@@ -119,6 +122,9 @@ typedef struct {
   sk_status (*solve)(void *ctx, const double *x, const double *F, double *dx);
   /* After each Newton iteration (iterate x accepted by the line search): bookkeeping such as active-set updates. */
   sk_status (*after_iteration)(void *ctx, int iteration, const double *x, double residual_norm);
+  /* Optional (NULL: `solve` is used): the Newton direction to a relative linear residual ||J dx + F|| <= tolerance
+   * ||F||, the forcing term of an inexact Newton method (sk_newton_options.forcing); a direct solver may ignore it. */
+  sk_status (*solve_to_tolerance)(void *ctx, const double *x, const double *F, double tolerance, double *dx);
 } sk_newton_callbacks;
 
 typedef enum { SK_LINE_SEARCH_FULL_STEP = 0, SK_LINE_SEARCH_BACKTRACK, SK_LINE_SEARCH_POLYNOMIAL } sk_line_search;
@@ -132,6 +138,11 @@ typedef struct {
   double update_tolerance;
   int max_iterations;         /* default 25 */
   sk_line_search line_search; /* default full step */
+  /* Inexact Newton (used with callbacks.solve_to_tolerance): each linear solve only as accurate as the Newton step
+   * can use, from the Eisenstat-Walker forcing term (newton.cpp); never below linear_tolerance (default 1e-10).
+   * Default on. */
+  int forcing;
+  double linear_tolerance;
   int verbose;                /* NOX output on rank 0 */
 } sk_newton_options;
 

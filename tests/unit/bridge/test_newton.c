@@ -2,6 +2,7 @@
  * linear system), callbacks that fail, and the iteration limit.
  *
  * F_i(x) = x_i^3 + a (x_i - x_{i+1}) - c_i, with c chosen so that x* (known) is the root. */
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,6 +26,8 @@ typedef struct {
   int after_in_order;
   int after_fail_at;      /* after_iteration fails at this iteration (0: never) */
   double floor;           /* amplitude of a round-off-like floor added to F (0: none) */
+  int n_tolerances;       /* forcing terms asked for through solve_to_tolerance */
+  double tolerances[32], norms[32];
   int singular_jacobian;  /* the Jacobian's last row is zero */
   sk_linear_report last_solve;
 } problem;
@@ -68,6 +71,18 @@ static sk_status solve(void *ctx, const double *x, const double *F, double *dx) 
   return sk_linsys_solve(p->sys, minus_f, dx, &p->last_solve);
 }
 
+/* Records the forcing term and solves exactly (what a direct solver does with it). */
+static sk_status solve_to_tolerance(void *ctx, const double *x, const double *F, double tolerance, double *dx) {
+  problem *p = ctx;
+  if (p->n_tolerances < 32) {
+    double norm = 0;
+    for (int i = 0; i < N; ++i) norm += F[i] * F[i];
+    p->norms[p->n_tolerances] = sqrt(norm);
+    p->tolerances[p->n_tolerances++] = tolerance;
+  }
+  return solve(ctx, x, F, dx);
+}
+
 static sk_status after_iteration(void *ctx, int iteration, const double *x, double residual_norm) {
   problem *p = ctx;
   ++p->after_calls;
@@ -103,7 +118,8 @@ static void problem_init(problem *p) {
 }
 
 static sk_newton_callbacks callbacks_for(problem *p) {
-  sk_newton_callbacks cb = {p, residual, jacobian, solve, after_iteration};
+  sk_newton_callbacks cb = {
+      .ctx = p, .residual = residual, .jacobian = jacobian, .solve = solve, .after_iteration = after_iteration};
   return cb;
 }
 
@@ -143,6 +159,40 @@ static void check_quadratic_convergence(sk_line_search line_search) {
   /* after_iteration ran once per iteration, in order */
   SK_CHECK(p.after_calls == report.iterations);
   SK_CHECK(p.after_in_order);
+  sk_linsys_destroy(p.sys);
+}
+
+/* Inexact Newton: the forcing terms follow Eisenstat-Walker (first 1e-4, then 0.9 (||F_k|| / ||F_{k-1}||)^2, at
+ * most 1e-4), never below linear_tolerance nor below what the convergence test can use. */
+static void check_forcing_terms(void) {
+  problem p;
+  problem_init(&p);
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  SK_CHECK(options.forcing == 1 && options.linear_tolerance == 1e-10);
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  cb.solve_to_tolerance = solve_to_tolerance;
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  SK_CHECK(p.n_tolerances == report.linear_solves && p.n_tolerances >= 3);
+  SK_CHECK(p.tolerances[0] == 1e-4);
+  const double converged = fmax(options.residual_tolerance, options.relative_tolerance * report.residual_history[0]);
+  for (int k = 1; k < p.n_tolerances; ++k) {
+    const double ratio = p.norms[k] / p.norms[k - 1];
+    double expected = fmin(0.9 * ratio * ratio, 1e-4);
+    if (0.9 * p.tolerances[k - 1] * p.tolerances[k - 1] > 0.1) expected = fmax(expected, 0.9 * p.tolerances[k - 1] * p.tolerances[k - 1]);
+    expected = fmax(fmax(expected, fmin(1e-4, 0.1 * converged / p.norms[k])), options.linear_tolerance);
+    printf("forcing %d: ||F|| = %.3e, tolerance %.3e (expected %.3e)\n", k, p.norms[k], p.tolerances[k], expected);
+    SK_CHECK_CLOSE(p.tolerances[k], expected, 1e-12 * expected);
+  }
+  /* without the callback (or with forcing off) every solve goes through `solve` */
+  options.forcing = 0;
+  p.n_tolerances = 0;
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  SK_CHECK(p.n_tolerances == 0);
   sk_linsys_destroy(p.sys);
 }
 
@@ -328,6 +378,7 @@ int main(int argc, char **argv) {
   check_after_iteration_failure();
   check_max_iterations();
   check_stagnation();
+  check_forcing_terms();
   check_linear_solver_failure();
   const int result = sk_test_finish("bridge newton");
   MPI_Finalize();
