@@ -1,16 +1,18 @@
 // stickslip — what `auto` runs: the direct solver (MUMPS) or GMRES + MueLu, from what it has measured.
 //
-// 1. Never a solver that failed on this pattern; after a failure GMRES waits 2, 4, 8 ... patterns before it is
-//    tried again (a contact run changes pattern every few steps: before this rule GMRES was retried, and failed,
-//    at every one of them: 39 of 39 on scenes/two-tori-coarse.yaml).
+// The candidates: MUMPS, GMRES + MueLu (bounded iterations under refinement) and GMRES + one symmetric Gauss-Seidel
+// sweep (no set-up, half the cost per iteration: the cheapest where inertia dominates the stiffness).
+// 1. Never a solver that failed on this pattern; after a failure an iterative solver waits 2, 4, 8 ... patterns
+//    before it is tried again (a contact run changes pattern every few steps: before this rule GMRES was retried,
+//    and failed, at every one of them: 39 of 39 on scenes/two-tori-coarse.yaml).
 // 2. Not GMRES when the nodal block has a zero diagonal (a saddle point given without coordinates, so without a
 //    constraint block to take the multiplier rows).
-// 3. Both candidates measured at about this size (within kMeasuredRange in stored entries): the cheaper one per
-//    solve, set-ups included; a switch needs a kSwitchMargin advantage.
-// 4. Otherwise the size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns
-//    at <= 40 entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover the
-//    rule is only a first guess: once the chosen solver has a measurement, the other one is tried for
-//    kTrialSolves solves, and 3. decides from then on.
+// 3. The size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
+//    entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover it is only a
+//    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones do.
+// 4. Every competing candidate is measured (a trial of kTrialSolves solves each, once the current one has a
+//    measurement at this size, within kMeasuredRange in stored entries); then the cheapest per solve, set-ups
+//    included, wins — a switch needs a kSwitchMargin advantage.
 // Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
 // so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
 #include <algorithm>
@@ -41,8 +43,10 @@ constexpr double kZeroDiagonal = 1e-12;
 constexpr sk_linear_solver_kind kDirectBackend = SK_LINEAR_DIRECT_MUMPS;
 constexpr sk_linear_solver_kind kIterativeBackend = SK_LINEAR_GMRES_MUELU;
 
-AutoMemory::Candidate &candidate(AutoMemory &memory, sk_linear_solver_kind kind) {
-  return is_direct(kind) ? memory.direct : memory.iterative;
+int index_of(sk_linear_solver_kind kind) {
+  for (int c = 0; c < kAutoCandidates; ++c)
+    if (kAutoCandidateKinds[c] == kind) return c;
+  return 0;
 }
 
 double exponent(sk_linear_solver_kind kind) { return is_direct(kind) ? kDirectExponent : kIterativeExponent; }
@@ -100,69 +104,102 @@ std::string format(const char *fmt, ...) {
 
 }  // namespace
 
+sk_linear_solver_kind auto_fallback(sk_linear_system *sys) {
+  const AutoMemory::Candidate &failed = sys->auto_memory.candidates[index_of(sys->auto_memory.current)];
+  return decide(sys, kDirectBackend, "fallback",
+                format("%s failed (%s); this solve and, for %s, this pattern go direct",
+                       sk_linear_solver_name(sys->auto_memory.current), failed.failure.c_str(),
+                       sk_linear_solver_name(sys->auto_memory.current)));
+}
+
 sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   AutoMemory &m = sys->auto_memory;
   const int generation = sys->pattern_generation;
   const double size = entries(sys);
   const double per_row = sys->n > 0 ? size / sys->n : 0.0;
-  const char *direct_name = sk_linear_solver_name(kDirectBackend);
-  const char *iterative_name = sk_linear_solver_name(kIterativeBackend);
 
-  if (m.iterative.failed_on_pattern == generation)
-    return decide(sys, kDirectBackend, "failed", format("%s failed on this pattern (%s)", iterative_name,
-                                                        m.iterative_failure.c_str()));
-  if (generation < m.iterative.retry_pattern)
-    return decide(sys, kDirectBackend, "backoff",
-                  format("%s failed on %d pattern(s) in a row; tried again from the %d. pattern on", iterative_name,
-                         m.iterative.failures_in_a_row, m.iterative.retry_pattern));
-  if (nodal_diagonal_deficient(sys))
-    return decide(sys, kDirectBackend, "diagonal",
-                  "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "
-                  "split them off), which AMG's smoothers divide by");
-  if (m.trial_solves_left > 0) {
+  // which candidates may run: iterative ones not after a failure on this pattern, not in back-off, and not on a
+  // nodal block with a zero diagonal
+  const bool deficient = nodal_diagonal_deficient(sys);
+  bool allowed[kAutoCandidates];
+  std::string excluded;
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
+    const AutoMemory::Candidate &k = m.candidates[c];
+    allowed[c] = is_direct(kind) || (!deficient && k.failed_on_pattern != generation && generation >= k.retry_pattern);
+    if (allowed[c] || deficient) continue;
+    excluded += format("%s%s %s", excluded.empty() ? "" : "; ", sk_linear_solver_name(kind),
+                       k.failed_on_pattern == generation
+                           ? ("failed on this pattern (" + k.failure + ")").c_str()
+                           : format("failed on %d pattern(s) in a row, tried again from the %d. pattern on",
+                                    k.failures_in_a_row, k.retry_pattern)
+                                 .c_str());
+  }
+  if (m.trial_solves_left > 0 && m.current != SK_LINEAR_AUTO && allowed[index_of(m.current)]) {
     --m.trial_solves_left;
     return m.current;
   }
-
-  const bool direct_known = measured_here(m.direct, size), iterative_known = measured_here(m.iterative, size);
-  if (direct_known && iterative_known) {
-    const double t_direct = predicted_seconds(m.direct, kDirectBackend, size);
-    const double t_iterative = predicted_seconds(m.iterative, kIterativeBackend, size);
-    // switch only for a clear advantage (timings are noisy on a shared machine)
-    sk_linear_solver_kind kind = t_iterative < t_direct ? kIterativeBackend : kDirectBackend;
-    if (m.current != SK_LINEAR_AUTO && kind != m.current &&
-        std::max(t_direct, t_iterative) < kSwitchMargin * std::min(t_direct, t_iterative))
-      kind = m.current;
-    return decide(sys, kind, "measured",
-                  format("measured %.3g s per solve against %s %.3g s (%d unknowns)",
-                         is_direct(kind) ? t_direct : t_iterative,
-                         is_direct(kind) ? iterative_name : direct_name, is_direct(kind) ? t_iterative : t_direct,
-                         sys->n));
+  m.trial_solves_left = 0;
+  if (deficient)
+    return decide(sys, kDirectBackend, "diagonal",
+                  "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "
+                  "split them off), which the iterative solvers' smoothers divide by");
+  bool any_iterative = false;
+  for (int c = 0; c < kAutoCandidates; ++c) any_iterative = any_iterative || (allowed[c] && !is_direct(kAutoCandidateKinds[c]));
+  if (!any_iterative) {
+    bool failed_here = false;
+    for (const AutoMemory::Candidate &k : m.candidates) failed_here = failed_here || k.failed_on_pattern == generation;
+    return decide(sys, kDirectBackend, failed_here ? "failed" : "backoff", excluded);
   }
 
+  // the size rule, and where it is only a first guess
   const int limit = per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
   const sk_linear_solver_kind by_size = sys->n <= limit ? kDirectBackend : kIterativeBackend;
+  const bool contested = sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
   const std::string size_reason =
       format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)", sys->n,
              per_row, limit);
-  const bool contested = sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
-  if (!contested) return decide(sys, by_size, "size", size_reason);
-  // near the crossover: measure the rule's choice, then try the other one
-  const sk_linear_solver_kind first = m.current == SK_LINEAR_AUTO ? by_size : m.current;
-  const sk_linear_solver_kind other = is_direct(first) ? kIterativeBackend : kDirectBackend;
-  if (!measured_here(candidate(m, first), size)) return decide(sys, first, "size", size_reason);
-  m.trial_solves_left = kTrialSolves - 1;
-  return decide(sys, other, "trial",
-                format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)", kTrialSolves,
-                       sys->n, sk_linear_solver_name(first),
-                       predicted_seconds(candidate(m, first), first, size)));
+  if (!contested && is_direct(by_size)) return decide(sys, kDirectBackend, "size", size_reason);
+  // the candidates to compare: the iterative ones, and the direct one near the crossover
+  bool eligible[kAutoCandidates];
+  for (int c = 0; c < kAutoCandidates; ++c) eligible[c] = allowed[c] && (contested || !is_direct(kAutoCandidateKinds[c]));
+  if (m.current == SK_LINEAR_AUTO || !eligible[index_of(m.current)]) {
+    int first = index_of(by_size);
+    for (int c = 0; c < kAutoCandidates && !eligible[first]; ++c) first = c;
+    return decide(sys, kAutoCandidateKinds[first], "size",
+                  excluded.empty() ? size_reason : size_reason + "; " + excluded);
+  }
+  const int current = index_of(m.current);
+  if (!measured_here(m.candidates[current], size)) return m.current;  // being measured
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    if (!eligible[c] || measured_here(m.candidates[c], size)) continue;
+    m.trial_solves_left = kTrialSolves - 1;
+    return decide(sys, kAutoCandidateKinds[c], "trial",
+                  format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)", kTrialSolves,
+                         sys->n, sk_linear_solver_name(m.current),
+                         predicted_seconds(m.candidates[current], m.current, size)));
+  }
+  // all measured: the cheapest, if clearly cheaper than the current one (timings are noisy on a shared machine)
+  int best = current;
+  double seconds[kAutoCandidates];
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    seconds[c] = eligible[c] ? predicted_seconds(m.candidates[c], kAutoCandidateKinds[c], size) : 0.0;
+    if (eligible[c] && seconds[c] * kSwitchMargin < seconds[best]) best = c;
+  }
+  std::string others;
+  for (int c = 0; c < kAutoCandidates; ++c)
+    if (eligible[c] && c != best)
+      others += format("%s %s %.3g s", others.empty() ? "" : ",", sk_linear_solver_name(kAutoCandidateKinds[c]),
+                       seconds[c]);
+  return decide(sys, kAutoCandidateKinds[best], "measured",
+                format("measured %.3g s per solve against%s (%d unknowns)", seconds[best], others.c_str(), sys->n));
 }
 
 void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds) {
   AutoMemory &m = sys->auto_memory;
   double agreed = seconds;  // every rank must take the same decisions: the slowest rank's time
   MPI_Allreduce(&seconds, &agreed, 1, MPI_DOUBLE, MPI_MAX, sys->comm);
-  AutoMemory::Candidate &c = candidate(m, kind);
+  AutoMemory::Candidate &c = m.candidates[index_of(kind)];
   const double size = entries(sys);
   if (status == SK_OK) {
     const double coefficient = agreed / std::pow(size, exponent(kind));
@@ -175,8 +212,11 @@ void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status st
   c.failed_on_pattern = sys->pattern_generation;
   ++c.failures_in_a_row;
   c.retry_pattern = sys->pattern_generation + (1 << std::min(c.failures_in_a_row, 16));
-  m.iterative_failure = sk_error_message();
+  c.failure = sk_error_message();
   m.trial_solves_left = 0;
 }
+
+const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates] = {kDirectBackend, kIterativeBackend,
+                                                                    SK_LINEAR_GMRES_SGS};
 
 }  // namespace stickslip::bridge

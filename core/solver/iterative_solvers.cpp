@@ -1,5 +1,6 @@
-// stickslip — Belos GMRES, right-preconditioned on the nodal block by MueLu smoothed aggregation or Ifpack2 ILU(k);
-// constraint rows (contact multipliers) through their Schur complement (constraint_block.cpp).
+// stickslip — Belos GMRES, right-preconditioned on the nodal block by MueLu smoothed aggregation, Ifpack2 ILU(1) or
+// one symmetric Gauss-Seidel sweep; constraint rows (contact multipliers) through their Schur complement
+// (constraint_block.cpp).
 //
 // Why the nodal block alone: the multiplier rows of contact have a zero diagonal (in `reduced` a round-off one,
 // 1e-23 .. 1e-29, from the element condensation), and every point smoother divides by it. GMRES + MueLu on the
@@ -8,10 +9,11 @@
 // (39 of 39 retries). On the nodal block (block size 3, rigid-body modes) the same system takes 11-15 iterations
 // (docs/linear-solvers.md).
 //
-// Reuse. The preconditioner is kept across solves and across pattern changes (the nodal distribution depends on
-// the node count alone): GMRES always runs on the current matrix, so an older preconditioner costs iterations,
-// never accuracy. It is recomputed from the current values (MueLu keeps its aggregates) when a solve needs
-// kRefreshGrowth times the iterations it took right after the last computation, or fails.
+// Reuse. AMG and ILU are kept across solves and across pattern changes (the nodal distribution depends on the node
+// count alone): GMRES always runs on the current matrix, so an older preconditioner costs iterations, never
+// accuracy. They are recomputed from the current values (MueLu keeps its aggregates) when a solve needs
+// kRefreshGrowth times the iterations it took right after the last computation, or fails. Gauss-Seidel is
+// recomputed every solve (its set-up is the inverse diagonal: 0.01 s at 72k unknowns).
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -108,36 +110,45 @@ void prepare_blocks(sk_linear_system *sys) {
 
 RCP<Matrix> nodal_matrix(sk_linear_system *sys) { return sys->n_nodal < sys->n ? sys->nodal.matrix : sys->matrix; }
 
+NodalPreconditioner &preconditioner_of(sk_linear_system *sys, sk_linear_solver_kind kind) {
+  return sys->preconditioners[kind == SK_LINEAR_GMRES_MUELU ? 0 : kind == SK_LINEAR_GMRES_ILU ? 1 : 2];
+}
+
 // (Re)computes the preconditioner of the nodal block for the current values. `full`: from scratch (aggregates
 // included); otherwise MueLu keeps its aggregates and ILU its symbolic factorisation where the matrix is the same.
-sk_status compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind kind, bool full) {
+void compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind kind, bool full) {
   RCP<Matrix> k = nodal_matrix(sys);
+  NodalPreconditioner &p = preconditioner_of(sys, kind);
   if (kind == SK_LINEAR_GMRES_MUELU) {
-    sys->ilu = Teuchos::null;
-    if (!full && !sys->muelu.is_null()) {
+    if (!full && !p.muelu.is_null()) {
       try {
-        MueLu::ReuseTpetraPreconditioner(k, *sys->muelu);
-        return SK_OK;
+        MueLu::ReuseTpetraPreconditioner(k, *p.muelu);
+        p.matrix = k;
+        return;
       } catch (...) {
         // a matrix MueLu cannot reuse its aggregates for: build afresh below
       }
     }
     auto params = muelu_parameters(sys);
     if (sys->coordinate_dim > 0) params->sublist("user data").set("Nullspace", rigid_body_modes(sys));
-    sys->muelu = MueLu::CreateTpetraPreconditioner(RCP<Operator>(k), *params);
-    return SK_OK;
+    p.muelu = MueLu::CreateTpetraPreconditioner(RCP<Operator>(k), *params);
+    p.matrix = k;
+    return;
   }
-  sys->muelu = Teuchos::null;
-  if (full || sys->ilu.is_null() || sys->ilu_matrix != k) {
-    sys->ilu = Ifpack2::Factory::create<RowMatrix>("RILUK", k);
-    Teuchos::ParameterList p;
-    p.set("fact: iluk level-of-fill", 1);
-    sys->ilu->setParameters(p);
-    sys->ilu->initialize();
-    sys->ilu_matrix = k;
+  if (full || p.ifpack.is_null() || p.matrix != k) {
+    Teuchos::ParameterList params;
+    if (kind == SK_LINEAR_GMRES_ILU) {
+      p.ifpack = Ifpack2::Factory::create<RowMatrix>("RILUK", k);
+      params.set("fact: iluk level-of-fill", 1);
+    } else {
+      p.ifpack = Ifpack2::Factory::create<RowMatrix>("RELAXATION", k);
+      params.set("relaxation: type", "Symmetric Gauss-Seidel");
+    }
+    p.ifpack->setParameters(params);
+    p.ifpack->initialize();
+    p.matrix = k;
   }
-  sys->ilu->compute();
-  return SK_OK;
+  p.ifpack->compute();
 }
 
 struct GmresResult {
@@ -178,25 +189,22 @@ void release_iterative_pattern(sk_linear_system *sys) {
 
 void release_iterative(sk_linear_system *sys) {
   release_iterative_pattern(sys);
-  sys->muelu = Teuchos::null;
-  sys->ilu = Teuchos::null;
-  sys->ilu_matrix = Teuchos::null;
+  for (NodalPreconditioner &p : sys->preconditioners) p = NodalPreconditioner{};
   sys->nodal_map = Teuchos::null;
-  sys->refresh_preconditioner = false;
-  sys->preconditioner_iterations = 0;
 }
 
 sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                           sk_linear_report *report) {
   prepare_blocks(sys);
   if (sys->n_nodal < sys->n) refill_submatrix(sys, sys->nodal);
-  const bool have = kind == SK_LINEAR_GMRES_MUELU ? !sys->muelu.is_null() : !sys->ilu.is_null();
+  NodalPreconditioner &p = preconditioner_of(sys, kind);
+  const bool have = !p.op().is_null();
   bool fresh = false;
-  if (!have || sys->refresh_preconditioner) {
-    SK_TRY(compute_nodal_preconditioner(sys, kind, !have));
+  if (!have || p.refresh || kind == SK_LINEAR_GMRES_SGS) {
+    compute_nodal_preconditioner(sys, kind, !have);
     report->refactored_symbolic = !have;
     fresh = true;
-    sys->refresh_preconditioner = false;
+    p.refresh = false;
   }
   if (sys->constraints) {
     const sk_status status = update_constraint_block(sys, *sys->constraints);
@@ -205,9 +213,8 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
       return status;
     }
   }
-  auto preconditioner = [sys, kind]() -> RCP<Operator> {
-    RCP<Operator> nodal = kind == SK_LINEAR_GMRES_MUELU ? RCP<Operator>(sys->muelu) : RCP<Operator>(sys->ilu);
-    return sys->constraints ? constraint_preconditioner(sys, *sys->constraints, nodal) : nodal;
+  auto preconditioner = [sys, &p]() -> RCP<Operator> {
+    return sys->constraints ? constraint_preconditioner(sys, *sys->constraints, p.op()) : p.op();
   };
   RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
   scatter_to(sys, b, *bv);
@@ -215,16 +222,16 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   int iterations = result.iterations;
   if (!result.converged && !fresh) {
     // an older preconditioner may have drifted too far from the matrix: recompute it and try once more
-    SK_TRY(compute_nodal_preconditioner(sys, kind, false));
+    compute_nodal_preconditioner(sys, kind, false);
     fresh = true;
     result = run_gmres(sys, preconditioner(), bv, xv);
     iterations += result.iterations;
   }
   if (result.converged) {
     if (fresh) {
-      sys->preconditioner_iterations = result.iterations;
-    } else if (result.iterations > kRefreshGrowth * sys->preconditioner_iterations + kRefreshSlack) {
-      sys->refresh_preconditioner = true;
+      p.iterations = result.iterations;
+    } else if (result.iterations > kRefreshGrowth * p.iterations + kRefreshSlack) {
+      p.refresh = true;
     }
   }
   report->iterations = iterations;

@@ -269,6 +269,7 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
   } names[] = {{"direct", SK_LINEAR_DIRECT},
                {"gmres-muelu", SK_LINEAR_GMRES_MUELU},
                {"gmres-ilu", SK_LINEAR_GMRES_ILU},
+               {"gmres-sgs", SK_LINEAR_GMRES_SGS},
                {"auto", SK_LINEAR_AUTO},
                {"mumps", SK_LINEAR_DIRECT_MUMPS},
                {"klu2", SK_LINEAR_DIRECT_KLU2},
@@ -279,7 +280,8 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
       return SK_OK;
     }
   }
-  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, auto, mumps, klu2 or klu)",
+  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, gmres-sgs, auto, mumps, "
+                      "klu2 or klu)",
                       name ? name : "(null)");
 }
 
@@ -288,6 +290,7 @@ const char *sk_linear_solver_name(sk_linear_solver_kind kind) {
     case SK_LINEAR_DIRECT: return "direct";
     case SK_LINEAR_GMRES_MUELU: return "gmres-muelu";
     case SK_LINEAR_GMRES_ILU: return "gmres-ilu";
+    case SK_LINEAR_GMRES_SGS: return "gmres-sgs";
     case SK_LINEAR_AUTO: return "auto";
     case SK_LINEAR_DIRECT_MUMPS: return "mumps";
     case SK_LINEAR_DIRECT_KLU2: return "klu2";
@@ -306,7 +309,7 @@ sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_l
     } else {
       sk_linear_options_default(&created->options);
     }
-    if (created->options.kind < SK_LINEAR_DIRECT || created->options.kind > SK_LINEAR_DIRECT_KLU)
+    if (created->options.kind < SK_LINEAR_DIRECT || created->options.kind > SK_LINEAR_GMRES_SGS)
       return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)created->options.kind);
     if (!(created->options.tolerance > 0) || created->options.max_iterations < 1)
       return sk_error_set(SK_ERR_INPUT, "linear system: tolerance (%g) and max_iterations (%d) must be positive",
@@ -337,7 +340,7 @@ void sk_linsys_destroy(sk_linear_system *sys) {
 }
 
 sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind) {
-  if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_DIRECT_KLU)
+  if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_GMRES_SGS)
     return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)kind);
   sys->options.kind = kind;
   return SK_OK;
@@ -490,7 +493,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     auto_record(sys, kind, status, cpu_seconds() - attempt_start);
     if (status == SK_ERR_LINEAR_SOLVER && !is_direct(kind)) {
       const int iterations = report->iterations;
-      const sk_linear_solver_kind fallback = auto_choose(sys);
+      const sk_linear_solver_kind fallback = auto_fallback(sys);
       const double fallback_start = cpu_seconds();
       status = solve_with(sys, fallback, b, x, report);
       auto_record(sys, fallback, status, cpu_seconds() - fallback_start);

@@ -76,24 +76,35 @@ struct SubMatrix {
 struct ConstraintBlock;  // constraint_block.cpp
 struct AutoChoice;       // auto_choice.cpp
 
-// Everything `auto` remembers, across pattern changes (auto_choice.cpp).
+// The solvers `auto` chooses among (auto_choice.cpp), and what it remembers of each, across pattern changes.
+enum { kAutoCandidates = 3 };
+extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];  // mumps, gmres-muelu, gmres-sgs
+
 struct AutoMemory {
   struct Candidate {
-    double cost_coefficient = 0;   // measured seconds per solve / entries^exponent (EWMA); 0: never measured
+    double cost_coefficient = 0;   // measured CPU seconds per solve / entries^exponent (EWMA); 0: never measured
     int64_t entries_measured = 0;  // the stored entries it was last measured at
     int failed_on_pattern = -1;    // the pattern generation it last failed on (-1: never)
     int failures_in_a_row = 0;     // failed attempts since its last success
     int retry_pattern = 0;         // the first pattern generation it may be tried on again (back-off)
+    std::string failure;           // the message of its last failure
   };
-  Candidate direct, iterative;
+  Candidate candidates[kAutoCandidates];
   sk_linear_solver_kind current = SK_LINEAR_AUTO;  // the candidate in use (SK_LINEAR_AUTO: none yet)
-  int trial_solves_left = 0;                       // solves left in a trial of the other candidate
-  sk_linear_solver_kind trial_return = SK_LINEAR_AUTO;  // what ran before the trial
-  int solves_since_trial = 0;
-  std::string iterative_failure;                   // the message of the iterative solver's last failure
+  int trial_solves_left = 0;                       // solves left in a trial of another candidate
   std::string reason_class;                        // the kind of the last logged reason (logged when it changes)
   std::string decision;                            // the last decision, for the log and the report
   bool decision_pending = false;                   // decided in this solve: report it
+};
+
+// A preconditioner of the nodal block, kept across solves and pattern changes (iterative_solvers.cpp).
+struct NodalPreconditioner {
+  RCP<MueLuOperator> muelu;           // GMRES_MUELU
+  RCP<Ifpack2Preconditioner> ifpack;  // GMRES_ILU, GMRES_SGS
+  RCP<const Matrix> matrix;           // the K object it was initialised on
+  int iterations = 0;                 // GMRES iterations of the first solve after its last computation
+  bool refresh = false;               // a later solve needed clearly more iterations: recompute next time
+  RCP<Operator> op() const { return muelu.is_null() ? RCP<Operator>(ifpack) : RCP<Operator>(muelu); }
 };
 
 }  // namespace stickslip::bridge
@@ -166,11 +177,7 @@ struct sk_linear_system {
   // refreshed); the constraint rows' Schur complement (constraint_block.cpp)
   RCP<const Map> nodal_map;
   stickslip::bridge::SubMatrix nodal;        // K when there are constraint rows (else unused: K is `matrix`)
-  RCP<stickslip::bridge::MueLuOperator> muelu;
-  RCP<stickslip::bridge::Ifpack2Preconditioner> ilu;
-  RCP<const Matrix> ilu_matrix;              // the K object the ILU was initialised on
-  int preconditioner_iterations = 0;         // GMRES iterations of the first solve after its last (re)computation
-  bool refresh_preconditioner = false;       // the last solve needed clearly more iterations: recompute next time
+  stickslip::bridge::NodalPreconditioner preconditioners[3];  // by kind: GMRES_MUELU, GMRES_ILU, GMRES_SGS
   std::unique_ptr<stickslip::bridge::ConstraintBlock> constraints;
 
   stickslip::bridge::AutoMemory auto_memory;
@@ -224,6 +231,8 @@ RCP<Operator> constraint_preconditioner(sk_linear_system *sys, ConstraintBlock &
 
 // auto_choice.cpp: which solver AUTO runs for this solve, and what it learns from the outcome
 sk_linear_solver_kind auto_choose(sk_linear_system *sys);
+// After an iterative candidate failed (recorded): the direct solver, for this solve.
+sk_linear_solver_kind auto_fallback(sk_linear_system *sys);
 void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds);
 
 // system_dump.cpp

@@ -65,9 +65,11 @@ static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, doub
     /* the symbolic factorisation / preconditioner structure is built once per pattern (AUTO may try the other
      * candidate on the second pass: check_auto_* test it) */
     if (kind != SK_LINEAR_AUTO) SK_CHECK(report.refactored_symbolic == (pass == 0));
-    if (kind != SK_LINEAR_GMRES_MUELU && kind != SK_LINEAR_GMRES_ILU && kind != SK_LINEAR_AUTO)
+    if (kind != SK_LINEAR_GMRES_MUELU && kind != SK_LINEAR_GMRES_ILU && kind != SK_LINEAR_GMRES_SGS &&
+        kind != SK_LINEAR_AUTO)
       SK_CHECK(report.iterations == 0);
-    if (kind == SK_LINEAR_GMRES_MUELU || kind == SK_LINEAR_GMRES_ILU) SK_CHECK(report.iterations > 0);
+    if (kind == SK_LINEAR_GMRES_MUELU || kind == SK_LINEAR_GMRES_ILU || kind == SK_LINEAR_GMRES_SGS)
+      SK_CHECK(report.iterations > 0);
     SK_CHECK(report.seconds >= 0);
   }
 
@@ -102,26 +104,77 @@ static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, doub
   free(y_ref);
 }
 
-/* AUTO: direct on small systems, GMRES + MueLu on large sparse ones, and direct again when the Krylov solve fails. */
+/* AUTO: GMRES + MueLu on a large sparse system by the size rule; with one Krylov iteration allowed every iterative
+ * solver fails, and AUTO answers with the direct solver, never tries a solver again on the pattern it failed on,
+ * and waits 2, then 4 patterns before it tries it again (back-off). Every decision is reported once. */
+static void log_line(void *ctx, const char *line) {
+  int *count = ctx;
+  ++*count;
+  printf("log: %s\n", line);
+}
+
 static void check_auto(void) {
   test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns, 5 per row: above the sparse limit of 10000 */
   double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
   double *x = malloc(sizeof(double) * (size_t)a.n);
+  int *rows = malloc(sizeof(int) * (size_t)a.n);
+  for (int i = 0; i < a.n; ++i) rows[i] = i;
   test_reference_solution(a.n, x_ref);
   test_csr_multiply(&a, x_ref, b);
-  for (int max_iterations = 500; max_iterations >= 1; max_iterations -= 499) {
-    sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-12, max_iterations, &a);
-    SK_CHECK(sys != NULL);
-    if (!sys) continue;
+  sk_linear_report report;
+
+  /* converging: the size rule's choice */
+  sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-12, 500, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
     SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
-    sk_linear_report report;
     SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
-    SK_CHECK(report.iterations > 0); /* GMRES ran (and, with one iteration allowed, failed over to direct) */
-    SK_CHECK(test_max_difference(a.n, x, x_ref) <= (max_iterations == 1 ? 1e-10 : 1e-8));
-    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
-    if (max_iterations == 1) SK_CHECK(report.iterations == 0 && report.refactored_symbolic == 0); /* stays direct */
+    SK_CHECK(report.solver == SK_LINEAR_GMRES_MUELU && report.iterations > 0);
+    SK_CHECK(report.decision != NULL && strstr(report.decision, "size rule") != NULL);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-8);
     sk_linsys_destroy(sys);
   }
+
+  /* failing: one iteration allowed */
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.max_iterations = 1;
+  options.tolerance = 1e-12;
+  int logged = 0;
+  options.log = log_line;
+  options.log_ctx = &logged;
+  sys = NULL;
+  SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &sys) == SK_OK);
+  if (sys) {
+    SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_OK);
+    /* the first two solves of the pattern try one iterative solver each (and fail over to MUMPS) */
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.iterations > 0 && report.solver == SK_LINEAR_DIRECT_MUMPS);
+      SK_CHECK(report.decision != NULL && strstr(report.decision, "failed") != NULL);
+      SK_CHECK(strstr(report.decision, attempt == 0 ? "gmres-muelu" : "gmres-sgs") != NULL);
+      SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-10);
+    }
+    /* then neither is tried again on this pattern */
+    for (int again = 0; again < 4; ++again) {
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.iterations == 0 && report.solver == SK_LINEAR_DIRECT_MUMPS);
+      SK_CHECK(report.refactored_symbolic == 0);
+    }
+    /* back-off: the next pattern stays direct, the one after tries again (and fails again) */
+    for (int pattern = 1; pattern <= 2; ++pattern) {
+      SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_OK);
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.solver == SK_LINEAR_DIRECT_MUMPS);
+      SK_CHECK((report.iterations > 0) == (pattern == 2));
+    }
+    SK_CHECK(logged >= 3); /* every decision went to the log callback, once */
+    sk_linsys_destroy(sys);
+  }
+  free(rows);
   free(x_ref);
   free(b);
   free(x);
@@ -179,7 +232,8 @@ static void check_constraint_systems(void) {
   } variants[] = {{"stored zero diagonal", 30, 40, 0, 0.0},
                   {"round-off diagonal", 30, 40, 0, 1e-24},
                   {"friction rows", 30, 40, 1, 0.0}};
-  const sk_linear_solver_kind kinds[] = {SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_DIRECT};
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_GMRES_SGS,
+                                         SK_LINEAR_DIRECT};
   double *coordinates = malloc(sizeof(double) * 3 * (size_t)(m * m * m));
   for (size_t v = 0; v < sizeof variants / sizeof variants[0]; ++v) {
     test_csr a = test_contact_3d(m, variants[v].n_active, variants[v].n_inactive, variants[v].diagonal,
@@ -320,8 +374,9 @@ static void check_failures(void) {
 }
 
 static void check_names(void) {
-  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT, SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_AUTO,
-                                         SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2, SK_LINEAR_DIRECT_KLU};
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT,       SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU,
+                                         SK_LINEAR_AUTO,         SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2,
+                                         SK_LINEAR_DIRECT_KLU,   SK_LINEAR_GMRES_SGS};
   for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; ++i) {
     sk_linear_solver_kind parsed = SK_LINEAR_DIRECT;
     SK_CHECK(sk_linear_solver_from_name(sk_linear_solver_name(kinds[i]), &parsed) == SK_OK);
@@ -334,7 +389,7 @@ static void check_names(void) {
   SK_CHECK(SK_LINEAR_DIRECT == 0 && SK_LINEAR_AUTO == 3 && SK_LINEAR_DIRECT_MUMPS == 4);
   sk_linear_options bad_kind;
   sk_linear_options_default(&bad_kind);
-  bad_kind.kind = (sk_linear_solver_kind)(SK_LINEAR_DIRECT_KLU + 1);
+  bad_kind.kind = (sk_linear_solver_kind)(SK_LINEAR_GMRES_SGS + 1);
   sk_linear_system *none = NULL;
   SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &bad_kind, &none) == SK_ERR_INPUT && none == NULL);
   sk_linear_options options;
@@ -351,6 +406,7 @@ int main(int argc, char **argv) {
   check_kind(SK_LINEAR_DIRECT_KLU, 1e-10, 1e-10);
   check_kind(SK_LINEAR_GMRES_MUELU, 1e-12, 1e-8);
   check_kind(SK_LINEAR_GMRES_ILU, 1e-12, 1e-8);
+  check_kind(SK_LINEAR_GMRES_SGS, 1e-12, 1e-8);
   check_kind(SK_LINEAR_AUTO, 1e-12, 1e-8);
   check_auto();
   check_auto_saddle();
