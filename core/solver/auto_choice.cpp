@@ -36,6 +36,12 @@ constexpr double kIterativeExponent = 1.1;
 constexpr double kMeasuredRange = 2.0;
 constexpr double kSwitchMargin = 1.2;
 constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factorisation / AMG hierarchy)
+// A trial of an iterative candidate may take kTrialIterationFactor x the iterations of the current iterative
+// solver (at least kTrialIterationFloor), or kTrialIterationFloor against a direct one; beyond that it is not
+// competitive and counts as failed. On the quasi-static Hertz 2D (refine 4) GMRES + SGS needs > 500 iterations
+// where GMRES + MueLu needs 10: its uncapped trial cost 6.5 s of a 12 s run.
+constexpr int kTrialIterationFactor = 4;
+constexpr int kTrialIterationFloor = 30;
 // A diagonal below this fraction of its row's largest entry counts as zero (`reduced` multiplier rows: 1e-23).
 constexpr double kZeroDiagonal = 1e-12;
 // What `direct` (and AUTO's direct choice) runs: the fastest correct backend on the benchmark's hex8/quad4
@@ -105,11 +111,17 @@ std::string format(const char *fmt, ...) {
 }  // namespace
 
 sk_linear_solver_kind auto_fallback(sk_linear_system *sys) {
-  const AutoMemory::Candidate &failed = sys->auto_memory.candidates[index_of(sys->auto_memory.current)];
-  return decide(sys, kDirectBackend, "fallback",
-                format("%s failed (%s); this solve and, for %s, this pattern go direct",
-                       sk_linear_solver_name(sys->auto_memory.current), failed.failure.c_str(),
-                       sk_linear_solver_name(sys->auto_memory.current)));
+  AutoMemory &m = sys->auto_memory;
+  const sk_linear_solver_kind failed_kind = m.current;
+  const AutoMemory::Candidate &failed = m.candidates[index_of(failed_kind)];
+  const sk_linear_solver_kind back = m.before_trial;
+  const bool back_usable = back != SK_LINEAR_AUTO && back != failed_kind &&
+                           (is_direct(back) || m.candidates[index_of(back)].failed_on_pattern != sys->pattern_generation);
+  const sk_linear_solver_kind kind = back_usable ? back : kDirectBackend;
+  m.before_trial = SK_LINEAR_AUTO;
+  return decide(sys, kind, "fallback",
+                format("%s failed (%s); not tried again on this pattern", sk_linear_solver_name(failed_kind),
+                       failed.failure.c_str()));
 }
 
 sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
@@ -137,9 +149,10 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   }
   if (m.trial_solves_left > 0 && m.current != SK_LINEAR_AUTO && allowed[index_of(m.current)]) {
     --m.trial_solves_left;
-    return m.current;
+    return m.current;  // the trial goes on, with its iteration cap
   }
   m.trial_solves_left = 0;
+  m.iteration_cap = 0;
   if (deficient)
     return decide(sys, kDirectBackend, "diagonal",
                   "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "
@@ -174,6 +187,10 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   for (int c = 0; c < kAutoCandidates; ++c) {
     if (!eligible[c] || measured_here(m.candidates[c], size)) continue;
     m.trial_solves_left = kTrialSolves - 1;
+    m.before_trial = m.current;
+    m.iteration_cap = is_direct(m.current) ? kTrialIterationFloor
+                                           : std::max(kTrialIterationFloor,
+                                                      kTrialIterationFactor * m.candidates[current].iterations);
     return decide(sys, kAutoCandidateKinds[c], "trial",
                   format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)", kTrialSolves,
                          sys->n, sk_linear_solver_name(m.current),
@@ -195,7 +212,8 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
                 format("measured %.3g s per solve against%s (%d unknowns)", seconds[best], others.c_str(), sys->n));
 }
 
-void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds) {
+void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
+                 int iterations) {
   AutoMemory &m = sys->auto_memory;
   double agreed = seconds;  // every rank must take the same decisions: the slowest rank's time
   MPI_Allreduce(&seconds, &agreed, 1, MPI_DOUBLE, MPI_MAX, sys->comm);
@@ -206,6 +224,7 @@ void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status st
     c.cost_coefficient = measured_here(c, size) ? 0.7 * c.cost_coefficient + 0.3 * coefficient : coefficient;
     c.entries_measured = static_cast<int64_t>(size);
     c.failures_in_a_row = 0;
+    c.iterations = iterations;
     return;
   }
   if (is_direct(kind)) return;  // nothing to fall back to: the caller reports it
@@ -213,7 +232,9 @@ void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status st
   ++c.failures_in_a_row;
   c.retry_pattern = sys->pattern_generation + (1 << std::min(c.failures_in_a_row, 16));
   c.failure = sk_error_message();
+  if (m.iteration_cap > 0) c.failure += " (a trial, capped at its competitors' cost)";
   m.trial_solves_left = 0;
+  m.iteration_cap = 0;
 }
 
 const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates] = {kDirectBackend, kIterativeBackend,

@@ -161,8 +161,11 @@ GmresResult run_gmres(sk_linear_system *sys, const RCP<Operator> &preconditioner
   x->putScalar(0.0);
   auto params = rcp(new Teuchos::ParameterList);
   params->set("Convergence Tolerance", sys->options.tolerance);
-  params->set("Maximum Iterations", sys->options.max_iterations);
-  params->set("Num Blocks", std::min(kGmresRestart, std::max(1, sys->options.max_iterations)));
+  // a trial by `auto` gets fewer iterations than a solver the user chose (auto_choice.cpp)
+  const int cap = sys->auto_memory.iteration_cap;
+  const int max_iterations = cap > 0 ? std::min(cap, sys->options.max_iterations) : sys->options.max_iterations;
+  params->set("Maximum Iterations", max_iterations);
+  params->set("Num Blocks", std::min(kGmresRestart, std::max(1, max_iterations)));
   params->set("Implicit Residual Scaling", "Norm of RHS");
   params->set("Explicit Residual Scaling", "Norm of RHS");
   params->set("Verbosity", sys->options.verbose && sys->rank == 0

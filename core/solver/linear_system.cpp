@@ -511,13 +511,13 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     const sk_linear_solver_kind kind = auto_choose(sys);
     const double attempt_start = cpu_seconds();
     status = solve_with(sys, kind, b, x, report);
-    auto_record(sys, kind, status, cpu_seconds() - attempt_start);
+    auto_record(sys, kind, status, cpu_seconds() - attempt_start, report->iterations);
     if (status == SK_ERR_LINEAR_SOLVER && !is_direct(kind)) {
       const int iterations = report->iterations;
       const sk_linear_solver_kind fallback = auto_fallback(sys);
       const double fallback_start = cpu_seconds();
       status = solve_with(sys, fallback, b, x, report);
-      auto_record(sys, fallback, status, cpu_seconds() - fallback_start);
+      auto_record(sys, fallback, status, cpu_seconds() - fallback_start, report->iterations);
       report->iterations = iterations;
       report->refactored_symbolic = 1;
     }

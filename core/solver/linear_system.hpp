@@ -87,11 +87,14 @@ struct AutoMemory {
     int failed_on_pattern = -1;    // the pattern generation it last failed on (-1: never)
     int failures_in_a_row = 0;     // failed attempts since its last success
     int retry_pattern = 0;         // the first pattern generation it may be tried on again (back-off)
+    int iterations = 0;            // Krylov iterations of its last successful solve
     std::string failure;           // the message of its last failure
   };
   Candidate candidates[kAutoCandidates];
   sk_linear_solver_kind current = SK_LINEAR_AUTO;  // the candidate in use (SK_LINEAR_AUTO: none yet)
   int trial_solves_left = 0;                       // solves left in a trial of another candidate
+  int iteration_cap = 0;                           // Krylov iterations allowed in this solve (0: max_iterations)
+  sk_linear_solver_kind before_trial = SK_LINEAR_AUTO;  // the candidate a trial replaced
   std::string reason_class;                        // the kind of the last logged reason (logged when it changes)
   std::string decision;                            // the last decision, for the log and the report
   bool decision_pending = false;                   // decided in this solve: report it
@@ -231,9 +234,11 @@ RCP<Operator> constraint_preconditioner(sk_linear_system *sys, ConstraintBlock &
 
 // auto_choice.cpp: which solver AUTO runs for this solve, and what it learns from the outcome
 sk_linear_solver_kind auto_choose(sk_linear_system *sys);
-// After an iterative candidate failed (recorded): the direct solver, for this solve.
+// After an iterative candidate failed (recorded), for this solve: the candidate a failed trial replaced, or the
+// direct solver.
 sk_linear_solver_kind auto_fallback(sk_linear_system *sys);
-void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds);
+void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
+                 int iterations);
 
 // system_dump.cpp
 void dump_system(sk_linear_system *sys, const double *b);

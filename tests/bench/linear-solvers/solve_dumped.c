@@ -3,7 +3,12 @@
  * them: set-up + first solve, then a re-solve of the same system (what a Newton iteration on an unchanged pattern
  * costs; the preconditioner is then reused as in a run).
  *
- *   solve_dumped DIR INDEX[,INDEX...] SOLVER [SOLVER...]     (SOLVER: direct, mumps, gmres-muelu, gmres-ilu, ...)
+ *   solve_dumped [--whole] [--csv FILE] DIR INDEX[,INDEX...] SOLVER [SOLVER...]  (SOLVER: mumps, gmres-muelu, ...)
+ *
+ * --whole withholds the coordinates: the bridge then sees one block (no nodal / constraint split, block size 1,
+ * translations as nullspace), which is how GMRES + MueLu saw contact systems before the split.
+ * --csv appends one line per system and solver to FILE: dir,index,unknowns,constraints,solver,pattern_cpu,
+ * iterations,first_cpu,resolve_iterations,resolve_cpu,residual,difference,failed.
  *
  * Prints one line per system and solver: unknowns, constraint rows, the CPU seconds of sk_linsys_set_pattern,
  * iterations, seconds (wall and CPU), the
@@ -93,8 +98,23 @@ static sk_status assemble(sk_linear_system *sys, const dumped *d) {
 
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
+  int whole = 0;
+  FILE *csv = NULL;
+  while (argc > 1 && strncmp(argv[1], "--", 2) == 0) {
+    if (strcmp(argv[1], "--whole") == 0) {
+      whole = 1;
+    } else if (strcmp(argv[1], "--csv") == 0 && argc > 2) {
+      csv = fopen(argv[2], "a");
+      ++argv;
+      --argc;
+    } else {
+      break;
+    }
+    ++argv;
+    --argc;
+  }
   if (argc < 4) {
-    fprintf(stderr, "usage: solve_dumped DIR INDEX[,INDEX...] SOLVER [SOLVER...]\n");
+    fprintf(stderr, "usage: solve_dumped [--whole] [--csv FILE] DIR INDEX[,INDEX...] SOLVER [SOLVER...]\n");
     MPI_Finalize();
     return 2;
   }
@@ -115,7 +135,7 @@ int main(int argc, char **argv) {
       sk_linear_system *sys = NULL;
       sk_status status = sk_linear_solver_from_name(argv[s], &options.kind);
       if (status == SK_OK) status = sk_linsys_create(MPI_COMM_WORLD, &options, &sys);
-      if (status == SK_OK && d.dim > 0) status = sk_linsys_set_coordinates(sys, d.n_coordinates / d.dim, d.dim, d.coordinates);
+      if (status == SK_OK && d.dim > 0 && !whole) status = sk_linsys_set_coordinates(sys, d.n_coordinates / d.dim, d.dim, d.coordinates);
       const double pattern_start = cpu_seconds();
       if (status == SK_OK) status = sk_linsys_set_pattern(sys, d.n, d.row_ptr, d.cols, d.n, rows);
       const double pattern_seconds = cpu_seconds() - pattern_start;
@@ -144,6 +164,10 @@ int main(int argc, char **argv) {
              largest > 0 ? difference / largest : difference, status == SK_OK ? "" : " FAILED: ",
              status == SK_OK ? "" : sk_error_message());
       fflush(stdout);
+      if (csv)
+        fprintf(csv, "%s,%s,%d,%d,%s%s,%.4f,%d,%.4f,%d,%.4f,%.2e,%.2e,%d\n", argv[1], token, d.n, d.n - d.n_coordinates,
+                argv[s], whole ? "-whole" : "", pattern_seconds, report[0].iterations, cpu[0], report[1].iterations,
+                cpu[1], report[1].relative_residual, largest > 0 ? difference / largest : difference, status != SK_OK);
       if (status != SK_OK) code = 1;
       sk_linsys_destroy(sys);
     }
@@ -153,6 +177,7 @@ int main(int argc, char **argv) {
     release(&d);
   }
   free(indices);
+  if (csv) fclose(csv);
   MPI_Finalize();
   return code;
 }
