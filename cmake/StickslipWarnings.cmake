@@ -1,4 +1,5 @@
-# One place for compiler flags: -Wall -Wextra everywhere, warnings are errors (STICKSLIP_WERROR), optional sanitizers.
+# One place for compiler flags: -Wall -Wextra everywhere, warnings as errors with STICKSLIP_WERROR (developers, CI),
+# optional sanitizers.
 # -Wformat-truncation is off: every snprintf is bounded and truncating an over-long name is intended.
 set(STICKSLIP_C_WARNINGS -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wno-unused-parameter
     -Wno-format-truncation)

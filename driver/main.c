@@ -7,6 +7,8 @@
 
 #include "mpi_start.h"
 #include "stickslip/bridge.h"
+#include "stickslip/interrupt.h"
+#include "stickslip/mesh.h"
 #include "stickslip/plugins.h"
 #include "stickslip/run.h"
 #include "stickslip/scene.h"
@@ -15,7 +17,6 @@
 #define STICKSLIP_VERSION "0.1.0"
 #endif
 
-extern int sk_log_verbosity;
 
 static int rank_of_world(void) { return sk_driver_rank(); }
 
@@ -36,11 +37,13 @@ static void usage_main(FILE *out) {
 
 static void usage_run(FILE *out, const char *command) {
   fprintf(out,
-          "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...]%s\n"
+          "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--trust-scripts]%s\n"
           "\n"
           "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene)\n"
           "  --set key=value      override any scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
-          "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n",
+          "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n"
+          "  --trust-scripts      let the scene's .geo scripts run shell commands and write files (SystemCall,\n"
+          "                       Print, Save, CreateDir, Printf > file); refused otherwise. Only for scripts you trust\n",
           command, strcmp(command, "run") == 0 ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
   if (strcmp(command, "run") == 0)
     fprintf(out,
@@ -57,7 +60,7 @@ typedef struct {
   const char *out;
   const char **sets;
   int n_sets;
-  int steps, quiet, verbose;
+  int steps, quiet, verbose, trust_scripts;
 } arguments;
 
 /* Returns 0 on success, 1 on bad usage (message printed), 2 when help was printed. */
@@ -93,6 +96,8 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       }
       args->steps = (int)steps;
       ++i;
+    } else if (strcmp(a, "--trust-scripts") == 0) {
+      args->trust_scripts = 1;
     } else if (allow_run_options && strcmp(a, "--quiet") == 0) {
       args->quiet = 1;
     } else if (allow_run_options && strcmp(a, "--verbose") == 0) {
@@ -117,10 +122,11 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
 
 static void print_plugin(void *ctx, const sk_plugin *plugin, const char *path) {
   (void)ctx;
-  char caps[512];
+  char caps[512], kinds[32];
   sk_capabilities_string(plugin->caps, caps, sizeof caps);
-  printf("%s  (ABI %u)\n  %s\n  capabilities: %s\n  strategies:  ", plugin->name, plugin->abi_version,
-         plugin->summary, caps);
+  sk_kinds_string(plugin->kinds, kinds, sizeof kinds);
+  printf("%s  (ABI %u.%u)\n  %s\n  attaches to:  %s\n  capabilities: %s\n  strategies:  ", plugin->name,
+         plugin->abi_major, plugin->abi_minor, plugin->summary, kinds, caps);
   for (int s = 0; plugin->strategies[s]; ++s) printf("%s%s%s", s ? ", " : "", plugin->strategies[s], s ? "" : " (default)");
   printf("\n");
   if (plugin->parameters && plugin->parameters[0]) {
@@ -155,13 +161,35 @@ static int command_plugins(int argc, char **argv) {
   return 0;
 }
 
-static int fail(const char *context) {
-  if (rank_of_world() == 0) fprintf(stderr, "stickslip: %s%s\n", context, sk_error_message());
-  return 1;
+/* 1 for every failure, 128 + the signal number when stopped by SIGINT/SIGTERM (the shell's convention). */
+static int exit_code(sk_status status) {
+  int sig = sk_interrupt_requested();
+  return status == SK_ERR_INTERRUPTED && sig ? 128 + sig : 1;
+}
+
+static int fail(sk_status status) {
+  if (rank_of_world() == 0) fprintf(stderr, "stickslip: %s\n", sk_error_message());
+  return exit_code(status);
+}
+
+/* Where the results of a failed run are, exactly: the --out folder, DIR.incomplete next to finished results that
+ * were kept, the staging folder when it could not be put in place, or nowhere (a write error: the disk is full). */
+static void report_results_after_failure(const arguments *args, const sk_run_summary *summary) {
+  if (!args->out) return;
+  if (summary->results_dir[0]) {
+    fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"%s\")\n", summary->final_time,
+            summary->steps, summary->results_dir, summary->failed ? "failed" : "ok");
+    if (strcmp(summary->results_dir, args->out) != 0 && access(args->out, F_OK) == 0)
+      fprintf(stderr, "stickslip: the results already in %s were kept\n", args->out);
+  } else {
+    fprintf(stderr, "stickslip: no results were written%s%s%s\n", access(args->out, F_OK) == 0 ? "; " : "",
+            access(args->out, F_OK) == 0 ? args->out : "", access(args->out, F_OK) == 0 ? " is unchanged" : "");
+  }
 }
 
 static int command_scene(int argc, char **argv, int run) {
   sk_driver_mpi_init(&argc, &argv); /* the only commands that need a communicator */
+  sk_interrupt_install();           /* after MPI_Init, which may install handlers of its own */
   arguments args;
   int parsed = parse_arguments(argc, argv, run ? "run" : "check", &args);
   if (parsed != 0) {
@@ -169,11 +197,12 @@ static int command_scene(int argc, char **argv, int run) {
     return parsed == 2 ? 0 : 1;
   }
   sk_log_verbosity = args.verbose;
+  sk_mesh_trust_scripts(args.trust_scripts);
   sk_scene scene;
   sk_status status = sk_scene_load(args.scene, args.n_sets, args.sets, args.plugin, MPI_COMM_WORLD, &scene);
   int code = 0;
   if (status != SK_OK) {
-    code = fail("");
+    code = fail(status);
   } else if (!run) {
     if (rank_of_world() == 0) {
       const sk_model *m = &scene.model;
@@ -185,6 +214,10 @@ static int command_scene(int argc, char **argv, int run) {
                m->pairs[k].plugin->name, m->pairs[k].plugin->strategies[m->pairs[k].strategy],
                m->pairs[k].slave.name, m->pairs[k].slave.n_nodes,
                m->pairs[k].has_obstacle ? m->pairs[k].obstacle.name : m->pairs[k].master.name);
+      for (int b = 0; b < m->n_bodies; ++b)
+        if (m->bodies[b].plugin)
+          printf("  body '%s': plugin %s, strategy %s\n", m->bodies[b].name, m->bodies[b].plugin->name,
+                 m->bodies[b].plugin->strategies[m->bodies[b].strategy]);
     }
   } else {
     sk_run_options options = {.out_dir = args.out,
@@ -192,20 +225,21 @@ static int command_scene(int argc, char **argv, int run) {
                               .verbose = args.verbose,
                               .max_steps = args.steps};
     sk_run_summary summary;
+    /* The stepper does not poll sk_interrupt_agreed() yet (issue 15, item 7: with the ABI v2 stepper): until it
+     * does, a signal during the run keeps its default action instead of being recorded and ignored. */
+    sk_interrupt_uninstall();
     status = sk_run(&scene, &options, &summary);
     if (rank_of_world() == 0) {
       if (status != SK_OK) {
         fprintf(stderr, "stickslip: %s: %s\n", args.scene, sk_error_message());
-        if (args.out && summary.steps > 0)
-          fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"failed\")\n",
-                  summary.final_time, summary.steps, args.out);
-        code = 1;
+        report_results_after_failure(&args, &summary);
+        code = exit_code(status);
       } else {
         printf("%s: %d steps to t = %g, %d Newton iterations, %d linear solves, %.2f s (assembly %.2f, contact "
                "%.2f, solve %.2f)\n",
                args.scene, summary.steps, summary.final_time, summary.newton_iterations, summary.linear_solves,
                summary.wall_seconds, summary.assembly_seconds, summary.contact_seconds, summary.solve_seconds);
-        if (args.out) printf("results: %s/ (history.csv, summary.json, results.pvd)\n", args.out);
+        if (summary.results_dir[0]) printf("results: %s/ (history.csv, summary.json, results.pvd)\n", summary.results_dir);
       }
     } else if (status != SK_OK) {
       code = 1;
@@ -222,7 +256,7 @@ int main(int argc, char **argv) {
     if (rank_of_world() == 0) usage_main(argc < 2 ? stderr : stdout);
     code = argc < 2 ? 1 : 0;
   } else if (strcmp(argv[1], "--version") == 0) {
-    if (rank_of_world() == 0) printf("stickslip %s (plugin ABI %u)\n", STICKSLIP_VERSION, SK_PLUGIN_ABI_VERSION);
+    if (rank_of_world() == 0) printf("stickslip %s (plugin ABI %u.%u)\n", STICKSLIP_VERSION, SK_ABI_MAJOR, SK_ABI_MINOR);
     code = 0;
   } else if (strcmp(argv[1], "run") == 0) {
     code = command_scene(argc, argv, 1);

@@ -1,10 +1,11 @@
 // 3D box [x0, x0+lx] x [y0, y0+ly] x [z0, z0+lz], structured hex8 (transfinite + recombine).
-// Element count: (nx*refine) x (ny*refine) x (nz*refine).
+// Element count: (nx*refine) x (ny*refine) x (nz*refine). grading != 1 grades the x divisions geometrically, in
+// opposite directions at y = y0 and y = y0 + ly (slanted lines: distorted hexahedra; tests/bench/stress uses it).
 DefineConstant[
   lx = 1, ly = 1, lz = 1,
   x0 = 0, y0 = 0, z0 = 0,
   nx = 4, ny = 4, nz = 4,
-  refine = 1
+  refine = 1, grading = 1
 ];
 Point(1) = {x0, y0, z0};
 Point(2) = {x0 + lx, y0, z0};
@@ -16,7 +17,7 @@ Line(3) = {3, 4};
 Line(4) = {4, 1};
 Curve Loop(1) = {1, 2, 3, 4};
 Plane Surface(1) = {1};
-Transfinite Curve{1, 3} = Round(nx * refine) + 1;
+Transfinite Curve{1, 3} = Round(nx * refine) + 1 Using Progression grading;
 Transfinite Curve{2, 4} = Round(ny * refine) + 1;
 Transfinite Surface{1};
 Recombine Surface{1};

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The main job on a fresh machine: installs the dependencies, builds, runs the bundled default scene and plots its
-# energy/momentum history. Usage: scripts/demo.sh [SCENE.yaml] [extra `stickslip run` arguments]
+# The main job on a fresh machine: installs the dependencies, builds, runs the bundled default scene, plots its
+# energy/momentum history and draws the deformed bodies at four instants.
+# Usage: scripts/demo.sh [SCENE.yaml] [extra `stickslip run` arguments]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-scenes/two-tori-coarse.yaml}
@@ -12,5 +13,9 @@ out=results/$name
 mkdir -p results
 build/bin/stickslip run "$scene" --out "$out" "$@"
 scripts/plot-history.sh "$out" "$name"
-echo "results: $out/ (history.csv, summary.json, results.pvd for ParaView)"
-echo "plot:    $out/history.png"
+echo "results: $out/ (history.csv, summary.json, contact.csv with contact, results.pvd for ParaView)"
+echo "plot:    $out/history.png (energy, momenta, contact force)"
+if [ -f "$out/results.pvd" ]; then # unless the scene turned output.vtu off
+  scripts/plot-snapshots.sh "$out" --title "$name: |displacement|"
+  echo "bodies:  $out/snapshots.png (more: scripts/plot-snapshots.sh $out --field contact_pressure --times ...)"
+fi

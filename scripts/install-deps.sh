@@ -3,7 +3,7 @@
 # everything is already there.
 set -euo pipefail
 packages=(build-essential cmake pkg-config trilinos-all-dev libptscotch-dev libmetis-dev libopenmpi-dev openmpi-bin
-          gmsh libgmsh-dev libyaml-dev gnuplot-nox python3)
+          gmsh libgmsh-dev libyaml-dev gnuplot-nox python3 python3-yaml)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

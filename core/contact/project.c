@@ -5,6 +5,7 @@
  * iterate moves on to the neighbouring face, or, at a border (or a ridge it would only bounce back from), slides
  * along the edge. The best candidate is the closest; a result on a shared edge or corner is then handed to the
  * lowest face id that carries it, so the answer does not depend on the candidate list or the start face. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -18,7 +19,8 @@ enum {
 };
 static const double ON_EDGE_TOL = 1e-13;   /* xi this close to an edge is on it (for the iteration) */
 static const double CLASSIFY_TOL = 1e-10;  /* xi this close to an edge is reported EDGE / VERTEX */
-static const double STEP_TOL = 1e-13;      /* converged when the accepted step in xi is below this */
+static const double STEP_TOL = 1e-13;      /* converged when the accepted step in xi is below this, */
+static const double ROUNDOFF_STEPS = 16.0; /* or below this many round-offs of the point's coordinates over |a| */
 static const double TIE_TOL = 1e-12;       /* relative distance difference treated as a tie */
 
 typedef struct {
@@ -180,11 +182,16 @@ static void project_local(const sk_surface *s, const sk_face_domain *dom, const 
       if (pdim == 2) xi[1] -= g * w[1] / ww;
     }
     double step = t * sqrt(dxi[0] * dxi[0] + dxi[1] * dxi[1]);
-    if (step <= STEP_TOL && hit < 0) {
+    /* R = (x - x(xi)) . a carries round-off eps |x| |a|, so the step in xi is noise below eps |x| / |a|: on a face
+     * 4e-4 long at x = 1 that is 5e-13, above STEP_TOL (a graded patch test never converged, xi right to 1e-12). */
+    double a_min = sqrt(pdim == 2 ? fmin(p.m[0][0], p.m[1][1]) : p.m[0][0]);
+    double scale = fmax(fabs(x[0]), fmax(fabs(x[1]), fabs(x[2])));
+    double step_tol = a_min > 0.0 ? fmax(STEP_TOL, ROUNDOFF_STEPS * DBL_EPSILON * scale / a_min) : STEP_TOL;
+    if (step <= step_tol && hit < 0) {
       out->converged = 1;
       break;
     }
-    if (step <= STEP_TOL && blocked) {
+    if (step <= step_tol && blocked) {
       out->converged = 1;
       break;
     }

@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "stickslip/config.h"
+#include "stickslip/files.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -377,30 +378,10 @@ sk_status sk_cfg_parse_string(const char *text, const char *name, sk_cfg **root)
 sk_status sk_cfg_load(const char *path, sk_cfg **root) {
   if (!root) return sk_error_set(SK_ERR_INTERNAL, "sk_cfg_load: NULL root");
   *root = NULL;
-  FILE *f = fopen(path, "rb");
-  if (!f) return sk_error_set(SK_ERR_IO, "cannot open scene file '%s': %s", path, strerror(errno));
-  size_t cap = 1 << 16, len = 0;
-  char *text = malloc(cap);
-  while (text) {
-    len += fread(text + len, 1, cap - len, f);
-    if (len < cap) break;
-    char *bigger = realloc(text, cap * 2);
-    if (!bigger) {
-      free(text);
-      text = NULL;
-      break;
-    }
-    text = bigger;
-    cap *= 2;
-  }
-  int read_error = ferror(f);
-  fclose(f);
-  if (!text) return no_memory();
-  if (read_error) {
-    free(text);
-    return sk_error_set(SK_ERR_IO, "cannot read scene file '%s'", path);
-  }
-  sk_status status = parse_text(text, len, path, NULL, root);
+  char *text = NULL;
+  size_t length = 0;
+  SK_TRY(sk_read_text_file(path, "scene file", SK_MAX_TEXT_FILE_BYTES, &text, &length));
+  sk_status status = parse_text(text, length, path, NULL, root);
   free(text);
   return status;
 }
@@ -612,7 +593,11 @@ static int is_null(const sk_cfg *node) {
 
 static sk_status lookup(const sk_cfg *map, const char *key, int required, const sk_cfg **node) {
   *node = NULL;
-  if (map && is_null(map)) map = NULL; /* "section:" with nothing below is an empty section */
+  const sk_cfg *empty = NULL; /* "section:" with nothing below (or ~, null): an empty section */
+  if (map && is_null(map)) {
+    empty = map;
+    map = NULL;
+  }
   if (map && map->kind != SK_CFG_MAP) {
     return sk_error_set(SK_ERR_INPUT, "%s: '%s' should be a map (key: value), got %s", map->where,
                         map->path[0] ? map->path : "(root)", kind_text(map));
@@ -620,6 +605,12 @@ static sk_status lookup(const sk_cfg *map, const char *key, int required, const 
   *node = sk_cfg_get(map, key);
   if (!*node && required) {
     char where[600], path[600];
+    if (empty) {
+      /* The empty section still knows where it is and what it is called: name both. */
+      where_key(empty, where, sizeof where);
+      key_path(empty, key, path, sizeof path);
+      return sk_error_set(SK_ERR_INPUT, "%s: '%s' is empty; missing key '%s'", where, empty->path, path);
+    }
     where_line(map, where, sizeof where);
     key_path(map, key, path, sizeof path);
     return sk_error_set(SK_ERR_INPUT, "%s: missing key '%s'", where, path);
@@ -658,15 +649,25 @@ static int parse_number(const char *s, double *v) {
   char *end = NULL;
   errno = 0;
   double x = strtod(s, &end);
-  if (end == s || *end != '\0' || (errno == ERANGE && fabs(x) > 1.0)) return 0;
+  if (end == s || *end != '\0') return 0;
+  if (errno == ERANGE && fabs(x) > 1.0) x = copysign(INFINITY, x); /* 1e999: out of range, refused as non-finite */
   *v = x;
   return 1;
 }
 
+/* Every number of a scene is read here, so this is the one place non-finite values are refused: a nan or inf
+ * velocity, load, tolerance or end time would otherwise be accepted by `check` and surface later as a Newton
+ * failure, a run of 0 steps reported "ok", or silently wrong output. */
 sk_status sk_cfg_as_double(const sk_cfg *node, double *out) {
-  if (!node || node->kind != SK_CFG_SCALAR || !parse_number(node->text, out)) {
+  double value;
+  if (!node || node->kind != SK_CFG_SCALAR || !parse_number(node->text, &value)) {
     return node ? type_error(node, "a number") : sk_error_set(SK_ERR_INPUT, "missing number");
   }
+  if (!isfinite(value)) return type_error(node, "a finite number");
+  /* a subnormal (0 < |x| < 2.2e-308) is never a meant quantity: a density of 5e-324 gives a mass matrix of round-off
+   * and a run that stalls in step cuts instead of an error */
+  if (fpclassify(value) == FP_SUBNORMAL) return type_error(node, "0 or a number of normal size (|x| >= 2.2e-308)");
+  *out = value;
   return SK_OK;
 }
 

@@ -4,14 +4,63 @@
 
 #include "stickslip/mesh.h"
 
-/* The parameter names a .geo script declares with DefineConstant[ name = ..., ... ], read from its text because
- * gmsh 4.8 has no API to list them. On success *names is an array of *n_names malloc'ed strings (free with
- * sk_geo_names_free). */
-sk_status sk_geo_defined_constants(const char *path, char ***names, int *n_names);
+/* Checks a .geo script and the scripts it includes before gmsh runs them (geo_scan.c): refuses statements that act
+ * outside the mesh (shell commands, file writes, Exit, Includes of computed file names) unless scripts are trusted
+ * (sk_mesh_trust_scripts), and lists the DefineConstant names, because gmsh 4.8 has no API to list them. On success
+ * *names is an array of *n_names malloc'ed strings (free with sk_geo_names_free). */
+sk_status sk_geo_scan(const char *path, char ***names, int *n_names);
 void sk_geo_names_free(char **names, int n_names);
 
 /* Makes body elements positively oriented and boundary elements face out of the body they bound (see
  * mesh_orient.c). */
 sk_status sk_mesh_orient(sk_mesh *mesh);
+
+/* ---- gmsh's element arrays (mesh_load.c) -------------------------------------------------------------------- */
+
+/* What gmshModelMeshGetElements returns for one entity: per element type t, tags_n[t] elements with their tags and
+ * nodes (nodes_n[t] = tags_n[t] * nodes per element). */
+typedef struct {
+  int *types;
+  size_t n_types, **tags, *tags_n, tags_nn, **nodes, *nodes_n, nodes_nn;
+} sk_gmsh_elements;
+
+/* The elements of the entity (dim, tag) (tag -1: all of dimension dim). Returns gmsh's ierr; free the arrays with
+ * sk_gmsh_elements_free in every case. */
+int sk_gmsh_elements_get(int dim, int tag, sk_gmsh_elements *elements);
+void sk_gmsh_elements_free(sk_gmsh_elements *elements);
+
+/* ---- the mesh generator's child process (mesh_sandbox.c) ---------------------------------------------------- */
+
+typedef struct {
+  double time_limit;    /* seconds of wall time for the whole load; <= 0: none */
+  size_t memory_limit;  /* bytes of resident memory of the child; 0: none */
+  long max_elements;    /* for messages: the element limit the memory limit stands for */
+} sk_mesh_sandbox_limits;
+
+/* Work done in the child: fills `mesh` (whose `source` is set) or fails with a message. */
+typedef sk_status (*sk_mesh_sandbox_work)(void *arg, sk_mesh *mesh);
+
+/* Runs `work` in a child process and receives its mesh into `mesh` (source set, everything else zero). Every end
+ * of the child becomes a status and a message naming mesh->source: its own error, a crash (signal), the time or
+ * memory limit, SIGINT/SIGTERM to stickslip (SK_ERR_INTERRUPTED). */
+sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sandbox_limits *limits,
+                          sk_mesh *mesh);
+/* In the child: what it is doing now ("meshing the surfaces (2D)"), for the messages above. */
+void sk_mesh_sandbox_phase(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* In the child: ends it at once with `status` and the current error message (from inside a gmsh callback). */
+_Noreturn void sk_mesh_sandbox_fail(sk_status status);
+
+/* ---- staged generation with a size guard (mesh_guard.c, in the child) ----------------------------------------- */
+
+typedef struct {
+  const char *path;      /* for messages */
+  const char *parameters; /* "refine = 1e+06, h_contact = 0.02" or "" */
+  long max_elements;
+} sk_mesh_guard;
+
+/* Meshes the current gmsh model up to `dim`, one dimension at a time, refusing (a message with the numbers) when the
+ * estimate of the final element count or the final count exceeds guard->max_elements. `failed(ierr, what)` reports a
+ * gmsh error after each stage (and records the message). */
+sk_status sk_mesh_generate_guarded(const sk_mesh_guard *guard, int dim, int (*failed)(int ierr, const char *what));
 
 #endif

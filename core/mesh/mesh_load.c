@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "mesh_internal.h"
+#include "stickslip/files.h"
 
 /* gmsh element type numbers (gmsh manual, "MSH file format") and their stickslip counterparts. */
 static const struct {
@@ -62,6 +63,25 @@ static int gmsh_failed(int ierr, const char *path, const char *what) {
   return failed;
 }
 
+int sk_gmsh_elements_get(int dim, int tag, sk_gmsh_elements *e) {
+  int ierr = 0;
+  memset(e, 0, sizeof *e);
+  gmshModelMeshGetElements(&e->types, &e->n_types, &e->tags, &e->tags_n, &e->tags_nn, &e->nodes, &e->nodes_n,
+                           &e->nodes_nn, dim, tag, &ierr);
+  return ierr;
+}
+
+void sk_gmsh_elements_free(sk_gmsh_elements *e) {
+  for (size_t t = 0; t < e->tags_nn; ++t) gmshFree(e->tags[t]);
+  for (size_t t = 0; t < e->nodes_nn; ++t) gmshFree(e->nodes[t]);
+  gmshFree(e->types);
+  gmshFree(e->tags);
+  gmshFree(e->tags_n);
+  gmshFree(e->nodes);
+  gmshFree(e->nodes_n);
+  memset(e, 0, sizeof *e);
+}
+
 /* ---- .geo parameters --------------------------------------------------------------------------------------- */
 
 static int is_identifier(const char *name) {
@@ -76,7 +96,7 @@ static int is_identifier(const char *name) {
 static sk_status check_parameters(const char *path, const sk_mesh_param *params, int n_params) {
   char **names = NULL;
   int n_names = 0;
-  SK_TRY(sk_geo_defined_constants(path, &names, &n_names));
+  SK_TRY(sk_geo_scan(path, &names, &n_names));
   sk_status status = SK_OK;
   for (int p = 0; p < n_params && status == SK_OK; ++p) {
     const char *name = params[p].name;
@@ -210,18 +230,16 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
   size_t n_elems = 0, capacity = 0;
   size_t *conn = NULL;
   for (size_t e = 0; e < n_entities && status == SK_OK; ++e) {
-    int *types = NULL;
-    size_t n_types = 0, **tags = NULL, *tags_n = NULL, tags_nn = 0, **nodes = NULL, *nodes_n = NULL, nodes_nn = 0;
-    gmshModelMeshGetElements(&types, &n_types, &tags, &tags_n, &tags_nn, &nodes, &nodes_n, &nodes_nn, dim,
-                             entities[e], &ierr);
+    sk_gmsh_elements got;
+    ierr = sk_gmsh_elements_get(dim, entities[e], &got);
     if (gmsh_failed(ierr, path, "read elements")) status = SK_ERR_INPUT;
-    for (size_t t = 0; t < n_types && status == SK_OK; ++t) {
-      int index = element_type_index(types[t]);
+    for (size_t t = 0; t < got.n_types && status == SK_OK; ++t) {
+      int index = element_type_index(got.types[t]);
       if (index < 0) {
         status = sk_error_set(SK_ERR_INPUT,
                               "mesh %s: physical group '%s' has elements of gmsh type %d, which stickslip does not "
                               "support (supported: point1, line2, line3, tri3, quad4, quad9, tet4, hex8, hex27)",
-                              path, group->name, types[t]);
+                              path, group->name, got.types[t]);
       } else if (type_index >= 0 && index != type_index) {
         status = sk_error_set(SK_ERR_INPUT,
                               "mesh %s: physical group '%s' mixes element types %s and %s (one type per group: "
@@ -229,7 +247,7 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
                               path, group->name, element_types[type_index].name, element_types[index].name);
       } else {
         type_index = index;
-        size_t count = nodes_n[t];
+        size_t count = got.nodes_n[t];
         if (n_elems * (size_t)element_types[index].nen + count > capacity) {
           size_t new_capacity = 2 * capacity + count;
           size_t *bigger = realloc(conn, new_capacity * sizeof *conn);
@@ -240,17 +258,11 @@ static sk_status read_group(const char *path, int dim, int tag, sk_group *group,
           conn = bigger;
           capacity = new_capacity;
         }
-        memcpy(conn + n_elems * (size_t)element_types[index].nen, nodes[t], count * sizeof *conn);
+        memcpy(conn + n_elems * (size_t)element_types[index].nen, got.nodes[t], count * sizeof *conn);
         n_elems += count / (size_t)element_types[index].nen;
       }
     }
-    for (size_t t = 0; t < tags_nn; ++t) gmshFree(tags[t]);
-    for (size_t t = 0; t < nodes_nn; ++t) gmshFree(nodes[t]);
-    gmshFree(types);
-    gmshFree(tags);
-    gmshFree(tags_n);
-    gmshFree(nodes);
-    gmshFree(nodes_n);
+    sk_gmsh_elements_free(&got);
   }
   gmshFree(entities);
   if (status == SK_OK && n_elems == 0)
@@ -393,41 +405,28 @@ static sk_status check_plane(const char *path, const sk_mesh *mesh) {
   return SK_OK;
 }
 
-/* ---- public -------------------------------------------------------------------------------------------------- */
+/* ---- the work done in the mesh generator's child process ------------------------------------------------------ */
 
-static int has_suffix(const char *text, const char *suffix) {
-  size_t n = strlen(text), m = strlen(suffix);
-  return n >= m && strcmp(text + n - m, suffix) == 0;
-}
+typedef struct {
+  const char *path;        /* the file, for messages */
+  const char *open_path;   /* the file gmsh opens (the parameter wrapper, or the file itself) */
+  int is_geo, dim;
+  sk_mesh_guard guard;
+} load_job;
 
-sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh) {
-  if (!mesh) return sk_error_set(SK_ERR_INTERNAL, "sk_mesh_load: mesh is NULL");
-  memset(mesh, 0, sizeof *mesh);
-  if (!path || !path[0]) return sk_error_set(SK_ERR_INPUT, "sk_mesh_load: no mesh file given");
-  snprintf(mesh->source, sizeof mesh->source, "%s", path);
-  if (n_params < 0 || (n_params > 0 && !params))
-    return sk_error_set(SK_ERR_INTERNAL, "mesh %s: bad parameter list (n_params = %d)", path, n_params);
-  if (dim != 0 && dim != 2 && dim != 3)
-    return sk_error_set(SK_ERR_INPUT, "mesh %s: dimension %d requested; stickslip meshes are 2D or 3D", path, dim);
+static const char *failed_path; /* the file gmsh_failed names (the child is single-threaded) */
 
-  int is_geo = has_suffix(path, ".geo");
-  if (!is_geo && !has_suffix(path, ".msh"))
-    return sk_error_set(SK_ERR_INPUT, "mesh %s: unknown mesh format (expected a gmsh .geo script or .msh file)", path);
-  FILE *probe = fopen(path, "rb");
-  if (!probe) return sk_error_set(SK_ERR_IO, "mesh %s: cannot open: %s", path, strerror(errno));
-  fclose(probe);
-  if (!is_geo && n_params > 0)
-    return sk_error_set(SK_ERR_INPUT, "mesh %s: parameter '%s' given, but a .msh file takes no parameters", path,
-                        params[0].name ? params[0].name : "(null)");
-  if (is_geo) SK_TRY(check_parameters(path, params, n_params));
+static int stage_failed(int ierr, const char *what) { return gmsh_failed(ierr, failed_path, what); }
 
-  char wrapper[1024] = "";
-  if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
-
+static sk_status load_in_child(void *arg, sk_mesh *mesh) {
+  load_job *job = arg;
+  const char *path = job->path;
+  failed_path = path;
   sk_status status = SK_OK;
-  int ierr = 0;
+  int ierr = 0, dim = job->dim;
+  sk_mesh_sandbox_phase(job->is_geo ? "evaluating the script" : "reading the file");
   gmsh_session_begin();
-  gmshOpen(wrapper[0] ? wrapper : path, &ierr);
+  gmshOpen(job->open_path, &ierr);
   if (gmsh_failed(ierr, path, "read the file")) status = SK_ERR_INPUT;
 
   int highest = -1;
@@ -441,21 +440,109 @@ sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_para
       status = sk_error_set(SK_ERR_INPUT, "mesh %s: the highest physical group has dimension %d; stickslip meshes "
                                           "are 2D or 3D", path, dim);
   }
-  if (status == SK_OK && is_geo) {
-    gmshModelMeshGenerate(dim, &ierr);
-    if (gmsh_failed(ierr, path, "generate the mesh")) status = SK_ERR_INPUT;
-  }
+  /* Script errors stay exceptions (the API's General.AbortOnError = 2), which gmshOpen catches: with 0, an Error()
+   * followed by Abort inside an Included script double-frees in gmsh 4.8.4. Meshing errors must not be exceptions:
+   * thrown inside gmsh's OpenMP regions (a mesh size <= 0 while meshing curves) nothing can catch them and the
+   * process aborts. With 0 gmsh logs them and goes on, and stage_failed() stops after the stage. */
+  gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
+  if (status == SK_OK && job->is_geo) status = sk_mesh_generate_guarded(&job->guard, dim, stage_failed);
   if (status == SK_OK) {
+    sk_mesh_sandbox_phase("reading the mesh from gmsh");
     mesh->dim = dim;
     status = read_model(path, dim, mesh);
   }
+  if (status == SK_OK && !job->is_geo) {
+    double count = 0;
+    for (int g = 0; g < mesh->n_groups; ++g) count += mesh->groups[g].dim == dim ? mesh->groups[g].n_elems : 0;
+    if (count > (double)job->guard.max_elements)
+      status = sk_error_set(SK_ERR_INPUT, "mesh %s has %.0f elements of dimension %d, more than mesh.max_elements = "
+                            "%ld; raise mesh.max_elements if such a mesh is meant", path, count, dim,
+                            job->guard.max_elements);
+  }
   gmsh_session_end();
+  return status;
+}
+
+/* ---- public -------------------------------------------------------------------------------------------------- */
+
+static int has_suffix(const char *text, const char *suffix) {
+  size_t n = strlen(text), m = strlen(suffix);
+  return n >= m && strcmp(text + n - m, suffix) == 0;
+}
+
+/* gmsh's peak resident memory per element stays below 1 kB on every mesh measured (0.35-0.85 kB with gmsh 4.8.4:
+ * build/bin/bench_mesh_limits, tests/bench/mesh-limits), and the child starts with what it shares with stickslip
+ * (libraries, MPI): 2 kB per element plus 256 MB is a limit no mesh within mesh.max_elements reaches, which stops a
+ * runaway mesh early. */
+static size_t memory_limit_for(long max_elements) { return ((size_t)256 << 20) + (size_t)max_elements * 2048; }
+
+void sk_mesh_options_default(sk_mesh_options *options) {
+  memset(options, 0, sizeof *options);
+  options->max_elements = SK_MESH_DEFAULT_MAX_ELEMENTS;
+  options->time_limit = SK_MESH_DEFAULT_TIME_LIMIT;
+}
+
+sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh) {
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.dim = dim;
+  return sk_mesh_load_with(path, params, n_params, &options, mesh);
+}
+
+sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n_params,
+                            const sk_mesh_options *options, sk_mesh *mesh) {
+  if (!mesh) return sk_error_set(SK_ERR_INTERNAL, "sk_mesh_load: mesh is NULL");
+  memset(mesh, 0, sizeof *mesh);
+  if (!path || !path[0]) return sk_error_set(SK_ERR_INPUT, "sk_mesh_load: no mesh file given");
+  snprintf(mesh->source, sizeof mesh->source, "%s", path);
+  if (n_params < 0 || (n_params > 0 && !params))
+    return sk_error_set(SK_ERR_INTERNAL, "mesh %s: bad parameter list (n_params = %d)", path, n_params);
+  if (!options) return sk_error_set(SK_ERR_INTERNAL, "mesh %s: no load options", path);
+  int dim = options->dim;
+  if (dim != 0 && dim != 2 && dim != 3)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: dimension %d requested; stickslip meshes are 2D or 3D", path, dim);
+  if (options->max_elements < 1)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: max_elements must be at least 1 (got %ld)", path,
+                        options->max_elements);
+  if (!(options->time_limit > 0))
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: time_limit must be positive (got %g s)", path, options->time_limit);
+
+  int is_geo = has_suffix(path, ".geo");
+  if (!is_geo && !has_suffix(path, ".msh"))
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: unknown mesh format (expected a gmsh .geo script or .msh file)", path);
+  SK_TRY(sk_require_regular_file(path, "mesh"));
+  if (!is_geo && n_params > 0)
+    return sk_error_set(SK_ERR_INPUT, "mesh %s: parameter '%s' given, but a .msh file takes no parameters", path,
+                        params[0].name ? params[0].name : "(null)");
+  if (is_geo) SK_TRY(check_parameters(path, params, n_params));
+
+  char parameters[512] = "";
+  for (int p = 0; p < n_params; ++p) {
+    size_t used = strlen(parameters);
+    snprintf(parameters + used, sizeof parameters - used, "%s%s = %g", p ? ", " : "", params[p].name,
+             params[p].value);
+  }
+  char wrapper[1024] = "";
+  if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
+  load_job job = {.path = path, .open_path = wrapper[0] ? wrapper : path, .is_geo = is_geo, .dim = dim,
+                  .guard = {.path = path, .parameters = parameters, .max_elements = options->max_elements}};
+  sk_mesh_sandbox_limits limits = {.time_limit = options->time_limit,
+                                   .memory_limit = memory_limit_for(options->max_elements),
+                                   .max_elements = options->max_elements};
+  sk_status status = sk_mesh_sandbox(load_in_child, &job, &limits, mesh);
   if (wrapper[0]) unlink(wrapper);
+  /* gmsh's own errors say what went wrong but not with which values: name the parameters the scene gave */
+  if (status == SK_ERR_INPUT && parameters[0] && !strstr(sk_error_message(), "(parameters: ")) {
+    char message[2048];
+    snprintf(message, sizeof message, "%s", sk_error_message());
+    sk_error_set(status, "%s (parameters: %s)", message, parameters);
+  }
 
   if (status == SK_OK && mesh->n_groups == 0)
-    status = sk_error_set(SK_ERR_INPUT, "mesh %s: no physical groups of dimension %d or lower", path, dim);
-  if (status == SK_OK && dim == 2) status = check_plane(path, mesh);
+    status = sk_error_set(SK_ERR_INPUT, "mesh %s: no physical groups of dimension %d or lower", path, mesh->dim);
+  if (status == SK_OK && mesh->dim == 2) status = check_plane(path, mesh);
   if (status == SK_OK) status = sk_mesh_orient(mesh);
+  if (status == SK_OK) status = sk_mesh_check_elements(mesh);
   if (status != SK_OK) {
     char source[sizeof mesh->source];
     memcpy(source, mesh->source, sizeof source);

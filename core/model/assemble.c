@@ -1,26 +1,8 @@
-/* Bulk assembly: element loops over this rank's part of the mesh. */
+/* Finite-element assembly of the bodies (assemble.h): element systems under a time integrator, tractions,
+ * invariants and stresses. */
 #include "assemble.h"
 
 #include <string.h>
-
-double sk_bulk_mass_coefficient(const sk_bulk_state *state) {
-  switch (state->scheme) {
-    case SK_SCHEME_BACKWARD_EULER: return 1.0 / (state->dt * state->dt);
-    case SK_SCHEME_MIDPOINT: return 2.0 / (state->dt * state->dt);
-    default: return 0.0;
-  }
-}
-
-void sk_bulk_velocity(const sk_model *model, const sk_bulk_state *state, double *v) {
-  for (int k = 0; k < model->n_dofs; ++k) {
-    double du = state->u[k] - state->u_n[k];
-    switch (state->scheme) {
-      case SK_SCHEME_BACKWARD_EULER: v[k] = du / state->dt; break;
-      case SK_SCHEME_MIDPOINT: v[k] = 2.0 * du / state->dt - state->v_n[k]; break;
-      default: v[k] = 0.0; break;
-    }
-  }
-}
 
 int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body **body_out, const int **conn_out) {
   int b = 0;
@@ -44,9 +26,8 @@ static sk_status inverted(const sk_body *body, int element) {
   return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, element - body->first_element);
 }
 
-/* Element residual and (optionally) Jacobian for the current scheme. */
-static sk_status element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n_out,
-                                double *f, double *K) {
+sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n_out,
+                            double *f, double *K) {
   const sk_body *body;
   const int *conn;
   int n = sk_element_dofs(model, element, dofs, &body, &conn);
@@ -54,13 +35,13 @@ static sk_status element_system(const sk_model *model, const sk_bulk_state *stat
   double X[SK_MAX_NEN * 3], u[SK_MAX_NEN * 3], u0[SK_MAX_NEN * 3];
   gather(n, dofs, model->X, X);
   gather(n, dofs, state->u, u);
-  if (state->scheme == SK_SCHEME_MIDPOINT) {
+  if (state->integrator->discrete_gradient) {
     gather(n, dofs, state->u_n, u0);
     if (sk_solid_internal_midpoint(&body->solid, X, u0, u, f, K) != SK_OK) return inverted(body, element);
   } else {
     if (sk_solid_internal(&body->solid, X, u, NULL, f, K) != SK_OK) return inverted(body, element);
   }
-  double c = sk_bulk_mass_coefficient(state);
+  double c = state->integrator->inertia_coefficient(state->dt);
   int need_mass = c != 0.0 || model->body_force[0] != 0 || model->body_force[1] != 0 || model->body_force[2] != 0;
   if (need_mass) {
     const double *M = model->element_mass + model->element_mass_offset[element];
@@ -84,52 +65,21 @@ static sk_status element_system(const sk_model *model, const sk_bulk_state *stat
   return SK_OK;
 }
 
-static sk_status add_tractions(const sk_model *model, const sk_bulk_state *state, double *F) {
-  /* dead loads at the time where the scheme balances forces */
-  double t = state->scheme == SK_SCHEME_MIDPOINT ? 0.5 * (state->t_n + state->t) : state->t;
-  int dim = model->dim;
-  for (int k = 0; k < model->n_tractions; ++k) {
-    const sk_traction *load = &model->tractions[k];
-    double scale = sk_history_value(&load->history, t), traction[3];
-    for (int i = 0; i < 3; ++i) traction[i] = scale * load->traction[i];
-    const sk_group *g = load->faces;
-    for (int e = 0; e < g->n_elems; ++e) {
-      double X[SK_MAX_NEN * 3], f[SK_MAX_NEN * 3];
-      const int *conn = g->conn + (size_t)e * (size_t)g->nen;
-      for (int a = 0; a < g->nen; ++a)
-        for (int i = 0; i < dim; ++i) X[a * dim + i] = model->X[conn[a] * dim + i];
-      sk_face_traction(g->type, dim, X, traction, f);
-      for (int a = 0; a < g->nen; ++a)
-        for (int i = 0; i < dim; ++i) F[conn[a] * dim + i] -= f[a * dim + i];
-    }
+void sk_traction_add(const sk_model *model, int k, double t, double *F) {
+  const int dim = model->dim;
+  const sk_traction *load = &model->tractions[k];
+  double scale = sk_history_value(&load->history, t), traction[3];
+  for (int i = 0; i < 3; ++i) traction[i] = scale * load->traction[i];
+  const sk_group *g = load->faces;
+  for (int e = 0; e < g->n_elems; ++e) {
+    double X[SK_MAX_NEN * 3], f[SK_MAX_NEN * 3];
+    const int *conn = g->conn + (size_t)e * (size_t)g->nen;
+    for (int a = 0; a < g->nen; ++a)
+      for (int i = 0; i < dim; ++i) X[a * dim + i] = model->X[conn[a] * dim + i];
+    sk_face_traction(g->type, dim, X, traction, f);
+    for (int a = 0; a < g->nen; ++a)
+      for (int i = 0; i < dim; ++i) F[conn[a] * dim + i] -= f[a * dim + i];
   }
-  return SK_OK;
-}
-
-sk_status sk_bulk_residual(const sk_model *model, const sk_bulk_state *state, double *F) {
-  int dofs[SK_MAX_NEN * 3], n;
-  double f[SK_MAX_NEN * 3];
-  for (int e = 0; e < model->n_elements; ++e) {
-    if (model->element_part[e] != model->rank) continue;
-    SK_TRY(element_system(model, state, e, dofs, &n, f, NULL));
-    for (int k = 0; k < n; ++k) F[dofs[k]] += f[k];
-  }
-  if (model->rank == 0) SK_TRY(add_tractions(model, state, F));
-  return SK_OK;
-}
-
-sk_status sk_bulk_jacobian(const sk_model *model, const sk_bulk_state *state, sk_element_scatter scatter, void *ctx) {
-  int dofs[SK_MAX_NEN * 3], n;
-  double f[SK_MAX_NEN * 3];
-  static double K[SK_MAX_NEN * 3 * SK_MAX_NEN * 3]; /* too large for the stack of deep call chains */
-  for (int e = 0; e < model->n_elements; ++e) {
-    if (model->element_part[e] != model->rank) continue;
-    int nn = sk_element_dofs(model, e, dofs, NULL, NULL);
-    memset(K, 0, sizeof(double) * (size_t)(nn * nn));
-    SK_TRY(element_system(model, state, e, dofs, &n, f, K));
-    scatter(ctx, e, n, dofs, K);
-  }
-  return SK_OK;
 }
 
 sk_status sk_bulk_invariants(const sk_model *model, const double *u, const double *v, sk_invariants *inv) {

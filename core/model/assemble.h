@@ -1,5 +1,6 @@
-/* Bulk (non-contact) parts of a step's nonlinear system: internal, inertial and external forces of the bodies, with
- * their Jacobian, and the invariants written to history.csv. Internal to the simulation layer. */
+/* Finite-element assembly of the bodies (internal to the simulation layer): one element's residual and Jacobian
+ * under a body's time integrator, traction loads, and the energies, momenta and stresses written as results. The
+ * loops over a rank's elements are the bulk term's (term_bulk.c). */
 #ifndef STICKSLIP_ASSEMBLE_H
 #define STICKSLIP_ASSEMBLE_H
 
@@ -7,28 +8,23 @@
 
 /* Where a step stands: the residual of the step from t_n to t for displacement u. */
 typedef struct {
-  sk_scheme scheme;
+  const sk_time_integrator *integrator;
   double t_n, t, dt;
-  const double *u_n, *v_n; /* at t_n (v_n NULL when quasi-static) */
+  const double *u_n, *v_n; /* at t_n (v_n NULL without inertia) */
   const double *u;         /* current iterate */
 } sk_bulk_state;
 
-/* Coefficient of the mass matrix in the step's residual: F = c M (u - u_n - dt v_n) + ... */
-double sk_bulk_mass_coefficient(const sk_bulk_state *state);
-
-/* Velocity at t from the scheme: BE v = (u - u_n)/dt; midpoint v = 2 (u - u_n)/dt - v_n; quasi-static 0. */
-void sk_bulk_velocity(const sk_model *model, const sk_bulk_state *state, double *v);
-
-/* Adds this rank's elements' residual (internal + inertial - body force) and, on rank 0, the tractions, to F.
- * SK_ERR_INVERTED (with a message naming the body and element) when an element is inverted. */
-sk_status sk_bulk_residual(const sk_model *model, const sk_bulk_state *state, double *F);
-
-/* Calls `scatter` with each of this rank's element Jacobians (dofs: global dof ids, K row-major). */
-typedef void (*sk_element_scatter)(void *ctx, int element, int n, const int *dofs, const double *K);
-sk_status sk_bulk_jacobian(const sk_model *model, const sk_bulk_state *state, sk_element_scatter scatter, void *ctx);
-
 /* Global dof ids of element e (global element numbering over bodies): returns nen*dim and fills dofs. */
 int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body **body, const int **conn);
+
+/* Element e's residual f = c M (u - u_n - dt v_n) + f_int - M b (b the body force per unit mass) and, when K is not
+ * NULL, its Jacobian (row-major, zeroed by the caller); n = nen*dim, dofs its global dof ids. SK_ERR_INVERTED (with
+ * a message naming the body and element) when the element is inverted. */
+sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n,
+                            double *f, double *K);
+
+/* Adds traction load k at time t to F (F -= nodal forces), dim per node. */
+void sk_traction_add(const sk_model *model, int k, double t, double *F);
 
 typedef struct {
   double kinetic, strain;

@@ -2,12 +2,14 @@
 #define _GNU_SOURCE
 #include "stickslip/scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "stickslip/plugins.h"
+#include "system.h"
 
 /* ---- helpers -------------------------------------------------------------------------------------------------- */
 
@@ -43,18 +45,6 @@ static sk_status read_history(const sk_cfg *map, const char *key, sk_history *hi
   return SK_OK;
 }
 
-double sk_history_value(const sk_history *history, double t) {
-  if (history->n == 0) return 1.0;
-  if (t <= history->t[0]) return history->v[0];
-  for (int k = 1; k < history->n; ++k) {
-    if (t <= history->t[k]) {
-      double s = (t - history->t[k - 1]) / (history->t[k] - history->t[k - 1]);
-      return (1.0 - s) * history->v[k - 1] + s * history->v[k];
-    }
-  }
-  return history->v[history->n - 1];
-}
-
 /* ---- meshes ----------------------------------------------------------------------------------------------------- */
 
 static void rotate_vector(const double axis_in[3], double angle, double v[3]) {
@@ -84,7 +74,14 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   const char *name;
   SK_TRY(sk_cfg_string(entry, "name", 0, "", &name));
   snprintf(prefix, SK_NAME_MAX, "%s", name);
-  sk_status status = sk_mesh_load(path, list, n_params, dim_wanted, mesh);
+  sk_mesh_options options;
+  sk_mesh_options_default(&options);
+  options.dim = dim_wanted;
+  int max_elements = (int)options.max_elements;
+  SK_TRY(sk_cfg_int(entry, "max_elements", 0, max_elements, &max_elements));
+  SK_TRY(sk_cfg_double(entry, "time_limit", 0, options.time_limit, &options.time_limit));
+  options.max_elements = max_elements;
+  sk_status status = sk_mesh_load_with(path, list, n_params, &options, mesh);
   if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(entry));
 
   double translate[3] = {0, 0, 0}, axis[3] = {0, 0, 1}, angle = 0;
@@ -100,6 +97,8 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
     if (angle != 0) rotate_vector(axis, angle * M_PI / 180.0, x);
     for (int i = 0; i < 3; ++i) x[i] += translate[i];
   }
+  status = sk_mesh_check_elements(mesh); /* a translation by 1e308 overflows */
+  if (status != SK_OK) return sk_error_prefix(status, "%s: after translate/rotate: ", sk_cfg_where(entry));
   return SK_OK;
 }
 
@@ -166,9 +165,41 @@ static sk_status require_group(const sk_model *model, const sk_cfg *at, const ch
   return SK_OK;
 }
 
+static sk_status choose_strategy(const sk_cfg *entry, const sk_plugin *plugin, int *strategy);
+static int straight_faces(const sk_surface *surface) {
+  return surface->face_type == SK_LINE2 || surface->face_type == SK_TRI3;
+}
+
+static sk_status check_kind(const sk_cfg *at, const sk_plugin *plugin, sk_kind kind, const char *what, const char *name);
+
 /* ---- bodies ----------------------------------------------------------------------------------------------------- */
 
-static const char *const material_names[] = {"hooke", "svk", "neo-hooke", NULL};
+/* `plugin`, `strategy` and `parameters` of a body: a body plugin (kind "body", docs/plugin-abi.md §2). */
+static sk_status read_body_plugin(const sk_cfg *entry, const sk_model *model, sk_body *body) {
+  const char *plugin_name;
+  SK_TRY(sk_cfg_string(entry, "plugin", 0, NULL, &plugin_name));
+  if (!plugin_name) {
+    if (sk_cfg_get(entry, "strategy") || sk_cfg_get(entry, "parameters"))
+      return sk_error_set(SK_ERR_INPUT, "%s: body '%s': `strategy` and `parameters` need a `plugin`",
+                          sk_cfg_where(entry), body->name);
+    return SK_OK;
+  }
+  sk_status status = sk_plugin_load(plugin_name, &body->plugin);
+  if (status != SK_OK)
+    return sk_error_prefix(status, "%s: body '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), body->name);
+  SK_TRY(check_kind(sk_cfg_get(entry, "plugin"), body->plugin, SK_KIND_BODY, "body", body->name));
+  SK_TRY(choose_strategy(entry, body->plugin, &body->strategy));
+  body->params = sk_cfg_get(entry, "parameters");
+  uint64_t need = (model->dim == 2 ? SK_CAP_2D : SK_CAP_3D) | model->time.integrator->plugin_caps;
+  uint64_t missing = need & ~body->plugin->caps;
+  if (missing) {
+    char text[256];
+    sk_capabilities_string(missing, text, sizeof text);
+    return sk_error_set(SK_ERR_PLUGIN, "%s: body '%s': plugin '%s' lacks what this scene needs: %s",
+                        sk_cfg_where(entry), body->name, body->plugin->name, text);
+  }
+  return SK_OK;
+}
 
 static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
   const sk_cfg *list = sk_cfg_get(root, "bodies");
@@ -176,6 +207,7 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     return sk_error_set(SK_ERR_INPUT, "%s: key 'bodies' must list at least one body", sk_cfg_where(list ? list : root));
   model->n_bodies = sk_cfg_size(list);
   model->bodies = calloc((size_t)model->n_bodies, sizeof(sk_body));
+  if (!model->bodies) return sk_error_set(SK_ERR_NOMEM, "%s: out of memory for the bodies", sk_cfg_where(list));
   int first = 0;
   for (int b = 0; b < model->n_bodies; ++b) {
     const sk_cfg *entry = sk_cfg_at(list, b);
@@ -187,13 +219,15 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     SK_TRY(require_group(model, sk_cfg_get(entry, "group"), group_name, model->dim, &body->group));
     const sk_cfg *material = sk_cfg_get(entry, "material");
     if (!material) return sk_error_set(SK_ERR_INPUT, "%s: body '%s' needs a `material`", sk_cfg_where(entry), name);
-    int kind;
+    int choice;
+    sk_material_model kind;
     double E, nu, density;
-    SK_TRY(sk_cfg_choice(material, "model", 1, material_names, 0, &kind));
+    SK_TRY(sk_cfg_choice(material, "model", 1, sk_material_model_names, 0, &choice));
+    SK_TRY(sk_material_model_from_name(sk_material_model_names[choice], &kind));
     SK_TRY(sk_cfg_double(material, "E", 1, 0, &E));
     SK_TRY(sk_cfg_double(material, "nu", 1, 0, &nu));
-    SK_TRY(sk_cfg_double(material, "density", model->time.scheme != SK_SCHEME_QUASISTATIC, 0, &density));
-    sk_status status = sk_material_init(&body->material, (sk_material_model)kind, E, nu, density);
+    SK_TRY(sk_cfg_double(material, "density", model->time.integrator->dynamic, 0, &density));
+    sk_status status = sk_material_init(&body->material, kind, E, nu, density);
     if (status != SK_OK) return sk_error_prefix(status, "%s: body '%s': ", sk_cfg_where(material), name);
     body->solid.type = body->group->type;
     body->solid.dim = model->dim;
@@ -202,9 +236,26 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     SK_TRY(sk_cfg_vector(entry, "angular_velocity", 0, 3, (double[3]){0, 0, 0}, body->angular_velocity));
     SK_TRY(sk_cfg_vector(entry, "center", 0, 3, (double[3]){0, 0, 0}, body->center));
     body->first_element = first;
+    body->integrator = model->time.integrator;
     first += body->group->n_elems;
+    SK_TRY(read_body_plugin(entry, model, body));
   }
   model->n_elements = first;
+  /* two bodies on one group, or on overlapping groups, would count the same elements twice */
+  const sk_group **groups = calloc((size_t)model->n_bodies, sizeof *groups);
+  char (*labels)[SK_NAME_MAX + 16] = calloc((size_t)model->n_bodies, sizeof *labels);
+  const char **names = calloc((size_t)model->n_bodies, sizeof *names);
+  sk_status status = groups && labels && names ? SK_OK : sk_error_set(SK_ERR_NOMEM, "out of memory");
+  for (int b = 0; b < model->n_bodies && status == SK_OK; ++b) {
+    groups[b] = model->bodies[b].group;
+    snprintf(labels[b], sizeof labels[b], "body '%s'", model->bodies[b].name);
+    names[b] = labels[b];
+  }
+  if (status == SK_OK) status = sk_mesh_check_disjoint(&model->mesh, groups, names, model->n_bodies);
+  free(groups);
+  free(labels);
+  free(names);
+  if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(list));
   return SK_OK;
 }
 
@@ -216,6 +267,8 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
   if (list && sk_cfg_kind_of(list) != SK_CFG_SEQ) return fail_at(list, "%s", "expects a list of conditions");
   model->dirichlet = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_dirichlet));
   model->tractions = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_traction));
+  if (!model->dirichlet || !model->tractions)
+    return sk_error_set(SK_ERR_NOMEM, "%s: out of memory for the boundary conditions", sk_cfg_where(root));
   for (int k = 0; k < n; ++k) {
     const sk_cfg *entry = sk_cfg_at(list, k);
     const char *group_name, *name;
@@ -260,22 +313,10 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
 
 /* ---- contact ---------------------------------------------------------------------------------------------------- */
 
-/* The body whose elements carry the surface's first node. */
-static int body_of_group(const sk_model *model, const sk_group *faces) {
-  if (faces->n_elems == 0) return -1;
-  int node = faces->conn[0];
-  for (int b = 0; b < model->n_bodies; ++b) {
-    const sk_group *g = model->bodies[b].group;
-    for (long k = 0; k < (long)g->n_elems * g->nen; ++k)
-      if (g->conn[k] == node) return b;
-  }
-  return -1;
-}
-
 static sk_status build_surface(const sk_model *model, const sk_cfg *at, const char *name, sk_surface *surface) {
   const sk_group *faces;
   SK_TRY(require_group(model, at, name, model->dim - 1, &faces));
-  int body = body_of_group(model, faces);
+  int body = faces->n_elems > 0 ? sk_model_body_of_node(model, faces->conn[0]) : -1;
   if (body < 0) return fail_at(at, "surface '%s' does not lie on any body listed under `bodies`", name);
   sk_status status = sk_surface_build(&model->mesh, faces, model->bodies[body].group, body, surface);
   if (status != SK_OK) return sk_error_prefix(status, "%s: ", sk_cfg_where(at));
@@ -320,42 +361,39 @@ static sk_status read_obstacle(const sk_cfg *node, int dim, sk_obstacle *obstacl
   return SK_OK;
 }
 
-static uint64_t capabilities_needed(const sk_model *model, const sk_contact_pair *pair, double mu) {
+static uint64_t capabilities_needed(const sk_model *model, const sk_contact_pair *pair) {
   uint64_t caps = model->dim == 2 ? SK_CAP_2D : SK_CAP_3D;
   caps |= pair->has_obstacle ? SK_CAP_RIGID_OBSTACLE : SK_CAP_DEFORMABLE_MASTER;
-  if (mu > 0) caps |= SK_CAP_FRICTION;
-  switch (model->time.scheme) {
-    case SK_SCHEME_QUASISTATIC: caps |= SK_CAP_QUASISTATIC; break;
-    case SK_SCHEME_BACKWARD_EULER: caps |= SK_CAP_DYNAMICS; break;
-    case SK_SCHEME_MIDPOINT: caps |= SK_CAP_DYNAMICS; break; /* energy consistency: a warning, see below */
+  if (pair->self_contact) caps |= SK_CAP_SELF_CONTACT;
+  return caps | model->time.integrator->plugin_caps;
+}
+
+static sk_status check_kind(const sk_cfg *at, const sk_plugin *plugin, sk_kind kind, const char *what,
+                            const char *name) {
+  if (plugin->kinds & kind) return SK_OK;
+  return sk_error_set(SK_ERR_PLUGIN, "%s: %s '%s': plugin '%s' does not attach to a %s (it is a %s plugin)",
+                      sk_cfg_where(at), what, name, plugin->name, what, kind == SK_KIND_BODY ? "contact-pair" : "body");
+}
+
+/* `strategy:` of a pair or body: one of the plugin's strategies (the first by default). */
+static sk_status choose_strategy(const sk_cfg *entry, const sk_plugin *plugin, int *strategy) {
+  const char *name;
+  SK_TRY(sk_cfg_string(entry, "strategy", 0, plugin->strategies[0], &name));
+  *strategy = -1;
+  for (int s = 0; plugin->strategies[s]; ++s)
+    if (strcmp(plugin->strategies[s], name) == 0) *strategy = s;
+  if (*strategy < 0) {
+    char allowed[256] = "";
+    for (int s = 0; plugin->strategies[s]; ++s)
+      snprintf(allowed + strlen(allowed), sizeof allowed - strlen(allowed), "%s%s", s ? ", " : "",
+               plugin->strategies[s]);
+    return sk_error_set(SK_ERR_INPUT, "%s: plugin '%s' has no strategy '%s' (it offers: %s)",
+                        sk_cfg_where(sk_cfg_get(entry, "strategy")), plugin->name, name, allowed);
   }
-  return caps;
-}
-
-/* A library named libstickslip-<name>.so that failed to load (wrong ABI, missing symbol): its message explains an
- * "unknown plugin" better than the list of good ones. */
-typedef struct {
-  char file[SK_NAME_MAX + 32];
-  char message[1024];
-} broken_search;
-
-static void find_broken(void *ctx, const char *path, const char *message) {
-  broken_search *b = ctx;
-  const char *slash = strrchr(path, '/');
-  if (!b->message[0] && strcmp(slash ? slash + 1 : path, b->file) == 0)
-    snprintf(b->message, sizeof b->message, "%s", message);
-}
-
-static sk_status load_plugin(const char *name, const sk_plugin **plugin) {
-  sk_status status = sk_plugin_load(name, plugin);
-  if (status == SK_OK) return SK_OK;
-  char first[1024];
-  snprintf(first, sizeof first, "%s", sk_error_message());
-  broken_search b = {.message = ""};
-  snprintf(b.file, sizeof b.file, "libstickslip-%s.so", name);
-  sk_plugin_each(NULL, find_broken, &b);
-  if (b.message[0]) return sk_error_set(status, "plugin '%s' cannot be used: %s", name, b.message);
-  return sk_error_set(status, "%s", first);
+  if (*strategy > 0 && !(plugin->caps & SK_CAP_CONDENSATION))
+    return sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' offers strategy '%s' without the condensation capability",
+                        sk_cfg_where(sk_cfg_get(entry, "strategy")), plugin->name, name);
+  return SK_OK;
 }
 
 static sk_status read_contact(const sk_cfg *root, const char *plugin_override, sk_scene *scene) {
@@ -364,6 +402,7 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
   int n = sk_cfg_size(list);
   if (list && sk_cfg_kind_of(list) != SK_CFG_SEQ) return fail_at(list, "%s", "expects a list of contact pairs");
   model->pairs = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_contact_pair));
+  if (!model->pairs) return sk_error_set(SK_ERR_NOMEM, "%s: out of memory for the contact pairs", sk_cfg_where(root));
   model->n_pairs = n;
   for (int k = 0; k < n; ++k) {
     const sk_cfg *entry = sk_cfg_at(list, k);
@@ -375,7 +414,7 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
     copy_name(pair->name, name);
     SK_TRY(sk_cfg_string(entry, "plugin", 1, NULL, &plugin_name));
     if (plugin_override) plugin_name = plugin_override;
-    sk_status status = load_plugin(plugin_name, &pair->plugin);
+    sk_status status = sk_plugin_load(plugin_name, &pair->plugin);
     if (status != SK_OK)
       return sk_error_prefix(status, "%s: contact pair '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), name);
     SK_TRY(sk_cfg_string(entry, "slave", 1, NULL, &slave_name));
@@ -385,81 +424,65 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
     if (!!master_name == !!obstacle)
       return sk_error_set(SK_ERR_INPUT, "%s: contact pair '%s' needs exactly one of `master` or `obstacle`",
                           sk_cfg_where(entry), name);
-    if (master_name) {
+    SK_TRY(check_kind(sk_cfg_get(entry, "plugin"), pair->plugin, SK_KIND_PAIR, "contact pair", name));
+    if (master_name && strcmp(master_name, slave_name) == 0) {
+      pair->self_contact = 1;
+      pair->master = pair->slave; /* shares the slave's arrays (freed once) */
+    } else if (master_name) {
       SK_TRY(build_surface(model, sk_cfg_get(entry, "master"), master_name, &pair->master));
-      if (strcmp(master_name, slave_name) == 0)
-        return sk_error_set(SK_ERR_INPUT, "%s: contact pair '%s': self contact (slave == master) is not supported yet",
-                            sk_cfg_where(entry), name);
     } else {
       SK_TRY(read_obstacle(obstacle, model->dim, &pair->obstacle));
       pair->has_obstacle = 1;
     }
-    const sk_cfg *params = sk_cfg_get(entry, "parameters");
-    pair->params = (void *)params;
-    const char *strategy;
-    SK_TRY(sk_cfg_string(entry, "strategy", 0, pair->plugin->strategies[0], &strategy));
-    pair->strategy = -1;
-    for (int s = 0; pair->plugin->strategies[s]; ++s)
-      if (strcmp(pair->plugin->strategies[s], strategy) == 0) pair->strategy = s;
-    if (pair->strategy < 0) {
-      char allowed[256] = "";
-      for (int s = 0; pair->plugin->strategies[s]; ++s)
-        snprintf(allowed + strlen(allowed), sizeof allowed - strlen(allowed), "%s%s", s ? ", " : "",
-                 pair->plugin->strategies[s]);
-      return sk_error_set(SK_ERR_INPUT, "%s: plugin '%s' has no strategy '%s' (it offers: %s)",
-                          sk_cfg_where(sk_cfg_get(entry, "strategy")), pair->plugin->name, strategy, allowed);
-    }
-    /* Capabilities the scene needs: friction when a positive `mu` is among the parameters. */
-    double mu = 0;
-    const sk_cfg *mu_node = params ? sk_cfg_get(params, "mu") : NULL;
-    if (mu_node) SK_TRY(sk_cfg_as_double(mu_node, &mu));
-    uint64_t need = capabilities_needed(model, pair, mu);
-    uint64_t missing = need & ~pair->plugin->caps;
+    pair->params = sk_cfg_get(entry, "parameters");
+    SK_TRY(choose_strategy(entry, pair->plugin, &pair->strategy));
+    uint64_t missing = capabilities_needed(model, pair) & ~pair->plugin->caps;
     if (missing) {
       char text[256];
       sk_capabilities_string(missing, text, sizeof text);
       return sk_error_set(SK_ERR_PLUGIN, "%s: contact pair '%s': plugin '%s' lacks what this scene needs: %s",
                           sk_cfg_where(entry), name, pair->plugin->name, text);
     }
-    if (model->time.scheme == SK_SCHEME_MIDPOINT && !(pair->plugin->caps & SK_CAP_ENERGY_MOMENTUM) &&
-        model->rank == 0)
-      fprintf(stderr,
-              "warning: contact pair '%s': plugin '%s' is not energy-consistent with the midpoint scheme: momenta are "
-              "kept, energy is not conserved through contact\n",
-              name, pair->plugin->name);
-    pair->pair.name = pair->name;
-    pair->pair.slave = &pair->slave;
-    pair->pair.master = pair->has_obstacle ? NULL : &pair->master;
-    pair->pair.obstacle = pair->has_obstacle ? &pair->obstacle : NULL;
-    pair->pair.params = (const sk_params *)params;
-    pair->pair.strategy = pair->strategy;
+    if (model->time.integrator->energy_momentum && !(pair->plugin->caps & SK_CAP_ENERGY_MOMENTUM))
+      sk_log_message(model->rank, 1,
+                     "contact pair '%s': plugin '%s' is not energy-consistent with the midpoint scheme: momenta are "
+                     "kept, energy is not conserved through contact",
+                     name, pair->plugin->name);
+    if ((pair->plugin->caps & SK_CAP_NEEDS_CURVATURE) &&
+        (straight_faces(&pair->slave) || (!pair->has_obstacle && straight_faces(&pair->master))))
+      sk_log_message(model->rank, 1,
+                     "contact pair '%s': plugin '%s' uses surface curvature, which vanishes on straight (LINE2/TRI3) "
+                     "faces",
+                     name, pair->plugin->name);
   }
   return SK_OK;
 }
 
 /* ---- time, solver, output --------------------------------------------------------------------------------------- */
 
-static const char *const scheme_names[] = {"quasi-static", "backward-euler", "midpoint", NULL};
-
 static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
   const sk_cfg *node = sk_cfg_get(root, "time");
   if (!node) return sk_error_set(SK_ERR_INPUT, "%s: missing key 'time'", sk_cfg_where(root));
   int scheme;
+  const char *const *scheme_names = sk_time_integrator_names();
   SK_TRY(sk_cfg_choice(node, "scheme", 1, scheme_names, 0, &scheme));
-  time->scheme = (sk_scheme)scheme;
+  time->integrator = sk_time_integrator_find(scheme_names[scheme]);
   SK_TRY(sk_cfg_double(node, "dt", 1, 0, &time->dt));
   SK_TRY(sk_cfg_double(node, "end", 1, 0, &time->t_end));
   SK_TRY(sk_cfg_double(node, "start", 0, 0, &time->t_start));
   SK_TRY(sk_cfg_int(node, "max_cuts", 0, 6, &time->max_cuts));
   if (!(time->dt > 0)) return fail_at(sk_cfg_get(node, "dt"), "%s", "must be positive");
   if (!(time->t_end > time->t_start)) return fail_at(sk_cfg_get(node, "end"), "%s", "must be larger than `start`");
+  /* a step below the resolution of t would never advance it (t + dt == t): the run would loop forever */
+  if (time->dt < 64 * DBL_EPSILON * fmax(fabs(time->t_start), fabs(time->t_end)))
+    return fail_at(sk_cfg_get(node, "dt"), "%s", "is too small to advance the time between `start` and `end`");
   if (time->max_cuts < 0 || time->max_cuts > 30) return fail_at(sk_cfg_get(node, "max_cuts"), "%s", "must be 0..30");
-  time->dt_min = time->dt / pow(2.0, time->max_cuts);
   return SK_OK;
 }
 
 /* in sk_linear_solver_kind order */
-static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto", "mumps", "klu2", "klu", NULL};
+static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto",     "mumps",
+                                           "klu2",   "klu",         "gmres-sgs", NULL};
 static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", NULL};
 
 static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
@@ -479,6 +502,10 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   SK_TRY(sk_cfg_int(newton, "max_iterations", 0, solver->newton.max_iterations, &solver->newton.max_iterations));
   SK_TRY(sk_cfg_choice(newton, "line_search", 0, line_search_names, line_search, &line_search));
   SK_TRY(sk_cfg_bool(newton, "verbose", 0, solver->newton.verbose, &solver->newton.verbose));
+  SK_TRY(sk_cfg_bool(newton, "inexact", 0, solver->newton.forcing, &solver->newton.forcing));
+  SK_TRY(sk_cfg_int(newton, "max_active_set_loops", 0, 10, &solver->max_active_set_loops));
+  if (solver->max_active_set_loops < 1)
+    return fail_at(sk_cfg_get(newton, "max_active_set_loops"), "%s", "must be at least 1");
   solver->newton.line_search = (sk_line_search)line_search;
   SK_TRY(sk_cfg_choice(linear, "solver", 0, linear_names, kind, &kind));
   solver->linear.kind = (sk_linear_solver_kind)kind;
@@ -499,88 +526,6 @@ static sk_status read_output(const sk_cfg *root, sk_output_settings *output) {
   return SK_OK;
 }
 
-/* ---- mass ------------------------------------------------------------------------------------------------------- */
-
-static int compare_ints(const void *a, const void *b) {
-  int x = *(const int *)a, y = *(const int *)b;
-  return (x > y) - (x < y);
-}
-
-/* Consistent nodal mass matrix (scalar, n_nodes x n_nodes CSR) and its row sums. */
-static sk_status build_mass(sk_model *model) {
-  int n = model->n_nodes;
-  int *count = calloc((size_t)n + 1, sizeof(int));
-  for (int b = 0; b < model->n_bodies; ++b) {
-    const sk_group *g = model->bodies[b].group;
-    for (int e = 0; e < g->n_elems; ++e)
-      for (int a = 0; a < g->nen; ++a) count[g->conn[e * g->nen + a]] += g->nen;
-  }
-  int64_t *start = malloc(sizeof(int64_t) * ((size_t)n + 1));
-  start[0] = 0;
-  for (int i = 0; i < n; ++i) start[i + 1] = start[i] + count[i];
-  int *cols = malloc(sizeof(int) * (size_t)(start[n] > 0 ? start[n] : 1));
-  memset(count, 0, sizeof(int) * (size_t)n);
-  for (int b = 0; b < model->n_bodies; ++b) {
-    const sk_group *g = model->bodies[b].group;
-    for (int e = 0; e < g->n_elems; ++e)
-      for (int a = 0; a < g->nen; ++a) {
-        int row = g->conn[e * g->nen + a];
-        for (int c = 0; c < g->nen; ++c) cols[start[row] + count[row]++] = g->conn[e * g->nen + c];
-      }
-  }
-  /* sort and deduplicate each row */
-  model->mass_row_ptr = malloc(sizeof(int64_t) * ((size_t)n + 1));
-  model->mass_row_ptr[0] = 0;
-  int64_t used = 0;
-  for (int i = 0; i < n; ++i) {
-    int *row = cols + start[i];
-    qsort(row, (size_t)count[i], sizeof(int), compare_ints);
-    for (int k = 0; k < count[i]; ++k)
-      if (k == 0 || row[k] != row[k - 1]) cols[used++] = row[k];
-    model->mass_row_ptr[i + 1] = used;
-  }
-  model->mass_cols = realloc(cols, sizeof(int) * (size_t)(used > 0 ? used : 1));
-  model->mass_values = calloc((size_t)(used > 0 ? used : 1), sizeof(double));
-  model->lumped_mass = calloc((size_t)n, sizeof(double));
-  free(count);
-  free(start);
-
-  double X[SK_MAX_NEN * 3];
-  int dim = model->dim;
-  model->total_mass = 0;
-  /* element mass matrices are kept: the inertia terms of every Newton iteration reuse them */
-  model->element_mass_offset = malloc(sizeof(int64_t) * ((size_t)model->n_elements + 1));
-  model->element_mass_offset[0] = 0;
-  for (int b = 0, e_global = 0; b < model->n_bodies; ++b)
-    for (int e = 0; e < model->bodies[b].group->n_elems; ++e, ++e_global)
-      model->element_mass_offset[e_global + 1] =
-          model->element_mass_offset[e_global] + model->bodies[b].group->nen * model->bodies[b].group->nen;
-  model->element_mass = malloc(sizeof(double) * (size_t)(model->element_mass_offset[model->n_elements] + 1));
-  for (int b = 0; b < model->n_bodies; ++b) {
-    const sk_body *body = &model->bodies[b];
-    const sk_group *g = body->group;
-    for (int e = 0; e < g->n_elems; ++e) {
-      const int *conn = g->conn + e * g->nen;
-      for (int a = 0; a < g->nen; ++a)
-        for (int i = 0; i < dim; ++i) X[a * dim + i] = model->mesh.x[3 * conn[a] + i];
-      double *M = model->element_mass + model->element_mass_offset[body->first_element + e];
-      SK_TRY(sk_solid_mass(&body->solid, X, M));
-      for (int a = 0; a < g->nen; ++a) {
-        int row = conn[a];
-        const int *rc = model->mass_cols + model->mass_row_ptr[row];
-        int len = (int)(model->mass_row_ptr[row + 1] - model->mass_row_ptr[row]);
-        for (int c = 0; c < g->nen; ++c) {
-          const int *hit = bsearch(&conn[c], rc, (size_t)len, sizeof(int), compare_ints);
-          model->mass_values[model->mass_row_ptr[row] + (hit - rc)] += M[a * g->nen + c];
-          model->lumped_mass[row] += M[a * g->nen + c];
-          model->total_mass += M[a * g->nen + c];
-        }
-      }
-    }
-  }
-  return SK_OK;
-}
-
 /* ---- the whole scene -------------------------------------------------------------------------------------------- */
 
 static sk_status build(const char *plugin_override, sk_scene *scene) {
@@ -597,41 +542,16 @@ static sk_status build(const char *plugin_override, sk_scene *scene) {
   model->n_nodes = model->mesh.n_nodes;
   model->n_dofs = model->n_nodes * model->dim;
   model->X = malloc(sizeof(double) * (size_t)(model->n_dofs > 0 ? model->n_dofs : 1));
+  if (!model->X) return sk_error_set(SK_ERR_NOMEM, "%s: out of memory for %d nodes", scene->path, model->n_nodes);
   for (int a = 0; a < model->n_nodes; ++a)
     for (int i = 0; i < model->dim; ++i) model->X[a * model->dim + i] = model->mesh.x[3 * a + i];
   SK_TRY(read_bodies(root, model));
   SK_TRY(read_boundary(root, model));
-  SK_TRY(build_mass(model));
-  sk_host_init(&scene->host, model);
   SK_TRY(read_contact(root, plugin_override, scene));
-
-  /* METIS partition of all body elements */
-  model->element_part = calloc((size_t)(model->n_elements > 0 ? model->n_elements : 1), sizeof(int));
-  const sk_group *bodies[64];
-  if (model->n_bodies > 64) return sk_error_set(SK_ERR_INPUT, "%s: more than 64 bodies", scene->path);
-  for (int b = 0; b < model->n_bodies; ++b) bodies[b] = model->bodies[b].group;
-  SK_TRY(sk_mesh_partition(&model->mesh, bodies, model->n_bodies, model->n_ranks, model->element_part));
-  model->node_owner = malloc(sizeof(int) * (size_t)(model->n_nodes > 0 ? model->n_nodes : 1));
-  for (int a = 0; a < model->n_nodes; ++a) model->node_owner[a] = model->n_ranks; /* nodes of no body: see below */
-  for (int b = 0; b < model->n_bodies; ++b) {
-    const sk_group *g = model->bodies[b].group;
-    for (int e = 0; e < g->n_elems; ++e)
-      for (int a = 0; a < g->nen; ++a) {
-        int node = g->conn[e * g->nen + a], part = model->element_part[model->bodies[b].first_element + e];
-        if (part < model->node_owner[node]) model->node_owner[node] = part;
-      }
-  }
-  for (int a = 0; a < model->n_nodes; ++a)
-    if (model->node_owner[a] == model->n_ranks) model->node_owner[a] = 0;
-
-  /* Plugin instances: created now so that their parameters are validated (and read) before the unknown-key check. */
-  for (int k = 0; k < model->n_pairs; ++k) {
-    sk_contact_pair *pair = &model->pairs[k];
-    sk_status status = pair->plugin->create(&scene->host, &pair->pair, &pair->instance);
-    if (status != SK_OK)
-      return sk_error_prefix(status, "%s: contact pair '%s' (plugin %s): ", scene->path, pair->name,
-                             pair->plugin->name);
-  }
+  SK_TRY(sk_model_build(model));
+  /* The system of terms creates the plugin instances now, so that their parameters are validated (and read) before
+   * the unknown-key check. */
+  SK_TRY(sk_system_create(model, &scene->solver, &scene->system));
   return sk_cfg_check_unused(root);
 }
 
@@ -650,32 +570,9 @@ sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, c
   return build(plugin_override, scene);
 }
 
-void sk_model_free(sk_model *model) {
-  for (int k = 0; k < model->n_pairs; ++k) {
-    sk_contact_pair *pair = &model->pairs[k];
-    if (pair->instance) pair->plugin->destroy(pair->instance);
-    sk_surface_free(&pair->slave);
-    if (!pair->has_obstacle) sk_surface_free(&pair->master);
-  }
-  free(model->pairs);
-  for (int k = 0; k < model->n_dirichlet; ++k) free(model->dirichlet[k].nodes);
-  free(model->dirichlet);
-  free(model->tractions);
-  free(model->bodies);
-  free(model->element_part);
-  free(model->node_owner);
-  free(model->X);
-  free(model->mass_row_ptr);
-  free(model->mass_cols);
-  free(model->mass_values);
-  free(model->lumped_mass);
-  free(model->element_mass_offset);
-  free(model->element_mass);
-  sk_mesh_free(&model->mesh);
-  memset(model, 0, sizeof *model);
-}
-
 void sk_scene_free(sk_scene *scene) {
+  sk_system_destroy(scene->system);
+  scene->system = NULL;
   sk_model_free(&scene->model);
   sk_cfg_free(scene->cfg);
   scene->cfg = NULL;

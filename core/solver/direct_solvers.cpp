@@ -62,6 +62,28 @@ void build_epetra(sk_linear_system *sys) {
   sys->epetra_problem = rcp(new Epetra_LinearProblem(sys->epetra_matrix.get(), sys->epetra_x.get(), sys->epetra_b.get()));
 }
 
+// Forward and backward substitution with the current Amesos factorisation; x replicated on every rank.
+sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
+  const int first_row = sys->row_offsets[sys->rank];
+  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  std::copy(b + first_row, b + first_row + n_owned, sys->epetra_b->Values());
+  int code = sys->amesos->Solve(), worst = 0;
+  code = code < 0 ? code : -code;
+  MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MIN, sys->comm);  // MUMPS's codes are global; agree anyway
+  if (worst != 0) {
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): solve failed (error %d)",
+                        amesos_backend_name(sys->amesos_kind), worst);
+  }
+  std::vector<int> counts(sys->size), displs(sys->size);
+  for (int r = 0; r < sys->size; ++r) {
+    displs[r] = sys->row_offsets[r];
+    counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+  }
+  MPI_Allgatherv(sys->epetra_x->Values(), n_owned, MPI_DOUBLE, x, counts.data(), displs.data(), MPI_DOUBLE, sys->comm);
+  return SK_OK;
+}
+
 }  // namespace
 
 bool is_direct(sk_linear_solver_kind kind) {
@@ -212,19 +234,7 @@ sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const 
     return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): numeric factorisation failed (error %d, singular matrix)",
                         backend, code);
   }
-  const int first_row = sys->row_offsets[sys->rank];
-  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
-  std::copy(b + first_row, b + first_row + n_owned, sys->epetra_b->Values());
-  if (const int code = failed(sys->amesos->Solve())) {
-    report->failure = SK_LINEAR_FAILURE_SINGULAR;
-    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): solve failed (error %d)", backend, code);
-  }
-  std::vector<int> counts(sys->size), displs(sys->size);
-  for (int r = 0; r < sys->size; ++r) {
-    displs[r] = sys->row_offsets[r];
-    counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
-  }
-  MPI_Allgatherv(sys->epetra_x->Values(), n_owned, MPI_DOUBLE, x, counts.data(), displs.data(), MPI_DOUBLE, sys->comm);
+  SK_TRY(solve_factorised(sys, b, x, report));
   Vector xv(sys->row_map), bv(sys->row_map);
   scatter_to(sys, x, xv);
   scatter_to(sys, b, bv);
@@ -235,6 +245,16 @@ sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const 
                         report->relative_residual);
   }
   return SK_OK;
+}
+
+// Another right-hand side with the factorisation of the last Amesos v1 solve (MUMPS, KLU); false when there is none
+// for `kind` (KLU2 and the iterative solvers solve again in full).
+bool solve_amesos_again(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                        sk_linear_report *report, sk_status *status) {
+  if (sys->amesos.is_null() || sys->amesos_kind != kind || !is_direct(kind) || kind == SK_LINEAR_DIRECT_KLU2) return false;
+  report->solver = kind;
+  *status = solve_factorised(sys, b, x, report);
+  return true;
 }
 
 }  // namespace stickslip::bridge

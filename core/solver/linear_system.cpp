@@ -17,6 +17,7 @@
 #include <Tpetra_Details_initializeKokkos.hpp>
 
 #include "bridge_internal.hpp"
+#include "stickslip/condense.h"
 
 namespace stickslip::bridge {
 
@@ -533,6 +534,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
       }
     }
   }
+  sys->last_kind = report->solver;
   report->seconds = now_seconds() - start;
   if (sys->options.verbose && sys->rank == 0)
     std::printf("linear solve (%s): n = %d, %d iterations, relative residual %.3g, %.3f s\n",
@@ -554,4 +556,39 @@ sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y) {
   }
 }
 
+// Another right-hand side with the operator of the last solve (condense.h): Amesos v1 (MUMPS, KLU — the direct
+// default) solves with its current factorisation; the other backends solve again in full (the same answer without
+// the saving).
+sk_status sk_linsys_solve_again(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
+  sk_linear_report local_report{};
+  if (!report) report = &local_report;
+  *report = sk_linear_report{};
+  const double start = now_seconds();
+  sk_status status = SK_OK;
+  try {
+    if (!solve_amesos_again(sys, sys->last_kind, b, x, report, &status)) return sk_linsys_solve(sys, b, x, report);
+  } catch (...) {
+    status = status_from_exception(SK_ERR_LINEAR_SOLVER, "sk_linsys_solve_again", std::current_exception());
+  }
+  report->seconds = now_seconds() - start;
+  return agree(sys->comm, status, "sk_linsys_solve_again");
+}
+
 }  // extern "C"
+
+namespace stickslip::bridge {
+
+system_rows rows_of(const sk_linear_system *sys) {
+  system_rows rows;
+  rows.n = sys->n;
+  rows.row_ptr = sys->row_ptr.data();
+  rows.cols = sys->cols.data();
+  rows.first_row = sys->row_offsets.empty() ? 0 : sys->row_offsets[sys->rank];
+  rows.n_owned = sys->row_offsets.empty() ? 0 : sys->row_offsets[sys->rank + 1] - rows.first_row;
+  rows.owned_values = sys->owned_values.data();
+  rows.owned_value_begin = sys->owned_value_begin;
+  rows.row_offsets = sys->row_offsets.data();
+  return rows;
+}
+
+}  // namespace stickslip::bridge

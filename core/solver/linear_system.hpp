@@ -174,6 +174,7 @@ struct sk_linear_system {
   RCP<Epetra_LinearProblem> epetra_problem;
   RCP<Amesos_BaseSolver> amesos;
   sk_linear_solver_kind amesos_kind = SK_LINEAR_DIRECT;
+  sk_linear_solver_kind last_kind = SK_LINEAR_AUTO;  // the backend of the last solve (sk_linsys_solve_again)
 
   // iterative: the nodal block K (the matrix itself when there are no constraint rows) and its preconditioner,
   // which outlives pattern changes while the nodal distribution stays (iterative_solvers.cpp says when it is
@@ -214,6 +215,8 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
 sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                        sk_linear_report *report);
 void release_direct(sk_linear_system *sys);
+bool solve_amesos_again(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                        sk_linear_report *report, sk_status *status);
 
 // iterative_solvers.cpp
 sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,

@@ -2,11 +2,12 @@
  *
  * Every slave node s is tied to its reference position X_s by a spring with optional cubic hardening:
  *   d = x_s - X_s,   force on the node  f = -(k + k3 |d|^2) d.
- * The driver solves F(x) = 0 where F = internal - external forces, so the plugin ADDS the restoring term with a
+ * The host solves F(x) = 0 where F = internal - external forces, so the plugin ADDS the restoring term with a
  * plus sign to the slave's rows:  F_s += (k + k3 |d|^2) d,  and its derivative to J:
  *   J_ss += (k + k3 |d|^2) I + 2 k3 d d^T.
- * The master (surface or obstacle) is ignored: this is not contact, it only shows the plumbing (parameters, owned
- * nodes, global indices, sinks, report, points). No extra unknowns, no condensation, no history. */
+ * The master (surface or obstacle) is ignored: this is not contact, it only shows the plumbing (parameters, views
+ * and owned nodes, global indices, the declared pattern, sinks, report, points). No extra unknowns, no condensation,
+ * no history. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,10 +16,11 @@
 /* Only the entry symbol is exported; CMake builds plugins with hidden visibility by default. */
 #define EXPORT __attribute__((visibility("default")))
 
-struct sk_instance {  /* the per-pair state; the core only ever holds a pointer to it */
-  const sk_host *host; /* valid for the instance's lifetime */
-  const sk_pair *pair;
-  double k, k3;        /* parameters */
+struct sk_instance {      /* the per-pair state; the core only ever holds a pointer to it */
+  const sk_host_api *api; /* the core's functions, valid for the instance's lifetime */
+  sk_host *host;          /* the core's handle for this instance: the first argument of every api call */
+  const sk_view *slave;   /* the slave surface as this rank sees it (owned nodes and ghosts) */
+  double k, k3;           /* parameters */
 };
 
 static const char *const strategies[] = {"none", NULL}; /* no condensation: one strategy, "none" */
@@ -29,21 +31,19 @@ static const char *const parameters[] = {             /* shown by `stickslip plu
 /* ---- create / destroy: read and check parameters, allocate the instance ---------------------------------------- */
 static void spring_destroy(sk_instance *in) { free(in); }
 
-static sk_status spring_create(const sk_host *host, const sk_pair *pair, sk_instance **out) {
+static sk_status spring_create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **out) {
   *out = NULL;
-  if (host->abi_version != SK_PLUGIN_ABI_VERSION)
-    return host->error(host, SK_ERR_PLUGIN, "example-spring built for ABI %u, host has %u", SK_PLUGIN_ABI_VERSION,
-                       host->abi_version);
   sk_instance *in = calloc(1, sizeof *in);
-  if (!in) return host->error(host, SK_ERR_NOMEM, "%s: example-spring: out of memory", pair->name);
+  if (!in) return api->error(host, SK_ERR_NOMEM, "example-spring: out of memory");
+  in->api = api;
   in->host = host;
-  in->pair = pair;
+  in->slave = attach->slave;
   /* Reading a key marks it used; keys a plugin never reads are reported to the user as unknown. */
-  sk_status st = host->param_double(host, pair->params, "k", 1, 0.0, &in->k);
-  if (st == SK_OK) st = host->param_double(host, pair->params, "k3", 0, 0.0, &in->k3);
+  sk_status st = api->param_double(host, "k", 1, 0.0, &in->k);
+  if (st == SK_OK) st = api->param_double(host, "k3", 0, 0.0, &in->k3);
   if (st == SK_OK && !(in->k > 0.0 && in->k3 >= 0.0))
-    st = host->error(host, SK_ERR_INPUT, "%s: example-spring needs k > 0 and k3 >= 0 (got k = %g, k3 = %g)",
-                     pair->name, in->k, in->k3);
+    st = api->error(host, SK_ERR_INPUT, "example-spring needs k > 0 and k3 >= 0 (got k = %g, k3 = %g)", in->k,
+                    in->k3);
   if (st != SK_OK) {
     spring_destroy(in);
     return st;
@@ -68,44 +68,54 @@ static sk_status spring_layout(sk_instance *in, const sk_state *st, sk_layout *l
   return SK_OK;
 }
 
-/* Slave node k (index into pair->slave->nodes): global dof rows, displacement d and the factor k + k3 |d|^2. */
-static double spring_point(const sk_instance *in, const sk_state *st, int k, int rows[3], double d[3]) {
-  const int dim = in->host->dim, node = in->pair->slave->nodes[k];
+/* The couplings jacobian() adds: each owned slave node's dofs with themselves. (A node's own block lies in the bulk
+ * element graph anyway; a contact plugin declares slave nodes against their candidate master nodes here.) */
+static sk_status spring_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern) {
+  (void)st;
+  const sk_view *v = in->slave;
+  for (int k = 0; k < v->n_nodes; ++k)
+    if (v->owned[k]) pattern->add_block(pattern, v->dim, v->dofs + k * v->dim, v->dim, v->dofs + k * v->dim);
+  return SK_OK;
+}
+
+/* Slave view node k: displacement d = x - X and the factor k + k3 |d|^2. Positions come per view (state->x[0] is the
+ * slave view: dim per view node), reference positions from the view. */
+static double spring_point(const sk_instance *in, const sk_state *st, int k, double d[3]) {
+  const int dim = in->slave->dim;
+  const double *x = st->x[0] + k * dim, *X = in->slave->X + k * dim;
   double d2 = 0.0;
   d[0] = d[1] = d[2] = 0.0;
   for (int i = 0; i < dim; ++i) {
-    rows[i] = node * dim + i;                        /* displacement dofs are node-major: node*dim + i */
-    d[i] = st->q[rows[i]] - in->host->X[rows[i]];    /* q: current positions, X: reference positions */
+    d[i] = x[i] - X[i];
     d2 += d[i] * d[i];
   }
   return in->k + in->k3 * d2;
 }
 
-/* Each rank adds only the nodes it owns: the driver sums the ranks' contributions, so each entry counts once. */
-static int owned(const sk_instance *in, int k) { return in->host->owns_node(in->host, in->pair->slave->nodes[k]); }
-
+/* Each rank adds only the nodes it owns (view->owned): the host sums the ranks' contributions, so each entry counts
+ * once. Rows are global unknown indices: view->dofs. */
 static sk_status spring_residual(sk_instance *in, const sk_state *st, sk_sink *sink) {
-  for (int k = 0; k < in->pair->slave->n_nodes; ++k) {
-    if (!owned(in, k)) continue;
-    int rows[3];
+  const sk_view *v = in->slave;
+  for (int k = 0; k < v->n_nodes; ++k) {
+    if (!v->owned[k]) continue;
     double d[3], F[3];
-    double s = spring_point(in, st, k, rows, d);
+    const double s = spring_point(in, st, k, d);
     for (int i = 0; i < 3; ++i) F[i] = s * d[i];       /* F_s += (k + k3|d|^2) d */
-    sink->add_vector(sink, in->host->dim, rows, F);
+    sink->add_vector(sink, v->dim, v->dofs + k * v->dim, F);
   }
   return SK_OK;
 }
 
 static sk_status spring_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink) {
-  const int dim = in->host->dim;
-  for (int k = 0; k < in->pair->slave->n_nodes; ++k) {
-    if (!owned(in, k)) continue;
-    int rows[3];
+  const sk_view *v = in->slave;
+  const int dim = v->dim;
+  for (int k = 0; k < v->n_nodes; ++k) {
+    if (!v->owned[k]) continue;
     double d[3], K[9];
-    double s = spring_point(in, st, k, rows, d);
+    const double s = spring_point(in, st, k, d);
     for (int i = 0; i < dim; ++i)                     /* row-major dim x dim block: dF_i / dx_j */
       for (int j = 0; j < dim; ++j) K[i * dim + j] = (i == j ? s : 0.0) + 2.0 * in->k3 * d[i] * d[j];
-    sink->add_matrix(sink, dim, rows, dim, rows, K);
+    sink->add_matrix(sink, dim, v->dofs + k * dim, dim, v->dofs + k * dim, K);
   }
   return SK_OK;
 }
@@ -117,17 +127,15 @@ static sk_status spring_commit_step(sk_instance *in, const sk_state *st) {
 }
 static void spring_reject_step(sk_instance *in) { (void)in; }
 
-/* Resultant force on the slave side (f = -F_s) over this rank's nodes; the driver sums over ranks. Also called for
- * the initial state, before any begin_step. */
+/* Resultant force and moment on the slave side (f = -F_s) over this rank's nodes; the host sums over ranks. */
 static sk_status spring_report(sk_instance *in, const sk_state *st, sk_contact_report *r) {
-  memset(r, 0, sizeof *r);
-  for (int k = 0; k < in->pair->slave->n_nodes; ++k) {
-    if (!owned(in, k)) continue;
-    int rows[3];
+  const sk_view *v = in->slave;
+  for (int k = 0; k < v->n_nodes; ++k) {
+    if (!v->owned[k]) continue;
     double d[3], x[3] = {0, 0, 0};
-    double s = spring_point(in, st, k, rows, d);
-    for (int i = 0; i < in->host->dim; ++i) x[i] = st->q[rows[i]];
-    double f[3] = {-s * d[0], -s * d[1], -s * d[2]};
+    const double s = spring_point(in, st, k, d);
+    for (int i = 0; i < v->dim; ++i) x[i] = st->x[0][k * v->dim + i];
+    const double f[3] = {-s * d[0], -s * d[1], -s * d[2]};
     for (int i = 0; i < 3; ++i) r->force[i] += f[i];
     r->moment[0] += x[1] * f[2] - x[2] * f[1];
     r->moment[1] += x[2] * f[0] - x[0] * f[2];
@@ -138,16 +146,15 @@ static sk_status spring_report(sk_instance *in, const sk_state *st, sk_contact_r
 
 /* One output point per owned slave node (contact.csv, VTU): the spring force as "traction", no pressure or gap. */
 static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_callback callback, void *ctx) {
-  for (int k = 0; k < in->pair->slave->n_nodes; ++k) {
-    if (!owned(in, k)) continue;
-    int rows[3];
+  const sk_view *v = in->slave;
+  for (int k = 0; k < v->n_nodes; ++k) {
+    if (!v->owned[k]) continue;
     double d[3];
-    double s = spring_point(in, st, k, rows, d);
-    sk_contact_point p;
-    memset(&p, 0, sizeof p);
-    for (int i = 0; i < in->host->dim; ++i) p.x[i] = st->q[rows[i]];
+    const double s = spring_point(in, st, k, d);
+    sk_contact_point p = {.struct_size = sizeof p}; /* every struct a plugin hands over says its size */
+    for (int i = 0; i < v->dim; ++i) p.x[i] = st->x[0][k * v->dim + i];
     for (int i = 0; i < 3; ++i) p.traction[i] = -s * d[i];
-    p.slave_node = in->pair->slave->nodes[k];
+    p.slave_node = v->node_id[k];
     callback(ctx, &p);
   }
   return SK_OK;
@@ -155,9 +162,10 @@ static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_cal
 
 /* ---- the table and the one exported symbol ---------------------------------------------------------------------- */
 static const sk_plugin example_spring = {
-    .abi_version = SK_PLUGIN_ABI_VERSION,
-    .name = "example-spring", /* must match the library name libstickslip-<name>.so */
+    SK_TABLE_HEADER(sk_plugin), /* ABI major/minor this plugin is built for, and the table's size */
+    .name = "example-spring",   /* the name scenes use */
     .summary = "example: ties every slave node to its reference position by a (cubic-hardening) spring",
+    .kinds = SK_KIND_PAIR,      /* one instance per contact pair naming it */
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
             SK_CAP_DEFORMABLE_MASTER,
     .strategies = strategies,
@@ -166,14 +174,17 @@ static const sk_plugin example_spring = {
     .destroy = spring_destroy,
     .begin_step = spring_begin_step,
     .layout = spring_layout,
+    .pattern = spring_pattern,
+    .update_active_set = NULL, /* no active set */
     .residual = spring_residual,
     .jacobian = spring_jacobian,
-    .recover = NULL,          /* never eliminates unknowns */
-    .after_iteration = NULL,  /* no active set */
+    .recover = NULL,           /* never eliminates unknowns */
+    .converged = NULL,         /* accepts every converged point */
     .commit_step = spring_commit_step,
     .reject_step = spring_reject_step,
     .report = spring_report,
     .points = spring_points,
+    .integrator = NULL,        /* not a body plugin */
     .get_extension = NULL,
 };
 

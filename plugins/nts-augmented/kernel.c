@@ -1,7 +1,7 @@
-/* nts-augmented — element kernel (see kernel.h for the equations).
+/* nts-augmented — element kernel: constraints, derivatives, friction and the element system (kernel.h).
  *
  * Derivatives go through the nine intermediate quantities w = [r, a_1, a_2]: every constraint is a function
- * phi(w) and w is at most bilinear in (x_I, f) on QUAD4/TRI3 facets, so
+ * phi(w) and w is at most bilinear in (x_I, f) on QUAD4/TRI3/LINE2 facets, so
  *   grad Phi = g_w B,   d2 Phi = B^T H_w B + sum_j g_w,j d2 w_j / dz2,   B = dw/dz (9 x nz).
  * Only d2 phi_n / dw2 is long; it follows from s(r, c) = r . c / |c| with c = a_1 x a_2 (bilinear in a). */
 #include "kernel.h"
@@ -12,9 +12,10 @@
 enum { NW = 9 }; /* w = [r (3), a_1 (3), a_2 (3)] */
 
 int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian) {
-  if (type != SK_QUAD4 && type != SK_TRI3) return -1;
+  if (type != SK_QUAD4 && type != SK_TRI3 && type != SK_LINE2) return -1;
   facet->type = type;
-  facet->nen = type == SK_QUAD4 ? 4 : 3;
+  facet->nen = type == SK_QUAD4 ? 4 : type == SK_TRI3 ? 3 : 2;
+  facet->extruded = type == SK_LINE2;
   facet->shape = shape;
   facet->shape_hessian = shape_hessian;
   return 0;
@@ -83,11 +84,12 @@ void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f
   double N[9], dN[18], ddN[36];
   facet->shape(facet->type, f, N, dN);
   facet->shape_hessian(facet->type, f, ddN);
+  const int pdim = facet->extruded ? 1 : 2; /* the segment's shape functions depend on f1 only */
   for (int I = 0; I < nen; ++I) {
     geo->N[I] = N[I];
-    for (int a = 0; a < 2; ++a) {
-      geo->dN[I][a] = dN[I * 2 + a];
-      for (int b = 0; b < 2; ++b) geo->ddN[I][a][b] = ddN[(I * 2 + a) * 2 + b];
+    for (int a = 0; a < pdim; ++a) {
+      geo->dN[I][a] = dN[I * pdim + a];
+      for (int b = 0; b < pdim; ++b) geo->ddN[I][a][b] = ddN[(I * pdim + a) * pdim + b];
     }
     const double *xI = q_A + 3 + 3 * I;
     for (int i = 0; i < 3; ++i) {
@@ -97,6 +99,10 @@ void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f
         for (int b = 0; b < 2; ++b) geo->a_ab[a][b][i] += geo->ddN[I][a][b] * xI[i];
       }
     }
+  }
+  if (facet->extruded) { /* x(f) = sum N_I(f1) x_I + f2 e_z */
+    geo->x[2] += f[1];
+    geo->a[1][2] = 1.0;
   }
   for (int i = 0; i < 3; ++i) geo->r[i] = q_A[i] - geo->x[i];
   cross3(geo->a[0], geo->a[1], geo->c);
@@ -218,7 +224,7 @@ void nts_metric_gradient(const nts_geometry *geo, double dm[3][NTS_MAX_NZ]) {
   }
 }
 
-static int inverse2(const double A[2][2], double Ai[2][2]) {
+int nts_inverse2(const double A[2][2], double Ai[2][2]) {
   const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
   const double scale = fabs(A[0][0] * A[1][1]) + fabs(A[0][1] * A[1][0]);
   if (det == 0.0 || fabs(det) <= 1e-14 * scale) return -1;
@@ -255,7 +261,7 @@ void nts_friction_eval(const nts_geometry *geo_hat, double alpha, const double f
     for (int b = 0; b < 2; ++b) dt_tr[a][nq + b] += eps * geo_hat->m[a][b];
   }
   double m_inv[2][2];
-  if (inverse2(geo_hat->m, m_inv) != 0) {
+  if (nts_inverse2(geo_hat->m, m_inv) != 0) {
     memset(out, 0, sizeof *out);
     return;
   }
@@ -305,6 +311,7 @@ void nts_element_build(const nts_facet *facet, const nts_element_input *in, cons
   memset(sys->R, 0, sizeof sys->R);
   memset(sys->J, 0, sizeof(double) * (size_t)nu * (size_t)nu);
   memset(&sys->friction, 0, sizeof sys->friction);
+  memset(sys->phi, 0, sizeof sys->phi);
   nts_geometry_eval(facet, in->q_A, in->f, &sys->geo_end);
   if (!in->active) {
     sys->geo_hat = sys->geo_end;
@@ -317,14 +324,10 @@ void nts_element_build(const nts_facet *facet, const nts_element_input *in, cons
     return;
   }
   const double alpha = in->alpha;
-  if (alpha == 1.0) {
+  if (alpha == 1.0)
     sys->geo_hat = sys->geo_end;
-  } else {
-    double q_hat[NTS_MAX_NQ], f_hat[2];
-    for (int i = 0; i < nq; ++i) q_hat[i] = alpha * in->q_A[i] + (1.0 - alpha) * in->q_A_start[i];
-    for (int a = 0; a < 2; ++a) f_hat[a] = alpha * in->f[a] + (1.0 - alpha) * in->f_start[a];
-    nts_geometry_eval(facet, q_hat, f_hat, &sys->geo_hat);
-  }
+  else
+    nts_geometry_hat(facet, in, &sys->geo_hat);
   const nts_geometry *gh = &sys->geo_hat, *ge = &sys->geo_end;
   const double lambda[3] = {in->lambda_aug[0], in->lambda_aug[1], in->lambda_n};
   double H[NTS_MAX_NZ * NTS_MAX_NZ];
@@ -354,144 +357,30 @@ void nts_element_build(const nts_facet *facet, const nts_element_input *in, cons
     for (int kz = 0; kz < nz; ++kz) sys->J[row * nu + zu[kz]] += fr->dt_dz[b][kz];
     sys->J[row * nu + iln] += fr->dt_dlambda_n[b];
   }
-  sys->R[iln] = ge->phi[NTS_PHI_N];
-  for (int kz = 0; kz < nz; ++kz) sys->J[iln * nu + zu[kz]] = ge->grad[NTS_PHI_N][kz];
-  for (int a = 0; a < 2; ++a) {
-    sys->R[i_la + a] = ge->phi[a];
-    for (int kz = 0; kz < nz; ++kz) sys->J[(i_la + a) * nu + zu[kz]] = ge->grad[a][kz];
-  }
-}
-
-int nts_solve_dense(int n, double *A, double *b, int nrhs) {
-  double scale = 0.0;
-  for (int i = 0; i < n * n; ++i) scale = fmax(scale, fabs(A[i]));
-  if (scale == 0.0) return -1;
-  for (int col = 0; col < n; ++col) {
-    int piv = col;
-    for (int i = col + 1; i < n; ++i)
-      if (fabs(A[i * n + col]) > fabs(A[piv * n + col])) piv = i;
-    if (fabs(A[piv * n + col]) <= 1e-14 * scale) return -1;
-    if (piv != col) {
-      for (int j = 0; j < n; ++j) {
-        double t = A[col * n + j];
-        A[col * n + j] = A[piv * n + j];
-        A[piv * n + j] = t;
-      }
-      for (int j = 0; j < nrhs; ++j) {
-        double t = b[col * nrhs + j];
-        b[col * nrhs + j] = b[piv * nrhs + j];
-        b[piv * nrhs + j] = t;
-      }
-    }
-    for (int i = col + 1; i < n; ++i) {
-      const double l = A[i * n + col] / A[col * n + col];
-      if (l == 0.0) continue;
-      for (int j = col; j < n; ++j) A[i * n + j] -= l * A[col * n + j];
-      for (int j = 0; j < nrhs; ++j) b[i * nrhs + j] -= l * b[col * nrhs + j];
-    }
-  }
-  for (int col = n - 1; col >= 0; --col)
-    for (int j = 0; j < nrhs; ++j) {
-      double v = b[col * nrhs + j];
-      for (int k = col + 1; k < n; ++k) v -= A[col * n + k] * b[k * nrhs + j];
-      b[col * nrhs + j] = v / A[col * n + col];
-    }
-  return 0;
-}
-
-int nts_condense(const nts_element_system *sys, double *Jc, double *rhs) {
-  const int nu = sys->nu, nk = sys->nq + 1, ne = 4, nr = nk + 1;
-  double Jee[16], X[4 * (NTS_MAX_NQ + 2)];
-  for (int a = 0; a < ne; ++a) {
-    for (int b = 0; b < ne; ++b) Jee[a * ne + b] = sys->J[(nk + a) * nu + nk + b];
-    for (int j = 0; j < nk; ++j) X[a * nr + j] = sys->J[(nk + a) * nu + j];
-    X[a * nr + nk] = sys->R[nk + a];
-  }
-  if (nts_solve_dense(ne, Jee, X, nr) != 0) return -1;
-  for (int i = 0; i < nk; ++i) {
-    for (int j = 0; j < nk; ++j) {
-      double v = sys->J[i * nu + j];
-      for (int a = 0; a < ne; ++a) v -= sys->J[i * nu + nk + a] * X[a * nr + j];
-      Jc[i * nk + j] = v;
-    }
-    double v = 0.0;
-    for (int a = 0; a < ne; ++a) v += sys->J[i * nu + nk + a] * X[a * nr + nk];
-    rhs[i] = v;
-  }
-  return 0;
-}
-
-int nts_recover(const nts_element_system *sys, const double *dk, double de[4]) {
-  const int nu = sys->nu, nk = sys->nq + 1, ne = 4;
-  double Jee[16], b[4];
-  for (int a = 0; a < ne; ++a) {
-    for (int c = 0; c < ne; ++c) Jee[a * ne + c] = sys->J[(nk + a) * nu + nk + c];
-    double v = sys->R[nk + a];
-    for (int j = 0; j < nk; ++j) v += sys->J[(nk + a) * nu + j] * dk[j];
-    b[a] = -v;
-  }
-  if (nts_solve_dense(ne, Jee, b, 1) != 0) return -1;
-  for (int a = 0; a < ne; ++a) de[a] = b[a];
-  return 0;
-}
-
-static int gf_inverse_transpose(const nts_geometry *geo, double Git[2][2]) {
-  double Gft[2][2];
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b) Gft[a][b] = geo->grad[b][geo->nq + a]; /* (Gf^T)_ab = dPhi_b / df_a */
-  return inverse2(Gft, Git);
-}
-
-int nts_projection_matrix(const nts_geometry *geo, double *P) {
-  double Git[2][2];
-  if (gf_inverse_transpose(geo, Git) != 0) return -1;
-  for (int i = 0; i < geo->nq; ++i)
-    for (int b = 0; b < 2; ++b) P[i * 2 + b] = -(geo->grad[0][i] * Git[0][b] + geo->grad[1][i] * Git[1][b]);
-  return 0;
-}
-
-int nts_lambda_aug(const nts_geometry *geo, double lambda_n, const double t[2], double lambda_aug[2]) {
-  double Git[2][2];
-  if (gf_inverse_transpose(geo, Git) != 0) return -1;
-  double rhs[2];
-  for (int a = 0; a < 2; ++a) rhs[a] = geo->grad[NTS_PHI_N][geo->nq + a] * lambda_n + t[a];
-  for (int a = 0; a < 2; ++a) lambda_aug[a] = -(Git[a][0] * rhs[0] + Git[a][1] * rhs[1]);
-  return 0;
-}
-
-int nts_closest_point(const nts_facet *facet, const double *q_A, double f[2], double tol, int max_iterations) {
-  nts_geometry geo;
-  for (int it = 0; it < max_iterations; ++it) {
-    nts_geometry_eval(facet, q_A, f, &geo);
-    double Gf[2][2], Gi[2][2];
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) Gf[a][b] = geo.grad[a][geo.nq + b];
-    if (inverse2(Gf, Gi) != 0) return -1;
-    const double d0 = -(Gi[0][0] * geo.phi[0] + Gi[0][1] * geo.phi[1]);
-    const double d1 = -(Gi[1][0] * geo.phi[0] + Gi[1][1] * geo.phi[1]);
-    f[0] += d0;
-    f[1] += d1;
-    if (!isfinite(f[0]) || !isfinite(f[1]) || fabs(f[0]) > 1e3 || fabs(f[1]) > 1e3) return -1;
-    if (fabs(d0) <= tol && fabs(d1) <= tol) return it + 1;
-  }
-  return -1;
-}
-
-int nts_direct_eliminate(const nts_facet *facet, nts_element_input *in, const nts_friction_params *params,
-                         double tol, int max_iterations) {
-  if (nts_closest_point(facet, in->q_A, in->f, tol, max_iterations) < 0) return -1;
-  const int nq = 3 + 3 * facet->nen;
-  nts_geometry geo_hat;
-  if (in->alpha == 1.0) {
-    nts_geometry_eval(facet, in->q_A, in->f, &geo_hat);
+  /* lambda_n row: Phi_n(y_{n+1}) (76)_4, or the closest-point gap of q_{n+1} (74)_3 */
+  if (in->f_gap) {
+    nts_geometry gg;
+    nts_geometry_eval(facet, in->q_A, in->f_gap, &gg);
+    sys->R[iln] = sys->phi[NTS_PHI_N] = gg.phi[NTS_PHI_N];
+    for (int j = 0; j < nq; ++j) sys->J[iln * nu + j] = gg.grad[NTS_PHI_N][j];
   } else {
-    double q_hat[NTS_MAX_NQ], f_hat[2];
-    for (int i = 0; i < nq; ++i) q_hat[i] = in->alpha * in->q_A[i] + (1.0 - in->alpha) * in->q_A_start[i];
-    for (int a = 0; a < 2; ++a) f_hat[a] = in->alpha * in->f[a] + (1.0 - in->alpha) * in->f_start[a];
-    nts_geometry_eval(facet, q_hat, f_hat, &geo_hat);
+    sys->R[iln] = sys->phi[NTS_PHI_N] = ge->phi[NTS_PHI_N];
+    for (int kz = 0; kz < nz; ++kz) sys->J[iln * nu + zu[kz]] = ge->grad[NTS_PHI_N][kz];
   }
-  nts_friction fr;
-  nts_friction_eval(&geo_hat, in->alpha, in->f, in->f_start, in->t_start, in->lambda_n, params, in->friction_mode,
-                    &fr);
-  return nts_lambda_aug(&geo_hat, in->lambda_n, fr.t_used, in->lambda_aug);
+  /* lambda_aug rows: Phi_aug(y_{n+1}) (76)_4, or Phi_aug(y_hat) (75) */
+  const nts_geometry *ga = in->aug_at_hat ? gh : ge;
+  const double scale = in->aug_at_hat ? alpha : 1.0;
+  for (int a = 0; a < 2; ++a) {
+    sys->R[i_la + a] = sys->phi[a] = ga->phi[a];
+    for (int kz = 0; kz < nz; ++kz) sys->J[(i_la + a) * nu + zu[kz]] = scale * ga->grad[a][kz];
+  }
+}
+
+void nts_geometry_hat(const nts_facet *facet, const nts_element_input *in, nts_geometry *geo_hat) {
+  const int nq = 3 + 3 * facet->nen;
+  const double alpha = in->alpha;
+  double q_hat[NTS_MAX_NQ], f_hat[2];
+  for (int i = 0; i < nq; ++i) q_hat[i] = alpha * in->q_A[i] + (1.0 - alpha) * in->q_A_start[i];
+  for (int a = 0; a < 2; ++a) f_hat[a] = alpha * in->f[a] + (1.0 - alpha) * in->f_start[a];
+  nts_geometry_eval(facet, q_hat, f_hat, geo_hat);
 }

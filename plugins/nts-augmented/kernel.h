@@ -1,36 +1,44 @@
 /* nts-augmented — the element kernel: one node-to-surface (NTS) element with coordinate augmentation
- * (Franke, Hesch, Betsch 2013, Eqs 48-61 and App. B). Pure functions, no host: the facet's shape functions come
- * in through callbacks (the plugin passes host->contact->shape, tests may pass their own).
+ * (Franke, Hesch, Betsch 2013, Eqs 48-61, 74-81 and App. B). Pure functions, no host: the facet's shape functions
+ * come in through callbacks (the plugin passes host->contact->shape, tests may pass their own).
+ *   kernel.c      constraints, their derivatives, the friction law and the element system of (50)/(76)
+ *   strategies.c  what the strategies do with it: exact condensation, the paper's reduced scheme (80)/(81), the
+ *                 direct method's local elimination (41, 74/75), the closest point, P (54) and lambda_aug (52)
  *
  * Element unknowns, local order: z = [q_s (3) | x_1 .. x_nen (3 each) | f1 f2] (the constraint arguments) and the
  * element system adds the multipliers: u = [q_A (nq = 3 + 3 nen) | lambda_n | f1 f2 | lambda_aug1 lambda_aug2],
- * the same order as the plugin's five extra unknowns per slave node [lambda_n, f1, f2, lambda_aug1, lambda_aug2].
+ * the order of the plugin's extra unknowns per slave node [lambda_n, f1, f2, lambda_aug1, lambda_aug2].
  *
  * Constraints (k = 0, 1: Phi_aug (48); k = 2: Phi_n (49)), with r = q_s - x(f):
  *   Phi_aug,a = r . a_a(f),   Phi_n = r . n(f),   n = a_1 x a_2 / |a_1 x a_2| (out of the master body).
- * Facets: QUAD4 and TRI3 (shape functions at most bilinear, so third parametric derivatives vanish). */
+ * Facets: QUAD4 and TRI3 (shape functions at most bilinear, so third parametric derivatives vanish), and the 2D
+ * segment LINE2, embedded in 3D as the facet extruded along e_z: x(f) = sum N_I(f1) x_I + f2 e_z, a_2 = e_z, so
+ * n = a_1 x e_z is the core's 2D outward normal. With z = 0 everywhere, f2 = 0 and lambda_aug2 = 0 solve their own
+ * rows exactly and decouple from the in-plane unknowns, which are those of node-to-segment contact. */
 #ifndef NTS_AUGMENTED_KERNEL_H
 #define NTS_AUGMENTED_KERNEL_H
 
-#include "stickslip/mesh.h"
+#include "stickslip/plugin_types.h"
 
 enum {
   NTS_MAX_NEN = 4,
   NTS_MAX_NQ = 3 + 3 * NTS_MAX_NEN,  /* 15 */
   NTS_MAX_NZ = NTS_MAX_NQ + 2,        /* q_A and f */
   NTS_MAX_NU = NTS_MAX_NQ + 5,        /* q_A, lambda_n, f, lambda_aug */
+  NTS_MAX_NK = NTS_MAX_NQ + 1,        /* the kept unknowns of a condensed element: q_A, lambda_n */
   NTS_PHI_AUG1 = 0,
   NTS_PHI_AUG2 = 1,
   NTS_PHI_N = 2
 };
 
-/* Same signatures as sk_contact_services.shape / shape_hessian (fe.h layout: dN[a*2 + k], ddN[(a*2 + k)*2 + l]). */
+/* Same signatures as sk_contact_services.shape / shape_hessian (dN[a*pdim + k], ddN[(a*pdim + k)*pdim + l]). */
 typedef void (*nts_shape_fn)(sk_elem_type type, const double *xi, double *N, double *dN);
 typedef void (*nts_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
 
 typedef struct {
-  sk_elem_type type; /* SK_QUAD4 or SK_TRI3 */
+  sk_elem_type type; /* SK_QUAD4, SK_TRI3, or SK_LINE2 (2D, extruded along e_z) */
   int nen;
+  int extruded;      /* 1 for LINE2 */
   nts_shape_fn shape;
   nts_shape_hessian_fn shape_hessian;
 } nts_facet;
@@ -90,9 +98,13 @@ void nts_friction_eval(const nts_geometry *geo_hat, double alpha, const double f
 /* ---- the element system ---------------------------------------------------------------------------------------
  * Residual rows (u order) of an active element, y_hat = alpha y_{n+1} + (1 - alpha) y_n:
  *   q_A:        grad_q Phi(y_hat)^T lambda                  (force in F = M + f_int + f_c - f_ext)
- *   lambda_n:   Phi_n(y_{n+1})
- *   f:          grad_f Phi(y_hat)^T lambda + t_used          (50)_2
- *   lambda_aug: Phi_aug(y_{n+1})
+ *   lambda_n:   Phi_n(y_{n+1})                               (76)_4
+ *   f:          grad_f Phi(y_hat)^T lambda + t_used          (50)_2 / (76)_3
+ *   lambda_aug: Phi_aug(y_{n+1})                             (76)_4
+ * The direct method of (74)/(75) moves two rows (aug_at_hat, f_gap): lambda_aug: Phi_aug(y_hat), so that f_hat is
+ * the closest point of the midpoint configuration; lambda_n: the closest-point gap of q_{n+1}, Phi_n(q_{n+1},
+ * f_gap) with f_gap the closest point of q_{n+1} (a function of q alone: its derivative is the q-part of grad Phi_n
+ * because d Phi_n / d f = 0 there). For alpha = 1 both coincide with (76).
  * Inactive elements carry the trivial rows lambda_n = 0, f = f_frozen, lambda_aug = 0 (and no force).
  * J = dR/du_{n+1} exactly (d y_hat / d y_{n+1} = alpha). */
 typedef struct {
@@ -105,12 +117,15 @@ typedef struct {
   double lambda_n, f[2], lambda_aug[2];
   int active;
   nts_friction_mode friction_mode; /* 0 (zero-initialised): the return map decides */
+  int aug_at_hat;                  /* (75): Phi_aug enforced at y_hat instead of y_{n+1} */
+  const double *f_gap;             /* (74)_3: the lambda_n row is Phi_n(q_{n+1}, f_gap); NULL: Phi_n(y_{n+1}) */
 } nts_element_input;
 
 typedef struct {
   int nq, nu;                      /* nu = nq + 5 */
   double R[NTS_MAX_NU];
   double J[NTS_MAX_NU * NTS_MAX_NU]; /* row-major nu x nu */
+  double phi[3];                   /* the constraint values the rows enforce (Phi_aug1, Phi_aug2, Phi_n) */
   nts_geometry geo_end;            /* at y_{n+1} */
   nts_geometry geo_hat;            /* at y_hat */
   nts_friction friction;
@@ -119,7 +134,11 @@ typedef struct {
 void nts_element_build(const nts_facet *facet, const nts_element_input *in, const nts_friction_params *params,
                        nts_element_system *sys);
 
-/* ---- exact static condensation (reduced strategy) -------------------------------------------------------------
+/* y_hat = alpha y + (1 - alpha) y_start of the element (positions and f) and its geometry. */
+void nts_geometry_hat(const nts_facet *facet, const nts_element_input *in, nts_geometry *geo_hat);
+
+/* ==== strategies.c ==================================================================================================
+ * ---- exact static condensation (strategy `condensed`) ----------------------------------------------------------
  * Eliminates e = [f, lambda_aug] (the last 4 unknowns) keeping k = [q_A, lambda_n]:
  *   Jc = J_kk - J_ke J_ee^{-1} J_ek,  rhs = J_ke J_ee^{-1} R_e,  so that  Jc dk = -R_k + rhs,
  *   and recovery  de = -J_ee^{-1} (R_e + J_ek dk)  (59, with the h_f . Delta f term kept).
@@ -133,19 +152,56 @@ int nts_projection_matrix(const nts_geometry *geo, double *P);
 /* lambda_aug = -inv(Gf^T) (hf^T lambda_n + t)   (52), with Gf, hf at geo. */
 int nts_lambda_aug(const nts_geometry *geo, double lambda_n, const double t[2], double lambda_aug[2]);
 
+/* ---- the paper's reduced scheme (55), (78)-(81) (strategy `paper-reduced`) ------------------------------------
+ * lambda_aug is not an unknown of the Newton system: the force on q_A is (78)_2 / (55)_1
+ *   R_q = grad_q Phi_n(y_hat) lambda_n + P(y_hat) t_used      (the P grad_f Phi_n lambda_n term of (53) dropped)
+ * and Newton solves (80) for [dq, dlambda_n] (our signs: J dx = -F, x += dx):
+ *   [K_qq + K_qf P_{n+1}^T   h_hat] [dq      ]   [-R_q + K_qf Gf_{n+1}^{-1} Phi_aug,n+1]
+ *   [h_end^T                 0    ] [dlambda_n] = [-Phi_n,n+1                          ]
+ * with K_qq, K_qf = dR_q/dq_{n+1}, dR_q/df_{n+1} (consistent, the derivative of P included: the paper's option 1),
+ * h_hat = grad_q Phi_n(y_hat) (dt_used/dlambda_n not in the column, as printed), h_end = grad_q Phi_n(y_{n+1})
+ * (h_f . Delta f dropped), then (81): df = -Gf_{n+1}^{-1} Phi_aug,n+1 + P_{n+1}^T dq. lambda_aug for output and
+ * the next step's start is (52) at y_hat. */
+typedef struct {
+  int nq;
+  double R_q[NTS_MAX_NQ];
+  double K_qq[NTS_MAX_NQ * NTS_MAX_NQ];  /* nq x nq row-major */
+  double K_qf[NTS_MAX_NQ * 2];
+  double h_hat[NTS_MAX_NQ], h_end[NTS_MAX_NQ];
+  double phi_end[3];                     /* Phi_aug1, Phi_aug2, Phi_n at y_{n+1} */
+  double P_end[NTS_MAX_NQ * 2];          /* (79) */
+  double Gf_inv_phi[2];                  /* Gf_{n+1}^{-1} Phi_aug,n+1 */
+  double lambda_aug[2];                  /* (52) at y_hat */
+  nts_geometry geo_end, geo_hat;
+  nts_friction friction;
+} nts_paper_system;
+
+/* Returns 0, or -1 when Gf is singular at y_hat or y_{n+1}. in->lambda_aug and in->active are not read. */
+int nts_paper_build(const nts_facet *facet, const nts_element_input *in, const nts_friction_params *params,
+                    nts_paper_system *sys);
+/* (80)'s kept block [q_A, lambda_n] ((nq+1)^2 row-major) and its right-hand side correction (q rows). */
+void nts_paper_condensed(const nts_paper_system *sys, double *Jc, double *rhs);
+/* (81): df from dq (nq) and the residual Phi_aug,n+1 of the f rows as the host has it. */
+void nts_paper_recover(const nts_paper_system *sys, const double *dq, const double phi_aug[2], double df[2]);
+
 /* ---- direct approach --------------------------------------------------------------------------------------------
  * Closest point on the (extended) facet: Newton on Phi_aug(q_A, f) = 0 in f (41), starting from f.
  * Returns the iterations used, or -1 without convergence (|Phi_aug| <= tol * max(1, |a|^2) not reached). */
 int nts_closest_point(const nts_facet *facet, const double *q_A, double f[2], double tol, int max_iterations);
 
-/* The direct strategy's local elimination: f <- closest point of q_{n+1}, lambda_aug <- the root of the f rows
- * (52 at y_hat), so that R_f = R_lambda_aug = 0 and the condensed Jacobian of the resulting system is the exact
- * derivative of the direct residual (implicit function theorem: the consistent second variation, with (44)).
- * Returns 0, or -1 if the local Newton fails. */
+/* The direct strategies' local elimination, after which R_f = R_lambda_aug = 0 and the condensed Jacobian of the
+ * element is the exact derivative of the direct residual (implicit function theorem: the consistent second
+ * variation, with (44)), lambda_aug from (52) at y_hat:
+ *   at_midpoint = 0 (`direct-endpoint`): f <- the closest point of q_{n+1}; forces at y_hat = (q_hat, f_hat);
+ *   at_midpoint = 1 (`direct`, (74)/(75)): f_hat <- the closest point of q_hat, f = (f_hat - (1 - alpha) f_n) /
+ *     alpha; f_gap <- the closest point of q_{n+1} (the normal constraint (74)_3); sets in->aug_at_hat and
+ *     in->f_gap = f_gap (which must outlive the element's build).
+ * Returns 0, or -1 if a local Newton fails. */
 int nts_direct_eliminate(const nts_facet *facet, nts_element_input *in, const nts_friction_params *params,
-                         double tol, int max_iterations);
+                         int at_midpoint, double f_gap[2], double tol, int max_iterations);
 
 /* Small dense helpers shared with the plugin. */
 int nts_solve_dense(int n, double *A, double *b, int nrhs); /* A (n x n) overwritten, b (n x nrhs) <- A^{-1} b */
+int nts_inverse2(const double A[2][2], double Ai[2][2]);
 
 #endif

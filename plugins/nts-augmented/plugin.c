@@ -1,56 +1,23 @@
-/* nts-augmented — plugin glue: one augmented NTS element per slave node and step (kernel.h), the active set, the
- * friction history and the three strategies:
- *   reduced  f and lambda_aug condensed out exactly per element (same Newton iterates as `none`)
- *   none     the full augmented system, 5 extra unknowns per slave node
- *   direct   the closest point by a local Newton at every evaluation (the paper's reference method); lambda_aug
- *            from (52); the condensed tangent is the exact (consistent) one.
- * Extra unknowns per slave node k, at extra_offset + 5k: [lambda_n, f1, f2, lambda_aug1, lambda_aug2]. */
+/* nts-augmented — the plugin table (glue.h): parameters, the unknowns' layout per strategy, the active set, the
+ * history and the results. The strategies (element.c has what each one assembles):
+ *   condensed        f and lambda_aug condensed out exactly per element: n + n_s unknowns, iterates = augmented
+ *   augmented        the whole augmented system (50)/(76) of the active nodes: n + 5 n_c (n + 3 n_c in 2D)
+ *   paper-reduced    the paper's size reduction (55), (78)-(81) as published
+ *   direct           the direct method: closest point by a local Newton (41); at the midpoint (74)/(75)
+ *   direct-endpoint  the direct method with the closest point at t_{n+1}, forces at the mean of f (= the augmented
+ *                    equations, f and lambda_aug eliminated nonlinearly)
+ * `reduced` and `none`, the names before these, are kept as deprecated aliases of `condensed` and `augmented`. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "kernel.h"
-#include "stickslip/plugin.h"
+#include "glue.h"
 
-enum { N_EXTRA = 5, STRATEGY_REDUCED = 0, STRATEGY_NONE = 1, STRATEGY_DIRECT = 2 };
-enum { LOCAL_NEWTON_MAX = 30 };
-static const double LOCAL_NEWTON_TOL = 1e-13;
+static const char *const strategies[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint",
+                                         "reduced",   "none",      NULL};
+enum { N_STRATEGIES = 5 }; /* the rest are aliases */
+static const nts_strategy alias_of[] = {NTS_CONDENSED, NTS_AUGMENTED};
 
-typedef struct {
-  int node;                    /* global slave node id */
-  /* committed at the end of the last accepted step */
-  int c_facet, c_active, c_slip;
-  double c_f[2];               /* f at t_n */
-  double c_t[2];               /* tangential traction t_n, covariant on c_facet */
-  double c_t_vector[3];        /* the same traction as a spatial vector, to map it onto a new facet */
-  double c_extra[N_EXTRA];
-  /* this step */
-  int facet, active, flips;
-  int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
-  int return_map;              /* after max_flips: the return map itself picks the branch at every evaluation */
-  int nodes[1 + NTS_MAX_NEN];  /* slave node, then the facet's nodes */
-  double f_start[2], t_start[2], f_frozen[2];
-  double gap_estimate;         /* gap seen at begin_step (for output of inactive points) */
-} slave_point;
-
-struct sk_instance {
-  const sk_host *host;
-  const sk_pair *pair;
-  nts_facet facet;
-  int strategy;
-  nts_friction_params friction;
-  double c_n, search_margin;
-  int max_flips;
-  sk_search *search;
-  int n_points;
-  slave_point *points;
-  double *initial;
-  unsigned char *eliminated;
-  int *candidates;
-  double alpha;                /* 1: backward Euler / quasi-static, 1/2: midpoint */
-};
-
-static const char *const strategies[] = {"reduced", "none", "direct", NULL};
 static const char *const parameters[] = {
     "mu: Coulomb friction coefficient [0]",
     "epsilon_t: tangential penalty of the regularised friction law, force per unit of f (required if mu > 0)",
@@ -59,183 +26,144 @@ static const char *const parameters[] = {
     "max_flips: active-set changes of one node per step before its state is frozen [4]",
     NULL};
 
-/* ---- helpers ------------------------------------------------------------------------------------------------------ */
-static int owned(const sk_instance *inst, int node) {
-  return inst->host->owns_node == NULL || inst->host->owns_node(inst->host, node);
-}
-
-static void gather(const slave_point *p, int nen, const double *q, double *q_A) {
-  for (int I = 0; I < 1 + nen; ++I)
-    for (int i = 0; i < 3; ++i) q_A[3 * I + i] = q[3 * p->nodes[I] + i];
-}
-
-/* Global unknown index of each element unknown (u order: q_A, lambda_n, f, lambda_aug). */
-static void element_indices(const slave_point *p, int nen, int extra_base, int *idx) {
-  const int nq = 3 + 3 * nen;
-  for (int I = 0; I < 1 + nen; ++I)
-    for (int i = 0; i < 3; ++i) idx[3 * I + i] = 3 * p->nodes[I] + i;
-  for (int j = 0; j < N_EXTRA; ++j) idx[nq + j] = extra_base + j;
-}
-
-typedef struct {
-  nts_element_input in;
-  nts_element_system sys;
-  double q_A[NTS_MAX_NQ], q_A_start[NTS_MAX_NQ];
-  double extra_f[2], extra_lambda_aug[2]; /* the global unknowns (differ from in.f under `direct`) */
-} element_eval;
-
-/* Builds the element system of point k at the state's iterate; under `direct` eliminates f and lambda_aug by the
- * local Newton first. */
-static sk_status evaluate(sk_instance *inst, int k, const sk_state *state, element_eval *e) {
-  const slave_point *p = &inst->points[k];
-  const int nen = inst->facet.nen;
-  const double *x = state->extra + N_EXTRA * k;
-  gather(p, nen, state->q, e->q_A);
-  gather(p, nen, state->q_n, e->q_A_start);
-  nts_element_input *in = &e->in;
-  memset(in, 0, sizeof *in);
-  in->alpha = inst->alpha;
-  in->q_A = e->q_A;
-  in->q_A_start = e->q_A_start;
-  in->active = p->active;
-  if (inst->friction.mu > 0.0 && !p->return_map)
-    in->friction_mode = p->slip ? NTS_FRICTION_SLIP : NTS_FRICTION_STICK;
-  in->lambda_n = x[0];
-  in->f[0] = e->extra_f[0] = x[1];
-  in->f[1] = e->extra_f[1] = x[2];
-  in->lambda_aug[0] = e->extra_lambda_aug[0] = x[3];
-  in->lambda_aug[1] = e->extra_lambda_aug[1] = x[4];
-  for (int a = 0; a < 2; ++a) {
-    in->f_start[a] = p->f_start[a];
-    in->t_start[a] = p->t_start[a];
-    in->f_frozen[a] = p->f_frozen[a];
-  }
-  if (inst->strategy == STRATEGY_DIRECT && p->active) {
-    if (nts_direct_eliminate(&inst->facet, in, &inst->friction, LOCAL_NEWTON_TOL, LOCAL_NEWTON_MAX) != 0) {
-      /* retry from the start of the step's closest point before giving up */
-      in->f[0] = p->f_start[0];
-      in->f[1] = p->f_start[1];
-      if (nts_direct_eliminate(&inst->facet, in, &inst->friction, LOCAL_NEWTON_TOL, LOCAL_NEWTON_MAX) != 0)
-        return inst->host->error(inst->host, SK_ERR_DIVERGED,
-                                 "%s: nts-augmented (direct): closest-point Newton of slave node %d on master face "
-                                 "%d did not converge",
-                                 inst->pair->name, p->node, p->facet);
-    }
-  }
-  nts_element_build(&inst->facet, in, &inst->friction, &e->sys);
-  return SK_OK;
-}
-
-/* Residual rows of the eliminated unknowns as the global system sees them: under `direct` the global f and
- * lambda_aug are tied to the local solution (x_e - x_e,local = 0); otherwise the element's own rows. */
-static void extra_rows(const sk_instance *inst, const slave_point *p, const element_eval *e, double R_e[4]) {
-  const int nq = e->sys.nq;
-  if (inst->strategy == STRATEGY_DIRECT && p->active) {
-    for (int a = 0; a < 2; ++a) {
-      R_e[a] = e->extra_f[a] - e->in.f[a];
-      R_e[2 + a] = e->extra_lambda_aug[a] - e->in.lambda_aug[a];
-    }
-  } else {
-    for (int a = 0; a < 4; ++a) R_e[a] = e->sys.R[nq + 1 + a];
-  }
-}
-
-static double gap_on_facet(sk_instance *inst, const slave_point *p, const double *q, double f_guess[2]) {
-  double q_A[NTS_MAX_NQ];
-  gather(p, inst->facet.nen, q, q_A);
-  if (nts_closest_point(&inst->facet, q_A, f_guess, LOCAL_NEWTON_TOL, LOCAL_NEWTON_MAX) < 0) return HUGE_VAL;
-  nts_geometry geo;
-  nts_geometry_eval(&inst->facet, q_A, f_guess, &geo);
-  return geo.phi[NTS_PHI_N];
-}
+/* A frozen node (max_flips) is set right at a converged point when it is in tension or penetrates beyond these
+ * fractions of the pair's largest |lambda_n| and of the search margin (round-off of converged states is ~1e-13). */
+static const double TENSION_FRACTION = 1e-9, PENETRATION_FRACTION = 1e-9;
 
 /* ---- create / destroy --------------------------------------------------------------------------------------------- */
 static void destroy(sk_instance *inst) {
   if (!inst) return;
-  if (inst->search) inst->host->contact->search_destroy(inst->search);
+  if (inst->search) inst->api->contact->search_destroy(inst->search);
   free(inst->points);
   free(inst->initial);
   free(inst->eliminated);
+  free(inst->node_flags);
   free(inst->candidates);
   free(inst);
 }
 
-static double mean_master_edge(const sk_host *host, const sk_surface *master) {
+static double mean_edge(const sk_view *view) {
   double sum = 0.0;
   int count = 0;
-  const int corners = master->face_type == SK_TRI3 ? 3 : 4;
-  for (int f = 0; f < master->n_faces; ++f)
-    for (int e = 0; e < corners; ++e) {
-      const int a = master->conn[f * master->nen + e], b = master->conn[f * master->nen + (e + 1) % corners];
+  const int corners = view->cell_type == SK_TRI3 ? 3 : view->cell_type == SK_LINE2 ? 2 : 4, dim = view->dim;
+  const double *X = view->X;
+  for (int f = 0; f < view->n_cells; ++f)
+    for (int e = 0; e < (corners == 2 ? 1 : corners); ++e) {
+      const int a = view->conn[f * view->nen + e], b = view->conn[f * view->nen + (e + 1) % corners];
       double d2 = 0.0;
-      for (int i = 0; i < 3; ++i) d2 += (host->X[3 * a + i] - host->X[3 * b + i]) * (host->X[3 * a + i] - host->X[3 * b + i]);
+      for (int i = 0; i < dim; ++i) d2 += (X[dim * a + i] - X[dim * b + i]) * (X[dim * a + i] - X[dim * b + i]);
       sum += sqrt(d2);
       ++count;
     }
   return count ? sum / count : 1.0;
 }
 
-static sk_status create(const sk_host *host, const sk_pair *pair, sk_instance **out) {
-  *out = NULL;
-  if (host->dim != 3)
-    return host->error(host, SK_ERR_INPUT, "%s: nts-augmented is a 3D formulation (the scene is %dD)", pair->name,
-                       host->dim);
-  if (!pair->master)
-    return host->error(host, SK_ERR_INPUT,
-                       "%s: nts-augmented needs a deformable master surface (rigid obstacles are not supported)",
-                       pair->name);
-  sk_instance *inst = calloc(1, sizeof *inst);
-  if (!inst) return host->error(host, SK_ERR_NOMEM, "%s: out of memory", pair->name);
-  inst->host = host;
-  inst->pair = pair;
-  if (nts_facet_init(&inst->facet, pair->master->face_type, host->contact->shape, host->contact->shape_hessian) != 0) {
-    destroy(inst);
-    return host->error(host, SK_ERR_INPUT,
-                       "%s: nts-augmented handles tri3 and quad4 master faces only (master surface '%s')",
-                       pair->name, pair->master->name);
+/* A rigid obstacle: the plane's frame and each node's origin on it. The augmented coordinates need a
+ * parametrisation x(f) of the master, which the contact services give for a plane only (curved obstacles come
+ * with their closest point and curvature, not a chart). */
+static sk_status plane_setup(sk_instance *inst) {
+  const sk_view *slave = inst->slave;
+  const int dim = inst->dim;
+  double d0[3] = {0, 0, 0};
+  inst->api->contact->obstacle_displacement(inst->obstacle, 0.0, d0);
+  for (int k = 0; k < slave->n_nodes; ++k) {
+    sk_surface_point pt = {.struct_size = sizeof pt};
+    double gap = 0.0;
+    SK_TRY(inst->api->contact->obstacle_project(inst->obstacle, 0.0, slave->X + dim * k, dim, &pt, &gap));
+    const double h = fabs(pt.h[0][0]) + fabs(pt.h[0][1]) + fabs(pt.h[1][0]) + fabs(pt.h[1][1]);
+    if (h != 0.0)
+      return inst->api->error(inst->host, SK_ERR_INPUT,
+                              "%s: nts-augmented takes plane obstacles only: this obstacle is curved (curvature %g "
+                              "at slave node %lld), and the augmented coordinates need a parametrisation of the "
+                              "master surface that the contact services give for planes only",
+                              inst->name, h, (long long)slave->node_id[k]);
+    for (int i = 0; i < 3; ++i) inst->points[k].plane_origin[i] = pt.x[i] - (i < dim ? d0[i] : 0.0);
+    if (k == 0) memcpy(inst->plane_normal, pt.n, sizeof pt.n);
   }
-  inst->strategy = pair->strategy;
-  sk_status st = host->param_double(host, pair->params, "mu", 0, 0.0, &inst->friction.mu);
-  if (st == SK_OK)
-    st = host->param_double(host, pair->params, "epsilon_t", inst->friction.mu > 0.0, 0.0, &inst->friction.epsilon_t);
-  if (st == SK_OK) st = host->param_double(host, pair->params, "c_n", 0, 1.0, &inst->c_n);
-  if (st == SK_OK)
-    st = host->param_double(host, pair->params, "search_margin", 0, 0.5 * mean_master_edge(host, pair->master),
-                            &inst->search_margin);
-  if (st == SK_OK) st = host->param_int(host, pair->params, "max_flips", 0, 4, &inst->max_flips);
-  if (st != SK_OK) {
-    destroy(inst);
-    return st;
+  const double *n = inst->plane_normal;
+  if (dim == 2) { /* a_1 x e_z = n */
+    const double t1[3] = {-n[1], n[0], 0.0};
+    memcpy(inst->plane_tangent[0], t1, sizeof t1);
+  } else { /* a_1 from the services' frame, a_2 = n x a_1 so that a_1 x a_2 = n */
+    sk_surface_point pt = {.struct_size = sizeof pt};
+    double gap = 0.0;
+    SK_TRY(inst->api->contact->obstacle_project(inst->obstacle, 0.0, slave->X, dim, &pt, &gap));
+    memcpy(inst->plane_tangent[0], pt.a[0], sizeof pt.a[0]);
+    const double *t1 = pt.a[0];
+    double *t2 = inst->plane_tangent[1];
+    t2[0] = n[1] * t1[2] - n[2] * t1[1];
+    t2[1] = n[2] * t1[0] - n[0] * t1[2];
+    t2[2] = n[0] * t1[1] - n[1] * t1[0];
   }
+  return SK_OK;
+}
+
+static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
+  const sk_host_api *api = inst->api;
+  sk_host *host = inst->host;
+  const sk_view *slave = attach->slave, *master = attach->master;
+  inst->dim = slave->dim;
+  inst->pdim = slave->dim - 1;
+  inst->stride = 1 + 2 * inst->pdim;
+  if (!master && !attach->obstacle)
+    return api->error(host, SK_ERR_INPUT, "%s: nts-augmented needs a master surface or a plane obstacle", inst->name);
+  const sk_elem_type facet_type = master ? master->cell_type : inst->dim == 3 ? SK_QUAD4 : SK_LINE2;
+  if (nts_facet_init(&inst->facet, facet_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
+      (inst->dim == 2) != (facet_type == SK_LINE2))
+    return api->error(host, SK_ERR_INPUT,
+                      "%s: nts-augmented handles tri3 and quad4 master faces in 3D and line2 in 2D (master surface "
+                      "'%s' has other faces)", inst->name, master ? master->name : "?");
+  inst->strategy = attach->strategy < N_STRATEGIES ? (nts_strategy)attach->strategy
+                                                   : alias_of[attach->strategy - N_STRATEGIES];
+  if (attach->strategy >= N_STRATEGIES)
+    api->log(host, 1, "%s: nts-augmented: strategy '%s' is deprecated; it is '%s' (docs/plugins/nts-augmented.md)",
+             inst->name, strategies[attach->strategy], strategies[inst->strategy]);
+  SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->friction.mu));
+  SK_TRY(api->param_double(host, "epsilon_t", inst->friction.mu > 0.0, 0.0, &inst->friction.epsilon_t));
+  SK_TRY(api->param_double(host, "c_n", 0, 1.0, &inst->c_n));
+  SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_edge(master ? master : slave), &inst->search_margin));
+  SK_TRY(api->param_int(host, "max_flips", 0, 4, &inst->max_flips));
   if (inst->friction.mu < 0.0 || (inst->friction.mu > 0.0 && inst->friction.epsilon_t <= 0.0) || inst->c_n <= 0.0 ||
-      inst->search_margin < 0.0) {
-    /* the message reads the instance: record it before freeing */
-    st = host->error(host, SK_ERR_INPUT,
-                     "%s: nts-augmented needs mu >= 0, epsilon_t > 0 when mu > 0, c_n > 0 and search_margin >= 0 "
-                     "(got mu %g, epsilon_t %g, c_n %g, search_margin %g)",
-                     pair->name, inst->friction.mu, inst->friction.epsilon_t, inst->c_n, inst->search_margin);
-    destroy(inst);
-    return st;
-  }
-  const sk_surface *slave = pair->slave;
+      inst->search_margin < 0.0)
+    return api->error(host, SK_ERR_INPUT,
+                      "%s: nts-augmented needs mu >= 0, epsilon_t > 0 when mu > 0, c_n > 0 and search_margin >= 0 "
+                      "(got mu %g, epsilon_t %g, c_n %g, search_margin %g)",
+                      inst->name, inst->friction.mu, inst->friction.epsilon_t, inst->c_n, inst->search_margin);
   inst->n_points = slave->n_nodes;
+  inst->n_extra = inst->stride * slave->n_nodes_global;
   inst->points = calloc((size_t)(slave->n_nodes > 0 ? slave->n_nodes : 1), sizeof *inst->points);
-  inst->initial = calloc((size_t)(N_EXTRA * slave->n_nodes + 1), sizeof *inst->initial);
-  inst->eliminated = calloc((size_t)(N_EXTRA * slave->n_nodes + 1), 1);
-  inst->candidates = malloc(sizeof(int) * (size_t)(pair->master->n_faces > 0 ? pair->master->n_faces : 1));
-  if (!inst->points || !inst->initial || !inst->eliminated || !inst->candidates) {
-    destroy(inst);
-    return host->error(host, SK_ERR_NOMEM, "%s: out of memory", pair->name);
-  }
+  inst->initial = calloc((size_t)inst->n_extra + 1, sizeof *inst->initial);
+  inst->eliminated = calloc((size_t)inst->n_extra + 1, 1);
+  inst->node_flags = calloc((size_t)slave->n_nodes_global + 1, sizeof *inst->node_flags);
+  inst->candidates = malloc(sizeof(int) * (size_t)(master && master->n_cells > 0 ? master->n_cells : 1));
+  if (!inst->points || !inst->initial || !inst->eliminated || !inst->node_flags || !inst->candidates)
+    return api->error(host, SK_ERR_NOMEM, "%s: out of memory", inst->name);
   for (int k = 0; k < slave->n_nodes; ++k) {
     slave_point *p = &inst->points[k];
-    p->node = slave->nodes[k];
-    p->nodes[0] = p->node;
+    p->k = k;
+    p->node = slave->node_id[k];
+    p->index = slave->node_index[k];
     p->c_facet = p->facet = -1;
-    if (inst->strategy != STRATEGY_NONE)
-      for (int j = 1; j < N_EXTRA; ++j) inst->eliminated[N_EXTRA * k + j] = 1;
   }
-  st = host->contact->search_create(pair->master, &inst->search);
+  /* the layout is the same on every rank: every node of the whole surface; `augmented` chooses per attempt */
+  for (int64_t i = 0; i < inst->n_extra; ++i) inst->eliminated[i] = i % inst->stride != 0;
+  if (attach->obstacle) {
+    inst->obstacle = attach->obstacle;
+    return plane_setup(inst);
+  }
+  return api->contact->search_create(master, &inst->search);
+}
+
+static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **out) {
+  *out = NULL;
+  sk_instance *inst = calloc(1, sizeof *inst);
+  if (!inst) return api->error(host, SK_ERR_NOMEM, "%s: out of memory", attach->name);
+  inst->api = api;
+  inst->host = host;
+  inst->slave = attach->slave;
+  inst->master = attach->master;
+  inst->name = attach->name;
+  const sk_status st = create_checked(inst, attach);
   if (st != SK_OK) {
     destroy(inst);
     return st;
@@ -244,237 +172,87 @@ static sk_status create(const sk_host *host, const sk_pair *pair, sk_instance **
   return SK_OK;
 }
 
-/* ---- step ---------------------------------------------------------------------------------------------------------- */
-static sk_status begin_step(sk_instance *inst, const sk_state *state) {
-  const sk_host *host = inst->host;
-  const sk_surface *master = inst->pair->master;
-  inst->alpha = state->scheme == SK_SCHEME_MIDPOINT ? 0.5 : 1.0;
-  host->contact->search_update(inst->search, state->q_n, state->q, inst->search_margin);
-  for (int k = 0; k < inst->n_points; ++k) {
-    slave_point *p = &inst->points[k];
-    double *init = inst->initial + N_EXTRA * k;
-    const double *x_n = state->q_n + 3 * p->node, *x_p = state->q + 3 * p->node;
-    double lo[3], hi[3];
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = fmin(x_n[i], x_p[i]) - inst->search_margin;
-      hi[i] = fmax(x_n[i], x_p[i]) + inst->search_margin;
-    }
-    const int n_cand = host->contact->search_query(inst->search, lo, hi, inst->candidates, master->n_faces);
-    sk_projection proj = {.face = -1};
-    if (n_cand > 0) {
-      sk_status st = host->contact->project(master, state->q, x_p, inst->candidates,
-                                            n_cand < master->n_faces ? n_cand : master->n_faces, &proj);
-      if (st != SK_OK) return st;
-    }
-    p->flips = 0;
-    p->slip = 0;
-    p->return_map = 0;
-    memset(init, 0, sizeof(double) * N_EXTRA);
-    if (proj.face < 0 || proj.kind == SK_PROJ_OUTSIDE) {
-      /* nothing reachable this step (or beyond the master's border): trivial equations */
-      p->facet = -1;
-      p->active = 0;
-      p->f_frozen[0] = p->f_frozen[1] = 0.0;
-      p->f_start[0] = p->f_start[1] = p->t_start[0] = p->t_start[1] = 0.0;
-      p->gap_estimate = inst->search_margin;
-      continue;
-    }
-    p->facet = proj.face;
-    for (int I = 0; I < inst->facet.nen; ++I) p->nodes[1 + I] = master->conn[proj.face * master->nen + I];
-    p->gap_estimate = proj.gap;
-    if (p->c_active && p->c_facet >= 0 && p->c_facet != p->facet) {
-      /* A contact about to move onto another facet. The step enforces Phi_n = 0 at its end on the new facet, so
-       * its normal force does the work -lambda_n (0 - g_n), g_n = the gap of q_n on the new facet. Across a convex
-       * kink the slave, still on its old facet at t_n, lies below the new facet's plane (g_n < 0): the switch
-       * would put lambda_n g_n > 0 into the bodies (up to 1e-4 of the energy per switch on the coarse tori). Such a
-       * contact stays on its old facet (extended beyond its edge) for this step; once it has passed the edge, g_n
-       * on the new facet is >= 0 and the switch only loses energy. */
-      double f_n[2] = {proj.xi[0], proj.xi[1]};
-      const double g_n = gap_on_facet(inst, p, state->q_n, f_n);
-      if (g_n < 0.0) {
-        double f[2] = {p->c_f[0], p->c_f[1]};
-        p->facet = p->c_facet;
-        for (int I = 0; I < inst->facet.nen; ++I) p->nodes[1 + I] = master->conn[p->facet * master->nen + I];
-        const double g = gap_on_facet(inst, p, state->q, f);
-        if (g != HUGE_VAL) {
-          proj.gap = p->gap_estimate = g;
-        }
-      }
-    }
-    double f_init[2] = {proj.xi[0], proj.xi[1]}, lambda_n = 0.0, lambda_aug[2] = {0.0, 0.0};
-    if (p->c_active && p->c_facet == p->facet) {
-      /* persisting contact on the same facet: keep f and the history as committed */
-      for (int a = 0; a < 2; ++a) {
-        p->f_start[a] = f_init[a] = p->c_f[a];
-        p->t_start[a] = p->c_t[a];
-        lambda_aug[a] = p->c_extra[3 + a];
-      }
-      lambda_n = p->c_extra[0];
-      p->slip = p->c_slip;
-    } else {
-      /* new contact or a new facet: f from the closest point of q_n on this facet; a committed traction is carried
-       * over as a spatial vector (t_a = t . a_a on the new facet) */
-      double f_n[2] = {proj.xi[0], proj.xi[1]};
-      if (gap_on_facet(inst, p, state->q_n, f_n) == HUGE_VAL) {
-        f_n[0] = proj.xi[0];
-        f_n[1] = proj.xi[1];
-      }
-      p->f_start[0] = f_n[0];
-      p->f_start[1] = f_n[1];
-      p->t_start[0] = p->t_start[1] = 0.0;
-      if (p->c_active) {
-        double q_A[NTS_MAX_NQ];
-        nts_geometry geo;
-        gather(p, inst->facet.nen, state->q_n, q_A);
-        nts_geometry_eval(&inst->facet, q_A, f_n, &geo);
-        for (int a = 0; a < 2; ++a)
-          p->t_start[a] = geo.a[a][0] * p->c_t_vector[0] + geo.a[a][1] * p->c_t_vector[1] +
-                          geo.a[a][2] * p->c_t_vector[2];
-        lambda_n = p->c_extra[0];
-      }
-    }
-    p->f_frozen[0] = f_init[0];
-    p->f_frozen[1] = f_init[1];
-    /* primal-dual active set at the predictor: active if -lambda_n - c_n g > 0 */
-    p->active = -lambda_n - inst->c_n * proj.gap > 0.0;
-    if (p->active) {
-      init[0] = lambda_n;
-      init[3] = lambda_aug[0];
-      init[4] = lambda_aug[1];
-    }
-    init[1] = f_init[0];
-    init[2] = f_init[1];
-  }
-  return SK_OK;
-}
+/* ---- the unknowns ---------------------------------------------------------------------------------------------- */
+static sk_status begin_step(sk_instance *inst, const sk_state *state) { return nts_begin_step(inst, state); }
 
+/* Under `augmented` the linear system holds the extras of the active nodes only (the set at begin_step, or at the
+ * converged point of the last outer loop); every other node's extras are eliminated with their identity rows. */
 static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *out) {
   (void)state;
-  out->n_extra = N_EXTRA * inst->n_points;
+  out->n_extra = inst->n_extra;
   out->initial = inst->initial;
-  out->eliminated = inst->strategy == STRATEGY_NONE ? NULL : inst->eliminated;
+  out->eliminated = inst->eliminated;
+  if (inst->strategy != NTS_AUGMENTED) return SK_OK;
+  const int64_t n_nodes = inst->slave->n_nodes_global;
+  memset(inst->node_flags, 0, sizeof(double) * (size_t)n_nodes);
+  for (int k = 0; k < inst->n_points; ++k) {
+    const slave_point *p = &inst->points[k];
+    if (nts_owned(inst, p) && p->facet >= 0 && p->active) inst->node_flags[p->index] = 1.0;
+  }
+  SK_TRY(inst->api->reduce(inst->host, 0, inst->node_flags, (int)n_nodes));
+  for (int64_t i = 0; i < n_nodes; ++i)
+    memset(inst->eliminated + inst->stride * i, inst->node_flags[i] < 0.5, (size_t)inst->stride);
+  for (int k = 0; k < inst->n_points; ++k) inst->points[k].in_system = inst->node_flags[inst->points[k].index] > 0.5;
   return SK_OK;
 }
 
-static sk_status residual(sk_instance *inst, const sk_state *state, sk_sink *sink) {
+static void extra_rows(const sk_instance *inst, const slave_point *p, int64_t *rows) {
+  const int64_t base = inst->stride * p->index;
+  for (int j = 0; j < inst->stride; ++j) rows[j] = base + j;
+}
+
+/* Each owned point's slave node and extras with its facet's nodes (the facet is fixed for the step). */
+static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *out) {
   for (int k = 0; k < inst->n_points; ++k) {
     const slave_point *p = &inst->points[k];
-    if (!owned(inst, p->node)) continue;
-    const int base = state->extra_offset + N_EXTRA * k;
+    if (!nts_owned(inst, p)) continue;
+    int64_t idx[NTS_MAX_NU];
     if (p->facet < 0) {
-      const double *x = state->extra + N_EXTRA * k;
-      const int rows[N_EXTRA] = {base, base + 1, base + 2, base + 3, base + 4};
-      const double R[N_EXTRA] = {x[0], x[1] - p->f_frozen[0], x[2] - p->f_frozen[1], x[3], x[4]};
-      sink->add_vector(sink, N_EXTRA, rows, R);
+      extra_rows(inst, p, idx);
+      for (int j = 0; j < inst->stride; ++j) idx[j] += state->extra_offset;
+      out->add_block(out, inst->stride, idx, inst->stride, idx);
       continue;
     }
-    element_eval e;
-    SK_TRY(evaluate(inst, k, state, &e));
-    int idx[NTS_MAX_NU];
-    element_indices(p, inst->facet.nen, base, idx);
-    const int nq = e.sys.nq;
-    double R[NTS_MAX_NU];
-    memcpy(R, e.sys.R, sizeof(double) * (size_t)(nq + 1));
-    extra_rows(inst, p, &e, R + nq + 1);
-    sink->add_vector(sink, e.sys.nu, idx, R);
+    nts_element_indices(inst, p, state->extra_offset + inst->stride * p->index, idx);
+    const int nu = 3 + 3 * inst->facet.nen + 5;
+    out->add_block(out, nu, idx, nu, idx);
   }
   return SK_OK;
 }
 
-static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink) {
-  for (int k = 0; k < inst->n_points; ++k) {
-    const slave_point *p = &inst->points[k];
-    if (!owned(inst, p->node)) continue;
-    const int base = state->extra_offset + N_EXTRA * k;
-    if (p->facet < 0) {
-      const double one = 1.0;
-      const int n = inst->strategy == STRATEGY_NONE ? N_EXTRA : 1;
-      for (int j = 0; j < n; ++j) {
-        const int row = base + j;
-        sink->add_matrix(sink, 1, &row, 1, &row, &one);
-      }
-      continue;
-    }
-    element_eval e;
-    SK_TRY(evaluate(inst, k, state, &e));
-    int idx[NTS_MAX_NU];
-    element_indices(p, inst->facet.nen, base, idx);
-    if (inst->strategy == STRATEGY_NONE) {
-      sink->add_matrix(sink, e.sys.nu, idx, e.sys.nu, idx, e.sys.J);
-      continue;
-    }
-    const int nk = e.sys.nq + 1;
-    double Jc[(NTS_MAX_NQ + 1) * (NTS_MAX_NQ + 1)], rhs[NTS_MAX_NQ + 1];
-    if (nts_condense(&e.sys, Jc, rhs) != 0)
-      return inst->host->error(inst->host, SK_ERR_DIVERGED,
-                               "%s: nts-augmented: singular augmented block (degenerate master face %d at slave node "
-                               "%d)",
-                               inst->pair->name, p->facet, p->node);
-    /* idx[0..nk) are the kept unknowns q_A, lambda_n; under `direct` R_e = 0 so rhs vanishes */
-    sink->add_matrix(sink, nk, idx, nk, idx, Jc);
-    if (sink->add_rhs) sink->add_rhs(sink, nk, idx, rhs);
-  }
-  return SK_OK;
-}
-
-static sk_status recover(sk_instance *inst, const sk_state *state, const double *F, double *dx) {
-  if (inst->strategy == STRATEGY_NONE) return SK_OK;
-  for (int k = 0; k < inst->n_points; ++k) {
-    const slave_point *p = &inst->points[k];
-    if (!owned(inst, p->node)) continue;
-    const int base = state->extra_offset + N_EXTRA * k;
-    if (p->facet < 0) {
-      for (int j = 1; j < N_EXTRA; ++j) dx[base + j] = -F[base + j];
-      continue;
-    }
-    element_eval e;
-    SK_TRY(evaluate(inst, k, state, &e));
-    int idx[NTS_MAX_NU];
-    element_indices(p, inst->facet.nen, base, idx);
-    const int nk = e.sys.nq + 1;
-    double dk[NTS_MAX_NQ + 1], de[4];
-    for (int j = 0; j < nk; ++j) dk[j] = dx[idx[j]];
-    const int direct = inst->strategy == STRATEGY_DIRECT && p->active;
-    /* the element rows' residual as the driver has it; under `direct` the local solution's linearisation plus
-     * the global unknowns' offset from it */
-    for (int a = 0; a < 4; ++a) e.sys.R[nk + a] = direct ? 0.0 : F[base + 1 + a];
-    if (nts_recover(&e.sys, dk, de) != 0)
-      return inst->host->error(inst->host, SK_ERR_DIVERGED, "%s: nts-augmented: singular augmented block at slave "
-                               "node %d", inst->pair->name, p->node);
-    for (int a = 0; a < 4; ++a) dx[base + 1 + a] = de[a] - (direct ? F[base + 1 + a] : 0.0);
-  }
-  return SK_OK;
-}
-
-static sk_status after_iteration(sk_instance *inst, const sk_state *state, int *changed) {
+/* ---- the active set ------------------------------------------------------------------------------------------- */
+static sk_status update_active_set(sk_instance *inst, const sk_state *state, int *changed) {
   *changed = 0;
   for (int k = 0; k < inst->n_points; ++k) {
     slave_point *p = &inst->points[k];
     if (p->facet < 0) continue;
-    const double *x = state->extra + N_EXTRA * k;
-    double f[2] = {x[1], x[2]}, gap;
+    const double *x = state->extra + inst->stride * p->index;
+    double gap;
     int want_slip = p->slip;
     if (p->active) {
-      element_eval e;
-      SK_TRY(evaluate(inst, k, state, &e));
-      gap = e.sys.geo_end.phi[NTS_PHI_N];
+      nts_element e;
+      SK_TRY(nts_element_eval(inst, k, state, &e));
+      gap = nts_element_constraints(&e)[NTS_PHI_N];
       /* the stick/slip set follows the return map's trial at this iterate */
-      if (inst->friction.mu > 0.0) want_slip = e.sys.friction.trial_norm > e.sys.friction.cone;
+      const nts_friction *fr = nts_element_friction(&e);
+      if (inst->friction.mu > 0.0) want_slip = fr->trial_norm > fr->cone;
     } else {
-      f[0] = p->f_frozen[0];
-      f[1] = p->f_frozen[1];
-      gap = gap_on_facet(inst, p, state->q, f);
+      double f[2] = {p->f_frozen[0], p->f_frozen[1]};
+      gap = nts_gap_on_facet(inst, p, state->x, state->t, f);
     }
     const double lambda_n = p->active ? x[0] : 0.0;
-    const int want_active = -lambda_n - inst->c_n * gap > 0.0;
-    if (want_active == p->active && want_slip == p->slip) continue;
+    const int want_active = nts_wants_contact(inst, lambda_n, gap);
+    /* `augmented`: a node whose extras are not in this loop's system waits for the converged point */
+    p->wants_in = inst->strategy == NTS_AUGMENTED && want_active && !p->active && !p->in_system &&
+                  p->flips < inst->max_flips;
+    if (p->wants_in || (want_active == p->active && want_slip == p->slip)) continue;
     /* chattering: after max_flips the contact state is kept for the rest of the step and the stick/slip branch
      * is left to the return map (so Coulomb's law still holds exactly at convergence) */
     if (p->flips >= inst->max_flips) continue;
     if (++p->flips == inst->max_flips) {
       p->return_map = 1;
-      inst->host->log(inst->host, 2, "%s: nts-augmented: slave node %d changed its contact state %d times; frozen "
-                      "for this step", inst->pair->name, p->node, p->flips);
+      inst->api->log(inst->host, 2, "%s: nts-augmented: slave node %lld changed its contact state %d times; frozen "
+                     "for this step", inst->name, (long long)p->node, p->flips);
     }
     if (want_active != p->active) {
       p->active = want_active;
@@ -482,7 +260,7 @@ static sk_status after_iteration(sk_instance *inst, const sk_state *state, int *
       if (!p->active) {
         /* keep f where it is: its trivial equation f = f_frozen is then already satisfied */
         p->f_frozen[0] = x[1];
-        p->f_frozen[1] = x[2];
+        p->f_frozen[1] = inst->pdim == 2 ? x[2] : 0.0;
       }
     } else {
       p->slip = want_slip;
@@ -492,14 +270,131 @@ static sk_status after_iteration(sk_instance *inst, const sk_state *state, int *
   return SK_OK;
 }
 
+/* The converged point is rejected (Newton again from it) when `augmented` must take in a new contact, or when a
+ * node frozen by max_flips is in tension or penetrates: no step ends with such a node. */
+static sk_status converged(sk_instance *inst, const sk_state *state, int *accept) {
+  *accept = 1;
+  double lambda_max = 0.0;
+  for (int k = 0; k < inst->n_points; ++k) {
+    const slave_point *p = &inst->points[k];
+    if (nts_owned(inst, p) && p->facet >= 0 && p->active)
+      lambda_max = fmax(lambda_max, fabs(state->extra[inst->stride * p->index]));
+  }
+  SK_TRY(inst->api->reduce(inst->host, 1, &lambda_max, 1));
+  for (int k = 0; k < inst->n_points; ++k) {
+    slave_point *p = &inst->points[k];
+    if (p->facet < 0) continue;
+    const double *x = state->extra + inst->stride * p->index;
+    if (p->wants_in) {
+      p->active = 1;
+      p->slip = 0;
+      p->wants_in = 0;
+      *accept = 0;
+      continue;
+    }
+    if (p->flips < inst->max_flips) continue;
+    if (p->active && x[0] > TENSION_FRACTION * lambda_max) {
+      inst->api->log(inst->host, 2, "%s: nts-augmented: frozen slave node %lld in tension (lambda_n %g): released",
+                     inst->name, (long long)p->node, x[0]);
+      p->active = 0;
+      p->f_frozen[0] = x[1];
+      p->f_frozen[1] = inst->pdim == 2 ? x[2] : 0.0;
+      *accept = 0;
+    } else if (!p->active) {
+      double f[2] = {p->f_frozen[0], p->f_frozen[1]};
+      const double gap = nts_gap_on_facet(inst, p, state->x, state->t, f);
+      if (gap < -PENETRATION_FRACTION * inst->search_margin) {
+        inst->api->log(inst->host, 2, "%s: nts-augmented: frozen slave node %lld penetrates (gap %g): in contact",
+                       inst->name, (long long)p->node, gap);
+        p->active = 1;
+        p->slip = 0;
+        *accept = 0;
+      }
+    }
+  }
+  return SK_OK;
+}
+
+/* ---- residual, Jacobian, recovery ------------------------------------------------------------------------------ */
+static sk_status residual(sk_instance *inst, const sk_state *state, sk_sink *sink) {
+  for (int k = 0; k < inst->n_points; ++k) {
+    const slave_point *p = &inst->points[k];
+    if (!nts_owned(inst, p)) continue;
+    if (p->facet < 0) {
+      const double *x = state->extra + inst->stride * p->index;
+      int64_t rows[NTS_MAX_STRIDE];
+      double R[NTS_MAX_STRIDE];
+      extra_rows(inst, p, rows);
+      for (int j = 0; j < inst->stride; ++j) {
+        rows[j] += state->extra_offset;
+        R[j] = x[j];
+      }
+      R[1] -= p->f_frozen[0];
+      if (inst->pdim == 2) R[2] -= p->f_frozen[1];
+      sink->add_vector(sink, inst->stride, rows, R);
+      continue;
+    }
+    nts_element e;
+    SK_TRY(nts_element_eval(inst, k, state, &e));
+    double R[NTS_MAX_NU];
+    nts_element_residual(inst, p, &e, R);
+    sink->add_vector(sink, 3 + 3 * inst->facet.nen + 5, e.idx, R);
+  }
+  return SK_OK;
+}
+
+static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink) {
+  for (int k = 0; k < inst->n_points; ++k) {
+    const slave_point *p = &inst->points[k];
+    if (!nts_owned(inst, p)) continue;
+    if (p->facet < 0) { /* identity rows of the kept extras */
+      const double one = 1.0;
+      int64_t rows[NTS_MAX_STRIDE];
+      extra_rows(inst, p, rows);
+      for (int j = 0; j < inst->stride; ++j) {
+        rows[j] += state->extra_offset;
+        if (!inst->eliminated[rows[j] - state->extra_offset]) sink->add_matrix(sink, 1, rows + j, 1, rows + j, &one);
+      }
+      continue;
+    }
+    nts_element e;
+    SK_TRY(nts_element_eval(inst, k, state, &e));
+    SK_TRY(nts_element_jacobian(inst, p, &e, sink));
+  }
+  return SK_OK;
+}
+
+static sk_status recover(sk_instance *inst, const sk_state *state, sk_vectors *v) {
+  for (int k = 0; k < inst->n_points; ++k) {
+    const slave_point *p = &inst->points[k];
+    if (!nts_owned(inst, p)) continue;
+    const double *F = v->F_extra + inst->stride * p->index;
+    double *dx = v->dx_extra + inst->stride * p->index;
+    if (inst->strategy == NTS_AUGMENTED) {
+      if (!p->in_system) /* identity rows, all eliminated */
+        for (int j = 0; j < inst->stride; ++j) dx[j] = -F[j];
+      continue;
+    }
+    if (p->facet < 0 || !p->active) {
+      for (int j = 1; j < inst->stride; ++j) dx[j] = -F[j];
+      continue;
+    }
+    nts_element e;
+    SK_TRY(nts_element_eval(inst, k, state, &e));
+    SK_TRY(nts_element_recover(inst, p, &e, state, v));
+  }
+  return SK_OK;
+}
+
+/* ---- history and results -------------------------------------------------------------------------------------- */
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   for (int k = 0; k < inst->n_points; ++k) {
     slave_point *p = &inst->points[k];
-    const double *x = state->extra + N_EXTRA * k;
+    const double *x = state->extra + inst->stride * p->index;
     p->c_facet = p->facet;
     p->c_active = p->facet >= 0 && p->active;
     p->c_slip = p->c_active && p->slip;
-    memcpy(p->c_extra, x, sizeof p->c_extra);
+    memcpy(p->c_extra, x, sizeof(double) * (size_t)inst->stride);
     memset(p->c_t, 0, sizeof p->c_t);
     memset(p->c_t_vector, 0, sizeof p->c_t_vector);
     if (!p->c_active) {
@@ -507,24 +402,31 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
       p->c_f[1] = p->f_frozen[1];
       continue;
     }
-    element_eval e;
-    SK_TRY(evaluate(inst, k, state, &e));
+    nts_element e;
+    SK_TRY(nts_element_eval(inst, k, state, &e));
     if (e.in.lambda_n > 0.0)
-      inst->host->log(inst->host, 2, "%s: nts-augmented: slave node %d ends the step active with a tensile multiplier "
-                      "%g (its contact state was frozen)", inst->pair->name, p->node, e.in.lambda_n);
-    p->c_slip = e.sys.friction.slip;
+      inst->api->log(inst->host, 2, "%s: nts-augmented: slave node %lld ends the step active with a tensile "
+                     "multiplier %g", inst->name, (long long)p->node, e.in.lambda_n);
+    const nts_friction *fr = nts_element_friction(&e);
+    p->c_slip = fr->slip;
+    /* f at t_{n+1}: the unknown, or under `direct` (74) the closest point of q_{n+1} (f there is 2 xi_{n+1/2} - xi_n,
+     * which is no closest point) */
+    const double *f = e.in.f_gap ? e.in.f_gap : e.in.f;
+    const double *lambda_aug = e.paper_active ? e.paper.lambda_aug : e.in.lambda_aug;
     for (int a = 0; a < 2; ++a) {
-      p->c_f[a] = e.in.f[a];
-      p->c_t[a] = e.sys.friction.t_next[a];
-      p->c_extra[1 + a] = e.in.f[a];
-      p->c_extra[3 + a] = e.in.lambda_aug[a];
+      p->c_f[a] = f[a];
+      p->c_t[a] = fr->t_next[a];
+      const int fs = nts_slot_of_e(inst, a), ls = nts_slot_of_e(inst, 2 + a);
+      if (fs >= 0) p->c_extra[fs] = f[a];
+      if (ls >= 0) p->c_extra[ls] = lambda_aug[a];
     }
     /* spatial traction t = t_a a^a at t_{n+1} */
-    const nts_geometry *g = &e.sys.geo_end;
-    const double det = g->m[0][0] * g->m[1][1] - g->m[0][1] * g->m[1][0];
-    const double tau[2] = {(g->m[1][1] * p->c_t[0] - g->m[0][1] * p->c_t[1]) / det,
-                           (-g->m[1][0] * p->c_t[0] + g->m[0][0] * p->c_t[1]) / det};
-    for (int i = 0; i < 3; ++i) p->c_t_vector[i] = tau[0] * g->a[0][i] + tau[1] * g->a[1][i];
+    nts_geometry g;
+    nts_geometry_eval(&inst->facet, e.q_A, f, &g);
+    const double det = g.m[0][0] * g.m[1][1] - g.m[0][1] * g.m[1][0];
+    const double tau[2] = {(g.m[1][1] * p->c_t[0] - g.m[0][1] * p->c_t[1]) / det,
+                           (-g.m[1][0] * p->c_t[0] + g.m[0][0] * p->c_t[1]) / det};
+    for (int i = 0; i < 3; ++i) p->c_t_vector[i] = tau[0] * g.a[0][i] + tau[1] * g.a[1][i];
   }
   return SK_OK;
 }
@@ -532,11 +434,14 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
 static void reject_step(sk_instance *inst) {
   /* begin_step rebuilds everything of the step from the committed data; only forget this attempt's state */
   for (int k = 0; k < inst->n_points; ++k) {
-    inst->points[k].active = 0;
-    inst->points[k].slip = 0;
-    inst->points[k].return_map = 0;
-    inst->points[k].flips = 0;
+    slave_point *p = &inst->points[k];
+    p->active = p->slip = p->return_map = p->flips = p->wants_in = 0;
   }
+}
+
+/* 1 stick (or in contact without friction), 2 slip. */
+static int point_state(const sk_instance *inst, const nts_friction *fr) {
+  return inst->friction.mu > 0.0 && fr->slip ? 2 : 1;
 }
 
 /* Tangential penalty energy psi = t . m^{-1} t / (2 eps). */
@@ -547,38 +452,33 @@ static double friction_energy(const double m[2][2], const double t[2], double ep
 }
 
 static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_report *rep) {
-  memset(rep, 0, sizeof *rep);
   for (int k = 0; k < inst->n_points; ++k) {
     const slave_point *p = &inst->points[k];
-    if (p->facet < 0 || !p->active || !owned(inst, p->node)) continue;
-    element_eval e;
-    SK_TRY(evaluate(inst, k, state, &e));
-    const nts_geometry *gh = &e.sys.geo_hat, *ge = &e.sys.geo_end;
-    const double lambda[3] = {e.in.lambda_aug[0], e.in.lambda_aug[1], e.in.lambda_n};
+    if (p->facet < 0 || !p->active || !nts_owned(inst, p)) continue;
+    nts_element e;
+    SK_TRY(nts_element_eval(inst, k, state, &e));
     double force[3];
-    for (int i = 0; i < 3; ++i) {
-      force[i] = 0.0;
-      for (int c = 0; c < 3; ++c) force[i] -= lambda[c] * gh->grad[c][i]; /* force on the slave node */
-      rep->force[i] += force[i];
-    }
+    nts_element_slave_force(inst, &e, force);
+    for (int i = 0; i < 3; ++i) rep->force[i] += force[i];
     const double *x = e.q_A;
     rep->moment[0] += x[1] * force[2] - x[2] * force[1];
     rep->moment[1] += x[2] * force[0] - x[0] * force[2];
     rep->moment[2] += x[0] * force[1] - x[1] * force[0];
     ++rep->active;
-    if (e.sys.friction.slip)
+    const nts_friction *fr = nts_element_friction(&e);
+    if (point_state(inst, fr) == 2)
       ++rep->slip;
     else
       ++rep->stick;
     if (inst->friction.mu > 0.0) {
       /* work of the tangential traction minus the change of the penalty energy */
-      const nts_friction *fr = &e.sys.friction;
-      const double work =
-          fr->t_used[0] * (e.in.f[0] - p->f_start[0]) + fr->t_used[1] * (e.in.f[1] - p->f_start[1]);
+      const nts_geometry *gh = nts_element_geometry(&e, 1);
+      const double work = fr->t_used[0] * (e.in.f[0] - p->f_start[0]) + fr->t_used[1] * (e.in.f[1] - p->f_start[1]);
       rep->dissipated += work - (friction_energy(gh->m, fr->t_next, inst->friction.epsilon_t) -
                                  friction_energy(gh->m, p->t_start, inst->friction.epsilon_t));
     }
-    for (int c = 0; c < 3; ++c) rep->constraint_norm = fmax(rep->constraint_norm, fabs(ge->phi[c]));
+    const double *phi = nts_element_constraints(&e);
+    for (int c = 0; c < 3; ++c) rep->constraint_norm = fmax(rep->constraint_norm, fabs(phi[c]));
   }
   return SK_OK;
 }
@@ -586,26 +486,27 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
 static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
   for (int k = 0; k < inst->n_points; ++k) {
     const slave_point *p = &inst->points[k];
-    if (!owned(inst, p->node)) continue;
-    sk_contact_point cp;
-    memset(&cp, 0, sizeof cp);
+    if (!nts_owned(inst, p)) continue;
+    sk_contact_point cp = {.struct_size = sizeof cp};
     cp.slave_node = p->node;
-    for (int i = 0; i < 3; ++i) cp.x[i] = state->q[3 * p->node + i];
+    for (int i = 0; i < inst->dim; ++i) cp.x[i] = state->x[0][inst->dim * p->k + i];
     cp.gap = p->gap_estimate;
-    if (p->facet >= 0) {
-      element_eval e;
-      SK_TRY(evaluate(inst, k, state, &e));
-      const nts_geometry *gh = &e.sys.geo_hat, *ge = &e.sys.geo_end;
+    if (p->facet >= 0 && state->extra) {
+      nts_element e;
+      SK_TRY(nts_element_eval(inst, k, state, &e));
+      const nts_geometry *gh = nts_element_geometry(&e, 1), *ge = nts_element_geometry(&e, 0);
       for (int i = 0; i < 3; ++i) cp.normal[i] = ge->n[i];
       if (p->active) {
-        cp.gap = ge->phi[NTS_PHI_N];
+        double force[3];
+        nts_element_slave_force(inst, &e, force);
+        cp.gap = nts_element_constraints(&e)[NTS_PHI_N];
         cp.pressure = -e.in.lambda_n;
-        for (int i = 0; i < 3; ++i)
-          cp.traction[i] = -(e.in.lambda_aug[0] * gh->grad[0][i] + e.in.lambda_aug[1] * gh->grad[1][i]);
-        cp.state = e.sys.friction.slip ? 2 : 1;
+        /* the tangential force: the slave force without its normal part -lambda_n n */
+        for (int i = 0; i < 3; ++i) cp.traction[i] = force[i] + e.in.lambda_n * gh->n[i];
+        cp.state = point_state(inst, nts_element_friction(&e));
       } else {
         double f[2] = {p->f_frozen[0], p->f_frozen[1]};
-        const double g = gap_on_facet(inst, p, state->q, f);
+        const double g = nts_gap_on_facet(inst, p, state->x, state->t, f);
         if (g != HUGE_VAL) cp.gap = g;
       }
     }
@@ -615,26 +516,30 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
 }
 
 static const sk_plugin plugin = {
-    .abi_version = SK_PLUGIN_ABI_VERSION,
+    SK_TABLE_HEADER(sk_plugin),
     .name = "nts-augmented",
-    .summary = "node-to-surface contact with coordinate augmentation and size reduction (Franke, Hesch, Betsch 2013)",
-    .caps = SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_ENERGY_MOMENTUM |
-            SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS | SK_CAP_CONDENSATION,
+    .summary = "node-to-surface (2D: node-to-segment) contact with coordinate augmentation and size reduction "
+               "(Franke, Hesch, Betsch 2013)",
+    .kinds = SK_KIND_PAIR,
+    .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS |
+            SK_CAP_ENERGY_MOMENTUM | SK_CAP_RIGID_OBSTACLE | SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS |
+            SK_CAP_CONDENSATION,
     .strategies = strategies,
     .parameters = parameters,
     .create = create,
     .destroy = destroy,
     .begin_step = begin_step,
     .layout = layout,
+    .pattern = pattern,
+    .update_active_set = update_active_set,
     .residual = residual,
     .jacobian = jacobian,
     .recover = recover,
-    .after_iteration = after_iteration,
+    .converged = converged,
     .commit_step = commit_step,
     .reject_step = reject_step,
     .report = report,
     .points = points,
-    .get_extension = NULL,
 };
 
 __attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);

@@ -17,7 +17,7 @@
  * Friction (rigid obstacle). The obstacle only translates, so the history is an anchor point fixed in the
  * obstacle and a spatial traction: t^trial = P (t_n - eps_t (x_s - x_anchor(t))), P = I - n n.
  *
- * Master face. begin_step and after_iteration select one master face per slave node (the closest-point projection,
+ * Master face. begin_step and update_active_set select one master face per slave node (the closest-point projection,
  * keeping a face selected earlier in the step while the slave stays within 10 % of a face beyond it); residual and
  * Jacobian evaluate the closest point on that face's extension, so they are smooth in q between selections.
  *
@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "covariant.h"
 #include "stickslip/plugin.h"
 
 #define PNTS_EXPORT __attribute__((visibility("default")))
@@ -57,14 +58,19 @@ typedef struct {
   double t_cov[2];      /* covariant tangential traction (deformable master) */
   double dissipation;   /* slip increment . traction of the step so far */
   int nd;               /* local dofs: slave node, then the master face nodes */
-  int rows[MAX_LOCAL_DOFS];
+  int64_t rows[MAX_LOCAL_DOFS];
   double R[MAX_LOCAL_DOFS];
   double K[MAX_LOCAL_DOFS * MAX_LOCAL_DOFS];
 } point_eval;
 
 struct sk_instance {
-  const sk_host *host;
-  const sk_pair *pair;
+  const sk_host_api *api;
+  sk_host *host;
+  const sk_contact_services *cs;
+  const sk_view *slave;         /* the slave surface as this rank sees it: the slave nodes are its view nodes */
+  const sk_view *master;        /* deformable master (whole), or NULL */
+  const sk_obstacle *obstacle;  /* rigid master, or NULL */
+  const char *name;             /* the pair's name */
   int dim;
   double penalty, penalty_t, mu, margin;
   double touch_tolerance;       /* points with g <= this are active (see evaluate_point) */
@@ -82,7 +88,8 @@ struct sk_instance {
   int *sel_face;                /* master face selected for each slave node (-1: none), see select_face */
   unsigned char *sel_beyond;    /* 1: the selection lies beyond the master's border (and its extension band) */
   double (*sel_xi)[2];          /* start of the closest-point Newton on the selected face */
-  double *scratch_q;            /* positions for the start-of-step projections */
+  int64_t *pattern_dofs;        /* the dofs of a slave node's neighbourhood (pattern) */
+  int pattern_capacity;
 };
 
 static const char *const pnts_strategies[] = {"none", NULL};
@@ -100,69 +107,10 @@ static const char *const pnts_parameters[] = {
 /* ---- small dense helpers --------------------------------------------------------------------------------------- */
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/* Inverse of the leading n x n block (n = 1 or 2) of a 2x2 matrix; returns 0 when singular. */
-static int invert_small(int n, double a[2][2], double inv[2][2]) {
-  if (n == 1) {
-    if (a[0][0] == 0.0) return 0;
-    inv[0][0] = 1.0 / a[0][0];
-    inv[0][1] = inv[1][0] = 0.0;
-    inv[1][1] = 1.0;
-    return 1;
-  }
-  double det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-  if (det == 0.0) return 0;
-  inv[0][0] = a[1][1] / det;
-  inv[1][1] = a[0][0] / det;
-  inv[0][1] = -a[0][1] / det;
-  inv[1][0] = -a[1][0] / det;
-  return 1;
-}
-
-static void slave_position(const sk_instance *in, const double *q, int k, double x[3]) {
-  int node = in->pair->slave->nodes[k];
-  x[2] = 0.0;
-  for (int i = 0; i < in->dim; ++i) x[i] = q[node * in->dim + i];
-}
-
-/* Prescribed obstacle translation at time t: piecewise linear through (t_k, d_k), constant beyond the ends. The
- * host offers only obstacle_project, so the plugin reads the plain-data motion table itself. */
-static void obstacle_translation(const sk_obstacle *ob, double t, double d[3]) {
-  d[0] = d[1] = d[2] = 0.0;
-  int n = ob->n_motion;
-  if (n <= 0) return;
-  if (t <= ob->motion_t[0] || n == 1) {
-    memcpy(d, ob->motion_d[0], 3 * sizeof(double));
-    return;
-  }
-  if (t >= ob->motion_t[n - 1]) {
-    memcpy(d, ob->motion_d[n - 1], 3 * sizeof(double));
-    return;
-  }
-  for (int k = 0; k + 1 < n; ++k) {
-    if (t <= ob->motion_t[k + 1]) {
-      double span = ob->motion_t[k + 1] - ob->motion_t[k];
-      double s = span > 0.0 ? (t - ob->motion_t[k]) / span : 1.0;
-      for (int i = 0; i < 3; ++i) d[i] = (1.0 - s) * ob->motion_d[k][i] + s * ob->motion_d[k + 1][i];
-      return;
-    }
-  }
-}
-
-/* Metric, its inverse and the dual tangents from the tangents alone (obstacles need not fill them). */
-static int complete_metric(int pdim, sk_surface_point *pt) {
-  double m[2][2] = {{1.0, 0.0}, {0.0, 1.0}};
-  for (int a = 0; a < pdim; ++a)
-    for (int b = 0; b < pdim; ++b) m[a][b] = dot3(pt->a[a], pt->a[b]);
-  double inv[2][2];
-  if (!invert_small(pdim, m, inv)) return 0;
-  memcpy(pt->m, m, sizeof m);
-  memcpy(pt->m_inv, inv, sizeof inv);
-  for (int a = 0; a < pdim; ++a)
-    for (int i = 0; i < 3; ++i) {
-      pt->a_dual[a][i] = 0.0;
-      for (int b = 0; b < pdim; ++b) pt->a_dual[a][i] += inv[a][b] * pt->a[b][i];
-    }
-  return 1;
+/* Slave node k's position from the positions per view x (x[0]: the slave view, x[1]: the master view). */
+static void slave_position(const sk_instance *in, const double *const *x, int k, double xs[3]) {
+  xs[2] = 0.0;
+  for (int i = 0; i < in->dim; ++i) xs[i] = x[0][k * in->dim + i];
 }
 
 /* Closest point on the polynomial extension of `face` (also beyond its border): Newton on (x_s - x(xi)) . a_a = 0
@@ -171,9 +119,9 @@ static int complete_metric(int pdim, sk_surface_point *pt) {
  * triangles), 0 otherwise. Used beyond the master's border with band = master_extension (without it a slave node
  * level with the master's end, a patch test's corner, toggles in and out of contact between Newton iterations)
  * and for the face selected during a step (band SELECT_BAND, see select_face). */
-static int extend_on_face(const sk_instance *in, int face, const double *xs, const double *q, double band,
+static int extend_on_face(const sk_instance *in, int face, const double *xs, const double *xm, double band,
                           sk_surface_point *pt) {
-  const sk_surface *master = in->pair->master;
+  const sk_view *master = in->master;
   const int pdim = in->dim - 1;
   double xi[2] = {pt->xi[0], pt->xi[1]};
   int converged = 0;
@@ -184,21 +132,21 @@ static int extend_on_face(const sk_instance *in, int face, const double *xs, con
       r[a] = dot3(d, pt->a[a]);
       for (int b = 0; b < pdim; ++b) J[a][b] = dot3(pt->a[a], pt->a[b]) - dot3(d, pt->a_ab[a][b]);
     }
-    if (!invert_small(pdim, J, Jinv)) return 0;
+    if (!cov_invert2(pdim, J, Jinv)) return 0;
     for (int a = 0; a < pdim; ++a) {
       double dxi = 0.0;
       for (int b = 0; b < pdim; ++b) dxi += Jinv[a][b] * r[b];
       xi[a] += dxi;
       step = fmax(step, fabs(dxi));
     }
-    in->host->contact->geometry(master, face, xi, q, pt);
+    in->cs->geometry(master, face, xi, xm, pt);
     converged = step <= 1e-13;
   }
   if (!converged) return 0;
   pt->face = face;
   pt->xi[0] = xi[0];
   pt->xi[1] = xi[1];
-  if (master->face_type == SK_TRI3)
+  if (master->cell_type == SK_TRI3)
     return xi[0] >= -band && xi[1] >= -band && 1.0 - xi[0] - xi[1] >= -band;
   for (int a = 0; a < pdim; ++a)
     if (fabs(xi[a]) > 1.0 + 2.0 * band) return 0;
@@ -213,15 +161,15 @@ static int extend_on_face(const sk_instance *in, int face, const double *xs, con
 
 /* The closest-point projection over the candidates with the master_extension treatment at the master's border:
  * face (-1: none), parameters, and whether the point lies beyond the border and its band. */
-static sk_status project_global(const sk_instance *in, const double *q, const double *xs, int k, int *face,
+static sk_status project_global(const sk_instance *in, const double *xm, const double *xs, int k, int *face,
                                 double xi[2], int *beyond) {
-  const sk_surface *master = in->pair->master;
+  const sk_view *master = in->master;
   *face = -1;
   *beyond = 0;
   xi[0] = xi[1] = 0.0;
   if (in->cand_count[k] == 0) return SK_OK;
-  sk_projection proj;
-  SK_TRY(in->host->contact->project(master, q, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+  sk_projection proj = {.struct_size = sizeof proj};
+  SK_TRY(in->cs->project(master, xm, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
   if (proj.face < 0) return SK_OK;
   *face = proj.face;
   xi[0] = proj.xi[0];
@@ -229,11 +177,11 @@ static sk_status project_global(const sk_instance *in, const double *q, const do
   if (proj.kind != SK_PROJ_OUTSIDE) return SK_OK;
   *beyond = 1;
   if (in->extension > 0.0) {
-    sk_surface_point pt;
-    in->host->contact->geometry(master, proj.face, proj.xi, q, &pt);
+    sk_surface_point pt = {.struct_size = sizeof pt};
+    in->cs->geometry(master, proj.face, proj.xi, xm, &pt);
     pt.xi[0] = proj.xi[0];
     pt.xi[1] = proj.xi[1];
-    if (extend_on_face(in, proj.face, xs, q, in->extension, &pt)) {
+    if (extend_on_face(in, proj.face, xs, xm, in->extension, &pt)) {
       xi[0] = pt.xi[0];
       xi[1] = pt.xi[1];
       *beyond = 0;
@@ -250,18 +198,18 @@ static sk_status project_global(const sk_instance *in, const double *q, const do
  * between the two faces: the closest point's normal turns from one face's normal to the other's within a fan of
  * width ~ |g| x kink angle (1e-10 in the patch test), where the slave is held by the full penalty stiffness, while
  * outside it only the bodies' stiffness acts, so Newton steps over the fan and back forever. */
-static sk_status select_face(sk_instance *in, const double *q, int k) {
+static sk_status select_face(sk_instance *in, const double *const *x, int k) {
   double xs[3], xi[2];
   int face, beyond;
-  slave_position(in, q, k, xs);
-  SK_TRY(project_global(in, q, xs, k, &face, xi, &beyond));
+  slave_position(in, x, k, xs);
+  SK_TRY(project_global(in, x[1], xs, k, &face, xi, &beyond));
   int old = in->sel_face[k];
   if (old >= 0 && old != face && face >= 0 && !beyond) {
-    sk_surface_point pt;
-    in->host->contact->geometry(in->pair->master, old, in->sel_xi[k], q, &pt);
+    sk_surface_point pt = {.struct_size = sizeof pt};
+    in->cs->geometry(in->master, old, in->sel_xi[k], x[1], &pt);
     pt.xi[0] = in->sel_xi[k][0];
     pt.xi[1] = in->sel_xi[k][1];
-    if (extend_on_face(in, old, xs, q, SELECT_BAND, &pt)) {
+    if (extend_on_face(in, old, xs, x[1], SELECT_BAND, &pt)) {
       in->sel_xi[k][0] = pt.xi[0];
       in->sel_xi[k][1] = pt.xi[1];
       in->sel_beyond[k] = 0;
@@ -277,43 +225,16 @@ static sk_status select_face(sk_instance *in, const double *q, int k) {
 
 /* ---- evaluation of one slave node ------------------------------------------------------------------------------- */
 
-/* Coulomb return map on covariant components with metric `m_inv` (pdim x pdim; identity for spatial vectors given
- * as n components). Fills t and its derivative Dt (n x nd) from the trial and its derivative; returns the state. */
-static int return_map(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
-                      double p, const double *Dp, int nd, double eps_t, double *t, double *Dt, double *dissipation) {
-  double norm2 = 0.0;
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) norm2 += trial[a] * metric_inv[a][b] * trial[b];
-  double norm = sqrt(norm2), limit = mu * p;
-  if (norm <= limit) {
-    for (int a = 0; a < n; ++a) t[a] = trial[a];
-    memcpy(Dt, Dtrial, (size_t)(n * nd) * sizeof(double));
-    *dissipation = 0.0;
-    return STATE_STICK;
-  }
-  /* Slip: t = mu p trial/|trial|. dissipation = slip increment . t = mu p (|trial| - mu p) / eps_t >= 0. */
-  for (int a = 0; a < n; ++a) t[a] = limit * trial[a] / norm;
-  for (int c = 0; c < nd; ++c) {
-    double dnorm2 = 0.0; /* metric derivative terms are added by the caller (covariant case) */
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) dnorm2 += 2.0 * trial[a] * metric_inv[a][b] * Dtrial[b * nd + c];
-    for (int a = 0; a < n; ++a)
-      Dt[a * nd + c] = mu * Dp[c] * trial[a] / norm + limit * Dtrial[a * nd + c] / norm -
-                       limit * trial[a] * dnorm2 / (2.0 * norm2 * norm);
-  }
-  *dissipation = limit * (norm - limit) / eps_t;
-  return STATE_SLIP;
-}
-
-/* Evaluates slave node k at state->q and state->t: gap, forces and, when want_jacobian, the local Jacobian. */
+/* Evaluates slave node k at state->x and state->t: gap, forces and, when want_jacobian, the local Jacobian. The
+ * covariant kinematics and friction (dxi, dn, the metric derivatives, the return map) are the shared kernel's
+ * (plugins/common/covariant.h). */
 static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int want_jacobian, point_eval *e) {
-  const sk_host *host = in->host;
-  const sk_contact_services *cs = host->contact;
+  const sk_contact_services *cs = in->cs;
   const int dim = in->dim, pdim = dim - 1;
-  const int slave_node = in->pair->slave->nodes[k];
-  const sk_surface *master = in->pair->master;
+  const int64_t slave_node = in->slave->node_id[k];
+  const sk_view *master = in->master;
   double xs[3];
-  slave_position(in, st->q, k, xs);
+  slave_position(in, st->x, k, xs);
 
   e->found = 0;
   e->state = STATE_INACTIVE;
@@ -328,35 +249,35 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
   memset(e->traction, 0, sizeof e->traction);
   memset(e->t_cov, 0, sizeof e->t_cov);
 
-  sk_surface_point pt;
+  sk_surface_point pt = {.struct_size = sizeof pt};
   double g;
   int nen = 0;
-  const int *conn = NULL;
+  const int32_t *conn = NULL;
   if (master) {
-    /* The face chosen by select_face (begin_step, after_iteration); the closest point on its polynomial extension,
-     * so that the residual is smooth in q between selections. Beyond the master's border (and its band) the
-     * clamped projection gives the reported gap. */
+    /* The face chosen by select_face (begin_step, update_active_set); the closest point on its polynomial
+     * extension, so that the residual is smooth in q between selections. Beyond the master's border (and its band)
+     * the clamped projection gives the reported gap. */
     sk_projection proj;
     proj.face = in->sel_face[k];
     if (proj.face < 0) return SK_OK;
     proj.xi[0] = in->sel_xi[k][0];
     proj.xi[1] = in->sel_xi[k][1];
-    cs->geometry(master, proj.face, proj.xi, st->q, &pt);
+    cs->geometry(master, proj.face, proj.xi, st->x[1], &pt);
     pt.xi[0] = proj.xi[0];
     pt.xi[1] = proj.xi[1];
     int beyond = in->sel_beyond[k];
     if (!beyond) {
       sk_surface_point extended = pt;
-      extend_on_face(in, proj.face, xs, st->q, HUGE_VAL, &extended); /* band checked by select_face */
+      extend_on_face(in, proj.face, xs, st->x[1], HUGE_VAL, &extended); /* band checked by select_face */
       pt = extended;
       proj.xi[0] = pt.xi[0];
       proj.xi[1] = pt.xi[1];
     }
-    if (!complete_metric(pdim, &pt)) return SK_OK; /* degenerate face: no contact there */
+    if (!cov_complete_metric(pdim, &pt)) return SK_OK; /* degenerate face: no contact there */
     nen = master->nen;
     conn = master->conn + proj.face * nen;
     for (int I = 0; I < nen; ++I)
-      if (conn[I] == slave_node) return SK_OK; /* a node never contacts a face it belongs to */
+      if (master->node_id[conn[I]] == slave_node) return SK_OK; /* a node never contacts a face it belongs to */
     double d[3] = {xs[0] - pt.x[0], xs[1] - pt.x[1], xs[2] - pt.x[2]};
     g = dot3(d, pt.n);
     e->found = 1;
@@ -367,9 +288,9 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     memcpy(e->normal, pt.n, sizeof pt.n);
     if (beyond) return SK_OK; /* beyond the master's border (and its extension band) */
   } else {
-    SK_TRY(cs->obstacle_project(in->pair->obstacle, st->t, xs, dim, &pt, &g));
-    if (!complete_metric(pdim, &pt)) return host->error(host, SK_ERR_INTERNAL, "%s: degenerate obstacle tangents",
-                                                        in->pair->name);
+    SK_TRY(cs->obstacle_project(in->obstacle, st->t, xs, dim, &pt, &g));
+    if (!cov_complete_metric(pdim, &pt))
+      return in->api->error(in->host, SK_ERR_INTERNAL, "%s: degenerate obstacle tangents", in->name);
     e->found = 1;
     e->gap = g;
     memcpy(e->normal, pt.n, sizeof pt.n);
@@ -382,50 +303,22 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
   /* Local dofs: the slave node, then the master face nodes (none for an obstacle). */
   const int nd = dim * (1 + nen);
   e->nd = nd;
-  for (int i = 0; i < dim; ++i) e->rows[i] = slave_node * dim + i;
+  for (int i = 0; i < dim; ++i) e->rows[i] = in->slave->dofs[k * dim + i];
   for (int I = 0; I < nen; ++I)
-    for (int i = 0; i < dim; ++i) e->rows[dim * (1 + I) + i] = conn[I] * dim + i;
+    for (int i = 0; i < dim; ++i) e->rows[dim * (1 + I) + i] = master->dofs[conn[I] * dim + i];
 
   const double eps_n = in->penalty * in->area[k], eps_t = in->penalty_t * in->area[k];
   const double *n = pt.n;
   const double p = g < 0.0 ? -eps_n * g : 0.0;
   e->p = p;
 
-  /* First derivatives, as rows over the local dofs: G = dg/dq, C_a = a_a . (du at fixed xi), E_a = n . da_a. */
-  double G[MAX_LOCAL_DOFS] = {0}, C[2][MAX_LOCAL_DOFS] = {{0}}, E[2][MAX_LOCAL_DOFS] = {{0}};
-  for (int i = 0; i < dim; ++i) {
-    G[i] = n[i];
-    for (int a = 0; a < pdim; ++a) C[a][i] = pt.a[a][i];
-  }
-  for (int I = 0; I < nen; ++I)
-    for (int i = 0; i < dim; ++i) {
-      int c = dim * (1 + I) + i;
-      G[c] = -pt.N[I] * n[i];
-      for (int a = 0; a < pdim; ++a) {
-        C[a][c] = -pt.N[I] * pt.a[a][i];
-        E[a][c] = pt.dN[I][a] * n[i];
-      }
-    }
-  /* dxi = A^-1 (C + g E), A = m - g h: the closest-point condition (x_s - x_m) . a_a = 0 differentiated. */
-  double A[2][2] = {{1.0, 0.0}, {0.0, 1.0}}, Ainv[2][2];
-  for (int a = 0; a < pdim; ++a)
-    for (int b = 0; b < pdim; ++b) A[a][b] = pt.m[a][b] - g * pt.h[a][b];
-  if (!invert_small(pdim, A, Ainv))
-    return host->error(host, SK_ERR_DIVERGED, "%s: slave node %d sits at a focal point of the master (m - g h "
-                       "singular)", in->pair->name, slave_node);
-  double Dxi[2][MAX_LOCAL_DOFS] = {{0}}, Dn[3][MAX_LOCAL_DOFS] = {{0}};
-  for (int c = 0; c < nd; ++c) {
-    for (int a = 0; a < pdim; ++a)
-      for (int b = 0; b < pdim; ++b) Dxi[a][c] += Ainv[a][b] * (C[b][c] + g * E[b][c]);
-    /* dn = -a^a (n . da_a + h_ab dxi^b) */
-    for (int a = 0; a < pdim; ++a) {
-      double s = E[a][c];
-      for (int b = 0; b < pdim; ++b) s += pt.h[a][b] * Dxi[b][c];
-      for (int i = 0; i < 3; ++i) Dn[i][c] -= pt.a_dual[a][i] * s;
-    }
-  }
+  /* dg/dq, dxi/dq, dn/dq over the local dofs */
+  cov_kinematics kin;
+  if (!cov_kinematics_eval(&pt, dim, nen, g, &kin))
+    return in->api->error(in->host, SK_ERR_DIVERGED, "%s: slave node %lld sits at a focal point of the master (m - g "
+                          "h singular)", in->name, (long long)slave_node);
   double Dp[MAX_LOCAL_DOFS]; /* the penetrating side's derivative, also at g = 0 */
-  for (int c = 0; c < nd; ++c) Dp[c] = -eps_n * G[c];
+  for (int c = 0; c < nd; ++c) Dp[c] = -eps_n * kin.G[c];
 
   /* Tangential force T and its derivative DT. */
   double T[3] = {0.0, 0.0, 0.0}, DT[3][MAX_LOCAL_DOFS] = {{0}};
@@ -441,9 +334,9 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
         tn[a] = h->t[a];
       }
     } else {
-      sk_surface_point old;
-      cs->geometry(master, h->face, h->xi, st->q, &old);
-      complete_metric(pdim, &old);
+      sk_surface_point old = {.struct_size = sizeof old};
+      cs->geometry(master, h->face, h->xi, st->x[1], &old);
+      cov_complete_metric(pdim, &old);
       double told[3] = {0.0, 0.0, 0.0}, rel[3];
       for (int i = 0; i < 3; ++i) {
         for (int a = 0; a < pdim; ++a) told[i] += h->t[a] * old.a_dual[a][i];
@@ -454,93 +347,29 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
         tn[a] = dot3(told, pt.a[a]);
       }
     }
-    /* Derivatives of the tangents (total: nodal part plus x,ab dxi^b), metric, inverse metric, dual tangents. */
-    double Da[2][3][MAX_LOCAL_DOFS] = {{{0}}}, Dm[2][2][MAX_LOCAL_DOFS] = {{{0}}};
-    double Dminv[2][2][MAX_LOCAL_DOFS] = {{{0}}}, Dadual[2][3][MAX_LOCAL_DOFS] = {{{0}}};
-    for (int a = 0; a < pdim; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int c = 0; c < nd; ++c) {
-          double s = 0.0;
-          for (int b = 0; b < pdim; ++b) s += pt.a_ab[a][b][i] * Dxi[b][c];
-          Da[a][i][c] = s;
-        }
-    for (int a = 0; a < pdim; ++a)
-      for (int I = 0; I < nen; ++I)
-        for (int i = 0; i < dim; ++i) Da[a][i][dim * (1 + I) + i] += pt.dN[I][a];
-    for (int a = 0; a < pdim; ++a)
-      for (int b = 0; b < pdim; ++b)
-        for (int c = 0; c < nd; ++c)
-          for (int i = 0; i < 3; ++i) Dm[a][b][c] += pt.a[b][i] * Da[a][i][c] + pt.a[a][i] * Da[b][i][c];
-    for (int a = 0; a < pdim; ++a)
-      for (int b = 0; b < pdim; ++b)
-        for (int c = 0; c < nd; ++c) {
-          double s = 0.0;
-          for (int x = 0; x < pdim; ++x)
-            for (int y = 0; y < pdim; ++y) s -= pt.m_inv[a][x] * Dm[x][y][c] * pt.m_inv[y][b];
-          Dminv[a][b][c] = s;
-        }
-    for (int a = 0; a < pdim; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int c = 0; c < nd; ++c) {
-          double s = 0.0;
-          for (int b = 0; b < pdim; ++b) s += Dminv[a][b][c] * pt.a[b][i] + pt.m_inv[a][b] * Da[b][i][c];
-          Dadual[a][i][c] = s;
-        }
-    /* Trial t_a = t_n,a - eps_t m_ab dxi^b. */
-    double trial[2] = {0.0, 0.0}, Dtrial[2 * MAX_LOCAL_DOFS] = {0};
-    for (int a = 0; a < pdim; ++a) {
-      trial[a] = tn[a];
-      for (int b = 0; b < pdim; ++b) trial[a] -= eps_t * pt.m[a][b] * dxi[b];
-      for (int c = 0; c < nd; ++c) {
-        double s = 0.0;
-        for (int b = 0; b < pdim; ++b) s += Dm[a][b][c] * dxi[b] + pt.m[a][b] * Dxi[b][c];
-        Dtrial[a * nd + c] = -eps_t * s;
-      }
-    }
-    double minv[3][3] = {{0}};
-    for (int a = 0; a < pdim; ++a)
-      for (int b = 0; b < pdim; ++b) minv[a][b] = pt.m_inv[a][b];
-    double t[2] = {0.0, 0.0}, Dt[2 * MAX_LOCAL_DOFS] = {0};
-    e->state = return_map(pdim, trial, Dtrial, minv, in->mu, p, Dp, nd, eps_t, t, Dt, &e->dissipation);
-    if (e->state == STATE_SLIP) {
-      /* The norm also depends on q through m^ab: add -mu p trial_a/|trial|^3 * (1/2) trial . Dm^-1 . trial. */
-      double norm2 = 0.0;
-      for (int a = 0; a < pdim; ++a)
-        for (int b = 0; b < pdim; ++b) norm2 += trial[a] * minv[a][b] * trial[b];
-      double norm = sqrt(norm2), limit = in->mu * p;
-      for (int c = 0; c < nd; ++c) {
-        double s = 0.0;
-        for (int a = 0; a < pdim; ++a)
-          for (int b = 0; b < pdim; ++b) s += trial[a] * Dminv[a][b][c] * trial[b];
-        for (int a = 0; a < pdim; ++a) Dt[a * nd + c] -= limit * trial[a] * s / (2.0 * norm2 * norm);
-      }
-    }
-    for (int a = 0; a < pdim; ++a) e->t_cov[a] = t[a];
-    for (int i = 0; i < 3; ++i)
-      for (int a = 0; a < pdim; ++a) {
-        T[i] += t[a] * pt.a_dual[a][i];
-        for (int c = 0; c < nd; ++c) DT[i][c] += Dt[a * nd + c] * pt.a_dual[a][i] + t[a] * Dadual[a][i][c];
-      }
+    cov_metric_derivatives metric;
+    cov_metric_derivatives_eval(&pt, &kin, &metric);
+    e->state = cov_friction(&pt, &kin, &metric, tn, dxi, eps_t, in->mu, p, Dp, e->t_cov, T, DT, &e->dissipation);
   } else if (in->mu > 0.0 && h->valid) {
     /* Obstacle: trial = P w, w = t_n - eps_t (x_s - x_anchor(t)), P = I - n n; D(P w) = P Dw - Dn (n.w) - n (w.Dn). */
     double d[3], w[3], nw;
-    obstacle_translation(in->pair->obstacle, st->t, d);
+    cs->obstacle_displacement(in->obstacle, st->t, d);
     for (int i = 0; i < 3; ++i) w[i] = h->traction[i] - eps_t * (xs[i] - (h->anchor[i] + d[i]));
     nw = dot3(n, w);
     double trial[3], Dtrial[3 * MAX_LOCAL_DOFS];
     for (int i = 0; i < 3; ++i) trial[i] = w[i] - n[i] * nw;
     for (int c = 0; c < nd; ++c) {
       double wDn = 0.0;
-      for (int j = 0; j < 3; ++j) wDn += w[j] * Dn[j][c];
+      for (int j = 0; j < 3; ++j) wDn += w[j] * kin.Dn[j][c];
       for (int i = 0; i < 3; ++i) {
         /* Dw = -eps_t I on the slave dofs (c < dim here: an obstacle has no other dofs). */
         double Pdw = -eps_t * ((i == c ? 1.0 : 0.0) - n[i] * n[c]);
-        Dtrial[i * nd + c] = Pdw - Dn[i][c] * nw - n[i] * wDn;
+        Dtrial[i * nd + c] = Pdw - kin.Dn[i][c] * nw - n[i] * wDn;
       }
     }
     const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     double Dt[3 * MAX_LOCAL_DOFS];
-    e->state = return_map(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, T, Dt, &e->dissipation);
+    e->state = cov_return_map(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, T, Dt, &e->dissipation);
     for (int i = 0; i < 3; ++i)
       for (int c = 0; c < nd; ++c) DT[i][c] = Dt[i * nd + c];
   }
@@ -549,7 +378,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
   double f[3], Df[3][MAX_LOCAL_DOFS];
   for (int i = 0; i < 3; ++i) {
     f[i] = p * n[i] + T[i];
-    for (int c = 0; c < nd; ++c) Df[i][c] = Dp[c] * n[i] + p * Dn[i][c] + DT[i][c];
+    for (int c = 0; c < nd; ++c) Df[i][c] = Dp[c] * n[i] + p * kin.Dn[i][c] + DT[i][c];
   }
   memcpy(e->force, f, sizeof f);
   memcpy(e->traction, T, sizeof T);
@@ -563,7 +392,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     double DN[MAX_LOCAL_DOFS];
     for (int c = 0; c < nd; ++c) {
       DN[c] = 0.0;
-      for (int a = 0; a < pdim; ++a) DN[c] += pt.dN[I][a] * Dxi[a][c];
+      for (int a = 0; a < pdim; ++a) DN[c] += pt.dN[I][a] * kin.Dxi[a][c];
     }
     for (int i = 0; i < dim; ++i)
       for (int c = 0; c < nd; ++c) e->K[(dim * (1 + I) + i) * nd + c] = pt.N[I] * Df[i][c] + f[i] * DN[c];
@@ -573,52 +402,6 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
 
 /* ---- creation ---------------------------------------------------------------------------------------------------- */
 
-/* Gauss rules for the tributary areas: 3 points on a line, 3x3 on a quad, 3 points (degree 2) on a triangle. */
-static int face_quadrature(sk_elem_type type, double xi[9][2], double w[9]) {
-  const double g3[3] = {-sqrt(0.6), 0.0, sqrt(0.6)}, w3[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  switch (type) {
-    case SK_LINE2:
-    case SK_LINE3:
-      for (int i = 0; i < 3; ++i) {
-        xi[i][0] = g3[i];
-        xi[i][1] = 0.0;
-        w[i] = w3[i];
-      }
-      return 3;
-    case SK_QUAD4:
-    case SK_QUAD9:
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          xi[3 * i + j][0] = g3[i];
-          xi[3 * i + j][1] = g3[j];
-          w[3 * i + j] = w3[i] * w3[j];
-        }
-      return 9;
-    case SK_TRI3: {
-      const double pts[3][2] = {{1.0 / 6.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 6.0}, {1.0 / 6.0, 2.0 / 3.0}};
-      for (int i = 0; i < 3; ++i) {
-        xi[i][0] = pts[i][0];
-        xi[i][1] = pts[i][1];
-        w[i] = 1.0 / 6.0;
-      }
-      return 3;
-    }
-    default:
-      return 0;
-  }
-}
-
-static int index_of(const int *sorted, int n, int value) {
-  int lo = 0, hi = n - 1;
-  while (lo <= hi) {
-    int mid = (lo + hi) / 2;
-    if (sorted[mid] == value) return mid;
-    if (sorted[mid] < value) lo = mid + 1;
-    else hi = mid - 1;
-  }
-  return -1;
-}
-
 static int face_type_fits(sk_elem_type type, int dim) {
   if (dim == 2) return type == SK_LINE2 || type == SK_LINE3;
   return type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9;
@@ -626,7 +409,7 @@ static int face_type_fits(sk_elem_type type, int dim) {
 
 static void pnts_destroy(sk_instance *in) {
   if (!in) return;
-  if (in->search) in->host->contact->search_destroy(in->search);
+  if (in->search) in->cs->search_destroy(in->search);
   free(in->area);
   free(in->cand_start);
   free(in->cand_count);
@@ -637,81 +420,88 @@ static void pnts_destroy(sk_instance *in) {
   free(in->sel_face);
   free(in->sel_beyond);
   free(in->sel_xi);
-  free(in->scratch_q);
+  free(in->pattern_dofs);
   free(in);
 }
 
-static sk_status read_positive(const sk_host *host, const sk_pair *pair, const char *key, int required, double dflt,
-                               double *out) {
-  SK_TRY(host->param_double(host, pair->params, key, required, dflt, out));
+static sk_status read_positive(sk_instance *in, const char *key, int required, double dflt, double *out) {
+  SK_TRY(in->api->param_double(in->host, key, required, dflt, out));
   if (!(*out > 0.0) || !isfinite(*out))
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter '%s' must be a finite number > 0, got %g",
-                       pair->name, key, *out);
+    return in->api->error(in->host, SK_ERR_INPUT, "%s: penalty-nts parameter '%s' must be a finite number > 0, got %g",
+                          in->name, key, *out);
   return SK_OK;
 }
 
-static sk_status pnts_create_checked(const sk_host *host, const sk_pair *pair, sk_instance *in) {
-  in->host = host;
-  in->pair = pair;
-  in->dim = host->dim;
-  const sk_surface *slave = pair->slave, *master = pair->master;
-  if (in->dim != 2 && in->dim != 3)
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts works in 2D or 3D, not %dD", pair->name, in->dim);
-  if (!slave || (!master) == (!pair->obstacle))
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts needs a slave surface and either a master surface or an "
-                       "obstacle", pair->name);
-  if (!face_type_fits(slave->face_type, in->dim) || (master && !face_type_fits(master->face_type, in->dim)))
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/QUAD4/QUAD9 in "
-                       "3D", pair->name);
+/* Gauss rule for the tributary areas: degree 5 on lines and quads (3 points, 3x3), degree 2 on triangles (3 points):
+ * exact for N_I times the area element of straight faces. */
+enum { AREA_POINTS_MAX = 16 };
 
-  SK_TRY(read_positive(host, pair, "penalty", 1, 0.0, &in->penalty));
-  SK_TRY(host->param_double(host, pair->params, "mu", 0, 0.0, &in->mu));
+static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
+  const sk_host_api *api = in->api;
+  sk_host *host = in->host;
+  const sk_view *slave = attach->slave, *master = attach->master;
+  in->slave = slave;
+  in->master = master;
+  in->obstacle = attach->obstacle;
+  in->name = attach->name;
+  in->dim = slave ? slave->dim : 0;
+  if (!slave || (!master) == (!attach->obstacle))
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts needs a slave surface and either a master surface or an "
+                      "obstacle", in->name);
+  if (in->dim != 2 && in->dim != 3)
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts works in 2D or 3D, not %dD", in->name, in->dim);
+  if (!face_type_fits(slave->cell_type, in->dim) || (master && !face_type_fits(master->cell_type, in->dim)))
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/QUAD4/QUAD9 in "
+                      "3D", in->name);
+
+  SK_TRY(read_positive(in, "penalty", 1, 0.0, &in->penalty));
+  SK_TRY(api->param_double(host, "mu", 0, 0.0, &in->mu));
   if (!(in->mu >= 0.0) || !isfinite(in->mu))
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'mu' must be a finite number >= 0, got %g",
-                       pair->name, in->mu);
-  if (in->mu > 0.0) SK_TRY(read_positive(host, pair, "penalty_tangential", 1, 0.0, &in->penalty_t));
-  else SK_TRY(host->param_double(host, pair->params, "penalty_tangential", 0, in->penalty, &in->penalty_t));
-  SK_TRY(host->param_int(host, pair->params, "area_weighted", 0, 1, &in->area_weighted));
-  SK_TRY(host->param_double(host, pair->params, "master_extension", 0, 0.1, &in->extension));
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'mu' must be a finite number >= 0, got %g",
+                      in->name, in->mu);
+  if (in->mu > 0.0) SK_TRY(read_positive(in, "penalty_tangential", 1, 0.0, &in->penalty_t));
+  else SK_TRY(api->param_double(host, "penalty_tangential", 0, in->penalty, &in->penalty_t));
+  SK_TRY(api->param_int(host, "area_weighted", 0, 1, &in->area_weighted));
+  SK_TRY(api->param_double(host, "master_extension", 0, 0.1, &in->extension));
   if (!(in->extension >= 0.0 && in->extension <= 0.5))
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'master_extension' must be in [0, 0.5], got %g",
-                       pair->name, in->extension);
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'master_extension' must be in [0, 0.5], got %g",
+                      in->name, in->extension);
   if (in->area_weighted != 0 && in->area_weighted != 1)
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
-                       pair->name, in->area_weighted);
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
+                      in->name, in->area_weighted);
 
   /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
   double mean_size = 0.0;
-  if (master && master->n_faces > 0) {
-    for (int f = 0; f < master->n_faces; ++f) {
-      const int *c = master->conn + f * master->nen;
+  if (master && master->n_cells > 0) {
+    for (int f = 0; f < master->n_cells; ++f) {
+      const int32_t *c = master->conn + f * master->nen;
       double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, diag2 = 0.0;
       for (int I = 0; I < master->nen; ++I)
         for (int i = 0; i < in->dim; ++i) {
-          lo[i] = fmin(lo[i], host->X[c[I] * in->dim + i]);
-          hi[i] = fmax(hi[i], host->X[c[I] * in->dim + i]);
+          lo[i] = fmin(lo[i], master->X[c[I] * in->dim + i]);
+          hi[i] = fmax(hi[i], master->X[c[I] * in->dim + i]);
         }
       for (int i = 0; i < in->dim; ++i) diag2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
       mean_size += sqrt(diag2);
     }
-    mean_size /= master->n_faces;
+    mean_size /= master->n_cells;
   }
-  SK_TRY(host->param_double(host, pair->params, "search_margin", 0, 0.5 * mean_size, &in->margin));
-  /* Round-off scale of gaps: 1e-10 of the mean slave face size. */
+  SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_size, &in->margin));
+  /* Round-off scale of gaps: 1e-10 of the mean slave face size (of the faces this rank sees). */
   double slave_size = 0.0;
-  for (int f = 0; f < slave->n_faces; ++f) {
-    const int *c = slave->conn + f * slave->nen;
+  for (int f = 0; f < slave->n_cells; ++f) {
+    const int32_t *c = slave->conn + f * slave->nen;
     double diag2 = 0.0;
     for (int i = 0; i < in->dim; ++i) {
-      double d = host->X[c[1] * in->dim + i] - host->X[c[0] * in->dim + i];
+      double d = slave->X[c[1] * in->dim + i] - slave->X[c[0] * in->dim + i];
       diag2 += d * d;
     }
     slave_size += sqrt(diag2);
   }
-  in->touch_tolerance = slave->n_faces > 0 ? 1e-10 * slave_size / slave->n_faces : 0.0;
+  in->touch_tolerance = slave->n_cells > 0 ? 1e-10 * slave_size / slave->n_cells : 0.0;
   if (!(in->margin >= 0.0) || !isfinite(in->margin))
-    return host->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'search_margin' must be a finite number >= 0, "
-                       "got %g", pair->name, in->margin);
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'search_margin' must be a finite number >= 0, "
+                      "got %g", in->name, in->margin);
 
   in->n_slave = slave->n_nodes;
   size_t ns = (size_t)in->n_slave > 0 ? (size_t)in->n_slave : 1;
@@ -724,40 +514,39 @@ static sk_status pnts_create_checked(const sk_host *host, const sk_pair *pair, s
   in->sel_face = malloc(ns * sizeof(int));
   in->sel_beyond = calloc(ns, 1);
   in->sel_xi = calloc(ns, sizeof *in->sel_xi);
-  in->scratch_q = calloc((size_t)host->n_dofs > 0 ? (size_t)host->n_dofs : 1, sizeof(double));
   if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->anchor || !in->last_state ||
-      !in->sel_face || !in->sel_beyond || !in->sel_xi || !in->scratch_q)
-    return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", pair->name);
+      !in->sel_face || !in->sel_beyond || !in->sel_xi)
+    return api->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
 
-  /* Tributary areas A_I = integral of N_I over the slave faces in the reference configuration. */
+  /* Tributary areas A_I = integral of N_I over the slave faces in the reference configuration (exact for the owned
+   * nodes: the view holds every face around them). */
   if (in->area_weighted) {
-    double qxi[9][2], qw[9];
-    int nq = face_quadrature(slave->face_type, qxi, qw);
-    for (int f = 0; f < slave->n_faces; ++f)
+    double qxi[AREA_POINTS_MAX][2], qw[AREA_POINTS_MAX];
+    const int order = slave->cell_type == SK_TRI3 ? 2 : 5;
+    const int nq = in->cs->quadrature(slave->cell_type, order, AREA_POINTS_MAX, qxi, qw);
+    if (nq <= 0) return api->error(host, SK_ERR_INTERNAL, "%s: no face quadrature of degree %d", in->name, order);
+    for (int f = 0; f < slave->n_cells; ++f)
       for (int g = 0; g < nq; ++g) {
-        sk_surface_point pt;
-        host->contact->geometry(slave, f, qxi[g], host->X, &pt);
-        for (int I = 0; I < slave->nen; ++I) {
-          int k = index_of(slave->nodes, slave->n_nodes, slave->conn[f * slave->nen + I]);
-          if (k >= 0) in->area[k] += pt.N[I] * pt.jacobian * qw[g];
-        }
+        sk_surface_point pt = {.struct_size = sizeof pt};
+        in->cs->geometry(slave, f, qxi[g], slave->X, &pt);
+        for (int I = 0; I < slave->nen; ++I) in->area[slave->conn[f * slave->nen + I]] += pt.N[I] * pt.jacobian * qw[g];
       }
   } else {
     for (int k = 0; k < in->n_slave; ++k) in->area[k] = 1.0;
   }
-  if (master) SK_TRY(host->contact->search_create(master, &in->search));
+  if (master) SK_TRY(in->cs->search_create(master, &in->search));
   return SK_OK;
 }
 
-static sk_status pnts_create(const sk_host *host, const sk_pair *pair, sk_instance **instance) {
+static sk_status pnts_create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **instance) {
   *instance = NULL;
-  if (host->abi_version != SK_PLUGIN_ABI_VERSION)
-    return host->error(host, SK_ERR_PLUGIN, "penalty-nts built for plugin ABI %u, host has %u",
-                       SK_PLUGIN_ABI_VERSION, host->abi_version);
   sk_instance *in = calloc(1, sizeof *in);
-  if (!in) return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", pair->name);
-  sk_status status = pnts_create_checked(host, pair, in);
+  if (!in) return api->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", attach->name);
+  in->api = api;
+  in->host = host;
+  in->cs = api->contact;
+  sk_status status = pnts_create_checked(in, attach);
   if (status != SK_OK) {
     pnts_destroy(in);
     return status;
@@ -768,20 +557,19 @@ static sk_status pnts_create(const sk_host *host, const sk_pair *pair, sk_instan
 
 /* ---- step -------------------------------------------------------------------------------------------------------- */
 
-/* Candidate faces of every slave node from boxes swept between q_n and q, and the step's friction anchors: the
+/* Candidate faces of every slave node from boxes swept between x_n and x, and the step's friction anchors: the
  * committed history, or for a node without one the projection of its start-of-step position. */
 static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
-  const sk_host *host = in->host;
-  const sk_contact_services *cs = host->contact;
-  const sk_surface *master = in->pair->master;
+  const sk_contact_services *cs = in->cs;
+  const sk_view *master = in->master;
   const double big = 1e300;
   if (master) {
-    cs->search_update(in->search, st->q_n, st->q, in->margin);
+    cs->search_update(in->search, st->x_n[1], st->x[1], in->margin);
     int used = 0;
     for (int k = 0; k < in->n_slave; ++k) {
       double x0[3], x1[3], lo[3] = {-big, -big, -big}, hi[3] = {big, big, big};
-      slave_position(in, st->q_n, k, x0);
-      slave_position(in, st->q, k, x1);
+      slave_position(in, st->x_n, k, x0);
+      slave_position(in, st->x, k, x1);
       for (int i = 0; i < in->dim; ++i) {
         lo[i] = fmin(x0[i], x1[i]) - in->margin;
         hi[i] = fmax(x0[i], x1[i]) + in->margin;
@@ -791,7 +579,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
       if (count > room) {
         int capacity = 2 * (used + count) + 64;
         int *grown = realloc(in->cand, (size_t)capacity * sizeof(int));
-        if (!grown) return host->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->pair->name);
+        if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
         in->cand = grown;
         in->cand_capacity = capacity;
         count = cs->search_query(in->search, lo, hi, in->cand + used, in->cand_capacity - used);
@@ -806,18 +594,18 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
     *a = in->committed[k];
     if (in->mu == 0.0 || a->valid) continue;
     double x0[3];
-    slave_position(in, st->q_n, k, x0);
+    slave_position(in, st->x_n, k, x0);
     if (master) {
       if (in->cand_count[k] == 0) continue;
-      sk_projection proj;
-      SK_TRY(cs->project(master, st->q_n, x0, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+      sk_projection proj = {.struct_size = sizeof proj};
+      SK_TRY(cs->project(master, st->x_n[1], x0, in->cand + in->cand_start[k], in->cand_count[k], &proj));
       if (proj.face < 0) continue;
       if (proj.kind == SK_PROJ_OUTSIDE) {
-        sk_surface_point pt;
-        cs->geometry(master, proj.face, proj.xi, st->q_n, &pt);
+        sk_surface_point pt = {.struct_size = sizeof pt};
+        cs->geometry(master, proj.face, proj.xi, st->x_n[1], &pt);
         pt.xi[0] = proj.xi[0];
         pt.xi[1] = proj.xi[1];
-        if (in->extension == 0.0 || !extend_on_face(in, proj.face, x0, st->q_n, in->extension, &pt)) continue;
+        if (in->extension == 0.0 || !extend_on_face(in, proj.face, x0, st->x_n[1], in->extension, &pt)) continue;
         proj.xi[0] = pt.xi[0];
         proj.xi[1] = pt.xi[1];
       }
@@ -826,10 +614,10 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
       a->xi[0] = proj.xi[0];
       a->xi[1] = proj.xi[1];
     } else {
-      sk_surface_point pt;
+      sk_surface_point pt = {.struct_size = sizeof pt};
       double g, d[3];
-      SK_TRY(cs->obstacle_project(in->pair->obstacle, st->t_n, x0, in->dim, &pt, &g));
-      obstacle_translation(in->pair->obstacle, st->t_n, d);
+      SK_TRY(cs->obstacle_project(in->obstacle, st->t_n, x0, in->dim, &pt, &g));
+      cs->obstacle_displacement(in->obstacle, st->t_n, d);
       a->valid = 1;
       for (int i = 0; i < 3; ++i) a->anchor[i] = pt.x[i] - d[i];
     }
@@ -837,25 +625,55 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
   memset(in->last_state, 0, (size_t)in->n_slave);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
   if (master)
-    for (int k = 0; k < in->n_slave; ++k) SK_TRY(select_face(in, st->q, k));
+    for (int k = 0; k < in->n_slave; ++k) SK_TRY(select_face(in, st->x, k));
   return SK_OK;
 }
 
 static sk_status pnts_layout(sk_instance *in, const sk_state *st, sk_layout *layout) {
+  (void)in, (void)st;
   layout->n_extra = 0;
   layout->initial = NULL;
   layout->eliminated = NULL;
   return SK_OK;
 }
 
-static int owns_slave(const sk_instance *in, int k) {
-  return in->host->owns_node(in->host, in->pair->slave->nodes[k]);
+/* Every owned slave node with every node of its candidate master faces (the face selected during the step is one
+ * of them); against an obstacle only the node's own block. */
+static sk_status pnts_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern) {
+  (void)st;
+  const sk_view *slave = in->slave, *master = in->master;
+  const int dim = in->dim;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!slave->owned[k]) continue;
+    const int need = dim * (1 + (master ? in->cand_count[k] * master->nen : 0));
+    if (need > in->pattern_capacity) {
+      int64_t *grown = realloc(in->pattern_dofs, sizeof(int64_t) * (size_t)need);
+      if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
+      in->pattern_dofs = grown;
+      in->pattern_capacity = need;
+    }
+    int64_t *dofs = in->pattern_dofs;
+    int n = 0;
+    for (int i = 0; i < dim; ++i) dofs[n++] = slave->dofs[k * dim + i];
+    for (int c = 0; master && c < in->cand_count[k]; ++c) {
+      const int32_t *conn = master->conn + in->cand[in->cand_start[k] + c] * master->nen;
+      for (int I = 0; I < master->nen; ++I) {
+        const int64_t first = master->dofs[conn[I] * dim];
+        int seen = 0;
+        for (int j = 0; j < n && !seen; j += dim) seen = dofs[j] == first;
+        if (seen) continue;
+        for (int i = 0; i < dim; ++i) dofs[n++] = master->dofs[conn[I] * dim + i];
+      }
+    }
+    pattern->add_block(pattern, n, dofs, n, dofs);
+  }
+  return SK_OK;
 }
 
 static sk_status pnts_residual(sk_instance *in, const sk_state *st, sk_sink *sink) {
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (!owns_slave(in, k)) continue;
+    if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.nd > 0) sink->add_vector(sink, e.nd, e.rows, e.R);
   }
@@ -865,25 +683,26 @@ static sk_status pnts_residual(sk_instance *in, const sk_state *st, sk_sink *sin
 static sk_status pnts_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink) {
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (!owns_slave(in, k)) continue;
+    if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 1, &e));
     if (e.nd > 0) sink->add_matrix(sink, e.nd, e.rows, e.nd, e.rows, e.K);
   }
   return SK_OK;
 }
 
-/* The penalty problem is smooth in q apart from the kinks at g = 0 and |t| = mu p, so no active-set loop is needed;
- * `changed` still reports whether any point changed state since the previous iteration. */
-static sk_status pnts_after_iteration(sk_instance *in, const sk_state *st, int *changed) {
+/* The master faces follow the iterate (select_face, with hysteresis); the penalty problem is smooth in q apart from
+ * the kinks at g = 0 and |t| = mu p, so there is no active-set loop: `changed` only reports whether a point changed
+ * its face or state since the previous point. */
+static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int *changed) {
   point_eval e;
   *changed = 0;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (in->pair->master) { /* every slave node: commit_step evaluates them all */
+    if (in->master) { /* every slave node of the view: commit_step evaluates them all */
       int face = in->sel_face[k];
-      SK_TRY(select_face(in, st->q, k));
-      if (in->sel_face[k] != face && owns_slave(in, k)) *changed = 1;
+      SK_TRY(select_face(in, st->x, k));
+      if (in->sel_face[k] != face && in->slave->owned[k]) *changed = 1;
     }
-    if (!owns_slave(in, k)) continue;
+    if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state != in->last_state[k]) *changed = 1;
     in->last_state[k] = (unsigned char)e.state;
@@ -900,7 +719,7 @@ static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state == STATE_INACTIVE) continue;
     c->valid = 1;
-    if (in->pair->master) {
+    if (in->master) {
       c->face = e.face;
       c->xi[0] = e.xi[0];
       c->xi[1] = e.xi[1];
@@ -908,7 +727,7 @@ static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
       c->t[1] = e.t_cov[1];
     } else {
       double d[3];
-      obstacle_translation(in->pair->obstacle, st->t, d);
+      in->cs->obstacle_displacement(in->obstacle, st->t, d);
       for (int i = 0; i < 3; ++i) {
         c->anchor[i] = e.x[i] - e.gap * e.normal[i] - d[i]; /* the closest point, in the obstacle's frame */
         c->traction[i] = e.traction[i];
@@ -922,10 +741,9 @@ static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
 static void pnts_reject_step(sk_instance *in) { (void)in; }
 
 static sk_status pnts_report(sk_instance *in, const sk_state *st, sk_contact_report *r) {
-  memset(r, 0, sizeof *r);
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (!owns_slave(in, k)) continue;
+    if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state == STATE_INACTIVE) continue;
     ++r->active;
@@ -945,10 +763,9 @@ static sk_status pnts_report(sk_instance *in, const sk_state *st, sk_contact_rep
 static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callback callback, void *ctx) {
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (!owns_slave(in, k)) continue;
+    if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
-    sk_contact_point cp;
-    memset(&cp, 0, sizeof cp);
+    sk_contact_point cp = {.struct_size = sizeof cp};
     memcpy(cp.x, e.x, sizeof cp.x);
     memcpy(cp.normal, e.normal, sizeof cp.normal);
     /* Pressure eps_n <-g> (force / area) when area weighted, the nodal force otherwise. */
@@ -957,16 +774,17 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     for (int i = 0; i < 3; ++i) cp.traction[i] = e.traction[i] * scale;
     cp.gap = e.gap; /* NaN when no master face is within the search margin */
     cp.state = e.state; /* frictionless contact points report 1 (in contact) */
-    cp.slave_node = in->pair->slave->nodes[k];
+    cp.slave_node = in->slave->node_id[k];
     callback(ctx, &cp);
   }
   return SK_OK;
 }
 
 static const sk_plugin pnts_plugin = {
-    .abi_version = SK_PLUGIN_ABI_VERSION,
+    SK_TABLE_HEADER(sk_plugin),
     .name = "penalty-nts",
     .summary = "node-to-surface penalty contact with penalty-regularised Coulomb friction (baseline)",
+    .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
             SK_CAP_DEFORMABLE_MASTER,
     .strategies = pnts_strategies,
@@ -975,15 +793,14 @@ static const sk_plugin pnts_plugin = {
     .destroy = pnts_destroy,
     .begin_step = pnts_begin_step,
     .layout = pnts_layout,
+    .pattern = pnts_pattern,
+    .update_active_set = pnts_update_active_set,
     .residual = pnts_residual,
     .jacobian = pnts_jacobian,
-    .recover = NULL,
-    .after_iteration = pnts_after_iteration,
     .commit_step = pnts_commit_step,
     .reject_step = pnts_reject_step,
     .report = pnts_report,
     .points = pnts_points,
-    .get_extension = NULL,
 };
 
 PNTS_EXPORT const sk_plugin *stickslip_plugin_entry(void);

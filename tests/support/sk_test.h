@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 static int sk_test_failures = 0;
 static int sk_test_checks = 0;
@@ -29,6 +30,13 @@ static int sk_test_checks = 0;
               sk_b_, sk_t_);                                                            \
     }                                                                                   \
   } while (0)
+
+/* Whether `text` contains `part`; prints both when it does not (for messages checked by fragments). */
+static inline int sk_test_contains(const char *text, const char *part) {
+  int found = text && strstr(text, part) != NULL;
+  if (!found) fprintf(stderr, "  expected '%s' in: %s\n", part, text ? text : "(null)");
+  return found;
+}
 
 static inline int sk_test_finish(const char *name) {
   printf("%s: %d checks, %d failed\n", name, sk_test_checks, sk_test_failures);

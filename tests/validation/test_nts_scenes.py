@@ -117,24 +117,25 @@ def two_elements_none_vs_reduced(c):
 
 
 def two_elements_direct_vs_reduced(c):
-    """dt = 0.005 (Fig. 7): the direct approach and the reduced augmentation give the same motion. Up to t = 3.5
+    """dt = 0.005 (Fig. 7): the direct approach with the gap at the end point (direct-endpoint) and the condensed
+    augmentation give the same motion. Up to t = 3.5
     (sliding contact of three nodes); later one node's release happens one step apart in the two runs and the
     histories differ by ~1e-4 (see docs/plugins/nts-augmented.md, Results)."""
     args = ("--set", "time.dt=0.005", "--set", "time.end=3.5")
     a, _ = run(SCENE, *args)
-    b, _ = run(SCENE, *args, "--set", "contact.0.strategy=direct")
+    b, _ = run(SCENE, *args, "--set", "contact.0.strategy=direct-endpoint")
     diff = history_difference(a, b, ("total_energy", "kinetic_energy", "dissipated_energy", "angular_momentum_x"))
     worst = max(diff.values())
-    c.check(worst <= 1e-5, "midpoint dt 0.005 to t = 3.5: direct vs reduced energies/L equal to %.2e <= 1e-5" % worst)
+    c.check(worst <= 1e-5, "midpoint dt 0.005 to t = 3.5: direct-endpoint vs condensed energies/L equal to %.2e <= 1e-5" % worst)
     d = displacement_difference(a, b)
-    c.check(d <= 1e-5, "direct vs reduced final displacements equal to %.2e <= 1e-5 relative" % d)
+    c.check(d <= 1e-5, "direct-endpoint vs condensed final displacements equal to %.2e <= 1e-5 relative" % d)
     a, _ = run(SCENE, *args, "--set", "time.scheme=backward-euler")
-    b, _ = run(SCENE, *args, "--set", "time.scheme=backward-euler", "--set", "contact.0.strategy=direct")
+    b, _ = run(SCENE, *args, "--set", "time.scheme=backward-euler", "--set", "contact.0.strategy=direct-endpoint")
     diff = history_difference(a, b, ("total_energy", "kinetic_energy", "dissipated_energy", "contact_force_z"))
     worst = max(diff.values())
-    c.check(worst <= 1e-9, "backward Euler dt 0.005: direct vs reduced histories equal to %.2e <= 1e-9" % worst)
+    c.check(worst <= 1e-9, "backward Euler dt 0.005: direct-endpoint vs condensed histories equal to %.2e <= 1e-9" % worst)
     d = displacement_difference(a, b)
-    c.check(d <= 1e-9, "backward Euler: direct vs reduced final displacements equal to %.2e relative" % d)
+    c.check(d <= 1e-9, "backward Euler: direct-endpoint vs condensed final displacements equal to %.2e relative" % d)
 
 
 def newton_history(stderr):
@@ -196,8 +197,10 @@ def two_tori_coarse_full(c):
     switch rule in begin_step, docs/plugins/nts-augmented.md); angular momentum constant; contact; friction."""
     results, _ = run("scenes/two-tori-coarse.yaml", "--set", "solver.linear.solver=direct")
     rows = results.rows
-    c.check(len(rows) == 501 and results.summary["status"] == "ok", "500 steps to t = 5, status ok (%d rows)"
-            % len(rows))
+    # a frozen node that is in tension when in contact and penetrates when released (converged() rejects both) makes
+    # the step cut once or twice (measured: 1 cut at step 129, 502 steps)
+    c.check(abs(rows[-1]["time"] - 5.0) < 1e-9 and results.summary["status"] == "ok" and 501 <= len(rows) <= 505,
+            "t = 5 reached, status ok, in %d steps (500 at dt = 0.01, <= 4 more from step cuts)" % (len(rows) - 1))
     energy0 = rows[0]["total_energy"]
     tol = 1e-10 * energy0
     increase, step = max((b["total_energy"] - a["total_energy"], int(b["step"])) for a, b in zip(rows, rows[1:]))

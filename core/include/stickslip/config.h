@@ -22,7 +22,8 @@ extern "C" {
 typedef enum { SK_CFG_SCALAR, SK_CFG_MAP, SK_CFG_SEQ } sk_cfg_kind;
 typedef struct sk_cfg sk_cfg; /* one node; the root owns the whole tree */
 
-/* Loads a YAML file. Errors: missing/unreadable file; malformed YAML ("FILE:LINE:COL: <libyaml problem>");
+/* Loads a YAML file (a regular file of at most SK_MAX_TEXT_FILE_BYTES, see files.h). Errors: missing/unreadable
+ * file, a FIFO/device/directory, an oversized file; malformed YAML ("FILE:LINE:COL: <libyaml problem>");
  * root not a map; duplicate keys; anchors/aliases. */
 sk_status sk_cfg_load(const char *path, sk_cfg **root);
 /* Same from memory; `name` stands for the file in messages and in sk_cfg_resolve_path. */
@@ -49,8 +50,11 @@ void sk_cfg_mark_used(const sk_cfg *node);
 
 /* Typed getters. `map` may be NULL (an absent optional section): then every key is absent.
  * Absent key: *out = dflt and SK_OK, unless `required` (then "FILE:LINE: missing key 'a.b.key'").
+ * An empty section ("material:" or "material: ~") counts as an empty map; a required key then fails with
+ * "FILE:LINE:COL: 'bodies[0].material' is empty; missing key 'bodies[0].material.model'".
  * Wrong type: "FILE:LINE:COL: key 'a.b.key' expects a number, got 'abc'". Numbers accept YAML forms such as
- * 1e-3, .inf, -.inf; integers accept integral values written as 1e3; booleans accept true/false/yes/no/on/off. */
+ * 1e-3 and 1.0e5 and must be finite: .inf, .nan, 1e999 are refused ("expects a finite number, got '.nan'");
+ * integers accept integral values written as 1e3; booleans accept true/false/yes/no/on/off. */
 sk_status sk_cfg_double(const sk_cfg *map, const char *key, int required, double dflt, double *out);
 sk_status sk_cfg_int(const sk_cfg *map, const char *key, int required, int dflt, int *out);
 sk_status sk_cfg_bool(const sk_cfg *map, const char *key, int required, int dflt, int *out);

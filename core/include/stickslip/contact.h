@@ -11,6 +11,7 @@
 
 #include "stickslip/error.h"
 #include "stickslip/mesh.h"
+#include "stickslip/plugin_types.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -39,23 +40,8 @@ sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_
 void sk_surface_free(sk_surface *surface);
 
 /* ---- covariant geometry at a surface point ------------------------------------------------------------------ */
-typedef struct {
-  int face;
-  double xi[2];
-  double x[3];            /* position */
-  double a[2][3];         /* covariant tangents a_alpha = dx/dxi^alpha (2D: a[1] = e_z) */
-  double n[3];            /* unit normal a1 x a2 / |a1 x a2| (outward) */
-  double m[2][2];         /* metric m_ab = a_a . a_b */
-  double m_inv[2][2];     /* its inverse m^ab */
-  double a_dual[2][3];    /* contravariant tangents a^a = m^ab a_b */
-  double a_ab[2][2][3];   /* second derivatives x,ab */
-  double h[2][2];         /* curvature h_ab = x,ab . n */
-  double christoffel[2][2][2]; /* Gamma^c_ab = x,ab . a^c, index [a][b][c] */
-  double jacobian;        /* |a1 x a2| (area element; length element in 2D) */
-  int nen;
-  double N[9];            /* face shape functions at xi */
-  double dN[9][2];        /* their parametric derivatives */
-} sk_surface_point;
+/* sk_surface_point (plugin_types.h, part of the plugin ABI): core functions fill every member and ignore
+ * struct_size. */
 
 /* Geometry of face `face` at parameters xi for positions q. 2D faces fill only index 0 of the parametric
  * quantities (and set a[1] = e_z, m[1][1] = 1 so that the 2D case reads as a 3D one). */
@@ -67,21 +53,7 @@ void sk_surface_geometry(const sk_surface *surface, int face, const double *xi, 
 void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double *normals);
 
 /* ---- closest-point projection (narrow phase) ---------------------------------------------------------------- */
-typedef enum {
-  SK_PROJ_INTERIOR = 0, /* inside the face */
-  SK_PROJ_EDGE,         /* on a face edge (2D: an end point), including exactly on a shared edge */
-  SK_PROJ_VERTEX,       /* at a face corner */
-  SK_PROJ_OUTSIDE       /* closest point is on the border of the surface: the point lies beyond it */
-} sk_projection_kind;
-
-typedef struct {
-  int face;               /* -1 when nothing was found */
-  double xi[2];
-  double gap;             /* (x - x_closest) . n: positive outside the master, negative penetrating */
-  double distance;        /* |x - x_closest| */
-  sk_projection_kind kind;
-  int iterations;         /* Newton iterations of the local projection */
-} sk_projection;
+/* sk_projection and sk_projection_kind: plugin_types.h. */
 
 /* Projects point x (dim entries) onto the surface, trying the candidate faces (from the broad phase; all faces
  * when candidates == NULL), using Newton with the full second-derivative term, clamping to the face and switching
@@ -123,7 +95,7 @@ typedef enum {
 
 enum { SK_OBSTACLE_MOTION_MAX = 64 };
 
-typedef struct {
+typedef struct sk_obstacle { /* opaque to plugins (plugin_types.h declares the tag) */
   sk_obstacle_kind kind;
   char name[64];
   double point[3];

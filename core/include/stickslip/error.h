@@ -6,22 +6,13 @@
 #ifndef STICKSLIP_ERROR_H
 #define STICKSLIP_ERROR_H
 
+#include "stickslip/plugin_types.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef enum {
-  SK_OK = 0,
-  SK_ERR_INPUT = 1,     /* bad scene, mesh, parameter or command line */
-  SK_ERR_IO = 2,        /* a file could not be read or written */
-  SK_ERR_INVERTED = 3,  /* an element has det F <= 0 (the step may be cut and retried) */
-  SK_ERR_DIVERGED = 4,  /* Newton did not converge (the step may be cut and retried) */
-  SK_ERR_PLUGIN = 5,    /* a plugin failed to load, has the wrong ABI or lacks a capability */
-  SK_ERR_INTERNAL = 6,  /* a broken invariant: a bug */
-  SK_ERR_NOMEM = 7,
-  SK_ERR_LINEAR_SOLVER = 8 /* a linear solve failed (no Krylov convergence, singular matrix): a property of the
-                              solver and the system, so cutting the step does not help (bridge.h says what does) */
-} sk_status;
+/* sk_status (SK_OK, SK_ERR_INPUT, ...) and SK_TRY are part of the plugin ABI: plugin_types.h defines them. */
 
 /* Records the message of the current failure (printf-style), replacing any earlier one. Returns `code`. */
 sk_status sk_error_set(sk_status code, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -31,12 +22,6 @@ sk_status sk_error_prefix(sk_status code, const char *fmt, ...) __attribute__((f
 const char *sk_error_message(void);
 void sk_error_clear(void);
 
-/* Propagates a failing status to the caller. */
-#define SK_TRY(call)                 \
-  do {                               \
-    sk_status sk_try_status_ = (call); \
-    if (sk_try_status_ != SK_OK) return sk_try_status_; \
-  } while (0)
 
 #ifdef __cplusplus
 }

@@ -29,6 +29,10 @@ void sk_elem_shape(sk_elem_type type, const double *xi, double *N, double *dN);
 void sk_elem_shape_hessian(sk_elem_type type, const double *xi, double *ddN);
 /* Quadrature exact for the element's mass matrix on an affine element: n points xi[q*pdim + k], weights w[q]. */
 void sk_elem_quadrature(sk_elem_type type, int *n, const double **xi, const double **w);
+/* Gauss rule on a face type (LINE2/3, TRI3, QUAD4/9) exact for polynomials of degree `order` in the face
+ * parameters: up to max_points points xi[q][0..pdim) and weights w[q] (summing to the reference face's measure: 2,
+ * 1/2, 4). Returns their number, -(the number needed) when max_points is too small, 0 for another type. */
+int sk_face_quadrature(sk_elem_type type, int order, int max_points, double (*xi)[2], double *w);
 /* Parametric coordinates of the element's nodes, xi[a*pdim + k]. */
 const double *sk_elem_node_coords(sk_elem_type type);
 /* Boundary faces: the face type and, for face f, its local node list (ordered so that the face normal from
@@ -37,10 +41,19 @@ int sk_elem_faces(sk_elem_type type, sk_elem_type *face_type, const int **face_n
 
 /* ---- materials -------------------------------------------------------------------------------------------- */
 typedef enum {
-  SK_MAT_HOOKE = 0,   /* small-strain linear elasticity: linearised kinematics, W = lambda/2 (tr eps)^2 + mu eps:eps */
-  SK_MAT_SVK,         /* Saint Venant-Kirchhoff: W = lambda/2 (tr E)^2 + mu E:E, E = (C - I)/2 */
-  SK_MAT_NEOHOOKE     /* compressible Neo-Hooke: W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2 */
+  SK_MAT_HOOKE = 0,        /* small-strain linear elasticity: linearised kinematics, W = lambda/2 (tr eps)^2 + mu eps:eps */
+  SK_MAT_SVK,              /* Saint Venant-Kirchhoff: W = lambda/2 (tr E)^2 + mu E:E, E = (C - I)/2 */
+  SK_MAT_NEOHOOKE_BONET,   /* compressible Neo-Hooke, volumetric lambda/2 (ln J)^2 (Bonet & Wood):
+                            * W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2 */
+  SK_MAT_NEOHOOKE_CIARLET, /* compressible Neo-Hooke, volumetric lambda/4 (J^2 - 1) - lambda/2 ln J (Ciarlet-Geymonat,
+                            * GetFEM's default): W = mu/2 (tr C - 3) - mu ln J + lambda/4 (J^2 - 1) - lambda/2 ln J */
+  SK_MAT_MODEL_COUNT
 } sk_material_model;
+
+/* The scene names of the models (`material.model`), NULL-terminated: entry m < SK_MAT_MODEL_COUNT names model m;
+ * the entries after those are aliases ("neo-hooke" = neo-hooke-bonet, the law of the first releases). Map any
+ * entry to its model with sk_material_model_from_name. */
+extern const char *const sk_material_model_names[];
 
 typedef struct {
   sk_material_model model;
@@ -51,8 +64,8 @@ typedef struct {
 
 /* Checks E > 0, -1 < nu < 0.5, density >= 0 and fills the Lame constants. */
 sk_status sk_material_init(sk_material *mat, sk_material_model model, double E, double nu, double density);
-sk_status sk_material_model_from_name(const char *name, sk_material_model *model); /* hooke | svk | neo-hooke */
-/* Strain energy density W(C). Returns SK_ERR_INVERTED if det C <= 0 (Neo-Hooke). For HOOKE, C is not used:
+sk_status sk_material_model_from_name(const char *name, sk_material_model *model);
+/* Strain energy density W(C). Returns SK_ERR_INVERTED if det C <= 0 (Neo-Hooke laws). For HOOKE, C is not used:
  * call the Hooke kernel through the solid routines. (If called anyway, HOOKE reads its argument as I + 2 eps with
  * eps the small strain, i.e. the same quadratic function as SVK, and S is then the Cauchy stress.) */
 sk_status sk_material_energy(const sk_material *mat, const double C[9], double *W);

@@ -8,23 +8,13 @@
 #include <stddef.h>
 
 #include "stickslip/error.h"
+#include "stickslip/plugin_types.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef enum {
-  SK_POINT1 = 0,
-  SK_LINE2,
-  SK_LINE3,
-  SK_TRI3,
-  SK_QUAD4,
-  SK_QUAD9,
-  SK_TET4,
-  SK_HEX8,
-  SK_HEX27,
-  SK_ELEM_TYPE_COUNT
-} sk_elem_type;
+/* sk_elem_type (SK_LINE2, ..., SK_HEX27) is part of the plugin ABI: plugin_types.h defines it. */
 
 typedef struct {
   char name[64];       /* physical group name */
@@ -56,7 +46,42 @@ typedef struct {
  * oriented (counter-clockwise in 2D) and boundary elements face out of the body element they lie on. On failure
  * *mesh holds nothing to free. */
 sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh);
+
+/* gmsh runs in a child process (a crash, an endless script or a runaway mesh cannot take stickslip down), within
+ * these limits (scene keys mesh.max_elements, mesh.time_limit). */
+#define SK_MESH_DEFAULT_MAX_ELEMENTS 1000000L
+#define SK_MESH_DEFAULT_TIME_LIMIT 600.0
+
+typedef struct {
+  int dim;            /* as sk_mesh_load's `dim` (0: the highest dimension with a physical group) */
+  long max_elements;  /* refuse a mesh with more elements of dimension `dim`, estimated before each meshing stage
+                         (.geo) and counted after; > 0 */
+  double time_limit;  /* seconds gmsh may take for the whole load (script, meshing); > 0 */
+} sk_mesh_options;
+
+void sk_mesh_options_default(sk_mesh_options *options); /* dim 0, the default limits */
+/* sk_mesh_load with options (sk_mesh_load is this with the defaults and `dim`). Besides sk_mesh_load's errors:
+ * "mesh X: the mesh would have about 2.4e+09 elements, more than mesh.max_elements = 1000000 (parameters: ...)",
+ * gmsh crashes and time or memory limits ("... while meshing the surfaces (2D)"), SK_ERR_INTERRUPTED on SIGINT/
+ * SIGTERM (stickslip/interrupt.h), and invalid elements (sk_mesh_check_elements). */
+sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n_params,
+                            const sk_mesh_options *options, sk_mesh *mesh);
 void sk_mesh_free(sk_mesh *mesh);
+
+/* Process-wide: whether .geo scripts may act outside the mesh (shell commands, file writes; see geo_scan.c). Off by
+ * default; the driver turns it on for --trust-scripts. Never read from a scene: the scene is what is not trusted. */
+void sk_mesh_trust_scripts(int trust);
+
+/* Checks every element of every group: node coordinates finite, no node repeated within an element, and for body
+ * elements (dimension = mesh dimension) a positive Jacobian at every corner. Errors name the file (mesh->source),
+ * the group, the element (0-based within the group) and its nodes: "mesh m.msh: physical group 'block', element 3
+ * (nodes 4, 5, 5, 9, ...): node 5 appears twice (a collapsed element)". sk_mesh_load calls it; call it again after
+ * moving nodes (a scene's translate/rotate). */
+sk_status sk_mesh_check_elements(const sk_mesh *mesh);
+/* Refuses elements that belong to two of the given groups (or a group given twice): two bodies on one physical
+ * group, or on overlapping ones, would count the same material twice. `names[i]` names what uses groups[i] in
+ * messages ("body 'block'"). */
+sk_status sk_mesh_check_disjoint(const sk_mesh *mesh, const sk_group *const *groups, const char *const *names, int n);
 
 /* The group of that name, or NULL. */
 const sk_group *sk_mesh_find_group(const sk_mesh *mesh, const char *name);

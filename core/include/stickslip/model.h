@@ -1,5 +1,7 @@
-/* stickslip — the model: bodies, boundary conditions, contact pairs and the time-stepping state, plus the bulk
- * (non-contact) parts of each step's nonlinear system. Built from a scene by sk_scene_build (scene.h). */
+/* stickslip — the model: the scene's description of bodies, boundary conditions, loads, contact pairs and time
+ * stepping, with the finite-element data derived from it once (consistent mass, METIS partition, node owners).
+ * Built from a scene by sk_scene_load (scene.h); the nonlinear system of a step is core/model/system.c's. It does
+ * not change during a run. */
 #ifndef STICKSLIP_MODEL_H
 #define STICKSLIP_MODEL_H
 
@@ -9,6 +11,7 @@
 #include "stickslip/contact.h"
 #include "stickslip/error.h"
 #include "stickslip/fe.h"
+#include "stickslip/integrator.h"
 #include "stickslip/mesh.h"
 #include "stickslip/plugin.h"
 
@@ -36,6 +39,10 @@ typedef struct {
   double angular_velocity[3]; /* initial spin about `center` */
   double center[3];
   int first_element;       /* index of its first element in the global element numbering */
+  const sk_time_integrator *integrator; /* the scene's time.scheme (a body plugin may replace it) */
+  const sk_plugin *plugin; /* a body plugin (kind "body"), or NULL */
+  int strategy;            /* index into plugin->strategies */
+  const void *params;      /* the scene node of its `parameters` (sk_cfg), or NULL */
 } sk_body;
 
 typedef struct {
@@ -57,23 +64,19 @@ typedef struct {
 typedef struct {
   char name[SK_NAME_MAX];
   const sk_plugin *plugin;
-  sk_pair pair;
   sk_surface slave;
   sk_surface master;       /* unused with an obstacle */
   sk_obstacle obstacle;
   int has_obstacle;
-  int strategy;
-  sk_instance *instance;
-  sk_layout layout;        /* of the current step */
-  int extra_offset;        /* global index of its first extra unknown */
-  void *params;            /* the scene node of the pair's parameters (sk_params) */
+  int self_contact;        /* slave and master are the same surface (master then copies slave) */
+  int strategy;            /* index into plugin->strategies */
+  const void *params;      /* the scene node of the pair's `parameters` (sk_cfg), or NULL */
 } sk_contact_pair;
 
 typedef struct {
-  sk_scheme scheme;
+  const sk_time_integrator *integrator; /* time.scheme */
   double dt, t_end, t_start;
   int max_cuts;            /* successive halvings of dt before giving up */
-  double dt_min;
 } sk_time_options;
 
 typedef struct sk_model {
@@ -97,17 +100,21 @@ typedef struct sk_model {
   sk_contact_pair *pairs;
   sk_time_options time;
 
-  /* mass: consistent, nodal scalar CSR (n_nodes x n_nodes), and lumped (row sums) for plugins */
+  /* consistent mass: nodal scalar CSR (n_nodes x n_nodes; its graph is the bulk's node graph) */
   int64_t *mass_row_ptr;
   int *mass_cols;
   double *mass_values;
-  double *lumped_mass;
-  double total_mass;
   int64_t *element_mass_offset; /* per element: offset of its scalar mass matrix (nen x nen) in element_mass */
   double *element_mass;
 } sk_model;
 
+/* The finite-element data of a model whose bodies are read: consistent mass (CSR and per element), the METIS
+ * partition of the elements over the model's ranks and the node owners (the lowest part among the elements holding
+ * a node). */
+sk_status sk_model_build(sk_model *model);
 void sk_model_free(sk_model *model);
+/* The body whose elements hold mesh node `node` first (in body order), or -1. */
+int sk_model_body_of_node(const sk_model *model, int node);
 
 #ifdef __cplusplus
 }

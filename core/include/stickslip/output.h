@@ -60,16 +60,24 @@ sk_status sk_json_int(sk_json *json, const char *key, long value);
 sk_status sk_json_bool(sk_json *json, const char *key, int value);
 sk_status sk_json_close(sk_json *json); /* NULL is fine */
 
-/* ---- output directory staging: results appear complete or not at all -------------------------------------- */
-/* Creates a fresh staging directory "DIR.partial-PID" next to `dir` (parents of `dir` are created) and marks it
- * as a stickslip output directory. */
+/* ---- the results folder (--out DIR): see core/io/outdir.c and docs/user-guide.md for the guarantees --------- */
+typedef enum { SK_RESULTS_OK = 0, SK_RESULTS_FAILED = 1, SK_RESULTS_INTERRUPTED = 2 } sk_results_status;
+
+/* Creates a fresh staging directory "DIR.partial-PID" next to `dir` (parents of `dir` are created) with a manifest
+ * saying it is in progress. Refuses, before anything is written: a `dir` that holds anything stickslip did not write
+ * (the message names the file), a `dir` that is or contains the current directory ("--out ."), "" and "/". Names on
+ * stderr the staging folders of earlier runs into `dir` whose process no longer exists (killed runs). */
 sk_status sk_outdir_begin(const char *dir, char *staging, size_t staging_size);
-/* Replaces `dir` by `staging`. An existing `dir` is removed only if it is empty or a stickslip output directory
- * (marker file, or a summary.json written by stickslip); anything else is refused with an error. */
-sk_status sk_outdir_commit(const char *staging, const char *dir);
-/* Removes the staging directory (on failure paths). */
+/* Writes the manifest (every file in `staging`, and `status`) and puts `staging` in place: as `dir`, or, when the
+ * run did not finish (`status` not SK_RESULTS_OK) while `dir` holds finished results, as "DIR.incomplete". An
+ * existing target is replaced only if it holds nothing but files its manifest lists. `final_dir` (may be NULL)
+ * receives where the results are now: the target, or `staging` itself when the commit failed. */
+sk_status sk_outdir_commit(const char *staging, const char *dir, sk_results_status status, char *final_dir,
+                           size_t final_size);
+/* Removes a staging directory (when its results cannot be completed, e.g. a full disk); refuses anything that is
+ * not an in-progress staging directory. */
 sk_status sk_outdir_abort(const char *staging);
-/* Name of the marker file sk_outdir_begin puts into every output directory. */
+/* Name of the manifest file in every results folder. */
 #define SK_OUTDIR_MARKER ".stickslip-output"
 
 /* ---- progress: one updating line on a terminal, one line per ~10% otherwise (logs) ------------------------ */

@@ -1,218 +1,271 @@
-/* stickslip — THE plugin ABI: how a contact formulation (a shared library) poses its part of a time step.
+/* stickslip — THE plugin ABI, version 2: how a formulation (a shared library) poses its part of a time step.
  *
- * A plugin library exports one symbol, SK_PLUGIN_ENTRY_SYMBOL, returning a const sk_plugin table. The driver
- * dlopen()s the library, checks abi_version == SK_PLUGIN_ABI_VERSION and the capabilities a scene needs, then
- * creates one instance per contact pair. Plugins link nothing but libc and libm: everything the core offers comes
- * through the sk_host table handed to create(). Optional, later abilities are found by string id through
- * get_extension (on either side), so this table stays small and stable while features grow (the CLAP model).
+ * A plugin library exports one symbol, SK_PLUGIN_ENTRY_SYMBOL, returning a const sk_plugin table. The host
+ * dlopen()s it, reads {abi_major, abi_minor, struct_size} (the first three members of every table), accepts any
+ * plugin of its major version (a v1 plugin is refused with a message naming its version), checks the capabilities
+ * the scene needs, and creates one INSTANCE per attachment: per contact pair (kind "pair") or per body (kind
+ * "body") that names the plugin. Plugins link nothing but libc and libm (and static helpers of their own, such as
+ * plugins/common): everything the core offers comes through the sk_host_api table handed to create(), always with
+ * the instance's opaque sk_host handle, and optional abilities are found by string id through get_extension (CLAP).
+ * The plain-data types are in plugin_types.h (append-only; the struct_size rules are written there).
  *
- * Threading and lifetime: all calls come from one thread per MPI rank. Pointers in sk_host, sk_pair and sk_state
- * stay valid for the call (sk_host and sk_pair for the instance's lifetime). Every rank creates every instance and
- * calls every function (collective), but a plugin adds residual/Jacobian entries only for the contact entities its
- * rank owns (sk_host.owns_node on the slave node), so each entry is assembled exactly once over the ranks.
+ * Threading and lifetime: all calls come from one thread per MPI rank. Every rank creates every instance and makes
+ * every call (collective): a failing status on any rank fails the call everywhere. The api table, the sk_host
+ * handle, the attach and its views live as long as the instance; sk_state, sk_vectors and sinks only for the call.
  *
- * The unknowns. The driver's vector of unknowns is [displacement dofs (n_nodes*dim, node-major) | the extra unknowns
- * of instance 0 | of instance 1 | ...]. A plugin declares its extra unknowns (multipliers, augmented coordinates,
- * angles, ...) in layout(), once per step: their number is fixed during the step, so NOX sees one vector space;
- * unknowns of inactive points carry trivial equations (e.g. lambda = 0). Sign convention: residual F(x) = 0,
- * Newton solves J dx = -F, x <- x + dx.
+ * Ownership and sums: a rank adds residual, Jacobian and report contributions only for the entities it owns
+ * (sk_view: owned[] nodes, cell_owned[] cells); the host sums over ranks, so each term counts exactly once. A
+ * global scalar row (a rotation, a Tisserand condition) may be added partially by every rank: the sum completes it.
  *
- * Condensation. A plugin may offer strategies (names in `strategies`, the first is the default). Under a strategy
- * that eliminates some extra unknowns, layout() flags them; jacobian() then adds the condensed blocks among the
- * kept unknowns plus a right-hand-side correction (sink->add_rhs), the driver solves the smaller system, and
- * recover() fills the eliminated entries of dx. The linear solve changes, the nonlinear problem does not. */
+ * The unknowns: x = [displacement dofs | extra unknowns of instance 0 | instance 1 | ...]. Each instance declares
+ * its extra unknowns (multipliers, augmented coordinates, rotation rates) in layout(), once per step attempt; their
+ * number is fixed during the attempt so NOX sees one vector space, and inactive entities keep trivial equations
+ * (lambda = 0). Sign convention: F(x) = 0 with F = internal - external forces; Newton solves J dx = -F, x += dx.
+ * Rows and columns in sinks are global unknown indices: view->dofs[k*dim + i] and state->extra_offset + j.
+ *
+ * Order of calls in a step attempt (docs/plugin-abi.md §3 has the whole life cycle):
+ *   begin_step → layout → pattern → Newton { at every new point x: update_active_set, then residual and/or jacobian
+ *   there; after each linear solve: recover } → converged (may reject: Newton again) → commit_step → report, points.
+ *   A failed attempt: reject_step, dt halved, begin_step again. */
 #ifndef STICKSLIP_PLUGIN_H
 #define STICKSLIP_PLUGIN_H
 
 #include <stdint.h>
 
-#include "stickslip/contact.h"
-#include "stickslip/error.h"
-#include "stickslip/mesh.h"
+#include "stickslip/plugin_types.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define SK_PLUGIN_ABI_VERSION 1u
 #define SK_PLUGIN_ENTRY_SYMBOL "stickslip_plugin_entry"
 
-/* ---- capabilities ----------------------------------------------------------------------------------------------- */
-typedef enum {
-  SK_CAP_2D = 1u << 0,
-  SK_CAP_3D = 1u << 1,
-  SK_CAP_FRICTION = 1u << 2,          /* Coulomb friction */
-  SK_CAP_QUASISTATIC = 1u << 3,
-  SK_CAP_DYNAMICS = 1u << 4,          /* backward Euler */
-  SK_CAP_ENERGY_MOMENTUM = 1u << 5,   /* consistent with the midpoint (discrete-gradient) scheme */
-  SK_CAP_RIGID_OBSTACLE = 1u << 6,    /* master may be a rigid analytical obstacle */
-  SK_CAP_DEFORMABLE_MASTER = 1u << 7, /* master may be a deformable surface */
-  SK_CAP_MULTIPLIERS = 1u << 8,       /* adds extra unknowns */
-  SK_CAP_CONDENSATION = 1u << 9,      /* offers strategies that eliminate extra unknowns */
-  SK_CAP_NEEDS_CURVATURE = 1u << 10,  /* uses h_ab / Christoffel symbols (quadratic faces recommended) */
-  SK_CAP_NEEDS_MASS = 1u << 11,       /* reads the mass matrix through the host */
-  SK_CAP_OWNS_KINEMATICS = 1u << 12,  /* replaces the bulk time discretisation of its bodies (co-rotational) */
-  SK_CAP_SELF_CONTACT = 1u << 13
-} sk_capability;
+/* The first members of every table of this header, in this order. Initialise them with SK_TABLE_HEADER(type). */
+#define SK_TABLE_HEADER(type) .abi_major = SK_ABI_MAJOR, .abi_minor = SK_ABI_MINOR, .struct_size = sizeof(type)
 
-/* ---- what the core offers plugins ------------------------------------------------------------------------------- */
-typedef struct sk_params sk_params;   /* a pair's plugin parameters (opaque; read through sk_host) */
+typedef struct sk_host sk_host;         /* the core's handle for ONE instance (opaque; pass it to every api call) */
+typedef struct sk_instance sk_instance; /* a plugin's per-attachment state (opaque to the core) */
+typedef struct sk_search sk_search;     /* a broad-phase search tree over a surface view */
 
-typedef struct sk_contact_services {
-  /* see contact.h for the meaning of each call */
-  void (*geometry)(const sk_surface *surface, int face, const double *xi, const double *q, sk_surface_point *point);
-  void (*nodal_normals)(const sk_surface *surface, const double *q, double *normals);
-  sk_status (*project)(const sk_surface *surface, const double *q, const double *x, const int *candidates,
-                       int n_candidates, sk_projection *projection);
-  sk_status (*search_create)(const sk_surface *surface, sk_search **search);
-  void (*search_destroy)(sk_search *search);
-  void (*search_update)(sk_search *search, const double *q0, const double *q1, double margin);
-  int (*search_query)(const sk_search *search, const double lo[3], const double hi[3], int *faces, int max_faces);
-  sk_status (*obstacle_project)(const sk_obstacle *obstacle, double t, const double *x, int dim,
-                                sk_surface_point *point, double *gap);
-  void (*shape)(sk_elem_type type, const double *xi, double *N, double *dN);
-  void (*shape_hessian)(sk_elem_type type, const double *xi, double *ddN);
-  /* appended within ABI 1 (before its first release): */
-  void (*obstacle_displacement)(const sk_obstacle *obstacle, double t, double d[3]);
-  void (*search_rebuild)(sk_search *search);
-} sk_contact_services;
-
-/* The core's implementation of the table (for the host and for tests' mock hosts; plugins get it via sk_host). */
-const sk_contact_services *sk_core_contact_services(void);
-
-typedef struct sk_host {
-  uint32_t abi_version;
-  int dim;                       /* 2 or 3 */
-  int n_nodes;
-  int n_dofs;                    /* n_nodes * dim */
-  const double *X;               /* reference positions, dim per node (dof layout) */
-  const double *lumped_mass;     /* nodal mass (n_nodes), or NULL when the scene is quasi-static */
-  int rank, n_ranks;
-  const sk_contact_services *contact;
-  void *core;                    /* the core's own state behind these calls */
-  int (*owns_node)(const struct sk_host *host, int node);
-  /* Typed plugin parameters of a pair. An absent key gives `dflt` unless `required`; errors name the scene file,
-   * line and key. Keys a plugin never reads are reported to the user as unknown. */
-  sk_status (*param_double)(const struct sk_host *host, const sk_params *params, const char *key, int required,
-                            double dflt, double *out);
-  sk_status (*param_int)(const struct sk_host *host, const sk_params *params, const char *key, int required,
-                         int dflt, int *out);
-  sk_status (*param_string)(const struct sk_host *host, const sk_params *params, const char *key, int required,
-                            const char *dflt, const char **out);
-  /* Records an error message (as sk_error_set) and returns `code`. */
-  sk_status (*error)(const struct sk_host *host, sk_status code, const char *fmt, ...)
-      __attribute__((format(printf, 3, 4)));
-  /* Messages to the user on rank 0: level 0 = info, 1 = warning, 2 = debug (shown with --verbose). */
-  void (*log)(const struct sk_host *host, int level, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-  /* Optional core abilities by id (e.g. "stickslip.bulk.v1" for formulations that own kinematics); NULL if absent. */
-  const void *(*get_extension)(const struct sk_host *host, const char *id);
-} sk_host;
-
-/* One contact pair as the scene defines it. */
-typedef struct {
-  const char *name;               /* "pair 0" or the scene's name for it */
-  const sk_surface *slave;        /* never NULL */
-  const sk_surface *master;       /* deformable master, or NULL for an obstacle */
-  const sk_obstacle *obstacle;    /* rigid master, or NULL */
-  const sk_params *params;        /* plugin parameters from the scene */
-  int strategy;                   /* index into sk_plugin.strategies */
-} sk_pair;
-
-/* ---- the state of a step, as plugins see it --------------------------------------------------------------------- */
-typedef enum {
-  SK_SCHEME_QUASISTATIC = 0,
-  SK_SCHEME_BACKWARD_EULER,
-  SK_SCHEME_MIDPOINT              /* energy-momentum: forces with gradients at t_{n+1/2}, constraints at t_{n+1} */
-} sk_scheme;
-
-typedef struct {
-  sk_scheme scheme;
-  double t_n, t, dt;              /* step from t_n to t = t_n + dt */
-  int step;
-  const double *q_n;              /* positions at t_n (n_dofs) */
-  const double *q;                /* positions of the current iterate at t */
-  const double *v_n;              /* velocities at t_n (NULL when quasi-static) */
-  const double *extra;            /* this instance's extra unknowns, current iterate (layout n_extra entries) */
-  int extra_offset;               /* global index of this instance's first extra unknown */
-} sk_state;
-
-/* Sinks through which a plugin adds to the global system (indices are global unknown indices). */
+/* ---- sinks: how an instance adds to the global system ----------------------------------------------------------- */
+/* Allocated by the host for one call; do not keep. Indices outside the system are ignored; exact zeros of
+ * add_matrix are skipped. A matrix entry outside the pattern declared by pattern() (plus the bulk's element graph
+ * and the diagonal) is an error naming the entry: declare every coupling first. */
 typedef struct sk_sink {
-  void *ctx;
-  void (*add_vector)(struct sk_sink *sink, int n, const int *rows, const double *values);
-  /* Row-major nr x nc block. */
-  void (*add_matrix)(struct sk_sink *sink, int nr, const int *rows, int nc, const int *cols, const double *values);
-  /* Right-hand-side correction of a condensing strategy: the kept system is J_c dx = -F + rhs. */
-  void (*add_rhs)(struct sk_sink *sink, int n, const int *rows, const double *values);
+  uint32_t abi_major, abi_minor, struct_size;
+  /* F += values at rows */
+  void (*add_vector)(struct sk_sink *sink, int n, const int64_t *rows, const double *values);
+  /* J += a row-major nr x nc block */
+  void (*add_matrix)(struct sk_sink *sink, int nr, const int64_t *rows, int nc, const int64_t *cols,
+                     const double *values);
+  /* plugin-local condensation: the kept system is J_c dx = -F + rhs (docs/plugin-abi.md §6) */
+  void (*add_rhs)(struct sk_sink *sink, int n, const int64_t *rows, const double *values);
 } sk_sink;
 
-typedef struct {
-  int n_extra;                    /* extra unknowns this step */
-  const double *initial;          /* their initial values for the step (n_extra), e.g. last step's multipliers */
-  const unsigned char *eliminated;/* 1 for unknowns the current strategy condenses out, or NULL */
-} sk_layout;
-
-typedef struct {
-  double force[3];                /* resultant contact force on the slave side */
-  double moment[3];               /* its moment about the origin */
-  int active, stick, slip;        /* counts of contact points */
-  double dissipated;              /* frictional dissipation of the step */
-  double constraint_norm;         /* largest constraint violation among active points (e.g. |Phi|) */
-} sk_contact_report;
-
-typedef struct {
-  double x[3];                    /* slave point position */
-  double normal[3];
-  double pressure;                /* normal contact pressure (>= 0 in compression) or nodal force when no area */
-  double traction[3];             /* tangential traction (or force) */
-  double gap;
-  int state;                      /* 0 inactive, 1 stick, 2 slip */
-  int slave_node;                 /* global node id, or -1 */
-} sk_contact_point;
+/* Declared couplings of one step attempt (pattern()). */
+typedef struct sk_pattern {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* every (rows[i], cols[j]) may receive Jacobian entries during this attempt */
+  void (*add_block)(struct sk_pattern *pattern, int nr, const int64_t *rows, int nc, const int64_t *cols);
+} sk_pattern;
 
 typedef void (*sk_point_callback)(void *ctx, const sk_contact_point *point);
 
-/* ---- the plugin table ------------------------------------------------------------------------------------------- */
-typedef struct sk_instance sk_instance; /* a plugin's per-pair state (opaque to the core) */
+/* ---- contact services: geometry, projection, search, obstacles, quadrature ------------------------------------- */
+/* Pure functions of the core over views. Positions `x` are in the view's numbering (dim per view node), as
+ * sk_state.x[v] gives them; faces are view faces. docs/contact-services.md has the algorithms. */
+typedef struct sk_contact_services {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* Geometry of a face at parameters xi for positions x. */
+  void (*geometry)(const sk_view *surface, int face, const double xi[2], const double *x, sk_surface_point *point);
+  /* Averaged nodal normals (3 per view node; exact at nodes all of whose faces are in the view, e.g. owned nodes). */
+  void (*nodal_normals)(const sk_view *surface, const double *x, double *normals);
+  /* Closest point of `point` (dim entries) on the surface, trying the candidate faces (all when NULL); picks the
+   * smallest distance, ties to the lowest face. SK_ERR_DIVERGED (result filled) when the local Newton failed. */
+  sk_status (*project)(const sk_view *surface, const double *x, const double *point, const int *candidates,
+                       int n_candidates, sk_projection *projection);
+  /* Bounding-volume tree over the faces of a view. */
+  sk_status (*search_create)(const sk_view *surface, sk_search **search);
+  void (*search_destroy)(sk_search *search);
+  /* Refits each face's box to enclose the face at x0 (start of step) and x1 (predictor), inflated by margin. */
+  void (*search_update)(sk_search *search, const double *x0, const double *x1, double margin);
+  /* Faces whose boxes overlap [lo, hi]: writes at most max_faces, returns how many overlap. */
+  int (*search_query)(const sk_search *search, const double lo[3], const double hi[3], int *faces, int max_faces);
+  /* Asks the next update for a new split of the tree (a surface that deformed a lot). */
+  void (*search_rebuild)(sk_search *search);
+  /* Closest point on a rigid obstacle at time t, and the gap (sk_surface_point says what is filled). */
+  sk_status (*obstacle_project)(const sk_obstacle *obstacle, double t, const double *point, int dim,
+                                sk_surface_point *closest, double *gap);
+  /* The obstacle's prescribed translation at time t (piecewise linear in the scene's motion table). */
+  void (*obstacle_displacement)(const sk_obstacle *obstacle, double t, double d[3]);
+  /* Shape functions N[a] and parametric derivatives dN[a*pdim + k] of any element type; ddN[(a*pdim+k)*pdim+l]. */
+  void (*shape)(sk_elem_type type, const double *xi, double *N, double *dN);
+  void (*shape_hessian)(sk_elem_type type, const double *xi, double *ddN);
+  /* Gauss rule on a face type exact for polynomials of degree `order` in the face parameters: writes up to
+   * max_points points xi[q][0..pdim) and weights w[q] (summing to the reference face's measure), returns their
+   * number, or -(the number needed) when max_points is too small, 0 for a type that is not a face. */
+  int (*quadrature)(sk_elem_type face_type, int order, int max_points, double (*xi)[2], double *w);
+} sk_contact_services;
 
+/* ---- the host api ----------------------------------------------------------------------------------------------- */
+typedef struct sk_host_api {
+  uint32_t abi_major, abi_minor, struct_size;
+  const sk_contact_services *contact;
+  /* This rank and the number of ranks (for messages and partial global scalars; ownership is in the views). */
+  void (*ranks)(const sk_host *host, int *rank, int *n_ranks);
+  /* Typed parameters of this instance (`parameters:` of its pair or body). An absent key gives `dflt` unless
+   * `required`; errors name the scene file, line and key. Reading a key marks it used: keys no plugin reads are
+   * reported to the user as unknown. Strings live as long as the instance. */
+  sk_status (*param_double)(sk_host *host, const char *key, int required, double dflt, double *out);
+  sk_status (*param_int)(sk_host *host, const char *key, int required, int dflt, int *out);
+  sk_status (*param_string)(sk_host *host, const char *key, int required, const char *dflt, const char **out);
+  /* Records an error message and returns `code`; the host prefixes "contact pair 'NAME': " or "body 'NAME': ". */
+  sk_status (*error)(sk_host *host, sk_status code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+  /* Messages to the user on rank 0: level 0 = info, 1 = warning, 2 = debug (shown with --verbose). */
+  void (*log)(sk_host *host, int level, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+  /* Sums (op 0) or maxima (op 1) of n values over ranks, in place (collective). */
+  sk_status (*reduce)(sk_host *host, int op, double *values, int n);
+  /* The instance of THIS plugin attached to body `body` (kind "body"), or NULL: lets a pair instance of a body
+   * plugin reach the body's instance (e.g. the contact of a co-rotational body). */
+  sk_instance *(*body_instance)(sk_host *host, int body);
+  /* Optional core abilities by id ("stickslip.bulk.v1", "stickslip.condense.v1", "stickslip.linear.v1"); NULL if
+   * absent. Ask in create() and fail there with a clear message if an extension you need is missing. */
+  const void *(*get_extension)(sk_host *host, const char *id);
+} sk_host_api;
+
+/* ---- extension "stickslip.bulk.v1": a body's operators, for body plugins ----------------------------------------- */
+/* Vectors are over the instance's body view (dim per view node). apply_* and external_force return THIS RANK's
+ * element contributions (partial at nodes shared with other ranks): add them through a sink as they are, or form
+ * partial dot products, and the host's sum over ranks completes them. */
+#define SK_EXT_BULK "stickslip.bulk.v1"
+typedef struct sk_bulk_ext {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* From create() of a body instance (needs SK_CAP_OWNS_KINEMATICS): the host then adds no bulk residual or
+   * Jacobian (internal, inertial, body-force terms), no tractions, no predictor and no velocity update for this
+   * body's dofs; the instance owns those rows and the body's time integration (sk_plugin.integrator), and gets the
+   * body's loads from external_force. Dirichlet conditions and contact pairs still act on the rows. */
+  sk_status (*claim)(sk_host *host);
+  /* Total mass and centre of mass in the reference configuration. */
+  sk_status (*mass_properties)(sk_host *host, double *mass, double center[3]);
+  /* y = M u with the consistent mass matrix (M = M_scalar ⊗ I_dim). Needs SK_CAP_NEEDS_MASS. */
+  sk_status (*apply_mass)(sk_host *host, const double *u, double *y);
+  /* J += M_scalar ⊗ B for a dim x dim row-major block B (e.g. B = (2/dt) I + w Pi). Needs SK_CAP_NEEDS_MASS. */
+  sk_status (*add_mass)(sk_host *host, const double *block, sk_sink *sink);
+  /* y = S u and J += scale S, with S the linear (small-strain Hooke) stiffness of the body's material in the
+   * reference configuration. */
+  sk_status (*apply_stiffness)(sk_host *host, const double *u, double *y);
+  sk_status (*add_stiffness)(sk_host *host, double scale, sk_sink *sink);
+  /* External forces at time t: the scene's tractions on the body's faces and its body force. */
+  sk_status (*external_force)(sk_host *host, double t, double *f);
+  /* From commit_step: the body's displacement and velocity at t (owned nodes) for history.csv's energies and
+   * momenta, the VTU files and the next step's v_n. Without it the host uses x - X and the integrator's velocity. */
+  sk_status (*set_state)(sk_host *host, const double *u, const double *v);
+} sk_bulk_ext;
+
+/* ---- extension "stickslip.condense.v1": elimination of paired multipliers on the assembled operator ------------- */
+/* Dual-mortar condensation (Popp et al.; 4C's run_pre_apply_jacobian_inverse, MOOSE's
+ * VariableCondensationPreconditioner). An instance pairs blocks of `block` of its extra unknowns z_g with `block`
+ * displacement rows s_g whose z-columns form an invertible block D_g (dual basis: D diagonal per node). After the
+ * host has assembled and summed J (owned rows), it eliminates, for every pair g,
+ *     dz_g = D_g^-1 (-F_s - J_s,u du)
+ * from the paired rows: every other row r (bulk, master, Dirichlet, and the multipliers' own constraint rows)
+ * becomes r - J_r,z D^-1 [J_s | F_s], and the constraint rows of z_g take the places of the rows s_g, so the solver
+ * sees a displacement-only system. After the solve the host recovers dz from J_s,u du (recover() then sees the full
+ * dx and, if asked, J dx). The nonlinear problem does not change. Requirements (checked, with a message): within the
+ * rows s_g, the paired z appear only in their own block; a paired unknown is neither `eliminated` nor paired twice.
+ * Results equal the saddle-point solve to round-off on any number of ranks. */
+#define SK_EXT_CONDENSE "stickslip.condense.v1"
+typedef struct sk_condense_ext {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* From layout() of every attempt (the pairs hold for the attempt), for this rank's owned entities: n_groups
+   * groups of `block` pairs (extra[j] <-> row): extra_index[g*block + b] (index into this instance's extras) pairs
+   * with rows[g*block + b] (global displacement row). Needs SK_CAP_CONDENSATION. */
+  sk_status (*pair)(sk_host *host, int64_t n_groups, int block, const int64_t *extra_index, const int64_t *rows);
+} sk_condense_ext;
+
+/* ---- extension "stickslip.linear.v1": more solves with the current operator -------------------------------------- */
+#define SK_EXT_LINEAR "stickslip.linear.v1"
+typedef struct sk_linear_ext {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* From recover() only: solves J y = b with the operator of the solve just made, reusing its factorisation (or
+   * preconditioner) and its condensation. b and y in the instance's layout (sk_vectors): b_view[v] (dim per node)
+   * and b_extra; entries of owned nodes/entities are summed over ranks, put zeros elsewhere; y is filled at owned
+   * and ghosted nodes and all extras. Collective. For a bordered system (a scalar unknown eliminated by the
+   * plugin: the outer Newton on a rotation rate) this is the second solve with the same matrix. */
+  sk_status (*solve_again)(sk_host *host, const double *const *b_view, const double *b_extra, double *const *y_view,
+                           double *y_extra);
+} sk_linear_ext;
+
+/* ---- a body's time integrator, supplied by a body plugin -------------------------------------------------------- */
+/* The core integrates its bodies with the scene's scheme (quasi-static, backward Euler, energy-momentum midpoint:
+ * core/time/integrator.c). A body plugin that claims its body supplies its own here (needs
+ * SK_CAP_OWNS_KINEMATICS); other terms then see its name and alpha in sk_state when they act on that body. */
+typedef struct sk_integrator {
+  uint32_t abi_major, abi_minor, struct_size;
+  const char *name;            /* e.g. "corotational-midpoint": summary.json, messages */
+  double alpha;                /* other terms' forces on the body balance at t_n + alpha dt */
+  int dynamic;                 /* 1 when the body has inertia */
+  /* Start of an attempt: the predictor DISPLACEMENTS u of the body view's nodes at t (from state->x_n, v_n, dt),
+   * from which the host starts Newton and the search sweeps its boxes. */
+  sk_status (*predict)(sk_instance *instance, const sk_state *state, double *u);
+  /* Converged step: the body's velocities at t (view numbering), for output and the next v_n (set_state of
+   * stickslip.bulk overrides them). */
+  sk_status (*velocity)(sk_instance *instance, const sk_state *state, double *v);
+} sk_integrator;
+
+/* ---- the plugin table ------------------------------------------------------------------------------------------- */
 typedef struct sk_plugin {
-  uint32_t abi_version;           /* SK_PLUGIN_ABI_VERSION */
+  uint32_t abi_major, abi_minor, struct_size; /* SK_TABLE_HEADER(sk_plugin) */
   const char *name;               /* the name scenes use, e.g. "penalty-nts" */
-  const char *summary;            /* one line */
-  uint64_t caps;                  /* sk_capability bits */
-  const char *const *strategies;  /* NULL-terminated; first = default ("none" if the plugin does not condense) */
+  const char *summary;            /* one line, shown by `stickslip plugins` */
+  uint32_t kinds;                 /* sk_kind bits: what instances attach to */
+  uint64_t caps;                  /* sk_capability bits (each checked as plugin_types.h says) */
+  const char *const *strategies;  /* NULL-terminated; the first is the default ("none" if nothing is condensed) */
   const char *const *parameters;  /* NULL-terminated "key: meaning [default]" lines, shown by `stickslip plugins` */
 
-  sk_status (*create)(const sk_host *host, const sk_pair *pair, sk_instance **instance);
+  /* Once, at scene load, before the unknown-key check: read and check every parameter, allocate everything sized
+   * by the views, ask for extensions. `api`, `host` and `attach` stay valid until destroy. */
+  sk_status (*create)(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **instance);
   void (*destroy)(sk_instance *instance);
 
-  /* Start of a step (and of each retry after a step cut): search, candidate pairs, frozen data. */
+  /* Start of every step attempt (also after a cut): state->x is the predictor, x_n the last converged step.
+   * Broad phase, candidate pairs, data frozen for the step, starting values of the extra unknowns. */
   sk_status (*begin_step)(sk_instance *instance, const sk_state *state);
-  /* The step's extra unknowns; pointers stay valid until the next begin_step. */
+  /* The attempt's extra unknowns (fixed during the attempt). Pointers stay valid until the next begin_step. */
   sk_status (*layout)(sk_instance *instance, const sk_state *state, sk_layout *layout);
-  /* Adds the contact part of F(x). */
+  /* Every coupling jacobian() may add during the attempt (beyond the bulk element graph and the diagonal), for
+   * owned entities: e.g. a slave node with every node of its candidate master faces. NULL: none. */
+  sk_status (*pattern)(sk_instance *instance, const sk_state *state, sk_pattern *pattern);
+  /* The active set and stick/slip states at a NEW point x: called once at every point where the host is about to
+   * evaluate the residual or the Jacobian (Newton iterates and line-search trials), before them, so that F and J
+   * at one point always belong to one set (semismooth Newton). *changed = 1 if the set changed. NULL: no set. */
+  sk_status (*update_active_set)(sk_instance *instance, const sk_state *state, int *changed);
+  /* Adds this instance's part of F(x); must not change the state J depends on (that is update_active_set's). */
   sk_status (*residual)(sk_instance *instance, const sk_state *state, sk_sink *sink);
-  /* Adds the contact part of J (condensed under the strategy, with add_rhs corrections). */
+  /* Adds dF/dx at the same point and set (under plugin-local condensation: the condensed blocks and add_rhs). */
   sk_status (*jacobian)(sk_instance *instance, const sk_state *state, sk_sink *sink);
-  /* Fills dx for eliminated extra unknowns (this rank's entities) from the kept part of dx and F; NULL if the
-   * plugin never eliminates. dx and F are global vectors. */
-  sk_status (*recover)(sk_instance *instance, const sk_state *state, const double *F, double *dx);
-  /* Active-set / stick-slip update at a new iterate: the driver calls it at every point where it is about to
-   * evaluate the residual (each Newton iterate and line-search trial), so that F and the following J always belong
-   * to one set (semismooth-Newton style). *changed = 1 if the set changed. May be NULL. */
-  sk_status (*after_iteration)(sk_instance *instance, const sk_state *state, int *changed);
-  /* Converged step accepted: commit history (friction, projections). */
+  /* After every linear solve: fills dx of eliminated extras of owned entities (plugin-local condensation), and may
+   * use stickslip.linear's solve_again. NULL when the plugin eliminates nothing. */
+  sk_status (*recover)(sk_instance *instance, const sk_state *state, sk_vectors *vectors);
+  /* Newton converged at state->x. Set *accept = 0 to reject the converged point once the plugin has changed its
+   * active set (an outer active-set loop, Hammer's nested Newton, PDASS): the host runs Newton again from x within
+   * the same attempt (at most solver.newton.max_active_set_loops times, then the step is cut). NULL: accept. */
+  sk_status (*converged)(sk_instance *instance, const sk_state *state, int *accept);
+  /* The attempt is accepted: commit history (friction, projections, multipliers for the next `initial`). */
   sk_status (*commit_step)(sk_instance *instance, const sk_state *state);
-  /* Step rejected (it will be retried with a smaller dt): roll history back to the last commit. */
+  /* The attempt failed and will be retried with a smaller dt: roll back to the last commit. */
   void (*reject_step)(sk_instance *instance);
-  /* Results of the step just committed, for history.csv: called right after commit_step with the state still
-   * spanning the step (q_n, t_n at its start; q, t, extra at its end); never for the initial state (whose contact
-   * columns are zero). This rank's entities — the driver sums over ranks. `dissipated` is the step's increment;
-   * the driver accumulates it. */
+  /* Results for history.csv, right after commit_step with the state spanning the step (x_n, t_n at its start; x,
+   * t, extra at its end); never for the initial row (its contact columns are zero). This rank's entities;
+   * `dissipated` is the step's increment. */
   sk_status (*report)(sk_instance *instance, const sk_state *state, sk_contact_report *report);
-  /* Calls `callback` for each contact point this rank owns (contact.csv, VTU). */
+  /* Each owned contact point (contact.csv, VTU), with the state of report(); for the initial output with step = 0,
+   * t_n = t, x_n = x and extra = NULL; at the end of a run possibly with x_n == x: compute nothing from x - x_n
+   * here. NULL: no points. */
   sk_status (*points)(sk_instance *instance, const sk_state *state, sk_point_callback callback, void *ctx);
-  /* Optional abilities by id; may be NULL. */
+  /* Body plugins that integrate their body themselves (SK_CAP_OWNS_KINEMATICS), else NULL. */
+  const sk_integrator *integrator;
+  /* Optional plugin-side interfaces by id; may be NULL. */
   const void *(*get_extension)(const char *id);
 } sk_plugin;
 

@@ -19,10 +19,13 @@ sk_status sk_plugin_load(const char *name, const sk_plugin **plugin);
  * (path, message) and skipped. Returns the number of plugins found. */
 int sk_plugin_each(void (*callback)(void *ctx, const sk_plugin *plugin, const char *path),
                    void (*broken)(void *ctx, const char *path, const char *message), void *ctx);
-/* Loads one library file (for tests): checks the symbol and ABI version. */
+/* Loads one library file (for tests): checks the symbol, the ABI major version (any minor is accepted) and the
+ * required entries. *plugin is the table as this host reads it (members beyond the plugin's struct_size NULL). */
 sk_status sk_plugin_open_file(const char *path, const sk_plugin **plugin);
 /* Human-readable capability list: "2d 3d friction ..." */
 void sk_capabilities_string(uint64_t caps, char *out, int size);
+/* Human-readable kinds: "pair", "body" or "pair, body". */
+void sk_kinds_string(uint32_t kinds, char *out, int size);
 
 #ifdef __cplusplus
 }

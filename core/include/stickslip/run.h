@@ -20,12 +20,15 @@ typedef struct {
   int newton_iterations;
   int linear_solves;
   int cuts;                /* step halvings */
-  int unknowns_max;        /* largest size of the nonlinear system over the run */
-  int linear_size_max;     /* largest size of the linear system actually solved (after condensation) */
+  int64_t unknowns_max;    /* largest size of the nonlinear system over the run */
+  int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */
+  int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;
   char message[1024];
+  char results_dir[4096];  /* where the result files are (out_dir, out_dir.incomplete, the staging folder when it
+                              could not be put in place), "" when none were written (no --out, or a write error) */
 } sk_run_summary;
 
 /* Runs the scene to its end time (collective). On a failure after the run started (a step that cannot be solved

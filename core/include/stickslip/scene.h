@@ -15,6 +15,8 @@ extern "C" {
 typedef struct {
   sk_newton_options newton;
   sk_linear_options linear;
+  int max_active_set_loops; /* solver.newton.max_active_set_loops: Newton runs per attempt when terms reject a
+                               converged point (plugin.h: converged) */
 } sk_solver_settings;
 
 typedef struct {
@@ -30,18 +32,20 @@ typedef struct {
   sk_model model;
   sk_solver_settings solver;
   sk_output_settings output;
-  sk_host host;           /* the table plugins reach the core through */
+  struct sk_system *system; /* the step's system of terms, with the plugin instances (core/model/system.h) */
 } sk_scene;
 
-/* Reads and validates a scene: YAML, `--set` overrides, meshes, bodies, boundary conditions, contact pairs and their
- * plugins (created, so plugin parameters are checked), time, solver and output settings; unknown keys are errors.
- * `plugin_override` (may be NULL) replaces every pair's plugin. Collective over `comm`. */
+/* Reads and validates a scene: YAML, `--set` overrides, meshes, bodies, boundary conditions, contact pairs and the
+ * plugins of pairs and bodies (their instances created, so plugin parameters are checked), time, solver and output
+ * settings; unknown keys are errors. `plugin_override` (may be NULL) replaces every pair's plugin. Collective. */
 sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, const char *plugin_override,
                         MPI_Comm comm, sk_scene *scene);
 void sk_scene_free(sk_scene *scene);
 
-/* The host table for a model (host.c). */
-void sk_host_init(sk_host *host, sk_model *model);
+/* A message to the user on rank 0 (rank == 0): level 0 info, 1 warning ("warning: " prefix), 2 debug (shown only
+ * with sk_log_verbosity > 0, i.e. --verbose). The one path for the core's and the plugins' messages (host.c). */
+void sk_log_message(int rank, int level, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+extern int sk_log_verbosity;
 
 #ifdef __cplusplus
 }

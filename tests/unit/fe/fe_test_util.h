@@ -59,8 +59,6 @@ static inline double fe_max_abs(const double *v, int n) {
   return m;
 }
 
-static const char *const fe_material_names[] = {"hooke", "svk", "neo-hooke"};
-
 /* C = F^T F (3x3 row-major). */
 static inline void right_cauchy_green(const double F[9], double C[9]) {
   for (int I = 0; I < 3; ++I)

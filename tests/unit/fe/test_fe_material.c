@@ -24,11 +24,16 @@ static void check_validation(void) {
   SK_CHECK(sk_material_init(&mat, (sk_material_model)7, 1.0, 0.2, 1.0) == SK_ERR_INPUT);
   SK_CHECK(sk_material_init(NULL, SK_MAT_SVK, 1.0, 0.2, 1.0) == SK_ERR_INPUT);
   sk_material_model model = SK_MAT_HOOKE;
-  SK_CHECK(sk_material_model_from_name("neo-hooke", &model) == SK_OK && model == SK_MAT_NEOHOOKE);
+  /* Every scene name maps to its model; "neo-hooke" stays the Bonet law of the first releases. */
+  for (int m = 0; m < SK_MAT_MODEL_COUNT; ++m)
+    SK_CHECK(sk_material_model_from_name(sk_material_model_names[m], &model) == SK_OK && model == (sk_material_model)m);
+  SK_CHECK(sk_material_model_from_name("neo-hooke", &model) == SK_OK && model == SK_MAT_NEOHOOKE_BONET);
+  SK_CHECK(sk_material_model_from_name("neo-hooke-ciarlet", &model) == SK_OK && model == SK_MAT_NEOHOOKE_CIARLET);
   SK_CHECK(sk_material_model_from_name("svk", &model) == SK_OK && model == SK_MAT_SVK);
   SK_CHECK(sk_material_model_from_name("hooke", &model) == SK_OK && model == SK_MAT_HOOKE);
   SK_CHECK(sk_material_model_from_name("mooney", &model) == SK_ERR_INPUT);
   SK_CHECK(strstr(sk_error_message(), "mooney") != NULL);
+  SK_CHECK(strstr(sk_error_message(), "neo-hooke-ciarlet") != NULL);
   SK_CHECK(sk_material_model_from_name(NULL, &model) == SK_ERR_INPUT);
 }
 
@@ -86,7 +91,7 @@ static void check_derivatives(sk_material_model model) {
             asym = fmax(asym, fabs(c - CC[((I * 3 + J) * 3 + L) * 3 + K]));
             asym = fmax(asym, fabs(c - CC[((K * 3 + L) * 3 + I) * 3 + J]));
           }
-    if (trial == 0) printf("  %-9s relative FD error: S %.2e  CC %.2e\n", fe_material_names[model], worst_S, worst_CC);
+    if (trial == 0) printf("  %-9s relative FD error: S %.2e  CC %.2e\n", sk_material_model_names[model], worst_S, worst_CC);
     SK_CHECK(worst_S < 1e-8);
     SK_CHECK(worst_CC < 1e-8);
     SK_CHECK(asym < 1e-12 * CCmax);
@@ -113,9 +118,9 @@ static void check_derivatives(sk_material_model model) {
 
 /* The remainder W1 - W0 - S(Cm):dC/2 agrees with the naive difference for a large step and scales as |dC|^3
  * (the naive difference would be round-off noise of size eps*W there). */
-static void check_midpoint_remainder(void) {
+static void check_midpoint_remainder(sk_material_model model) {
   sk_material mat;
-  sk_material_init(&mat, SK_MAT_NEOHOOKE, 100.0, 0.3, 1.0);
+  sk_material_init(&mat, model, 100.0, 0.3, 1.0);
   double F0[9], F1[9], C0[9], C1[9], Cm[9], Sm[9], W0, W1;
   fe_random_gradient(3, 0.3, F0);
   fe_random_gradient(3, 0.3, F1);
@@ -142,26 +147,54 @@ static void check_midpoint_remainder(void) {
     if (step > 0) SK_CHECK_CLOSE(previous / rt, 1000.0, 1e-2 * 1000.0);
     previous = rt;
   }
-  double quadratic = 1.0;
   sk_material svk;
   sk_material_init(&svk, SK_MAT_SVK, 100.0, 0.3, 1.0);
-  quadratic = sk_fe_material_midpoint_remainder(&svk, C0, C1, Cm);
-  SK_CHECK(quadratic == 0.0);
+  SK_CHECK(sk_fe_material_midpoint_remainder(&svk, C0, C1, Cm) == 0.0);
+}
+
+/* The energies are the documented formulas (docs/theory/elements.md), evaluated here independently at a
+ * stretch diag(a, b, c), and the two Neo-Hooke laws part at finite volume change. */
+static void check_energy_formulas(void) {
+  const double a = 1.3, b = 0.8, c = 1.1, J = a * b * c, trC = a * a + b * b + c * c;
+  const double C[9] = {a * a, 0, 0, 0, b * b, 0, 0, 0, c * c};
+  sk_material bonet, ciarlet, svk;
+  sk_material_init(&bonet, SK_MAT_NEOHOOKE_BONET, 100.0, 0.3, 1.0);
+  sk_material_init(&ciarlet, SK_MAT_NEOHOOKE_CIARLET, 100.0, 0.3, 1.0);
+  sk_material_init(&svk, SK_MAT_SVK, 100.0, 0.3, 1.0);
+  const double mu = bonet.mu, lambda = bonet.lambda, lnJ = log(J);
+  const double expected_bonet = mu / 2 * (trC - 3) - mu * lnJ + lambda / 2 * lnJ * lnJ;
+  const double expected_ciarlet = mu / 2 * (trC - 3) - mu * lnJ + lambda / 4 * (J * J - 1) - lambda / 2 * lnJ;
+  const double E[3] = {(a * a - 1) / 2, (b * b - 1) / 2, (c * c - 1) / 2}, trE = E[0] + E[1] + E[2];
+  const double expected_svk = lambda / 2 * trE * trE + mu * (E[0] * E[0] + E[1] * E[1] + E[2] * E[2]);
+  double W_bonet, W_ciarlet, W_svk;
+  SK_CHECK(sk_material_energy(&bonet, C, &W_bonet) == SK_OK);
+  SK_CHECK(sk_material_energy(&ciarlet, C, &W_ciarlet) == SK_OK);
+  SK_CHECK(sk_material_energy(&svk, C, &W_svk) == SK_OK);
+  SK_CHECK_CLOSE(W_bonet, expected_bonet, 1e-14 * fabs(expected_bonet));
+  SK_CHECK_CLOSE(W_ciarlet, expected_ciarlet, 1e-14 * fabs(expected_ciarlet));
+  SK_CHECK_CLOSE(W_svk, expected_svk, 1e-14 * fabs(expected_svk));
+  printf("  W at stretch (%.1f, %.1f, %.1f), J = %.3f: neo-hooke-bonet %.6f, neo-hooke-ciarlet %.6f\n", a, b, c, J,
+         W_bonet, W_ciarlet);
+  SK_CHECK(fabs(W_ciarlet - W_bonet) > 1e-3 * W_bonet);
 }
 
 int main(void) {
   check_validation();
-  for (int m = SK_MAT_HOOKE; m <= SK_MAT_NEOHOOKE; ++m) check_derivatives((sk_material_model)m);
-  check_midpoint_remainder();
-  /* Neo-Hooke rejects det C <= 0 as an inverted point. */
-  sk_material nh;
-  sk_material_init(&nh, SK_MAT_NEOHOOKE, 1.0, 0.3, 1.0);
-  const double Cbad[9] = {1, 0, 0, 0, -1, 0, 0, 0, 1};
-  double W, S[9], CC[81];
-  SK_CHECK(sk_material_energy(&nh, Cbad, &W) == SK_ERR_INVERTED);
-  SK_CHECK(sk_material_stress(&nh, Cbad, S) == SK_ERR_INVERTED);
-  SK_CHECK(sk_material_tangent(&nh, Cbad, CC) == SK_ERR_INVERTED);
-  SK_CHECK(strstr(sk_error_message(), "det C") != NULL);
-  SK_CHECK(sk_material_energy(&nh, NULL, &W) == SK_ERR_INPUT);
+  for (int m = SK_MAT_HOOKE; m < SK_MAT_MODEL_COUNT; ++m) check_derivatives((sk_material_model)m);
+  check_energy_formulas();
+  for (int m = SK_MAT_NEOHOOKE_BONET; m <= SK_MAT_NEOHOOKE_CIARLET; ++m) {
+    check_midpoint_remainder((sk_material_model)m);
+    /* The Neo-Hooke laws reject det C <= 0 as an inverted point. */
+    sk_material nh;
+    sk_material_init(&nh, (sk_material_model)m, 1.0, 0.3, 1.0);
+    const double Cbad[9] = {1, 0, 0, 0, -1, 0, 0, 0, 1};
+    double W, S[9], CC[81];
+    SK_CHECK(sk_material_energy(&nh, Cbad, &W) == SK_ERR_INVERTED);
+    SK_CHECK(sk_material_stress(&nh, Cbad, S) == SK_ERR_INVERTED);
+    SK_CHECK(sk_material_tangent(&nh, Cbad, CC) == SK_ERR_INVERTED);
+    SK_CHECK(strstr(sk_error_message(), "det C") != NULL);
+    SK_CHECK(strstr(sk_error_message(), sk_material_model_names[m]) != NULL);
+    SK_CHECK(sk_material_energy(&nh, NULL, &W) == SK_ERR_INPUT);
+  }
   return sk_test_finish("fe_material");
 }

@@ -7,7 +7,7 @@
 #include "fe_test_util.h"
 #include "sk_test.h"
 
-static sk_material materials[3];
+static sk_material materials[SK_MAT_MODEL_COUNT];
 
 /* Energy density of a uniform gradient F as the element sees it (Hooke: linearised strain). */
 static double uniform_energy(const sk_material *mat, const double F[9]) {
@@ -60,7 +60,7 @@ static void check_element(sk_elem_type type, int dim, const sk_material *mat) {
     }
   }
   printf("  %dD %-6s %-9s relative FD error: f %.2e  K %.2e\n", dim, sk_elem_name(type),
-         fe_material_names[mat->model], err_f, err_K);
+         sk_material_model_names[mat->model], err_f, err_K);
   SK_CHECK(err_f < 1e-7);
   SK_CHECK(err_K < 1e-7);
   SK_CHECK(asym <= 1e-14 * Kmax);
@@ -209,7 +209,7 @@ static void check_patch(sk_elem_type type, int dim, const sk_material *mat) {
     for (int i = 0; i < dim; ++i) interior = fmax(interior, fabs(f_all[n * dim + i]));
   }
   printf("  patch %dD %-6s %-9s %2d elements, %2d interior nodes: max interior |f| / max |f| = %.1e\n", dim,
-         sk_elem_name(type), fe_material_names[mat->model], p.n_elems, n_interior, interior / fscale);
+         sk_elem_name(type), sk_material_model_names[mat->model], p.n_elems, n_interior, interior / fscale);
   SK_CHECK(n_interior >= 1);
   SK_CHECK(fscale > 1e-3);
   SK_CHECK(interior < 1e-12 * fscale);
@@ -289,29 +289,33 @@ static void check_mass(sk_elem_type type, int dim) {
 
 /* ---- Cauchy stress ---------------------------------------------------------------------------------------------- */
 static void check_cauchy(void) {
-  /* Neo-Hooke under a uniform F on a distorted hex27: sigma = (mu (b - I) + lambda ln J I) / J. */
-  const sk_material *nh = &materials[SK_MAT_NEOHOOKE];
-  const sk_solid el = {SK_HEX27, 3, nh};
-  double X[27 * 3], u[27 * 3], F[9], sigma[9];
-  fe_distorted_element(SK_HEX27, 3, 0.05, X);
-  fe_random_gradient(3, 0.25, F);
-  fe_linear_displacement(3, 27, F, X, u);
-  SK_CHECK(sk_solid_cauchy(&el, X, u, sigma) == SK_OK);
-  const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
-                   F[2] * (F[3] * F[7] - F[4] * F[6]);
-  double err = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      double b = 0.0;
-      for (int k = 0; k < 3; ++k) b += F[i * 3 + k] * F[j * 3 + k];
-      const double expected = (nh->mu * (b - (i == j)) + nh->lambda * log(J) * (i == j)) / J;
-      err = fmax(err, fabs(sigma[i * 3 + j] - expected));
-    }
-  SK_CHECK(err < 1e-12 * nh->mu);
+  /* Neo-Hooke under a uniform F on a distorted hex27: sigma = (mu (b - I) + p(J) I) / J with the volumetric
+   * p = lambda ln J (Bonet) or lambda/2 (J^2 - 1) (Ciarlet). */
+  for (int m = SK_MAT_NEOHOOKE_BONET; m <= SK_MAT_NEOHOOKE_CIARLET; ++m) {
+    const sk_material *nh = &materials[m];
+    const sk_solid el = {SK_HEX27, 3, nh};
+    double X[27 * 3], u[27 * 3], F[9], sigma[9];
+    fe_distorted_element(SK_HEX27, 3, 0.05, X);
+    fe_random_gradient(3, 0.25, F);
+    fe_linear_displacement(3, 27, F, X, u);
+    SK_CHECK(sk_solid_cauchy(&el, X, u, sigma) == SK_OK);
+    const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+                     F[2] * (F[3] * F[7] - F[4] * F[6]);
+    const double p = m == SK_MAT_NEOHOOKE_BONET ? nh->lambda * log(J) : 0.5 * nh->lambda * (J * J - 1.0);
+    double err = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double b = 0.0;
+        for (int k = 0; k < 3; ++k) b += F[i * 3 + k] * F[j * 3 + k];
+        const double expected = (nh->mu * (b - (i == j)) + p * (i == j)) / J;
+        err = fmax(err, fabs(sigma[i * 3 + j] - expected));
+      }
+    SK_CHECK(err < 1e-12 * nh->mu);
+  }
   /* Plane-strain Hooke on a quad4: sigma = lambda tr(eps) I + 2 mu eps, sigma_zz = lambda tr(eps). */
   const sk_material *hooke = &materials[SK_MAT_HOOKE];
   const sk_solid el2 = {SK_QUAD4, 2, hooke};
-  double X2[8], u2[8], F2[9];
+  double X2[8], u2[8], F2[9], sigma[9];
   fe_distorted_element(SK_QUAD4, 2, 0.1, X2);
   fe_random_gradient(2, 0.01, F2);
   fe_linear_displacement(2, 4, F2, X2, u2);
@@ -399,11 +403,11 @@ static void check_bad_input(void) {
 }
 
 int main(void) {
-  for (int m = SK_MAT_HOOKE; m <= SK_MAT_NEOHOOKE; ++m)
+  for (int m = SK_MAT_HOOKE; m < SK_MAT_MODEL_COUNT; ++m)
     if (sk_material_init(&materials[m], (sk_material_model)m, 100.0, 0.3, 1.0) != SK_OK) return 1;
   for (int dim = 2; dim <= 3; ++dim)
     for (int t = 0; t < 3; ++t)
-      for (int m = 0; m < 3; ++m) {
+      for (int m = 0; m < SK_MAT_MODEL_COUNT; ++m) {
         const sk_elem_type type = dim == 2 ? fe_solids_2d[t] : fe_solids_3d[t];
         check_element(type, dim, &materials[m]);
         check_patch(type, dim, &materials[m]);

@@ -4,10 +4,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "sk_test.h"
 #include "stickslip/config.h"
+#include "stickslip/files.h"
 
 static const char *scene_text =
     "# a representative scene\n"          /* 1 */
@@ -329,6 +331,98 @@ static void test_load_and_write(void) {
   rmdir(dir);
 }
 
+/* Non-finite numbers are refused wherever a number is read (issue 15, item 12), naming position and key. */
+static void test_non_finite(void) {
+  sk_cfg *root = NULL;
+  SK_CHECK(sk_cfg_parse_string("a: .nan\nb: -.inf\nc: 1e999\nd: [0, .inf, 0]\ne: nan\nf: -1e-999\ng: .Inf\nh: 5e-324\n",
+                               "n.yaml", &root) == SK_OK);
+  if (!root) return;
+  double x = 7, v[3];
+  SK_CHECK(sk_cfg_double(root, "a", 1, 0, &x) == SK_ERR_INPUT && x == 7);
+  SK_CHECK(contains(sk_error_message(), "n.yaml:1:4: key 'a' expects a finite number, got '.nan'"));
+  SK_CHECK(sk_cfg_double(root, "b", 1, 0, &x) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "key 'b' expects a finite number, got '-.inf'"));
+  SK_CHECK(sk_cfg_double(root, "c", 1, 0, &x) == SK_ERR_INPUT); /* overflows a double */
+  SK_CHECK(contains(sk_error_message(), "n.yaml:3:4: key 'c' expects a finite number, got '1e999'"));
+  SK_CHECK(sk_cfg_vector(root, "d", 1, 3, NULL, v) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "key 'd[1]' expects a finite number, got '.inf'"));
+  SK_CHECK(sk_cfg_double(root, "e", 1, 0, &x) == SK_ERR_INPUT); /* strtod's spelling */
+  SK_CHECK(sk_cfg_double(root, "f", 1, 0, &x) == SK_OK && x == 0.0); /* underflow to zero is a finite number */
+  SK_CHECK(sk_cfg_double(root, "g", 1, 0, &x) == SK_ERR_INPUT);
+  SK_CHECK(sk_cfg_double(root, "h", 1, 0, &x) == SK_ERR_INPUT); /* subnormal */
+  SK_CHECK(contains(sk_error_message(), "n.yaml:8:4: key 'h' expects 0 or a number of normal size"));
+  int n;
+  SK_CHECK(sk_cfg_int(root, "b", 1, 0, &n) == SK_ERR_INPUT);
+  SK_CHECK(sk_cfg_set(root, "a=.inf") == SK_OK);
+  SK_CHECK(sk_cfg_double(root, "a", 1, 0, &x) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "--set a: key 'a' expects a finite number, got '.inf'"));
+  sk_cfg_free(root);
+}
+
+/* An empty or null section asked for a required key names itself, where it is and the missing key (item 8). */
+static void test_empty_section(void) {
+  sk_cfg *root = NULL;
+  SK_CHECK(sk_cfg_parse_string("bodies:\n  - name: a\n    material:\n  - name: b\n    material: ~\ntime: null\n",
+                               "e.yaml", &root) == SK_OK);
+  if (!root) return;
+  const sk_cfg *bodies = sk_cfg_get(root, "bodies");
+  const char *model;
+  SK_CHECK(sk_cfg_string(sk_cfg_get(sk_cfg_at(bodies, 0), "material"), "model", 1, NULL, &model) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "e.yaml:3:5: 'bodies[0].material' is empty; missing key "
+                                        "'bodies[0].material.model'"));
+  SK_CHECK(sk_cfg_string(sk_cfg_get(sk_cfg_at(bodies, 1), "material"), "model", 1, NULL, &model) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "e.yaml:5:5: 'bodies[1].material' is empty"));
+  double dt;
+  SK_CHECK(sk_cfg_double(sk_cfg_get(root, "time"), "dt", 1, 0, &dt) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "e.yaml:6:1: 'time' is empty; missing key 'time.dt'"));
+  SK_CHECK(sk_cfg_double(sk_cfg_get(root, "time"), "dt", 0, 0.5, &dt) == SK_OK && dt == 0.5); /* optional: fine */
+  SK_CHECK(sk_cfg_set(root, "bodies.0.material=~") == SK_OK);
+  bodies = sk_cfg_get(root, "bodies");
+  SK_CHECK(sk_cfg_string(sk_cfg_get(sk_cfg_at(bodies, 0), "material"), "model", 1, NULL, &model) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "--set bodies.0.material: 'bodies[0].material' is empty; missing key "
+                                        "'bodies[0].material.model'"));
+  sk_cfg_free(root);
+}
+
+/* Scene files must be regular text files of bounded size: a FIFO, /dev/zero, a directory, a binary or an oversized
+ * file is refused at once, naming it (item 17). */
+static void test_special_files(void) {
+  char dir[] = "/tmp/stickslip-config-test-XXXXXX";
+  SK_CHECK(mkdtemp(dir) != NULL);
+  char path[256];
+  sk_cfg *root = (sk_cfg *)1;
+  snprintf(path, sizeof path, "%s/fifo.yaml", dir);
+  SK_CHECK(mkfifo(path, 0600) == 0);
+  SK_CHECK(sk_cfg_load(path, &root) == SK_ERR_INPUT && root == NULL); /* returns at once: no writer needed */
+  SK_CHECK(contains(sk_error_message(), "fifo.yaml' is a FIFO (named pipe), not a regular file"));
+  unlink(path);
+  SK_CHECK(sk_cfg_load("/dev/zero", &root) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "scene file '/dev/zero' is a character device"));
+  SK_CHECK(sk_cfg_load(dir, &root) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "is a directory"));
+  snprintf(path, sizeof path, "%s/binary.yaml", dir);
+  FILE *f = fopen(path, "wb");
+  SK_CHECK(f != NULL);
+  if (f) {
+    fwrite("a: 1\n\0b: 2\n", 1, 11, f);
+    fclose(f);
+  }
+  SK_CHECK(sk_cfg_load(path, &root) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "binary.yaml' holds a NUL byte"));
+  unlink(path);
+  snprintf(path, sizeof path, "%s/huge.yaml", dir);
+  f = fopen(path, "wb");
+  SK_CHECK(f != NULL);
+  if (f) {
+    SK_CHECK(fseek(f, (long)SK_MAX_TEXT_FILE_BYTES, SEEK_SET) == 0 && fputc('\n', f) == '\n'); /* sparse */
+    fclose(f);
+  }
+  SK_CHECK(sk_cfg_load(path, &root) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "huge.yaml' has 16777217 bytes; the limit is 16 MiB"));
+  unlink(path);
+  rmdir(dir);
+}
+
 int main(void) {
   test_parse_and_getters();
   test_unused_keys();
@@ -336,5 +430,8 @@ int main(void) {
   test_set();
   test_paths();
   test_load_and_write();
+  test_non_finite();
+  test_empty_section();
+  test_special_files();
   return sk_test_finish("test_io_config");
 }

@@ -339,95 +339,6 @@ static void test_pvd(void) {
 
 /* ---- output directories ---- */
 
-static void write_file(const char *dir, const char *name, const char *text) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *f = fopen(path, "w");
-  if (f) {
-    fputs(text, f);
-    fclose(f);
-  }
-}
-
-static int file_exists(const char *dir, const char *name) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  return access(path, F_OK) == 0;
-}
-
-static void test_outdir(void) {
-  char out[512], staging[600];
-  tmp_path(out, sizeof out, "runs/out");
-  /* first run: parents are created, the result appears by rename */
-  SK_CHECK(sk_outdir_begin(out, staging, sizeof staging) == SK_OK);
-  SK_CHECK(contains(staging, "runs/out.partial-"));
-  SK_CHECK(file_exists(staging, SK_OUTDIR_MARKER));
-  write_file(staging, "first.txt", "1");
-  SK_CHECK(sk_outdir_commit(staging, out) == SK_OK);
-  SK_CHECK(file_exists(out, "first.txt") && access(staging, F_OK) != 0);
-  /* second run replaces the first completely */
-  SK_CHECK(sk_outdir_begin(out, staging, sizeof staging) == SK_OK);
-  write_file(staging, "second.txt", "2");
-  SK_CHECK(sk_outdir_commit(staging, out) == SK_OK);
-  SK_CHECK(file_exists(out, "second.txt") && !file_exists(out, "first.txt"));
-  /* aborted run: staging removed, previous results untouched */
-  SK_CHECK(sk_outdir_begin(out, staging, sizeof staging) == SK_OK);
-  mkdir(staging, 0777);
-  char sub[700];
-  snprintf(sub, sizeof sub, "%s/vtu", staging);
-  mkdir(sub, 0777);
-  write_file(sub, "step.vtu", "x");
-  SK_CHECK(sk_outdir_abort(staging) == SK_OK);
-  SK_CHECK(access(staging, F_OK) != 0 && file_exists(out, "second.txt"));
-  SK_CHECK(sk_outdir_abort(staging) == SK_OK); /* already gone: fine */
-
-  /* a foreign directory is never deleted: refused before the run ... */
-  char foreign[512];
-  tmp_path(foreign, sizeof foreign, "runs/thesis");
-  mkdir(foreign, 0777);
-  write_file(foreign, "thesis.tex", "precious");
-  SK_CHECK(sk_outdir_begin(foreign, staging, sizeof staging) == SK_ERR_IO);
-  SK_CHECK(contains(sk_error_message(), "refusing to replace"));
-  SK_CHECK(file_exists(foreign, "thesis.tex"));
-  /* ... and at commit, when it appeared during the run */
-  char late[512];
-  tmp_path(late, sizeof late, "runs/late");
-  SK_CHECK(sk_outdir_begin(late, staging, sizeof staging) == SK_OK);
-  mkdir(late, 0777);
-  write_file(late, "notes.txt", "precious");
-  SK_CHECK(sk_outdir_commit(staging, late) == SK_ERR_IO);
-  SK_CHECK(contains(sk_error_message(), "refusing to replace"));
-  SK_CHECK(contains(sk_error_message(), "results are in"));
-  SK_CHECK(file_exists(late, "notes.txt") && file_exists(staging, SK_OUTDIR_MARKER));
-  SK_CHECK(sk_outdir_abort(staging) == SK_OK && access(staging, F_OK) != 0);
-  /* a foreign summary.json does not count either; one from stickslip does */
-  write_file(foreign, "summary.json", "{\"program\": \"other\"}\n");
-  SK_CHECK(sk_outdir_begin(foreign, staging, sizeof staging) == SK_ERR_IO && file_exists(foreign, "thesis.tex"));
-  char legacy[512];
-  tmp_path(legacy, sizeof legacy, "runs/legacy");
-  mkdir(legacy, 0777);
-  write_file(legacy, "summary.json", "{\"program\": \"stickslip\"}\n");
-  SK_CHECK(sk_outdir_begin(legacy, staging, sizeof staging) == SK_OK);
-  SK_CHECK(sk_outdir_commit(staging, legacy) == SK_OK && file_exists(legacy, SK_OUTDIR_MARKER));
-  /* an empty directory may be replaced; a plain file may not */
-  char empty[512];
-  tmp_path(empty, sizeof empty, "runs/empty/");
-  mkdir(empty, 0777);
-  SK_CHECK(sk_outdir_begin(empty, staging, sizeof staging) == SK_OK);
-  SK_CHECK(sk_outdir_commit(staging, empty) == SK_OK && file_exists(empty, SK_OUTDIR_MARKER));
-  char runs[512];
-  tmp_path(runs, sizeof runs, "runs");
-  write_file(runs, "plain", "data");
-  char plain[512];
-  tmp_path(plain, sizeof plain, "runs/plain");
-  SK_CHECK(sk_outdir_begin(plain, staging, sizeof staging) == SK_ERR_IO);
-  SK_CHECK(contains(sk_error_message(), "not a directory"));
-  /* abort refuses to delete something that is not a staging directory */
-  SK_CHECK(sk_outdir_abort(foreign) == SK_ERR_IO && file_exists(foreign, "thesis.tex"));
-  SK_CHECK(sk_outdir_begin("", staging, sizeof staging) == SK_ERR_INPUT);
-  SK_CHECK(sk_outdir_begin("/", staging, sizeof staging) == SK_ERR_INPUT);
-}
-
 static void test_progress(void) {
   char path[512];
   tmp_path(path, sizeof path, "progress.log");
@@ -463,7 +374,6 @@ int main(void) {
   test_vtu_base64();
   test_vtu_raw();
   test_pvd();
-  test_outdir();
   test_progress();
   int result = sk_test_finish("test_io_output");
   if (result == 0) {

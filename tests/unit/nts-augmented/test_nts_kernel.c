@@ -292,7 +292,8 @@ static void direct_kept_residual(element_case *c, const double *k, double *Rk, n
   memcpy(c->q, k, sizeof(double) * (size_t)nq);
   c->in.q_A = c->q;
   c->in.lambda_n = k[nq];
-  SK_CHECK(nts_direct_eliminate(&c->facet, &c->in, &c->params, 1e-14, 30) == 0);
+  double f_gap[2] = {c->in.f[0], c->in.f[1]};
+  SK_CHECK(nts_direct_eliminate(&c->facet, &c->in, &c->params, 0, f_gap, 1e-14, 30) == 0);
   nts_element_build(&c->facet, &c->in, &c->params, sys);
   memcpy(Rk, sys->R, sizeof(double) * (size_t)(nq + 1));
 }

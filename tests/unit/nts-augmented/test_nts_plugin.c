@@ -1,4 +1,4 @@
-/* nts-augmented plugin through its ABI, with a mock host whose contact services are the core's functions.
+/* nts-augmented plugin through its ABI, with the plugin test kit (a mock host whose contact services are the core's).
  * Scene: the two hex8 blocks of Table I (the upper one shifted by +0.3 in y so that no slave node sits on the
  * master's border), the lower block fixed, every upper node on a spring to an anchor pushed through the master face.
  * A dense "driver" runs Newton per step for each strategy: `none` and `reduced` must give the same iterates,
@@ -8,90 +8,21 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "stickslip/contact.h"
-#include "stickslip/fe.h"
-#include "stickslip/plugin.h"
 #include "nts_test_support.h"
+#include "plugin_kit.h"
 #include "sk_test.h"
 
 const sk_plugin *stickslip_plugin_entry(void);
 
 enum { N_NODES = 16, N_DOFS = 48, N_SLAVE = 4, N_TOTAL = N_DOFS + 5 * N_SLAVE };
+enum { CONDENSED, AUGMENTED, PAPER, DIRECT, DIRECT_ENDPOINT, N_STRATEGIES };
+static const char *const NAME[N_STRATEGIES] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint"};
 static const double SPRING = 10.0;
 
-struct sk_params {
-  int n;
-  const char *keys[8];
-  double values[8];
-};
-
 static double X[N_DOFS];
-static char last_error[512];
 
-static sk_status mock_error(const sk_host *host, sk_status code, const char *fmt, ...) {
-  (void)host;
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(last_error, sizeof last_error, fmt, ap);
-  va_end(ap);
-  return code;
-}
-
-static void mock_log(const sk_host *host, int level, const char *fmt, ...) {
-  (void)host;
-  (void)level;
-  (void)fmt;
-}
-
-static sk_status mock_param_double(const sk_host *host, const sk_params *params, const char *key, int required,
-                                   double dflt, double *out) {
-  for (int i = 0; i < params->n; ++i)
-    if (strcmp(params->keys[i], key) == 0) {
-      *out = params->values[i];
-      return SK_OK;
-    }
-  if (required) return mock_error(host, SK_ERR_INPUT, "missing required parameter %s", key);
-  *out = dflt;
-  return SK_OK;
-}
-
-static sk_status mock_param_int(const sk_host *host, const sk_params *params, const char *key, int required, int dflt,
-                                int *out) {
-  double v = dflt;
-  sk_status st = mock_param_double(host, params, key, required, dflt, &v);
-  *out = (int)v;
-  return st;
-}
-
-static int mock_owns(const sk_host *host, int node) {
-  (void)host;
-  (void)node;
-  return 1;
-}
-
-/* ---- dense sink ---------------------------------------------------------------------------------------------- */
-typedef struct {
-  double F[N_TOTAL], rhs[N_TOTAL], J[N_TOTAL * N_TOTAL];
-} dense_system;
-
-static void sink_vector(sk_sink *sink, int n, const int *rows, const double *values) {
-  dense_system *s = sink->ctx;
-  for (int i = 0; i < n; ++i) s->F[rows[i]] += values[i];
-}
-static void sink_matrix(sk_sink *sink, int nr, const int *rows, int nc, const int *cols, const double *values) {
-  dense_system *s = sink->ctx;
-  for (int i = 0; i < nr; ++i)
-    for (int j = 0; j < nc; ++j) s->J[rows[i] * N_TOTAL + cols[j]] += values[i * nc + j];
-}
-static void sink_rhs(sk_sink *sink, int n, const int *rows, const double *values) {
-  dense_system *s = sink->ctx;
-  for (int i = 0; i < n; ++i) s->rhs[rows[i]] += values[i];
-}
-
-/* ---- scene ----------------------------------------------------------------------------------------------------- */
-static sk_surface master, slave;
-static int master_conn[4] = {4, 5, 6, 7}, master_nodes[4] = {4, 5, 6, 7}, master_nb[4] = {-1, -1, -1, -1};
-static int slave_conn[4] = {8, 11, 10, 9}, slave_nodes[4] = {8, 9, 10, 11}, slave_nb[4] = {-1, -1, -1, -1};
+/* the two faces of the pair (mesh node ids) */
+static const int master_conn[4] = {4, 5, 6, 7}, slave_conn[4] = {8, 11, 10, 9};
 
 static void build_scene(void) {
   static const double lower[8][3] = {{-1, -1, 0}, {1, -1, 0}, {1.2, 1, 0}, {-1.5, 1.5, 0},
@@ -103,58 +34,29 @@ static void build_scene(void) {
       X[3 * I + i] = lower[I][i];
       X[3 * (8 + I) + i] = upper[I][i] + (i == 1 ? 0.3 : 0.0);
     }
-  memset(&master, 0, sizeof master);
-  snprintf(master.name, sizeof master.name, "master");
-  master.dim = 3;
-  master.face_type = SK_QUAD4;
-  master.nen = 4;
-  master.n_faces = 1;
-  master.conn = master_conn;
-  master.n_nodes = 4;
-  master.nodes = master_nodes;
-  master.face_neighbors = master_nb;
-  master.n_edges = 4;
-  master.body = 0;
-  slave = master;
-  snprintf(slave.name, sizeof slave.name, "slave");
-  slave.conn = slave_conn;
-  slave.nodes = slave_nodes;
-  slave.face_neighbors = slave_nb;
-  slave.body = 1;
 }
 
-
-static sk_host make_host(void) {
-  sk_host h;
-  memset(&h, 0, sizeof h);
-  h.abi_version = SK_PLUGIN_ABI_VERSION;
-  h.dim = 3;
-  h.n_nodes = N_NODES;
-  h.n_dofs = N_DOFS;
-  h.X = X;
-  h.n_ranks = 1;
-  h.contact = sk_core_contact_services();
-  h.owns_node = mock_owns;
-  h.param_double = mock_param_double;
-  h.param_int = mock_param_int;
-  h.error = mock_error;
-  h.log = mock_log;
-  return h;
+/* A pair on the kit with the test's parameters. */
+static void make_pair(kit *k, double mu, int with_epsilon_t) {
+  kit_init(k, 3, N_NODES, X);
+  kit_surface(k, 0, SK_QUAD4, 4, 1, slave_conn);
+  kit_surface(k, 1, SK_QUAD4, 4, 1, master_conn);
+  kit_param(k, "mu", mu);
+  if (with_epsilon_t) kit_param(k, "epsilon_t", 100.0);
 }
 
 /* ---- a dense Newton "driver" ---------------------------------------------------------------------------------- */
 typedef struct {
   int strategy;
-  sk_scheme scheme;
+  double alpha;             /* 1: quasi-static, 1/2: midpoint */
   double mu;
-  double x[N_TOTAL];        /* [q | extra] */
+  double q[N_DOFS];         /* positions; the extras are the kit's */
   double q_n[N_DOFS];
-  sk_instance *inst;
-  sk_host host;
-  sk_pair pair;
-  struct sk_params params;
+  kit k;
   double history[64][N_TOTAL];
   int n_history;
+  int loops;                /* outer loops (rejected converged points) of the last step */
+  int largest_system;       /* kept unknowns of the largest linear system of the last step */
   sk_contact_report report;
 } run;
 
@@ -163,27 +65,28 @@ static void anchors(int step, double *a) {
   for (int i = 0; i < N_DOFS; ++i) a[i] = X[i] + (i >= 24 ? shift[step][i % 3] : 0.0);
 }
 
-static void assemble(run *r, const sk_state *state, const double *anchor, dense_system *s, double contact_sum[6]) {
-  memset(s, 0, sizeof *s);
-  sk_sink sink = {s, sink_vector, sink_matrix, sink_rhs};
-  SK_CHECK(r->pair.strategy >= 0);
-  SK_CHECK(stickslip_plugin_entry()->residual(r->inst, state, &sink) == SK_OK);
+typedef struct {
+  double F[N_TOTAL], rhs[N_TOTAL], J[N_TOTAL * N_TOTAL];
+} dense_system;
+
+static void assemble(run *r, const double *anchor, dense_system *s, double contact_sum[6]) {
+  SK_CHECK(kit_residual(&r->k, r->q, s->F) == SK_OK);
   /* the contact forces alone: no net force or moment */
   if (contact_sum) {
     memset(contact_sum, 0, sizeof(double) * 6);
     /* moments about the origin with the positions where the forces act (midpoint: q_{n+1/2}) */
-    const double w = state->scheme == SK_SCHEME_MIDPOINT ? 0.5 : 1.0;
+    const double w = r->alpha;
     for (int I = 0; I < N_NODES; ++I) {
       const double *f = s->F + 3 * I;
       double x[3];
-      for (int i = 0; i < 3; ++i) x[i] = w * state->q[3 * I + i] + (1.0 - w) * state->q_n[3 * I + i];
+      for (int i = 0; i < 3; ++i) x[i] = w * r->q[3 * I + i] + (1.0 - w) * r->q_n[3 * I + i];
       for (int i = 0; i < 3; ++i) contact_sum[i] += f[i];
       contact_sum[3] += x[1] * f[2] - x[2] * f[1];
       contact_sum[4] += x[2] * f[0] - x[0] * f[2];
       contact_sum[5] += x[0] * f[1] - x[1] * f[0];
     }
   }
-  SK_CHECK(stickslip_plugin_entry()->jacobian(r->inst, state, &sink) == SK_OK);
+  SK_CHECK(kit_jacobian(&r->k, r->q, s->J, s->rhs) == SK_OK);
   for (int i = 0; i < N_DOFS; ++i) {
     if (i < 24) { /* the lower block is fixed */
       for (int j = 0; j < N_TOTAL; ++j) s->J[i * N_TOTAL + j] = 0.0;
@@ -192,81 +95,83 @@ static void assemble(run *r, const sk_state *state, const double *anchor, dense_
       s->rhs[i] = 0.0;
       continue;
     }
-    s->F[i] += SPRING * (state->q[i] - anchor[i]);
+    s->F[i] += SPRING * (r->q[i] - anchor[i]);
     s->J[i * N_TOTAL + i] += SPRING;
   }
 }
 
 static int newton_step(run *r, int step, double *residual_norm, double *momentum_error) {
-  const sk_plugin *pl = stickslip_plugin_entry();
   double anchor[N_DOFS];
   anchors(step, anchor);
-  sk_state state = {r->scheme, 0.0, 1.0, 1.0, step, r->q_n, r->x, NULL, r->x + N_DOFS, N_DOFS};
   *momentum_error = 0.0;
-  for (int it = 0; it < 40; ++it) {
+  r->loops = 0;
+  r->largest_system = 0;
+  int iterations = 0;
+  for (int it = 0; it < 60; ++it) {
     static dense_system s;
     double sums[6];
-    assemble(r, &state, anchor, &s, sums);
+    assemble(r, anchor, &s, sums);
     *momentum_error = fmax(*momentum_error, max_abs(sums, 6));
     *residual_norm = max_abs(s.F, N_TOTAL);
-    if (*residual_norm < 1e-11) return it;
+    if (*residual_norm < 1e-11) {
+      /* the host's outer loop: the plugin may reject the converged point and lay out its unknowns again */
+      int accept = 1;
+      SK_CHECK(kit_converged(&r->k, r->q, &accept) == SK_OK);
+      if (accept) return iterations;
+      ++r->loops;
+      SK_CHECK(kit_layout_again(&r->k) == SK_OK);
+      continue;
+    }
+    const unsigned char *elim = r->k.layout.eliminated;
     double dx[N_TOTAL];
-    const unsigned char *elim = NULL;
-    sk_layout lay;
-    pl->layout(r->inst, &state, &lay);
-    elim = lay.eliminated;
+    int kept = 0;
     for (int i = 0; i < N_TOTAL; ++i) {
       const int e = i >= N_DOFS && elim && elim[i - N_DOFS];
+      kept += !e;
       dx[i] = e ? 0.0 : -s.F[i] + s.rhs[i];
       if (e) { /* eliminated unknowns: the plugin never touched their rows and columns */
         for (int j = 0; j < N_TOTAL; ++j) SK_CHECK(s.J[i * N_TOTAL + j] == 0.0 && s.J[j * N_TOTAL + i] == 0.0);
         s.J[i * N_TOTAL + i] = 1.0;
       }
     }
+    if (kept > r->largest_system) r->largest_system = kept;
     if (nts_solve_dense(N_TOTAL, s.J, dx, 1) != 0) {
       SK_CHECK(!"singular global system");
       return -1;
     }
-    if (elim) SK_CHECK(pl->recover(r->inst, &state, s.F, dx) == SK_OK);
-    for (int i = 0; i < N_TOTAL; ++i) r->x[i] += dx[i];
-    if (r->n_history < 64) memcpy(r->history[r->n_history++], r->x, sizeof r->x);
+    if (elim) SK_CHECK(kit_recover(&r->k, r->q, s.F, dx) == SK_OK);
+    for (int i = 0; i < N_DOFS; ++i) r->q[i] += dx[i];
+    for (int i = N_DOFS; i < N_TOTAL; ++i) r->k.extra[i - N_DOFS] += dx[i];
+    ++iterations;
+    if (r->n_history < 64) {
+      memcpy(r->history[r->n_history], r->q, sizeof r->q);
+      memcpy(r->history[r->n_history] + N_DOFS, r->k.extra, sizeof(double) * 5 * N_SLAVE);
+      r->n_history++;
+    }
     int changed = 0;
-    SK_CHECK(pl->after_iteration(r->inst, &state, &changed) == SK_OK);
+    SK_CHECK(kit_update_active_set(&r->k, r->q, &changed) == SK_OK);
   }
   return -1;
 }
 
-static void run_init(run *r, int strategy, sk_scheme scheme, double mu) {
+static void run_init(run *r, int strategy, double mu) {
   memset(r, 0, sizeof *r);
   r->strategy = strategy;
-  r->scheme = scheme;
+  r->alpha = 1.0;
   r->mu = mu;
-  r->host = make_host();
-  r->params.n = 2;
-  r->params.keys[0] = "mu";
-  r->params.values[0] = mu;
-  r->params.keys[1] = "epsilon_t";
-  r->params.values[1] = 100.0;
-  r->pair.name = "pair 0";
-  r->pair.slave = &slave;
-  r->pair.master = &master;
-  r->pair.params = &r->params;
-  r->pair.strategy = strategy;
-  memcpy(r->x, X, sizeof X);
+  memcpy(r->q, X, sizeof X);
   memcpy(r->q_n, X, sizeof X);
-  SK_CHECK(stickslip_plugin_entry()->create(&r->host, &r->pair, &r->inst) == SK_OK);
+  make_pair(&r->k, mu, 1);
+  SK_CHECK(kit_create(&r->k, stickslip_plugin_entry(), strategy) == SK_OK);
 }
 
 /* One step: begin, layout, Newton, report, commit. Returns the Newton iterations. */
 static int run_step(run *r, int step) {
-  const sk_plugin *pl = stickslip_plugin_entry();
-  sk_state state = {r->scheme, 0.0, 1.0, 1.0, step, r->q_n, r->x, NULL, NULL, N_DOFS};
-  SK_CHECK(pl->begin_step(r->inst, &state) == SK_OK);
-  sk_layout lay;
-  SK_CHECK(pl->layout(r->inst, &state, &lay) == SK_OK);
-  SK_CHECK(lay.n_extra == 5 * N_SLAVE);
-  SK_CHECK((lay.eliminated == NULL) == (r->strategy == 1));
-  memcpy(r->x + N_DOFS, lay.initial, sizeof(double) * 5 * N_SLAVE);
+  kit_integrator(&r->k, r->alpha, r->alpha != 1.0);
+  kit_state(&r->k, r->q_n, r->q, 0.0, 1.0, NULL);
+  r->k.state.step = step;
+  SK_CHECK(kit_begin(&r->k) == SK_OK);
+  SK_CHECK(r->k.layout.n_extra == 5 * N_SLAVE && r->k.layout.eliminated != NULL);
   r->n_history = 0;
   double norm, momentum;
   const int its = newton_step(r, step, &norm, &momentum);
@@ -274,10 +179,9 @@ static int run_step(run *r, int step) {
   if (!(momentum < 1e-12)) fprintf(stderr, "net contact force/moment %.3e (strategy %d, step %d)\n", momentum,
                                    r->strategy, step);
   SK_CHECK(momentum < 1e-12);
-  state.extra = r->x + N_DOFS;
-  SK_CHECK(pl->report(r->inst, &state, &r->report) == SK_OK);
-  SK_CHECK(pl->commit_step(r->inst, &state) == SK_OK);
-  memcpy(r->q_n, r->x, sizeof r->q_n);
+  SK_CHECK(kit_report(&r->k, &r->report) == SK_OK);
+  SK_CHECK(kit_commit(&r->k) == SK_OK);
+  memcpy(r->q_n, r->q, sizeof r->q_n);
   return its;
 }
 
@@ -310,70 +214,99 @@ static void point_cb(void *ctx, const sk_contact_point *p) {
   }
 }
 
+static double solution_difference(const run *a, const run *b) {
+  double d = 0.0;
+  for (int i = 0; i < N_DOFS; ++i) d = fmax(d, fabs(a->q[i] - b->q[i]));
+  for (int k = 0; k < N_SLAVE; ++k) d = fmax(d, fabs(a->k.extra[5 * k] - b->k.extra[5 * k]) / 10.0);
+  return d;
+}
+
+static double iterate_difference(const run *a, const run *b) {
+  if (a->n_history != b->n_history) return HUGE_VAL;
+  double d = 0.0;
+  for (int k = 0; k < a->n_history; ++k)
+    for (int i = 0; i < N_TOTAL; ++i) d = fmax(d, fabs(a->history[k][i] - b->history[k][i]));
+  return d;
+}
+
 int main(void) {
   build_scene();
   const sk_plugin *pl = stickslip_plugin_entry();
-  SK_CHECK(pl->abi_version == SK_PLUGIN_ABI_VERSION);
-  SK_CHECK(strcmp(pl->strategies[0], "reduced") == 0 && strcmp(pl->strategies[1], "none") == 0 &&
-           strcmp(pl->strategies[2], "direct") == 0 && pl->strategies[3] == NULL);
+  SK_CHECK(pl->abi_major == SK_ABI_MAJOR);
+  for (int i = 0; i < N_STRATEGIES; ++i) SK_CHECK(strcmp(pl->strategies[i], NAME[i]) == 0);
 
   /* epsilon_t is required with friction */
   {
-    sk_host h = make_host();
-    struct sk_params params = {1, {"mu"}, {0.3}};
-    sk_pair pair = {"pair 0", &slave, &master, NULL, &params, 0};
-    sk_instance *inst = NULL;
-    SK_CHECK(pl->create(&h, &pair, &inst) == SK_ERR_INPUT && inst == NULL);
-    SK_CHECK(strstr(last_error, "epsilon_t") != NULL);
+    kit k;
+    make_pair(&k, 0.3, 0);
+    SK_CHECK(kit_create(&k, pl, 0) == SK_ERR_INPUT && k.instance == NULL);
+    SK_CHECK(strstr(sk_error_message(), "epsilon_t") != NULL);
+    kit_free(&k);
+  }
+  /* the deprecated names are the same strategies: `reduced` keeps lambda_n of every node like `condensed`, `none`
+   * nothing while no node is in contact, like `augmented` */
+  for (int alias = 5; alias <= 6; ++alias) {
+    kit k;
+    make_pair(&k, 0.3, 1);
+    SK_CHECK(strcmp(pl->strategies[alias], alias == 5 ? "reduced" : "none") == 0);
+    SK_CHECK(kit_create(&k, pl, alias) == SK_OK);
+    kit_state(&k, X, X, 0.0, 1.0, NULL);
+    SK_CHECK(kit_begin(&k) == SK_OK);
+    for (int j = 0; j < 5 * N_SLAVE; ++j) SK_CHECK(k.layout.eliminated[j] == (alias == 6 || j % 5 != 0));
+    kit_free(&k);
   }
 
-  static run none, reduced, direct;
-  run_init(&none, 1, SK_SCHEME_QUASISTATIC, 0.5);
-  run_init(&reduced, 0, SK_SCHEME_QUASISTATIC, 0.5);
-  run_init(&direct, 2, SK_SCHEME_QUASISTATIC, 0.5);
+  static run runs[N_STRATEGIES];
+  for (int s = 0; s < N_STRATEGIES; ++s) run_init(&runs[s], s, 0.5);
+  run *const cond = &runs[CONDENSED];
   for (int step = 0; step < 3; ++step) {
-    const sk_scheme scheme = step == 2 ? SK_SCHEME_MIDPOINT : SK_SCHEME_QUASISTATIC;
-    none.scheme = reduced.scheme = direct.scheme = scheme;
-    const int it_none = run_step(&none, step), it_red = run_step(&reduced, step), it_dir = run_step(&direct, step);
-    /* none and reduced: the same iterates */
-    double diff = 0.0;
-    SK_CHECK(none.n_history == reduced.n_history);
-    for (int k = 0; k < none.n_history && k < reduced.n_history; ++k)
-      for (int i = 0; i < N_TOTAL; ++i)
-        diff = fmax(diff, fabs(none.history[k][i] - reduced.history[k][i]));
-    double diff_direct = 0.0;
-    for (int i = 0; i < N_DOFS + 1; ++i) diff_direct = fmax(diff_direct, fabs(none.x[i] - direct.x[i]));
-    for (int k = 0; k < N_SLAVE; ++k) diff_direct = fmax(diff_direct, fabs(none.x[N_DOFS + 5 * k] - direct.x[N_DOFS + 5 * k]));
-    printf("step %d (%s): iterations none %d, reduced %d, direct %d; |iterates none - reduced| = %.1e, "
-           "|solution none - direct| = %.1e\n",
-           step, scheme == SK_SCHEME_MIDPOINT ? "midpoint" : "quasi-static", it_none, it_red, it_dir, diff,
-           diff_direct);
-    printf("  report: force (%.6f, %.6f, %.6f), active %d, stick %d, slip %d, dissipated %.3e, max|Phi| %.1e\n",
-           none.report.force[0], none.report.force[1], none.report.force[2], none.report.active, none.report.stick,
-           none.report.slip, none.report.dissipated, none.report.constraint_norm);
-    SK_CHECK(diff < 1e-10);
-    SK_CHECK(diff_direct < 1e-9);
-    SK_CHECK(none.report.active == N_SLAVE && reduced.report.active == N_SLAVE && direct.report.active == N_SLAVE);
-    SK_CHECK(none.report.constraint_norm < 1e-10);
-    /* equilibrium: the contact force on the slave balances the springs of the upper block */
-    double anchor[N_DOFS], spring[3] = {0, 0, 0};
-    anchors(step, anchor);
-    for (int i = 24; i < N_DOFS; ++i) spring[i % 3] += SPRING * (none.x[i] - anchor[i]);
-    for (int i = 0; i < 3; ++i) SK_CHECK_CLOSE(none.report.force[i], spring[i], 1e-9);
-    /* step 0 sticks (tiny shift), step 1 slips (shift beyond mu |lambda_n|) */
-    if (step == 0) SK_CHECK(none.report.stick == N_SLAVE);
-    if (step == 1) {
-      SK_CHECK(none.report.slip == N_SLAVE);
-      SK_CHECK(none.report.dissipated > 0.0);
+    const int midpoint = step == 2;
+    int its[N_STRATEGIES];
+    for (int s = 0; s < N_STRATEGIES; ++s) {
+      runs[s].alpha = midpoint ? 0.5 : 1.0;
+      its[s] = run_step(&runs[s], step);
     }
-    point_summary ps = {0, 0, 0, 0, 1e300, 0.5, scheme == SK_SCHEME_MIDPOINT};
-    SK_CHECK(pl->points(none.inst, &(sk_state){scheme, 0, 1, 1, step, none.q_n, none.x, NULL, none.x + N_DOFS, N_DOFS},
-                        point_cb, &ps) == SK_OK);
-    SK_CHECK(ps.count == N_SLAVE && ps.active == N_SLAVE && ps.min_pressure > 0.0);
-    SK_CHECK(ps.slip == none.report.slip && ps.stick == none.report.stick);
+    printf("step %d (%s): Newton iterations", step, midpoint ? "midpoint" : "quasi-static");
+    for (int s = 0; s < N_STRATEGIES; ++s) printf(" %s %d%s", NAME[s], its[s], runs[s].loops ? "*" : "");
+    printf(" (* outer loops: augmented %d); largest system: condensed %d, augmented %d unknowns\n",
+           runs[AUGMENTED].loops, cond->largest_system, runs[AUGMENTED].largest_system);
+    const double d_aug = solution_difference(cond, &runs[AUGMENTED]);
+    const double it_aug = iterate_difference(cond, &runs[AUGMENTED]);
+    const double d_paper = solution_difference(cond, &runs[PAPER]);
+    const double d_direct = solution_difference(cond, &runs[DIRECT]);
+    const double d_end = solution_difference(cond, &runs[DIRECT_ENDPOINT]);
+    printf("  |solution - condensed|: augmented %.1e (iterates %.1e), paper-reduced %.1e, direct %.1e, "
+           "direct-endpoint %.1e\n", d_aug, it_aug, d_paper, d_direct, d_end);
+    printf("  report: force (%.6f, %.6f, %.6f), active %lld, stick %lld, slip %lld, dissipated %.3e, max|Phi| %.1e\n",
+           cond->report.force[0], cond->report.force[1], cond->report.force[2], (long long)cond->report.active,
+           (long long)cond->report.stick, (long long)cond->report.slip, cond->report.dissipated,
+           cond->report.constraint_norm);
+    /* the system sizes: n + n_s (condensed), n + 5 n_c (augmented, all four nodes active) */
+    SK_CHECK(cond->largest_system == N_DOFS + N_SLAVE);
+    SK_CHECK(runs[AUGMENTED].largest_system == N_DOFS + 5 * N_SLAVE);
+    /* a new contact is taken in by an outer loop under augmented only; a persisting one needs none */
+    SK_CHECK(runs[AUGMENTED].loops == (step == 0 ? 1 : 0) && cond->loops == 0);
+    if (step > 0) SK_CHECK(it_aug < 1e-12);
+    /* the master facet is planar and fixed here: h_f(y_hat) = 0 and the term (78) drops from (53) vanishes */
+    SK_CHECK(d_aug < 1e-11 && d_end < 1e-11 && d_paper < 1e-11);
+    SK_CHECK(midpoint ? d_direct > 1e-6 : d_direct < 1e-11);
+    for (int s = 0; s < N_STRATEGIES; ++s) {
+      run *r = &runs[s];
+      SK_CHECK(r->report.active == N_SLAVE && r->report.constraint_norm < 1e-10);
+      /* equilibrium: the contact force on the slave balances the springs of the upper block */
+      double anchor[N_DOFS], spring[3] = {0, 0, 0};
+      anchors(step, anchor);
+      for (int i = 24; i < N_DOFS; ++i) spring[i % 3] += SPRING * (r->q[i] - anchor[i]);
+      for (int i = 0; i < 3; ++i) SK_CHECK_CLOSE(r->report.force[i], spring[i], 1e-9);
+      /* step 0 sticks (tiny shift), step 1 slips (shift beyond mu |lambda_n|) */
+      if (step == 0) SK_CHECK(r->report.stick == N_SLAVE);
+      if (step == 1) SK_CHECK(r->report.slip == N_SLAVE && r->report.dissipated > 0.0);
+      point_summary ps = {0, 0, 0, 0, 1e300, 0.5, midpoint};
+      SK_CHECK(pl->points(r->k.instance, &r->k.state, point_cb, &ps) == SK_OK);
+      SK_CHECK(ps.count == N_SLAVE && ps.active == N_SLAVE && ps.min_pressure > 0.0);
+      SK_CHECK(ps.slip == r->report.slip && ps.stick == r->report.stick);
+    }
   }
-  pl->destroy(none.inst);
-  pl->destroy(reduced.inst);
-  pl->destroy(direct.inst);
+  for (int s = 0; s < N_STRATEGIES; ++s) kit_free(&runs[s].k);
   return sk_test_finish("test_nts_plugin");
 }

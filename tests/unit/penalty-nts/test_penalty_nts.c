@@ -1,137 +1,35 @@
-/* Unit tests of the penalty-nts plugin through its ABI table, with a mock host whose contact services are the
- * core's functions. Checks: residual = gradient of the penalty energy and Jacobian = derivative of the residual
- * (central differences) for LINE2/LINE3, QUAD4 (warped, a point near an edge), QUAD9 (curved) masters and for
- * plane/sphere/parabolic-cylinder/circle obstacles; friction stick and slip tangents with committed history; force
- * and moment balance; frame indifference; the return map; parameter errors; tributary areas. */
+/* Unit tests of the penalty-nts plugin through its ABI table, with the shared plugin test kit (tests/support): a
+ * mock host whose contact services are the core's. Checks: residual = gradient of the penalty energy and Jacobian =
+ * derivative of the residual (central differences of the assembled operator, inside the declared pattern) for
+ * LINE2/LINE3, QUAD4 (warped, a point near an edge), QUAD9 (curved) masters and for plane/sphere/parabolic-cylinder/
+ * circle obstacles; friction stick and slip tangents with committed history; force and moment balance; frame
+ * indifference; the return map; parameter errors; tributary areas. */
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "plugin_kit.h"
 #include "sk_test.h"
 #include "stickslip/contact.h"
 #include "stickslip/fe.h"
-#include "stickslip/plugin.h"
 
 const sk_plugin *stickslip_plugin_entry(void);
 
-enum { MAX_NODES = 32, MAX_DOFS = 3 * MAX_NODES, MAX_CONN = 64, MAX_PARAMS = 8 };
+enum { MAX_NODES = 32, MAX_DOFS = 3 * MAX_NODES };
 
-/* ---- mock host ---------------------------------------------------------------------------------------------------- */
-struct sk_params {
-  int n;
-  const char *key[MAX_PARAMS];
-  double value[MAX_PARAMS];
-};
-
-static int mock_owns_node(const sk_host *host, int node) { return 1; }
-
-static int find_param(const sk_params *params, const char *key) {
-  for (int i = 0; i < params->n; ++i)
-    if (strcmp(params->key[i], key) == 0) return i;
-  return -1;
-}
-
-static sk_status mock_param_double(const sk_host *host, const sk_params *params, const char *key, int required,
-                                   double dflt, double *out) {
-  int i = find_param(params, key);
-  if (i < 0) {
-    if (required) return sk_error_set(SK_ERR_INPUT, "test scene: missing key '%s'", key);
-    *out = dflt;
-    return SK_OK;
-  }
-  *out = params->value[i];
-  return SK_OK;
-}
-
-static sk_status mock_param_int(const sk_host *host, const sk_params *params, const char *key, int required,
-                                int dflt, int *out) {
-  double v = 0.0;
-  SK_TRY(mock_param_double(host, params, key, required, dflt, &v));
-  *out = (int)v;
-  return SK_OK;
-}
-
-static sk_status mock_param_string(const sk_host *host, const sk_params *params, const char *key, int required,
-                                   const char *dflt, const char **out) {
-  if (required) return sk_error_set(SK_ERR_INPUT, "test scene: missing key '%s'", key);
-  *out = dflt;
-  return SK_OK;
-}
-
-__attribute__((format(printf, 3, 4))) static sk_status mock_error(const sk_host *host, sk_status code,
-                                                                  const char *fmt, ...) {
-  char message[1024];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(message, sizeof message, fmt, ap);
-  va_end(ap);
-  return sk_error_set(code, "%s", message);
-}
-
-__attribute__((format(printf, 3, 4))) static void mock_log(const sk_host *host, int level, const char *fmt, ...) {}
-
-static const void *mock_extension(const sk_host *host, const char *id) { return NULL; }
-
-
-/* ---- scenes ----------------------------------------------------------------------------------------------------- */
+/* ---- scenes on the kit ------------------------------------------------------------------------------------------ */
 typedef struct {
+  kit k;
   int dim, n_nodes, n_dofs;
   double X[MAX_DOFS];
-  int slave_conn[MAX_CONN], slave_nodes[MAX_NODES], slave_nb[MAX_CONN];
-  int master_conn[MAX_CONN], master_nodes[MAX_NODES], master_nb[MAX_CONN];
-  sk_surface slave, master;
-  sk_obstacle obstacle;
-  sk_params params;
-  sk_host host;
-  sk_pair pair;
   const sk_plugin *plugin;
-  sk_instance *inst;
 } scene;
 
-static int corners_of(sk_elem_type type) {
-  return type == SK_LINE2 || type == SK_LINE3 ? 2 : type == SK_TRI3 ? 3 : 4;
-}
-
-static int cmp_int(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
-
-/* Fills a surface from a connectivity: sorted node list and face neighbours through shared corners. */
-static void make_surface(sk_surface *s, int dim, sk_elem_type type, int nen, int n_faces, const int *conn,
-                         int *conn_store, int *nodes_store, int *nb_store) {
-  memset(s, 0, sizeof *s);
-  strcpy(s->name, "surface");
-  s->dim = dim;
-  s->face_type = type;
-  s->nen = nen;
-  s->n_faces = n_faces;
-  memcpy(conn_store, conn, (size_t)(n_faces * nen) * sizeof(int));
-  s->conn = conn_store;
-  int n = 0;
-  for (int i = 0; i < n_faces * nen; ++i) {
-    int seen = 0;
-    for (int j = 0; j < n; ++j) seen |= nodes_store[j] == conn[i];
-    if (!seen) nodes_store[n++] = conn[i];
-  }
-  qsort(nodes_store, (size_t)n, sizeof(int), cmp_int);
-  s->n_nodes = n;
-  s->nodes = nodes_store;
-  int nc = corners_of(type);
-  s->n_edges = nc;
-  for (int f = 0; f < n_faces; ++f)
-    for (int e = 0; e < nc; ++e) {
-      nb_store[f * nc + e] = -1;
-      int a = conn[f * nen + e], b = conn[f * nen + (e + 1) % nc];
-      for (int g = 0; g < n_faces; ++g) {
-        if (g == f) continue;
-        int has_a = 0, has_b = 0;
-        for (int c = 0; c < nc; ++c) {
-          has_a |= conn[g * nen + c] == a;
-          has_b |= conn[g * nen + c] == b;
-        }
-        if (dim == 2 ? has_a : (has_a && has_b)) nb_store[f * nc + e] = g;
-      }
-    }
-  s->face_neighbors = nb_store;
-}
+/* One step's positions and times as the tests pass them around. */
+typedef struct {
+  const double *q_n, *q;
+  double t_n, t;
+} test_step;
 
 static void scene_init(scene *s, int dim, int n_nodes, const double *X) {
   memset(s, 0, sizeof *s);
@@ -139,125 +37,75 @@ static void scene_init(scene *s, int dim, int n_nodes, const double *X) {
   s->n_nodes = n_nodes;
   s->n_dofs = n_nodes * dim;
   memcpy(s->X, X, (size_t)s->n_dofs * sizeof(double));
-  s->host.abi_version = SK_PLUGIN_ABI_VERSION;
-  s->host.dim = dim;
-  s->host.n_nodes = n_nodes;
-  s->host.n_dofs = s->n_dofs;
-  s->host.X = s->X;
-  s->host.n_ranks = 1;
-  s->host.contact = sk_core_contact_services();
-  s->host.owns_node = mock_owns_node;
-  s->host.param_double = mock_param_double;
-  s->host.param_int = mock_param_int;
-  s->host.param_string = mock_param_string;
-  s->host.error = mock_error;
-  s->host.log = mock_log;
-  s->host.get_extension = mock_extension;
-  s->pair.name = "test pair";
-  s->pair.slave = &s->slave;
-  s->pair.params = &s->params;
+  kit_init(&s->k, dim, n_nodes, X);
   s->plugin = stickslip_plugin_entry();
 }
 
-static void scene_param(scene *s, const char *key, double value) {
-  s->params.key[s->params.n] = key;
-  s->params.value[s->params.n++] = value;
-}
+static void scene_param(scene *s, const char *key, double value) { kit_param(&s->k, key, value); }
 
 static void scene_slave(scene *s, sk_elem_type type, int nen, int n_faces, const int *conn) {
-  make_surface(&s->slave, s->dim, type, nen, n_faces, conn, s->slave_conn, s->slave_nodes, s->slave_nb);
+  kit_surface(&s->k, 0, type, nen, n_faces, conn);
 }
 
 static void scene_master(scene *s, sk_elem_type type, int nen, int n_faces, const int *conn) {
-  make_surface(&s->master, s->dim, type, nen, n_faces, conn, s->master_conn, s->master_nodes, s->master_nb);
-  s->pair.master = &s->master;
+  kit_surface(&s->k, 1, type, nen, n_faces, conn);
 }
 
-static void scene_obstacle(scene *s, const sk_obstacle *ob) {
-  s->obstacle = *ob;
-  s->pair.obstacle = &s->obstacle;
-}
+static void scene_obstacle(scene *s, const sk_obstacle *ob) { kit_obstacle(&s->k, ob); }
 
-static sk_status scene_create(scene *s) { return s->plugin->create(&s->host, &s->pair, &s->inst); }
+static sk_status scene_create(scene *s) { return kit_create(&s->k, s->plugin, 0); }
 
-static void scene_destroy(scene *s) {
-  if (s->inst) s->plugin->destroy(s->inst);
-  s->inst = NULL;
-}
+static void scene_destroy(scene *s) { kit_free(&s->k); }
 
-static sk_state make_state(const scene *s, const double *q_n, const double *q, double t_n, double t) {
-  sk_state st;
-  memset(&st, 0, sizeof st);
-  st.scheme = SK_SCHEME_QUASISTATIC;
-  st.t_n = t_n;
-  st.t = t;
-  st.dt = t - t_n;
-  st.q_n = q_n;
-  st.q = q;
-  st.extra_offset = s->n_dofs;
+static test_step make_state(const scene *s, const double *q_n, const double *q, double t_n, double t) {
+  (void)s;
+  test_step st = {q_n, q, t_n, t};
   return st;
 }
 
-/* ---- dense sinks and evaluations ---------------------------------------------------------------------------------- */
-typedef struct {
-  int n;
-  double *F, *K;
-} dense;
-
-static void dense_add_vector(sk_sink *sink, int n, const int *rows, const double *values) {
-  dense *d = sink->ctx;
-  for (int i = 0; i < n; ++i) d->F[rows[i]] += values[i];
+static void use_step(scene *s, const test_step *st, const double *q) {
+  kit_state(&s->k, st->q_n, q ? q : st->q, st->t_n, st->t, NULL);
 }
 
-static void dense_add_matrix(sk_sink *sink, int nr, const int *rows, int nc, const int *cols, const double *values) {
-  dense *d = sink->ctx;
-  for (int i = 0; i < nr; ++i)
-    for (int j = 0; j < nc; ++j) d->K[rows[i] * d->n + cols[j]] += values[i * nc + j];
+static sk_status scene_begin(scene *s, const test_step *st) {
+  use_step(s, st, NULL);
+  return kit_begin(&s->k);
 }
 
-static void residual_at(scene *s, const sk_state *step, const double *q, double *F) {
-  dense d = {s->n_dofs, F, NULL};
-  sk_sink sink = {&d, dense_add_vector, dense_add_matrix, NULL};
-  memset(F, 0, (size_t)s->n_dofs * sizeof(double));
-  sk_state st = *step;
-  st.q = q;
-  SK_CHECK(s->plugin->residual(s->inst, &st, &sink) == SK_OK);
+static sk_status scene_report(scene *s, const test_step *st, sk_contact_report *r) {
+  use_step(s, st, NULL);
+  return kit_report(&s->k, r);
 }
 
-static void jacobian_at(scene *s, const sk_state *step, const double *q, double *K) {
-  dense d = {s->n_dofs, NULL, K};
-  sk_sink sink = {&d, dense_add_vector, dense_add_matrix, NULL};
-  memset(K, 0, (size_t)(s->n_dofs * s->n_dofs) * sizeof(double));
-  sk_state st = *step;
-  st.q = q;
-  SK_CHECK(s->plugin->jacobian(s->inst, &st, &sink) == SK_OK);
+static sk_status scene_update(scene *s, const test_step *st, int *changed) {
+  use_step(s, st, NULL);
+  return kit_update_active_set(&s->k, st->q, changed);
 }
 
-typedef struct {
-  int n;
-  sk_contact_point p[MAX_NODES];
-} point_list;
+static void scene_reject(scene *s) { s->plugin->reject_step(s->k.instance); }
 
-static void collect_point(void *ctx, const sk_contact_point *point) {
-  point_list *list = ctx;
-  if (list->n < MAX_NODES) list->p[list->n++] = *point;
+/* ---- evaluations ------------------------------------------------------------------------------------------------ */
+static void residual_at(scene *s, const test_step *step, const double *q, double *F) {
+  use_step(s, step, q);
+  SK_CHECK(kit_residual(&s->k, q, F) == SK_OK);
 }
 
-static void points_at(scene *s, const sk_state *step, const double *q, point_list *list) {
-  list->n = 0;
-  sk_state st = *step;
-  st.q = q;
-  SK_CHECK(s->plugin->points(s->inst, &st, collect_point, list) == SK_OK);
+static void jacobian_at(scene *s, const test_step *step, const double *q, double *K) {
+  use_step(s, step, q);
+  SK_CHECK(kit_jacobian(&s->k, q, K, NULL) == SK_OK);
 }
 
-static const sk_contact_point *point_of(const point_list *list, int node) {
-  for (int i = 0; i < list->n; ++i)
-    if (list->p[i].slave_node == node) return &list->p[i];
-  return NULL;
+typedef kit_points point_list;
+
+static void points_at(scene *s, const test_step *step, const double *q, point_list *list) {
+  use_step(s, step, q);
+  SK_CHECK(kit_points_at(&s->k, list) == SK_OK);
 }
+
+static const sk_contact_point *point_of(const point_list *list, int node) { return kit_point_of(list, node); }
 
 /* Penalty energy sum eps/2 <-g>^2 (scenes that use this set area_weighted = 0). */
-static double energy_at(scene *s, const sk_state *step, const double *q, double eps) {
+static double energy_at(scene *s, const test_step *step, const double *q, double eps) {
   point_list list;
   points_at(s, step, q, &list);
   double W = 0.0;
@@ -275,7 +123,7 @@ static double max_abs(const double *v, int n) {
 static const double fd_step = 1e-6;
 
 /* Residual against central differences of the energy; the relative error must be below tol. */
-static void check_residual_is_energy_gradient(scene *s, const sk_state *st, double eps, const char *label) {
+static void check_residual_is_energy_gradient(scene *s, const test_step *st, double eps, const char *label) {
   double F[MAX_DOFS], q[MAX_DOFS], err = 0.0;
   residual_at(s, st, st->q, F);
   double scale = max_abs(F, s->n_dofs);
@@ -292,24 +140,16 @@ static void check_residual_is_energy_gradient(scene *s, const sk_state *st, doub
   SK_CHECK(err <= 1e-6 * scale);
 }
 
-/* Jacobian against central differences of the residual. */
-static void check_jacobian_is_residual_derivative(scene *s, const sk_state *st, const char *label) {
-  int n = s->n_dofs;
-  static double K[MAX_DOFS * MAX_DOFS];
-  double Fp[MAX_DOFS], Fm[MAX_DOFS], q[MAX_DOFS], err = 0.0;
-  jacobian_at(s, st, st->q, K);
-  double scale = max_abs(K, n * n);
-  for (int j = 0; j < n; ++j) {
-    memcpy(q, st->q, (size_t)n * sizeof(double));
-    q[j] += fd_step;
-    residual_at(s, st, q, Fp);
-    q[j] -= 2.0 * fd_step;
-    residual_at(s, st, q, Fm);
-    for (int i = 0; i < n; ++i) err = fmax(err, fabs((Fp[i] - Fm[i]) / (2.0 * fd_step) - K[i * n + j]));
-  }
+/* The assembled Jacobian against central differences of the assembled residual (the kit's checker), inside the
+ * pattern the plugin declared. */
+static void check_jacobian_is_residual_derivative(scene *s, const test_step *st, const char *label) {
+  use_step(s, st, NULL);
+  double scale = 0.0;
+  const double err = kit_fd_check(&s->k, st->q, fd_step, &scale);
   printf("%-40s jacobian vs FD: |K| %.3e, max error %.3e\n", label, scale, err);
   SK_CHECK(scale > 0.0);
   SK_CHECK(err <= 1e-6 * scale);
+  SK_CHECK(s->k.outside_pattern == 0);
 }
 
 /* Sum of the residual's nodal forces and of their moments about the origin. */
@@ -331,9 +171,9 @@ static void force_and_moment_sums(const scene *s, const double *q, const double 
 
 /* Runs one step from q_n to q and commits it. */
 static void run_step(scene *s, const double *q_n, const double *q, double t_n, double t) {
-  sk_state st = make_state(s, q_n, q, t_n, t);
-  SK_CHECK(s->plugin->begin_step(s->inst, &st) == SK_OK);
-  SK_CHECK(s->plugin->commit_step(s->inst, &st) == SK_OK);
+  test_step st = make_state(s, q_n, q, t_n, t);
+  SK_CHECK(scene_begin(s, &st) == SK_OK);
+  SK_CHECK(kit_commit(&s->k) == SK_OK);
 }
 
 static int count_state(const point_list *list, int state) {
@@ -355,8 +195,8 @@ static void test_line2_frictionless(void) {
   scene_param(&s, "penalty", 1e3);
   scene_param(&s, "area_weighted", 0);
   SK_CHECK(scene_create(&s) == SK_OK);
-  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   point_list list;
   points_at(&s, &st, s.X, &list);
   SK_CHECK(list.n == 2 && count_state(&list, 0) == 0);
@@ -372,7 +212,7 @@ static void test_line2_frictionless(void) {
 
   /* The report: force on the slave = -(slave rows of F), penetration = max(-g). */
   sk_contact_report r;
-  SK_CHECK(s.plugin->report(s.inst, &st, &r) == SK_OK);
+  SK_CHECK(scene_report(&s, &st, &r) == SK_OK);
   SK_CHECK(r.active == 2);
   SK_CHECK_CLOSE(r.force[0], -(F[4] + F[6]), 1e-12);
   SK_CHECK_CLOSE(r.force[1], -(F[5] + F[7]), 1e-12);
@@ -391,8 +231,8 @@ static void test_line3_frictionless(void) {
   scene_param(&s, "penalty", 500.0);
   scene_param(&s, "area_weighted", 0);
   SK_CHECK(scene_create(&s) == SK_OK);
-  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   point_list list;
   points_at(&s, &st, s.X, &list);
   SK_CHECK(count_state(&list, 1) == 2); /* nodes 3 and 4 penetrate, node 5 is above */
@@ -413,8 +253,8 @@ static void test_quad4_frictionless(void) {
   scene_param(&s, "penalty", 1e3);
   scene_param(&s, "area_weighted", 0);
   SK_CHECK(scene_create(&s) == SK_OK);
-  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   point_list list;
   points_at(&s, &st, s.X, &list);
   SK_CHECK(count_state(&list, 1) == 3);
@@ -454,8 +294,8 @@ static void test_quad9_frictionless(void) {
   scene_param(&s, "penalty", 2e3);
   scene_param(&s, "area_weighted", 0);
   SK_CHECK(scene_create(&s) == SK_OK);
-  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   point_list list;
   points_at(&s, &st, s.X, &list);
   SK_CHECK(count_state(&list, 1) == 3);
@@ -486,8 +326,8 @@ static void test_quad9_frictionless(void) {
       q2[3 * a + 1] += slip ? 0.03 : 0.0002;
     }
     q2[3 * 8 + 2] += 0.02; /* the master's middle node rises: the face changes shape during the step */
-    sk_state fs = make_state(&s, q1, q2, 1.0, 2.0);
-    SK_CHECK(s.plugin->begin_step(s.inst, &fs) == SK_OK);
+    test_step fs = make_state(&s, q1, q2, 1.0, 2.0);
+    SK_CHECK(scene_begin(&s, &fs) == SK_OK);
     point_list fl;
     points_at(&s, &fs, q2, &fl);
     SK_CHECK(count_state(&fl, slip ? 2 : 1) == 3);
@@ -520,8 +360,8 @@ static void test_friction_face_crossing(void) {
   run_step(&s, q1, q2, 1.0, 2.0);
   memcpy(q3, q2, sizeof q3);
   q3[6] -= 0.2; /* now at x = -0.102, on the second face */
-  sk_state st = make_state(&s, q2, q3, 2.0, 3.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, q2, q3, 2.0, 3.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   point_list list;
   points_at(&s, &st, q3, &list);
   const sk_contact_point *p = point_of(&list, 3);
@@ -558,8 +398,8 @@ static void test_friction_2d_flat_return_map(void) {
     memcpy(q2, q1, sizeof q2);
     double dx = slip ? 0.02 : 0.002; /* mu p = 6; eps_t dx = 1 (stick) or 10 (slip) */
     q2[4] += dx;
-    sk_state st = make_state(&s, q1, q2, 1.0, 2.0);
-    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    test_step st = make_state(&s, q1, q2, 1.0, 2.0);
+    SK_CHECK(scene_begin(&s, &st) == SK_OK);
     point_list list;
     points_at(&s, &st, q2, &list);
     const sk_contact_point *p = point_of(&list, 2);
@@ -571,7 +411,7 @@ static void test_friction_2d_flat_return_map(void) {
     double t_norm = hypot(p->traction[0], p->traction[1]);
     SK_CHECK(t_norm <= mu * pressure * (1.0 + 1e-14));
     sk_contact_report r;
-    SK_CHECK(s.plugin->report(s.inst, &st, &r) == SK_OK);
+    SK_CHECK(scene_report(&s, &st, &r) == SK_OK);
     if (!slip) {
       SK_CHECK(p->state == 1 && r.stick == 1 && r.slip == 0);
       SK_CHECK_CLOSE(p->traction[0], -eps_t * dx, 1e-10);
@@ -633,8 +473,8 @@ static void test_friction_3d_quad4(void) {
     quad4_friction_scene(&s, identity3, origin3, q0, q1, q2, slip ? 0.08 : 0.0005);
     SK_CHECK(scene_create(&s) == SK_OK);
     run_step(&s, q0, q1, 0.0, 1.0);
-    sk_state st = make_state(&s, q1, q2, 1.0, 2.0);
-    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    test_step st = make_state(&s, q1, q2, 1.0, 2.0);
+    SK_CHECK(scene_begin(&s, &st) == SK_OK);
     point_list list;
     points_at(&s, &st, q2, &list);
     SK_CHECK(count_state(&list, slip ? 2 : 1) == 3);
@@ -708,8 +548,8 @@ static void test_frame_indifference(void) {
     SK_CHECK(scene_create(&a) == SK_OK && scene_create(&b) == SK_OK);
     run_step(&a, a0, a1, 0.0, 1.0);
     run_step(&b, b0, b1, 0.0, 1.0);
-    sk_state sa = make_state(&a, a1, a2, 1.0, 2.0), sb = make_state(&b, b1, b2, 1.0, 2.0);
-    SK_CHECK(a.plugin->begin_step(a.inst, &sa) == SK_OK && b.plugin->begin_step(b.inst, &sb) == SK_OK);
+    test_step sa = make_state(&a, a1, a2, 1.0, 2.0), sb = make_state(&b, b1, b2, 1.0, 2.0);
+    SK_CHECK(scene_begin(&a, &sa) == SK_OK && scene_begin(&b, &sb) == SK_OK);
     double Fa[MAX_DOFS], Fb[MAX_DOFS];
     residual_at(&a, &sa, a2, Fa);
     residual_at(&b, &sb, b2, Fb);
@@ -742,12 +582,12 @@ static void test_frame_indifference(void) {
   SK_CHECK(scene_create(&s) == SK_OK);
   run_step(&s, q0, q1, 0.0, 1.0);
   run_step(&s, q1, q2, 1.0, 2.0); /* stuck with a traction, committed */
-  sk_state st2 = make_state(&s, q1, q2, 1.0, 2.0);
+  test_step st2 = make_state(&s, q1, q2, 1.0, 2.0);
   point_list before, after;
   points_at(&s, &st2, q2, &before); /* history now committed: evaluating at q2 again gives the same as the trial */
   for (int n = 0; n < 8; ++n) apply(R, shift, q2 + 3 * n, q3 + 3 * n);
-  sk_state st3 = make_state(&s, q2, q3, 2.0, 3.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st3) == SK_OK);
+  test_step st3 = make_state(&s, q2, q3, 2.0, 3.0);
+  SK_CHECK(scene_begin(&s, &st3) == SK_OK);
   points_at(&s, &st3, q3, &after);
   SK_CHECK(before.n == after.n);
   double tmax = 0.0;
@@ -825,8 +665,8 @@ static void test_obstacles(void) {
     scene s;
     obstacle_scene(&s, cases[c].dim, cases[c].ob, 0.0);
     SK_CHECK(scene_create(&s) == SK_OK);
-    sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+    SK_CHECK(scene_begin(&s, &st) == SK_OK);
     point_list list;
     points_at(&s, &st, s.X, &list);
     SK_CHECK(count_state(&list, 1) >= 2);
@@ -859,8 +699,8 @@ static void test_obstacles(void) {
       run_step(&s, s.X, q1, 0.0, 0.5);
       memcpy(q2, q1, (size_t)nd * sizeof(double));
       for (int a = 0; a < 3; ++a) q2[a * dim] += slip ? 0.01 : 0.0003;
-      sk_state fs = make_state(&s, q1, q2, 0.5, 1.0);
-      SK_CHECK(s.plugin->begin_step(s.inst, &fs) == SK_OK);
+      test_step fs = make_state(&s, q1, q2, 0.5, 1.0);
+      SK_CHECK(scene_begin(&s, &fs) == SK_OK);
       points_at(&s, &fs, q2, &list);
       int active = 0;
       for (int i = 0; i < list.n; ++i) {
@@ -894,8 +734,8 @@ static void test_area_weighting(void) {
   scene_slave(&s, SK_LINE2, 2, 2, slave);
   scene_param(&s, "penalty", 200.0);
   SK_CHECK(scene_create(&s) == SK_OK);
-  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   double F[MAX_DOFS];
   residual_at(&s, &st, s.X, F);
   const double area[3] = {0.5, 1.5, 1.0};
@@ -919,8 +759,8 @@ static void test_touching_is_active(void) {
   scene_param(&s, "penalty", 300.0);
   scene_param(&s, "area_weighted", 0);
   SK_CHECK(scene_create(&s) == SK_OK);
-  sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   double F[MAX_DOFS];
   static double K[MAX_DOFS * MAX_DOFS];
   residual_at(&s, &st, s.X, F);
@@ -929,7 +769,7 @@ static void test_touching_is_active(void) {
   SK_CHECK_CLOSE(K[5 * 8 + 5], 300.0, 1e-12); /* slave node 2, y row and column */
   for (int j = 6; j < 8; ++j) SK_CHECK(K[j * 8 + j] == 0.0);
   sk_contact_report r;
-  SK_CHECK(s.plugin->report(s.inst, &st, &r) == SK_OK);
+  SK_CHECK(scene_report(&s, &st, &r) == SK_OK);
   SK_CHECK(r.active == 1 && r.constraint_norm == 0.0 && r.force[1] == 0.0);
   scene_destroy(&s);
 }
@@ -949,8 +789,8 @@ static void test_master_extension(void) {
     scene_param(&s, "area_weighted", 0);
     if (variant == 2) scene_param(&s, "master_extension", 0.0);
     SK_CHECK(scene_create(&s) == SK_OK);
-    sk_state st = make_state(&s, s.X, s.X, 0.0, 1.0);
-    SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+    test_step st = make_state(&s, s.X, s.X, 0.0, 1.0);
+    SK_CHECK(scene_begin(&s, &st) == SK_OK);
     point_list list;
     points_at(&s, &st, s.X, &list);
     const sk_contact_point *p = point_of(&list, 3);
@@ -982,7 +822,7 @@ static void expect_create_error(const char *what, const char *key, double value,
   sk_status status = scene_create(&s);
   if (status == SK_OK) fprintf(stderr, "%s: create succeeded\n", what);
   SK_CHECK(status == SK_ERR_INPUT);
-  SK_CHECK(s.inst == NULL);
+  SK_CHECK(s.k.instance == NULL);
   if (!strstr(sk_error_message(), needle)) fprintf(stderr, "%s: message '%s'\n", what, sk_error_message());
   SK_CHECK(strstr(sk_error_message(), needle) != NULL);
   scene_destroy(&s);
@@ -998,7 +838,7 @@ static void test_parameter_errors(void) {
   expect_create_error("extension too large", "penalty", 1.0, "master_extension", 0.7, "'master_extension'");
 
   const sk_plugin *pl = stickslip_plugin_entry();
-  SK_CHECK(pl->abi_version == SK_PLUGIN_ABI_VERSION);
+  SK_CHECK(pl->abi_major == SK_ABI_MAJOR && pl->kinds == SK_KIND_PAIR);
   SK_CHECK(strcmp(pl->name, "penalty-nts") == 0);
   SK_CHECK(strcmp(pl->strategies[0], "none") == 0 && pl->strategies[1] == NULL);
   uint64_t need = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS |
@@ -1014,20 +854,20 @@ static void test_reject_keeps_history(void) {
   quad4_friction_scene(&s, identity3, origin3, q0, q1, q2, 0.0005);
   SK_CHECK(scene_create(&s) == SK_OK);
   run_step(&s, q0, q1, 0.0, 1.0);
-  sk_state st = make_state(&s, q1, q2, 1.0, 2.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, q1, q2, 1.0, 2.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   double F1[MAX_DOFS], F2[MAX_DOFS], far[24];
   residual_at(&s, &st, q2, F1);
   /* A failed attempt that went far (everything slipping), then the retry. */
   memcpy(far, q2, sizeof far);
   for (int a = 4; a < 8; ++a) far[3 * a] += 0.3;
-  sk_state bad = make_state(&s, q1, far, 1.0, 2.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &bad) == SK_OK);
+  test_step bad = make_state(&s, q1, far, 1.0, 2.0);
+  SK_CHECK(scene_begin(&s, &bad) == SK_OK);
   int changed = 0;
-  SK_CHECK(s.plugin->after_iteration(s.inst, &bad, &changed) == SK_OK);
+  SK_CHECK(scene_update(&s, &bad, &changed) == SK_OK);
   SK_CHECK(changed == 1);
-  s.plugin->reject_step(s.inst);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  scene_reject(&s);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   residual_at(&s, &st, q2, F2);
   for (int i = 0; i < 24; ++i) SK_CHECK(F1[i] == F2[i]);
   scene_destroy(&s);
@@ -1051,14 +891,14 @@ static void test_kinked_master_selection(void) {
   SK_CHECK(scene_create(&s) == SK_OK);
   double q[10], F_right[10], F_left[10], F_far[10], F_fresh[10];
   memcpy(q, s.X, sizeof q);
-  sk_state st = make_state(&s, s.X, q, 0.0, 1.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  test_step st = make_state(&s, s.X, q, 0.0, 1.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   residual_at(&s, &st, q, F_right);
   SK_CHECK(F_right[6] > 0.0); /* the right face's normal tilts to -x: force on the slave -x, residual +x */
   /* 1e-4 left of the node, where the left face is the closest: still the right face's extension. */
   q[6] = -1e-4;
   int changed = 0;
-  SK_CHECK(s.plugin->after_iteration(s.inst, &st, &changed) == SK_OK);
+  SK_CHECK(scene_update(&s, &st, &changed) == SK_OK);
   residual_at(&s, &st, q, F_left);
   printf("kinked master: slave x-residual %.6e right of the node, %.6e left of it\n", F_right[6], F_left[6]);
   SK_CHECK(fabs(F_left[6] - F_right[6]) <= 1e-4); /* the projection would jump by 2 x 0.01 p = 0.02 */
@@ -1067,11 +907,11 @@ static void test_kinked_master_selection(void) {
   /* 30 % of a face into the left one: the selection switches, as a fresh step would select. */
   q[6] = -0.3;
   q[7] = 0.003 - 1e-3;
-  SK_CHECK(s.plugin->after_iteration(s.inst, &st, &changed) == SK_OK);
+  SK_CHECK(scene_update(&s, &st, &changed) == SK_OK);
   SK_CHECK(changed == 1);
   residual_at(&s, &st, q, F_far);
   SK_CHECK(F_far[6] < 0.0);
-  SK_CHECK(s.plugin->begin_step(s.inst, &st) == SK_OK);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
   residual_at(&s, &st, q, F_fresh);
   for (int i = 0; i < 10; ++i) SK_CHECK(F_far[i] == F_fresh[i]);
   scene_destroy(&s);

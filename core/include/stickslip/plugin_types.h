@@ -1,0 +1,281 @@
+/* stickslip — the plain-data types of the plugin ABI (version 2). APPEND-ONLY.
+ *
+ * Every type a plugin and the host exchange lives in this one header, and nothing else of the core is part of the
+ * ABI (plugin.h holds the function tables). The rules that keep it binary compatible across minor versions:
+ *
+ * - Append only. A new member goes at the end of its struct; a new enumerator at the end of its enum. Nothing is
+ *   removed, reordered, resized or given a new meaning within a major version (that is a major version).
+ * - struct_size. Every struct that crosses the boundary starts with `uint32_t struct_size`, set to sizeof(its type)
+ *   by whoever ALLOCATES it (the host for sk_state, sk_attach, sk_view, sk_vectors, sk_layout, sk_contact_report;
+ *   the plugin for sk_surface_point, sk_projection, sk_contact_point). The other side touches only members that lie
+ *   within struct_size: test with SK_HAS(ptr, member) before using a member added in a later minor version. An
+ *   older plugin on a newer host, and a newer plugin on an older host, both stay within the memory they share.
+ * - Sizes that can grow are int64_t: global node, face and unknown indices, counts of unknowns. Per-entity sizes
+ *   (nodes per face, local block sizes) are int.
+ *
+ * Only plain data and the two macros below: no functions, no core struct layouts (the mesh, the core's surfaces,
+ * obstacles and search trees stay behind opaque handles). */
+#ifndef STICKSLIP_PLUGIN_TYPES_H
+#define STICKSLIP_PLUGIN_TYPES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- versions ------------------------------------------------------------------------------------------------- */
+/* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
+ * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
+#define SK_ABI_MAJOR 2u
+#define SK_ABI_MINOR 0u
+
+/* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
+#define SK_HAS(ptr, member) \
+  ((ptr) != NULL && offsetof(__typeof__(*(ptr)), member) + sizeof((ptr)->member) <= (size_t)(ptr)->struct_size)
+
+/* ---- status codes (the core's error.h takes them from here) ---------------------------------------------------- */
+typedef enum {
+  SK_OK = 0,
+  SK_ERR_INPUT = 1,     /* bad scene, mesh, parameter or command line */
+  SK_ERR_IO = 2,        /* a file could not be read or written */
+  SK_ERR_INVERTED = 3,  /* an element has det F <= 0 (the step may be cut and retried) */
+  SK_ERR_DIVERGED = 4,  /* Newton or a local Newton did not converge (the step is cut and retried) */
+  SK_ERR_PLUGIN = 5,    /* a plugin failed to load, has the wrong ABI or lacks a capability */
+  SK_ERR_INTERNAL = 6,  /* a broken invariant: a bug */
+  SK_ERR_NOMEM = 7,     /* out of memory: returned with a message, never an abort */
+  SK_ERR_INTERRUPTED = 8, /* SIGINT/SIGTERM: stopped on the user's request (stickslip/interrupt.h) */
+  SK_ERR_LINEAR_SOLVER = 9 /* a linear solve failed (no Krylov convergence, singular matrix): a property of the
+                              solver and the system, so cutting the step does not help (bridge.h says what does) */
+} sk_status;
+
+/* Propagates a failing status to the caller. */
+#define SK_TRY(call)                                      \
+  do {                                                    \
+    sk_status sk_try_status_ = (call);                    \
+    if (sk_try_status_ != SK_OK) return sk_try_status_;   \
+  } while (0)
+
+/* ---- element types (gmsh node ordering, docs/theory/elements.md; the core's mesh.h takes them from here) -------- */
+typedef enum {
+  SK_POINT1 = 0,
+  SK_LINE2,
+  SK_LINE3,
+  SK_TRI3,
+  SK_QUAD4,
+  SK_QUAD9,
+  SK_TET4,
+  SK_HEX8,
+  SK_HEX27,
+  SK_ELEM_TYPE_COUNT /* the count of THIS header's version; new types are appended before it (a minor version) */
+} sk_elem_type;
+
+/* ---- plugin kinds and capabilities ------------------------------------------------------------------------------ */
+/* What a plugin instance attaches to (sk_plugin.kinds is a bit set of these). */
+typedef enum {
+  SK_KIND_PAIR = 1u << 0, /* one instance per contact pair of the scene (`contact:` entries naming the plugin) */
+  SK_KIND_BODY = 1u << 1  /* one instance per body of the scene whose entry names the plugin (`bodies[i].plugin`) */
+} sk_kind;
+
+/* sk_plugin.caps. "checked" says what the host does with the bit (docs/plugin-abi.md §4 has the table). */
+typedef enum {
+  SK_CAP_2D = 1u << 0,                /* checked: a 2D scene needs it */
+  SK_CAP_3D = 1u << 1,                /* checked: a 3D scene needs it */
+  SK_CAP_FRICTION = 1u << 2,          /* informational (`stickslip plugins`); friction parameters are the plugin's
+                                         own keys, so a frictionless plugin rejects them as unknown keys */
+  SK_CAP_QUASISTATIC = 1u << 3,       /* checked: time.scheme quasi-static needs it */
+  SK_CAP_DYNAMICS = 1u << 4,          /* checked: a dynamic scheme (backward Euler, midpoint) needs it */
+  SK_CAP_ENERGY_MOMENTUM = 1u << 5,   /* checked: without it the midpoint scheme warns (energy not kept through
+                                         contact) */
+  SK_CAP_RIGID_OBSTACLE = 1u << 6,    /* checked: a pair with `obstacle:` needs it */
+  SK_CAP_DEFORMABLE_MASTER = 1u << 7, /* checked: a pair with `master:` needs it */
+  SK_CAP_MULTIPLIERS = 1u << 8,       /* checked: layout() may declare n_extra > 0 only with it */
+  SK_CAP_CONDENSATION = 1u << 9,      /* checked: layout.eliminated, a second strategy and stickslip.condense need it */
+  SK_CAP_NEEDS_CURVATURE = 1u << 10,  /* checked: a warning when a surface has straight (LINE2/TRI3) faces, whose
+                                         curvature terms vanish */
+  SK_CAP_NEEDS_MASS = 1u << 11,       /* checked: the mass calls of stickslip.bulk need it */
+  SK_CAP_OWNS_KINEMATICS = 1u << 12,  /* checked: stickslip.bulk claim() and sk_plugin.integrator need it */
+  SK_CAP_SELF_CONTACT = 1u << 13      /* checked: a pair with slave == master needs it */
+} sk_capability;
+
+/* ---- views: the part of a surface or body this rank sees ------------------------------------------------------- */
+/* A view is a surface (its cells are faces) or a body (its cells are volume elements) as one rank sees it: the
+ * cells and nodes this rank OWNS plus GHOSTS around them, in a local numbering 0..n-1. Plugins never see the mesh,
+ * the replicated vector of unknowns or all reference coordinates; positions arrive per view in sk_state.
+ *
+ * What a view holds (the contract; today's host may hold more, never less):
+ * - a slave surface view: every face with an owned node, every face this rank owns, and their nodes;
+ * - a master surface view: every master face a slave point of this rank can reach in the step (today: the whole
+ *   master surface, which docs/design.md measures);
+ * - a body view: every element of the body with an owned node or owned by this rank, and their nodes.
+ * Ownership rule (each contribution is assembled by exactly one rank, the host sums over ranks):
+ * - a node-based entity (a slave node of NTS, a node's multipliers) belongs to the owner of the node: owned[k];
+ * - a cell-based entity (the Gauss points of a slave face in STS or mortar, an element's terms) belongs to the owner
+ *   of the cell: cell_owned[c]. A face is owned by the rank that owns the body element it bounds.
+ * All pointers stay valid for the instance's lifetime; the view does not change during a run. */
+typedef struct sk_view {
+  uint32_t struct_size;
+  const char *name;            /* the surface's or body's name in the scene */
+  int dim;                     /* spatial dimension, 2 or 3 (positions and dofs have dim entries per node) */
+  int body;                    /* index of the body (the one the surface bounds) */
+  sk_elem_type cell_type;      /* faces: LINE2, LINE3, TRI3, QUAD4, QUAD9; bodies: the element type */
+  int nen;                     /* nodes per cell */
+  int32_t n_cells;             /* cells of this view on this rank (owned + ghosted) */
+  const int32_t *conn;         /* n_cells * nen view node indices (faces: oriented so normals point out of the body) */
+  const unsigned char *cell_owned; /* n_cells: 1 when this rank owns the cell */
+  const int64_t *cell_index;   /* n_cells: the cell's index in the whole surface/body, 0 .. n_cells_global-1 */
+  int64_t n_cells_global;
+  int n_edges;                 /* faces: edges per face (2 in 2D, i.e. the end points; 3 tri; 4 quad); bodies: 0 */
+  const int32_t *neighbors;    /* faces: n_cells * n_edges view face across each edge (edge e joins corner e and
+                                  e+1), -1 at the surface's border or beyond the view; bodies: NULL */
+  int32_t n_nodes;             /* nodes of this view on this rank (owned + ghosted) */
+  const int64_t *node_index;   /* n_nodes: the node's index in the whole surface/body (sorted by mesh id), 0 ..
+                                  n_nodes_global-1: lay out extra unknowns per node with it, so that every rank
+                                  agrees on their numbering */
+  int64_t n_nodes_global;
+  const int64_t *node_id;      /* n_nodes: mesh node id (for output, sk_contact_point.slave_node, and messages) */
+  const unsigned char *owned;  /* n_nodes: 1 when this rank owns the node */
+  const int64_t *dofs;         /* n_nodes * dim: global unknown index of each displacement component (for sinks) */
+  const double *X;             /* n_nodes * dim: reference positions */
+} sk_view;
+
+/* ---- what an instance is attached to --------------------------------------------------------------------------- */
+typedef struct sk_obstacle sk_obstacle; /* a rigid analytical obstacle (opaque: contact services read it) */
+
+typedef struct sk_attach {
+  uint32_t struct_size;
+  sk_kind kind;                /* SK_KIND_PAIR or SK_KIND_BODY */
+  const char *name;            /* "pair 0" / the scene's name of the pair, or the body's name */
+  int strategy;                /* index into sk_plugin.strategies chosen by the scene (`strategy:`) */
+  /* the views whose positions sk_state carries, in this order: pair {slave, master} (master absent with an
+   * obstacle), body {body} */
+  int n_views;
+  const sk_view *const *views;
+  /* a pair: */
+  const sk_view *slave;        /* never NULL for a pair */
+  const sk_view *master;       /* deformable master, or NULL */
+  const sk_obstacle *obstacle; /* rigid master, or NULL */
+  int self_contact;            /* 1 when slave and master are the same surface (views are still two) */
+  /* a body: */
+  const sk_view *body;         /* the body's view, or NULL for a pair */
+} sk_attach;
+
+/* ---- the state of a step, as an instance sees it --------------------------------------------------------------- */
+/* Positions per view of sk_attach.views (dim per view node, view numbering): x = X + u. Positions, not
+ * displacements: dF/du = dF/dx, so a plugin differentiates with respect to x and adds to the rows view->dofs. */
+typedef struct sk_state {
+  uint32_t struct_size;
+  double t_n, t, dt;           /* the step from t_n to t = t_n + dt */
+  int64_t step;                /* 1 for the first step; 0 for the initial output */
+  /* The time integrator of the bodies (the scene's `time.scheme`, or the claimed body's own). Forces balance at
+   * t_n + alpha dt: alpha = 1 for quasi-static and backward Euler, 1/2 for the energy-momentum midpoint scheme
+   * (whose constraint gradients are taken at x_n + alpha (x - x_n) and constraints enforced at t). */
+  const char *scheme;          /* "quasi-static", "backward-euler", "midpoint" or a body plugin's integrator name */
+  double alpha;
+  int dynamic;                 /* 1 when there is inertia (v_n meaningful) */
+  int n_views;
+  const double *const *x;      /* [view]: positions of the current iterate at t */
+  const double *const *x_n;    /* [view]: positions at t_n (the last converged step) */
+  const double *const *v_n;    /* [view]: velocities at t_n; NULL entries when quasi-static */
+  const double *extra;         /* this instance's extra unknowns at the current iterate (n_extra), NULL before the
+                                  first layout (the initial output) */
+  int64_t n_extra;
+  int64_t extra_offset;        /* global unknown index of extra[0] (for sinks) */
+} sk_state;
+
+/* ---- the step's extra unknowns ----------------------------------------------------------------------------------- */
+typedef struct sk_layout {
+  uint32_t struct_size;        /* set by the host */
+  int64_t n_extra;             /* extra unknowns of this attempt (>= 0; > 0 needs SK_CAP_MULTIPLIERS) */
+  const double *initial;       /* their starting values (n_extra) for this rank's OWNED entities, zero elsewhere
+                                  (the host sums them over ranks), or NULL for zeros; the host copies them */
+  const unsigned char *eliminated; /* 1 for unknowns the plugin condenses itself (plugin-local condensation), or
+                                      NULL; the same on every rank (checked); needs SK_CAP_CONDENSATION */
+  int recover_needs_jdx;       /* 1: recover() wants J dx (sk_vectors.Jdx_*), which costs one operator apply */
+} sk_layout;
+
+/* ---- vectors of one linear solve, in the instance's own layout (recover) ---------------------------------------- */
+/* Per view of sk_attach.views (dim per view node) and for the instance's extra unknowns. Valid at owned and
+ * ghosted nodes; the extras of owned entities. */
+typedef struct sk_vectors {
+  uint32_t struct_size;
+  const double *const *F_view;   /* [view] the residual F at the point of the solve (Dirichlet rows replaced) */
+  const double *F_extra;
+  const double *const *dx_view;  /* [view] the solved displacement update */
+  double *dx_extra;              /* the update of the extra unknowns: kept ones solved (and multipliers paired
+                                    through stickslip.condense recovered by the host), eliminated ones 0 on entry:
+                                    write those of owned entities (the host sums over ranks) */
+  const double *const *Jdx_view; /* [view] (J dx) with the assembled operator J and the full dx, or NULL unless
+                                    layout.recover_needs_jdx */
+  const double *Jdx_extra;
+} sk_vectors;
+
+/* ---- geometry returned by the contact services ------------------------------------------------------------------ */
+enum { SK_FACE_NEN_MAX = 9 }; /* nodes of the largest face type (QUAD9); a larger face type is a major version */
+
+/* Covariant geometry at a surface point. 2D faces fill index 0 of the parametric quantities and set a[1] = e_z,
+ * m[1][1] = 1, so the 2D case reads as a 3D one. Obstacles fill position, normal, orthonormal tangents (metric =
+ * identity, m_inv = identity, a_dual = a) and h_ab; their Christoffel symbols are zero (orthonormal tangents of a
+ * plane, sphere, cylinder or parabolic cylinder at the closest point, not derived from a parametrisation). */
+typedef struct sk_surface_point {
+  uint32_t struct_size;        /* set by the caller: sizeof(sk_surface_point) */
+  int face;
+  double xi[2];
+  double x[3];                 /* position */
+  double a[2][3];              /* covariant tangents a_alpha = dx/dxi^alpha */
+  double n[3];                 /* unit normal a1 x a2 / |a1 x a2|, out of the body */
+  double m[2][2];              /* metric m_ab = a_a . a_b */
+  double m_inv[2][2];          /* m^ab */
+  double a_dual[2][3];         /* contravariant tangents a^a = m^ab a_b */
+  double a_ab[2][2][3];        /* second derivatives x,ab */
+  double h[2][2];              /* curvature h_ab = x,ab . n */
+  double christoffel[2][2][2]; /* Gamma^c_ab = x,ab . a^c, index [a][b][c] */
+  double jacobian;             /* |a1 x a2|: area element (length element in 2D) */
+  int nen;
+  double N[SK_FACE_NEN_MAX];   /* face shape functions at xi */
+  double dN[SK_FACE_NEN_MAX][2];
+} sk_surface_point;
+
+typedef enum {
+  SK_PROJ_INTERIOR = 0, /* inside the face */
+  SK_PROJ_EDGE,         /* on a face edge (2D: an end point), including exactly on a shared edge */
+  SK_PROJ_VERTEX,       /* at a face corner */
+  SK_PROJ_OUTSIDE       /* the closest point is on the border of the surface: the point lies beyond it */
+} sk_projection_kind;
+
+typedef struct sk_projection {
+  uint32_t struct_size;        /* set by the caller */
+  int face;                    /* view face, -1 when nothing was found */
+  double xi[2];
+  double gap;                  /* (x - x_closest) . n: positive outside, negative penetrating */
+  double distance;             /* |x - x_closest| */
+  sk_projection_kind kind;
+  int iterations;              /* Newton iterations of the local projection */
+} sk_projection;
+
+/* ---- results ---------------------------------------------------------------------------------------------------- */
+typedef struct sk_contact_report {
+  uint32_t struct_size;        /* set by the host */
+  double force[3];             /* resultant contact force on the slave side (this rank's entities) */
+  double moment[3];            /* its moment about the origin (history.csv contact_moment_*) */
+  int64_t active, stick, slip; /* counts of contact points */
+  double dissipated;           /* frictional dissipation of this step (the host accumulates it) */
+  double constraint_norm;      /* largest constraint violation among active points (e.g. |Phi|); max over ranks */
+} sk_contact_report;
+
+typedef struct sk_contact_point {
+  uint32_t struct_size;        /* set by the plugin */
+  double x[3];                 /* point position */
+  double normal[3];
+  double pressure;             /* normal contact pressure (>= 0 in compression), or nodal force when no area */
+  double traction[3];          /* tangential traction (or force) */
+  double gap;
+  int state;                   /* 0 inactive, 1 stick (or in contact without friction), 2 slip */
+  int64_t slave_node;          /* mesh node id (sk_view.node_id), or -1 for a Gauss point */
+} sk_contact_point;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,61 @@
+/* The host side of the plugin ABI (internal to the simulation layer): views of surfaces and bodies as one rank sees
+ * them (views.c), the per-instance host handle and the api table (host.c), the contact services over views
+ * (host_contact.c). The plugin term (term_plugin.c) ties them to the system. */
+#ifndef STICKSLIP_HOST_H
+#define STICKSLIP_HOST_H
+
+#include "stickslip/config.h"
+#include "stickslip/contact.h"
+#include "stickslip/plugin.h"
+#include "system.h"
+
+_Static_assert(sizeof(int) == sizeof(int32_t), "views share int arrays with the core's surfaces");
+
+/* A view (plugin_types.h) and what backs it. `view` is the first member: the services convert a const sk_view *
+ * back to its data. */
+typedef struct {
+  sk_view view;
+  int is_surface;
+  sk_surface local;        /* surfaces: the core surface renumbered into view numbering (conn, neighbours) */
+  int *conn;               /* n_cells * nen view node indices */
+  unsigned char *cell_owned;
+  int64_t *cell_index;
+  int *neighbors;
+  int *local_nodes;        /* 0 .. n_nodes-1 (the core surface's node list in view numbering) */
+  int64_t *node_index, *node_id, *dofs;
+  unsigned char *owned;
+  double *X;
+  int *cell_element;       /* bodies: the global element of each cell */
+} sk_view_data;
+
+/* A surface as this rank sees it: with `whole`, every face; otherwise the faces with a node this rank owns or that
+ * this rank owns, and their nodes. A face is owned by the owner of the body element it bounds. */
+sk_status sk_view_surface(const sk_model *model, const sk_surface *surface, const char *name, int whole,
+                          sk_view_data *view);
+/* A surface view of the faces `selected` (NULL: all) of a core surface (mesh node ids), with each face's and each
+ * mesh node's ownership (NULL: all owned) and the reference positions X (dim per mesh node). */
+sk_status sk_view_fill_surface(sk_view_data *view, const sk_surface *surface, const char *name, int dim,
+                               const double *X, const unsigned char *selected, const unsigned char *face_owned,
+                               const unsigned char *node_owned);
+/* A body as this rank sees it: its elements owned by this rank or touching a node it owns, and their nodes. */
+sk_status sk_view_body(const sk_model *model, int body, sk_view_data *view);
+void sk_view_free(sk_view_data *view);
+/* The data behind an ABI view handed out by the host. */
+static inline const sk_view_data *sk_view_data_of(const sk_view *view) { return (const sk_view_data *)view; }
+
+/* The contact services over views (host_contact.c). */
+extern const sk_contact_services sk_host_contact_table;
+
+struct plugin_term;
+/* The per-instance handle plugins pass to every api call. */
+struct sk_host {
+  sk_system *sys;
+  struct plugin_term *term;
+  const sk_cfg *params;    /* the instance's `parameters:` (may be NULL) */
+  const char *name;        /* "contact pair 'floor'" */
+};
+
+/* The api table (host.c). */
+const sk_host_api *sk_host_api_table(void);
+
+#endif

@@ -1,0 +1,144 @@
+/* The system of a time step (internal to the simulation layer): the unknowns x = [displacement dofs | the terms'
+ * extra unknowns], the list of terms (term.h) that pose F(x) = 0 and its Jacobian, the sparsity pattern (the bulk
+ * element graph plus the couplings the terms declare), the linear solve with its condensation stages, and the NOX
+ * callbacks. The stepper (core/time/run.c) drives it; the recorder (core/time/recorder.c) reads it.
+ *
+ * Parallel model (docs/design.md): the vector of unknowns is replicated; each rank evaluates its own elements and
+ * entities; residuals are summed with one Allreduce, the matrix in the bridge (contributions to owners). */
+#ifndef STICKSLIP_SYSTEM_H
+#define STICKSLIP_SYSTEM_H
+
+#include <mpi.h>
+
+#include "stickslip/bridge.h"
+#include "stickslip/model.h"
+#include "stickslip/scene.h"
+#include "term.h"
+
+typedef struct sk_condenser sk_condenser;
+
+/* The sink plugins add through: the ABI table first, then the system. */
+typedef struct {
+  sk_sink abi;
+  sk_system *sys;
+  int failed;              /* an entry outside the pattern or this rank's rows: the message is recorded */
+  char message[256];
+} sk_system_sink;
+
+struct sk_system {
+  sk_model *model;
+  MPI_Comm comm;
+  int rank, n_ranks;
+  const sk_solver_settings *solver;
+  const sk_time_integrator *integrator; /* the scene's (pair plugins see its name and alpha) */
+  int n_terms;
+  sk_term **terms;
+  sk_term **body_plugin;   /* per body: the plugin term attached to it, or NULL */
+  unsigned char *claimed;  /* per body: 1 when a body plugin claimed it (no bulk term acts on it) */
+
+  /* time of the attempt and the committed state (displacement dofs, replicated) */
+  double t_n, t, dt;
+  int64_t step;
+  double *u_n, *v_n;       /* at t_n */
+  double *v;               /* at t after commit */
+  double *q_n;             /* positions X + u_n */
+
+  /* the attempt's unknowns (n of them; n_kept in the linear system) */
+  int64_t n, n_kept, capacity;
+  int *kept;               /* n: index in the linear system, or -1 (eliminated by a plugin) */
+  int *full_of_kept;       /* n_kept */
+  double *x;               /* the current iterate (capacity) */
+  double *q;               /* positions X + x of the displacement dofs */
+  uint64_t x_version;      /* bumped whenever x changes: terms refresh their views lazily */
+  double *set_x;           /* the point of the last update_active_set */
+  int set_valid;
+
+  /* assembly */
+  double *F_local, *rhs_local, *rhs, *b, *y, *dx_elim, *Jdx;
+  sk_system_sink sink;
+
+  /* sparsity */
+  int64_t *declared;       /* (row * n_kept + col) keys declared by this rank this attempt */
+  int64_t n_declared, cap_declared;
+  int64_t *extra_keys;     /* sorted keys beyond the bulk graph in the current pattern (all ranks' declarations) */
+  int64_t n_extra_keys;
+  int64_t *row_ptr;
+  int *cols;
+  unsigned char *row_local; /* n_kept: rows this rank may write matrix entries into */
+  int *local_rows;
+  int n_local_rows;
+  int64_t pattern_n;       /* n_kept of the current pattern, -1 before the first */
+  int64_t *elem_pos_offset;/* per element: its entries' positions in elem_pos (own elements only) */
+  int64_t *elem_pos;
+  sk_linear_system *linsys;
+  double *values;          /* this rank's contributions over the pattern */
+
+  /* condensation on the assembled operator (stickslip.condense): pairs of the attempt */
+  int64_t n_pairs, cap_pairs;
+  int64_t *pair_z, *pair_row; /* multiplier unknown and paired row (full numbering), grouped by pair_block */
+  int *pair_block;            /* group size of each pair's group (the same for its members) */
+  sk_condenser *condenser;    /* NULL until pairs appear */
+  int condensing;             /* this attempt solves through the condenser */
+
+  /* bookkeeping */
+  sk_newton_report newton;  /* the last solve of a step (iterations summed over active-set loops) */
+  int linear_solves;
+  int active_set_loops;
+  double t_assembly, t_contact, t_solve;
+  int64_t unknowns_max, linear_size_max;
+  int verbose;
+  /* a plugin, internal or memory error inside Newton ends the run (NOX reports every failure as divergence) */
+  sk_status fatal;
+  char fatal_message[1024];
+};
+
+sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk_system **sys);
+/* Adds a term before the Dirichlet term (which stays last); the system owns it (tests add mock terms). */
+sk_status sk_system_add_term(sk_system *sys, sk_term *term);
+void sk_system_destroy(sk_system *sys);
+
+/* The stages of a step attempt from t_n = sys->t_n: predictor, begin_step, layout, pattern. */
+sk_status sk_system_begin(sk_system *sys, double dt, int64_t step);
+/* Newton (NOX) until every term accepts the converged point (converged()); SK_ERR_DIVERGED to cut the step. */
+sk_status sk_system_solve(sk_system *sys);
+/* The attempt converged: velocities, the terms' commits. The state still spans the step. */
+sk_status sk_system_commit(sk_system *sys);
+/* The attempt failed: the terms roll back. */
+void sk_system_reject(sk_system *sys);
+/* After output: the committed state becomes the start of the next step. */
+void sk_system_advance(sk_system *sys);
+
+/* Declares couplings for the attempt (from a term's pattern stage); indices in the full numbering. */
+sk_status sk_system_declare(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols);
+/* A status agreed by all ranks: the worst, with a message on every rank. */
+sk_status sk_system_collective(const sk_system *sys, sk_status local);
+/* Internal to system*.c: the plugins' sink; the attempt's pattern from the terms' declarations (system_pattern.c). */
+void sk_system_sink_init(sk_system *sys);
+sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);
+/* Position of (row, col) (kept numbering) in the pattern, or -1. */
+int64_t sk_system_position(const sk_system *sys, int row, int col);
+/* Sets up a plugin term's view of a surface or body (term_plugin.c) — see views.h. */
+
+/* Pairs of stickslip.condense for the attempt (from a term's layout): n_groups groups of `block`. */
+sk_status sk_system_condense_pairs(sk_system *sys, int64_t n_groups, int block, const int64_t *z, const int64_t *rows);
+/* Solves J y = b again with the operator of the last solve (stickslip.linear), full numbering, replicated. */
+sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y);
+
+/* Sum of this rank's contact reports of the plugin terms (initial: the initial row): force, counts, dissipation,
+ * and per obstacle pair the reaction on the obstacle (collective). */
+typedef struct {
+  double force[3], moment[3];
+  double active, stick, slip;
+  double dissipated;       /* this step's increment */
+  double constraint;       /* max over ranks */
+  int n_obstacles;
+  double *obstacle_force;  /* 3 per obstacle pair (caller's array) */
+} sk_contact_totals;
+sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_totals *totals);
+/* Calls every plugin term's points() (initial: the initial state); the pair index is passed along. */
+sk_status sk_system_points(sk_system *sys, int initial, void (*callback)(void *ctx, int pair, const sk_contact_point *),
+                           void *ctx);
+/* The support reactions of every Dirichlet condition, 3 per condition (summed), from the last residual. */
+void sk_system_reactions(const sk_system *sys, double *sums);
+
+#endif

@@ -1,0 +1,275 @@
+/* The sparsity pattern of a step attempt (system.h): the bulk element graph, the couplings the terms declare and
+ * the diagonal, grown once before Newton; and the sink plugins add through, which refuses entries outside it. */
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "assemble.h"
+#include "system.h"
+
+static sk_status out_of_memory(const char *what, int64_t count) {
+  return sk_error_set(SK_ERR_NOMEM, "out of memory for %s (%lld entries)", what, (long long)count);
+}
+
+static int compare_int(const void *a, const void *b) {
+  int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
+static int compare_i64(const void *a, const void *b) {
+  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* ---- the plugins' sink ------------------------------------------------------------------------------------------ */
+
+static void sink_fail(sk_system_sink *sink, const char *fmt, long long a, long long b) {
+  if (sink->failed) return;
+  sink->failed = 1;
+  snprintf(sink->message, sizeof sink->message, fmt, a, b);
+}
+
+static void sink_add_vector(sk_sink *abi, int n, const int64_t *rows, const double *values) {
+  sk_system *sys = ((sk_system_sink *)abi)->sys;
+  for (int k = 0; k < n; ++k)
+    if (rows[k] >= 0 && rows[k] < sys->n) sys->F_local[rows[k]] += values[k];
+}
+
+static void sink_add_rhs(sk_sink *abi, int n, const int64_t *rows, const double *values) {
+  sk_system *sys = ((sk_system_sink *)abi)->sys;
+  for (int k = 0; k < n; ++k)
+    if (rows[k] >= 0 && rows[k] < sys->n) sys->rhs_local[rows[k]] += values[k];
+}
+
+int64_t sk_system_position(const sk_system *sys, int row, int col) {
+  const int *begin = sys->cols + sys->row_ptr[row];
+  const size_t len = (size_t)(sys->row_ptr[row + 1] - sys->row_ptr[row]);
+  const int *hit = bsearch(&col, begin, len, sizeof(int), compare_int);
+  return hit ? sys->row_ptr[row] + (hit - begin) : -1;
+}
+
+static void sink_add_matrix(sk_sink *abi, int nr, const int64_t *rows, int nc, const int64_t *cols,
+                            const double *values) {
+  sk_system_sink *sink = (sk_system_sink *)abi;
+  sk_system *sys = sink->sys;
+  for (int i = 0; i < nr; ++i) {
+    if (rows[i] < 0 || rows[i] >= sys->n) continue;
+    const int r = sys->kept[rows[i]];
+    if (r < 0) continue;
+    for (int j = 0; j < nc; ++j) {
+      if (cols[j] < 0 || cols[j] >= sys->n) continue;
+      const int c = sys->kept[cols[j]];
+      const double v = values[i * nc + j];
+      if (c < 0 || v == 0.0) continue;
+      if (!sys->row_local[r]) {
+        sink_fail(sink, "Jacobian entry in row %lld (column %lld) outside this rank's views", (long long)rows[i],
+                  (long long)cols[j]);
+        continue;
+      }
+      const int64_t p = sk_system_position(sys, r, c);
+      if (p < 0) {
+        sink_fail(sink, "Jacobian entry (%lld, %lld) outside the pattern declared by pattern()", (long long)rows[i],
+                  (long long)cols[j]);
+        continue;
+      }
+      sys->values[p] += v;
+    }
+  }
+}
+
+void sk_system_sink_init(sk_system *sys) {
+  sys->sink.abi = (sk_sink){SK_TABLE_HEADER(sk_sink), .add_vector = sink_add_vector, .add_matrix = sink_add_matrix,
+                            .add_rhs = sink_add_rhs};
+  sys->sink.sys = sys;
+}
+
+/* ---- the sparsity pattern ---------------------------------------------------------------------------------------- */
+
+sk_status sk_system_declare(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols) {
+  const int64_t need = sys->n_declared + (int64_t)nr * nc;
+  if (need > sys->cap_declared) {
+    const int64_t cap = 2 * need + 1024;
+    int64_t *grown = realloc(sys->declared, sizeof(int64_t) * (size_t)cap);
+    if (!grown) return out_of_memory("the declared pattern", cap);
+    sys->declared = grown;
+    sys->cap_declared = cap;
+  }
+  for (int i = 0; i < nr; ++i) {
+    if (rows[i] < 0 || rows[i] >= sys->n || sys->kept[rows[i]] < 0) continue;
+    for (int j = 0; j < nc; ++j) {
+      if (cols[j] < 0 || cols[j] >= sys->n || sys->kept[cols[j]] < 0) continue;
+      sys->declared[sys->n_declared++] = (int64_t)sys->kept[rows[i]] * sys->n_kept + sys->kept[cols[j]];
+    }
+  }
+  return SK_OK;
+}
+
+/* The CSR pattern: the node graph of the bulk elements expanded per dof, the extra keys, the diagonal. */
+static sk_status build_pattern(sk_system *sys) {
+  sk_model *m = sys->model;
+  const int dim = m->dim;
+  const int64_t nk = sys->n_kept;
+  free(sys->row_ptr);
+  free(sys->cols);
+  sys->cols = NULL;
+  sys->row_ptr = calloc((size_t)nk + 1, sizeof(int64_t));
+  int64_t *count = calloc((size_t)nk + 1, sizeof(int64_t));
+  if (!sys->row_ptr || !count) {
+    free(count);
+    return out_of_memory("the sparsity pattern", nk);
+  }
+  const int64_t *key = sys->extra_keys;
+  const int64_t n_keys = sys->n_extra_keys;
+  int64_t longest = 1;
+  for (int64_t r = 0; r < nk; ++r) count[r] = 1;
+  for (int64_t r = 0; r < m->n_dofs; ++r) {
+    const int64_t a = r / dim;
+    count[r] += (m->mass_row_ptr[a + 1] - m->mass_row_ptr[a]) * dim;
+  }
+  for (int64_t k = 0; k < n_keys; ++k) count[key[k] / nk]++;
+  for (int64_t r = 0; r < nk; ++r) {
+    sys->row_ptr[r + 1] = sys->row_ptr[r] + count[r];
+    if (count[r] > longest) longest = count[r];
+  }
+  sys->cols = malloc(sizeof(int) * (size_t)(sys->row_ptr[nk] > 0 ? sys->row_ptr[nk] : 1));
+  int *row_cols = malloc(sizeof(int) * (size_t)longest);
+  if (!sys->cols || !row_cols) {
+    free(count);
+    free(row_cols);
+    return out_of_memory("the sparsity pattern", sys->row_ptr[nk]);
+  }
+  int64_t used = 0, k = 0;
+  for (int64_t r = 0; r < nk; ++r) {
+    int64_t len = 0;
+    if (r < m->n_dofs) {
+      const int64_t a = r / dim;
+      for (int64_t j = m->mass_row_ptr[a]; j < m->mass_row_ptr[a + 1]; ++j)
+        for (int i = 0; i < dim; ++i) row_cols[len++] = m->mass_cols[j] * dim + i;
+    }
+    row_cols[len++] = (int)r;
+    while (k < n_keys && key[k] / nk == r) row_cols[len++] = (int)(key[k++] % nk);
+    qsort(row_cols, (size_t)len, sizeof(int), compare_int);
+    for (int64_t j = 0; j < len; ++j)
+      if (j == 0 || row_cols[j] != row_cols[j - 1]) sys->cols[used++] = row_cols[j];
+    sys->row_ptr[r + 1] = used;
+  }
+  free(row_cols);
+  free(count);
+
+  /* The displacements are the bridge's nodal block (whole-node aggregates, rigid-body-mode nullspace); plugin
+   * unknowns after them are constraint rows, which its iterative solvers take through their Schur complement. */
+  SK_TRY(sk_linsys_set_coordinates(sys->linsys, m->n_nodes, dim, m->X));
+  SK_TRY(sk_linsys_set_pattern(sys->linsys, (int)nk, sys->row_ptr, sys->cols, sys->n_local_rows, sys->local_rows));
+  sys->values = sk_linsys_values(sys->linsys);
+
+  /* positions of each own element's entries */
+  int64_t total = 0;
+  int dofs[SK_MAX_NEN * 3];
+  for (int e = 0; e < m->n_elements; ++e) {
+    sys->elem_pos_offset[e] = total;
+    if (m->element_part[e] == m->rank) {
+      const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
+      total += (int64_t)nd * nd;
+    }
+  }
+  free(sys->elem_pos);
+  sys->elem_pos = malloc(sizeof(int64_t) * (size_t)(total > 0 ? total : 1));
+  if (!sys->elem_pos) return out_of_memory("the element positions", total);
+  for (int e = 0; e < m->n_elements; ++e) {
+    if (m->element_part[e] != m->rank) continue;
+    const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
+    int64_t *pos = sys->elem_pos + sys->elem_pos_offset[e];
+    for (int i = 0; i < nd; ++i)
+      for (int j = 0; j < nd; ++j) pos[i * nd + j] = sk_system_position(sys, dofs[i], dofs[j]);
+  }
+  sys->pattern_n = nk;
+  return SK_OK;
+}
+
+/* Merges keys of all ranks into extra_keys (collective; sorted, unique). */
+static sk_status merge_keys(sk_system *sys, const int64_t *mine, int64_t n_mine) {
+  if (n_mine > INT_MAX) return sk_error_set(SK_ERR_INPUT, "%lld declared pattern entries on one rank", (long long)n_mine);
+  int count = (int)n_mine;
+  int *counts = calloc((size_t)sys->n_ranks, sizeof(int)), *displs = calloc((size_t)sys->n_ranks, sizeof(int));
+  if (!counts || !displs) {
+    free(counts);
+    free(displs);
+    return out_of_memory("the pattern exchange", sys->n_ranks);
+  }
+  MPI_Allgather(&count, 1, MPI_INT, counts, 1, MPI_INT, sys->comm);
+  int64_t total = 0;
+  for (int r = 0; r < sys->n_ranks; ++r) {
+    displs[r] = (int)total;
+    total += counts[r];
+  }
+  int64_t *merged = realloc(sys->extra_keys, sizeof(int64_t) * (size_t)(sys->n_extra_keys + total + 1));
+  if (!merged || total > INT_MAX) {
+    free(counts);
+    free(displs);
+    return out_of_memory("the pattern exchange", total);
+  }
+  sys->extra_keys = merged;
+  MPI_Allgatherv(mine, count, MPI_INT64_T, merged + sys->n_extra_keys, counts, displs, MPI_INT64_T, sys->comm);
+  free(counts);
+  free(displs);
+  const int64_t n = sys->n_extra_keys + total;
+  qsort(merged, (size_t)n, sizeof(int64_t), compare_i64);
+  int64_t unique = 0;
+  for (int64_t k = 0; k < n; ++k)
+    if (k == 0 || merged[k] != merged[unique - 1]) merged[unique++] = merged[k];
+  sys->n_extra_keys = unique;
+  return SK_OK;
+}
+
+/* The attempt's pattern: every term declares its couplings and rows; declared entries the current pattern lacks
+ * (on any rank) grow it once, before Newton. */
+sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
+  const int64_t nk = sys->n_kept;
+  sys->n_declared = 0;
+  free(sys->row_local);
+  sys->row_local = calloc((size_t)nk + 1, 1);
+  if (!sys->row_local) return out_of_memory("the rows of this rank", nk);
+  for (int64_t r = sys->model->n_dofs; r < nk; ++r) sys->row_local[r] = 1; /* extras: any rank may own an entity */
+  sk_status status = SK_OK;
+  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
+    sk_term *term = sys->terms[k];
+    if (!term->ops->pattern) continue;
+    status = term->ops->pattern(term, sys, sys->row_local);
+    if (status != SK_OK) sk_error_prefix(status, "%s: pattern: ", term->name);
+  }
+  SK_TRY(sk_system_collective(sys, status));
+  int n_rows = 0;
+  for (int64_t r = 0; r < nk; ++r) n_rows += sys->row_local[r];
+  int *rows = malloc(sizeof(int) * (size_t)(n_rows > 0 ? n_rows : 1));
+  if (!rows) return out_of_memory("the rows of this rank", n_rows);
+  for (int64_t r = 0, i = 0; r < nk; ++r)
+    if (sys->row_local[r]) rows[i++] = (int)r;
+  const int rows_changed = n_rows != sys->n_local_rows || !sys->local_rows ||
+                           memcmp(rows, sys->local_rows, sizeof(int) * (size_t)n_rows) != 0;
+  free(sys->local_rows);
+  sys->local_rows = rows;
+  sys->n_local_rows = n_rows;
+
+  /* declared keys the pattern lacks */
+  int64_t n_missing = 0;
+  if (layout_changed || sys->pattern_n != nk) {
+    sys->n_extra_keys = 0; /* the keys were in the old numbering */
+    n_missing = sys->n_declared;
+  } else {
+    for (int64_t k = 0; k < sys->n_declared; ++k) {
+      const int64_t key = sys->declared[k];
+      if (sk_system_position(sys, (int)(key / nk), (int)(key % nk)) < 0) sys->declared[n_missing++] = key;
+    }
+  }
+  if (n_missing > 0) qsort(sys->declared, (size_t)n_missing, sizeof(int64_t), compare_i64);
+  int64_t unique = 0;
+  for (int64_t k = 0; k < n_missing; ++k)
+    if (k == 0 || sys->declared[k] != sys->declared[unique - 1]) sys->declared[unique++] = sys->declared[k];
+  int any = unique > 0 || rows_changed || layout_changed || sys->pattern_n != nk, anywhere = 0;
+  MPI_Allreduce(&any, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
+  if (!anywhere) return SK_OK;
+  SK_TRY(merge_keys(sys, sys->declared, unique));
+  return build_pattern(sys);
+}
+

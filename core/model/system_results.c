@@ -1,0 +1,79 @@
+/* The contact results of the system's plugin terms (system.h): the reports summed over ranks, the points. */
+#include <math.h>
+#include <string.h>
+
+#include "system.h"
+
+/* ---- results ----------------------------------------------------------------------------------------------------- */
+
+sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_totals *totals) {
+  double *obstacle_force = totals->obstacle_force;
+  memset(totals, 0, sizeof *totals);
+  totals->obstacle_force = obstacle_force;
+  double sums[10] = {0};
+  sk_status status = SK_OK;
+  int n_obstacles = 0;
+  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
+    sk_term *term = sys->terms[k];
+    if (!term->ops->report) continue;
+    sk_contact_report r = {.struct_size = sizeof r};
+    status = term->ops->report(term, sys, initial, &r);
+    if (status != SK_OK) {
+      sk_error_prefix(status, "%s: report: ", term->name);
+      break;
+    }
+    for (int i = 0; i < 3; ++i) {
+      sums[i] += r.force[i];
+      sums[3 + i] += r.moment[i];
+    }
+    sums[6] += (double)r.active;
+    sums[7] += (double)r.stick;
+    sums[8] += (double)r.slip;
+    sums[9] += r.dissipated;
+    totals->constraint = fmax(totals->constraint, r.constraint_norm);
+    if (obstacle_force && sk_term_plugin_has_obstacle(term)) {
+      for (int i = 0; i < 3; ++i) obstacle_force[3 * n_obstacles + i] = -r.force[i];
+      ++n_obstacles;
+    }
+  }
+  SK_TRY(sk_system_collective(sys, status));
+  MPI_Allreduce(MPI_IN_PLACE, sums, 10, MPI_DOUBLE, MPI_SUM, sys->comm);
+  if (obstacle_force && n_obstacles > 0)
+    MPI_Allreduce(MPI_IN_PLACE, obstacle_force, 3 * n_obstacles, MPI_DOUBLE, MPI_SUM, sys->comm);
+  double constraint = totals->constraint;
+  MPI_Allreduce(&constraint, &totals->constraint, 1, MPI_DOUBLE, MPI_MAX, sys->comm);
+  for (int i = 0; i < 3; ++i) {
+    totals->force[i] = sums[i];
+    totals->moment[i] = sums[3 + i];
+  }
+  totals->active = sums[6];
+  totals->stick = sums[7];
+  totals->slip = sums[8];
+  totals->dissipated = sums[9];
+  totals->n_obstacles = n_obstacles;
+  return SK_OK;
+}
+
+typedef struct {
+  void (*callback)(void *ctx, int pair, const sk_contact_point *point);
+  void *ctx;
+  int pair;
+} points_relay;
+
+static void relay_point(void *ctx, const sk_contact_point *point) {
+  points_relay *relay = ctx;
+  relay->callback(relay->ctx, relay->pair, point);
+}
+
+sk_status sk_system_points(sk_system *sys, int initial,
+                           void (*callback)(void *ctx, int pair, const sk_contact_point *point), void *ctx) {
+  sk_status status = SK_OK;
+  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
+    sk_term *term = sys->terms[k];
+    if (!term->ops->points) continue;
+    points_relay relay = {callback, ctx, sk_term_plugin_pair(term)};
+    status = term->ops->points(term, sys, initial, relay_point, &relay);
+    if (status != SK_OK) sk_error_prefix(status, "%s: points: ", term->name);
+  }
+  return status;
+}

@@ -1,0 +1,70 @@
+/* A term of a step's nonlinear system (internal to the simulation layer): a body's bulk, the Dirichlet conditions,
+ * the tractions, a plugin instance (pair or body). The system (system.c) holds a list of terms and calls them in
+ * order; no term is special-cased in the stepper. Every entry may be NULL. The plugin ABI (plugin.h) mirrors this
+ * table: term_plugin.c adapts one instance to it.
+ *
+ * Stages of an attempt: predict → begin_step → layout → pattern (+ rows) → Newton { update_active_set at each new
+ * point; residual → (sum over ranks) → finish_residual; jacobian → finish_jacobian → (sum, condensation, solve) →
+ * recover } → converged → commit (or reject) → report / points. */
+#ifndef STICKSLIP_TERM_H
+#define STICKSLIP_TERM_H
+
+#include "stickslip/plugin.h"
+
+typedef struct sk_system sk_system;
+typedef struct sk_term sk_term;
+
+typedef struct sk_term_ops {
+  const char *kind; /* "bulk", "dirichlet", "traction", "plugin" */
+  void (*destroy)(sk_term *term);
+  /* Start of an attempt, before the plugins see the step: the predictor of the term's unknowns in sys->x. */
+  sk_status (*predict)(sk_term *term, sk_system *sys);
+  sk_status (*begin_step)(sk_term *term, sk_system *sys);
+  /* Sets term->n_extra, initial, eliminated (and pairs for condensation through sys) for the attempt. */
+  sk_status (*layout)(sk_term *term, sk_system *sys);
+  /* Declares couplings beyond the bulk graph (sk_system_declare) and marks the rows this rank writes matrix
+   * entries into (rows[r] = 1). */
+  sk_status (*pattern)(sk_term *term, sk_system *sys, unsigned char *rows);
+  sk_status (*update_active_set)(sk_term *term, sk_system *sys, int *changed);
+  /* Adds to sys->F_local (this rank's part). */
+  sk_status (*residual)(sk_term *term, sk_system *sys);
+  /* Adds to the operator's local contributions (sys->values) and sys->rhs_local. */
+  sk_status (*jacobian)(sk_term *term, sk_system *sys);
+  /* On the residual summed over ranks (Dirichlet: reactions, then rows replaced). */
+  sk_status (*finish_residual)(sk_term *term, sk_system *sys, double *F);
+  /* On the local contributions after every term's jacobian (Dirichlet: rows zeroed, unit diagonal on rank 0). */
+  sk_status (*finish_jacobian)(sk_term *term, sk_system *sys);
+  /* On the summed right-hand side correction of plugin-local condensation (Dirichlet: zero at fixed rows). */
+  void (*finish_rhs)(sk_term *term, sk_system *sys, double *rhs);
+  /* After a linear solve: fill dx of the term's eliminated extras (owned entities; summed over ranks). */
+  sk_status (*recover)(sk_term *term, sk_system *sys, const double *F, double *dx);
+  sk_status (*converged)(sk_term *term, sk_system *sys, int *accept);
+  sk_status (*commit)(sk_term *term, sk_system *sys);
+  void (*reject)(sk_term *term, sk_system *sys);
+  /* Contact results of the committed step (initial: the initial row); this rank's part. */
+  sk_status (*report)(sk_term *term, sk_system *sys, int initial, sk_contact_report *report);
+  sk_status (*points)(sk_term *term, sk_system *sys, int initial, sk_point_callback callback, void *ctx);
+} sk_term_ops;
+
+struct sk_term {
+  const sk_term_ops *ops;
+  char name[96];                   /* for messages: "body 'disk'", "contact pair 'floor'" */
+  /* the extra unknowns of the current attempt (layout) */
+  int64_t extra_offset, n_extra;
+  const double *initial;
+  const unsigned char *eliminated;
+  int recover_needs_jdx;
+  double seconds;                  /* time spent in residual/jacobian (summary.json) */
+};
+
+/* The terms of core/model (each returns a new term or an error). */
+sk_status sk_term_bulk_create(sk_system *sys, int body, sk_term **term);      /* term_bulk.c */
+sk_status sk_term_traction_create(sk_system *sys, sk_term **term);            /* term_bulk.c */
+sk_status sk_term_dirichlet_create(sk_system *sys, sk_term **term);           /* term_dirichlet.c */
+/* A plugin instance attached to body `body` (>= 0) or contact pair `pair` (>= 0); term_plugin.c. */
+sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **term);
+/* 1 for a plugin term of a pair with a rigid obstacle; the pair index of a plugin term (-1 for a body). */
+int sk_term_plugin_has_obstacle(const sk_term *term);
+int sk_term_plugin_pair(const sk_term *term);
+
+#endif

@@ -1,0 +1,404 @@
+/* A plugin instance as a term (term_plugin.h): creates the views and the instance, keeps the state the instance
+ * sees (positions per view, refreshed when the iterate changes) and runs the ABI calls at the system's stages. The
+ * capability checks that depend on what an instance does (extra unknowns, eliminations) are made here. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "term_plugin.h"
+#include "stickslip/fe.h"
+
+static double *zeros(int64_t n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
+
+static int dof_count(const sk_view *view) { return view->n_nodes * view->dim; }
+
+/* x = X + u at the view's nodes, from a vector over the displacement dofs. */
+static void gather(const sk_view *view, const double *global, double *local) {
+  const int n = dof_count(view);
+  for (int k = 0; k < n; ++k) local[k] = global[view->dofs[k]];
+}
+
+void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial) {
+  sk_state *st = &term->state;
+  const int dynamic = term->integrator ? term->integrator->dynamic : sys->integrator->dynamic;
+  st->t_n = sys->t_n;
+  st->t = initial ? sys->t_n : sys->t;
+  st->dt = initial ? 0.0 : sys->dt;
+  st->step = initial ? 0 : sys->step;
+  for (int v = 0; v < term->n_views; ++v) {
+    const sk_view *view = term->view_list[v];
+    gather(view, sys->q_n, term->x_n[v]);
+    if (dynamic) gather(view, sys->v_n, term->v_n[v]);
+    if (initial) memcpy(term->x[v], term->x_n[v], sizeof(double) * (size_t)dof_count(view));
+    else if (term->x_version != sys->x_version) gather(view, sys->q, term->x[v]);
+  }
+  term->x_version = initial ? 0 : sys->x_version;
+  st->extra = initial ? NULL : sys->x + term->base.extra_offset;
+  st->n_extra = initial ? 0 : term->base.n_extra;
+  st->extra_offset = term->base.extra_offset;
+}
+
+/* Within Newton only the iterate changes: positions only. */
+static void refresh_x(plugin_term *term, sk_system *sys) {
+  term->state.extra = sys->x + term->base.extra_offset;
+  term->state.n_extra = term->base.n_extra;
+  term->state.extra_offset = term->base.extra_offset;
+  if (term->x_version == sys->x_version) return;
+  for (int v = 0; v < term->n_views; ++v) gather(term->view_list[v], sys->q, term->x[v]);
+  term->x_version = sys->x_version;
+}
+
+/* ---- the stages ------------------------------------------------------------------------------------------------- */
+
+static void plugin_destroy(sk_term *base) {
+  plugin_term *term = (plugin_term *)base;
+  if (term->instance) term->table.destroy(term->instance);
+  for (int v = 0; v < PLUGIN_MAX_VIEWS; ++v) {
+    sk_view_free(&term->views[v]);
+    free(term->x[v]);
+    free(term->x_n[v]);
+    free(term->v_n[v]);
+    free(term->F_view[v]);
+    free(term->dx_view[v]);
+    free(term->Jdx_view[v]);
+  }
+  free(term->pending_u);
+  free(term->pending_v);
+  free(term->body_buffer);
+  free(term->scratch_K);
+  free(term->again_b);
+  free(term->again_y);
+  free(term);
+}
+
+/* Values over the body view (owned nodes) made whole over ranks, into `target` at the body's dofs. */
+static void scatter_body(plugin_term *term, sk_system *sys, const double *values, double *target) {
+  const sk_view *view = term->view_list[0];
+  const int dim = view->dim;
+  memset(term->body_buffer, 0, sizeof(double) * (size_t)sys->model->n_dofs);
+  for (int k = 0; k < view->n_nodes; ++k)
+    if (view->owned[k])
+      for (int i = 0; i < dim; ++i) term->body_buffer[view->dofs[k * dim + i]] = values[k * dim + i];
+  MPI_Allreduce(MPI_IN_PLACE, term->body_buffer, sys->model->n_dofs, MPI_DOUBLE, MPI_SUM, sys->comm);
+  const sk_body *body = &sys->model->bodies[term->body];
+  const sk_group *g = body->group;
+  for (int64_t k = 0; k < (int64_t)g->n_elems * g->nen; ++k)
+    for (int i = 0; i < dim; ++i) {
+      const int64_t dof = (int64_t)g->conn[k] * dim + i;
+      target[dof] = term->body_buffer[dof];
+    }
+}
+
+static sk_status plugin_predict(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  if (!term->claimed || !term->integrator) return SK_OK;
+  sk_plugin_term_refresh(term, sys, 0);
+  sk_status status = term->integrator->predict(term->instance, &term->state, term->x[0]);
+  status = sk_system_collective(sys, status);
+  if (status != SK_OK) return sk_error_prefix(status, "%s: predict: ", base->name);
+  scatter_body(term, sys, term->x[0], sys->x);
+  return SK_OK;
+}
+
+static sk_status plugin_begin_step(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  sk_plugin_term_refresh(term, sys, 0);
+  return term->table.begin_step(term->instance, &term->state);
+}
+
+static sk_status plugin_layout(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  sk_layout *layout = &term->layout;
+  memset(layout, 0, sizeof *layout);
+  layout->struct_size = sizeof *layout;
+  term->state.extra_offset = base->extra_offset;
+  term->state.extra = NULL;
+  term->state.n_extra = 0;
+  SK_TRY(term->table.layout(term->instance, &term->state, layout));
+  const uint64_t caps = term->plugin->caps;
+  if (layout->n_extra > 0 && !(caps & SK_CAP_MULTIPLIERS))
+    return sk_error_set(SK_ERR_PLUGIN, "plugin '%s' declares %lld extra unknowns without the multipliers capability",
+                        term->plugin->name, (long long)layout->n_extra);
+  if (layout->eliminated && !(caps & SK_CAP_CONDENSATION))
+    return sk_error_set(SK_ERR_PLUGIN, "plugin '%s' eliminates unknowns without the condensation capability",
+                        term->plugin->name);
+  base->n_extra = layout->n_extra;
+  base->initial = layout->initial;
+  base->eliminated = layout->eliminated;
+  base->recover_needs_jdx = layout->recover_needs_jdx;
+  (void)sys;
+  return SK_OK;
+}
+
+typedef struct {
+  sk_pattern abi;
+  sk_system *sys;
+  sk_status status;
+} pattern_relay;
+
+static void relay_block(sk_pattern *abi, int nr, const int64_t *rows, int nc, const int64_t *cols) {
+  pattern_relay *relay = (pattern_relay *)abi;
+  if (relay->status == SK_OK) relay->status = sk_system_declare(relay->sys, nr, rows, nc, cols);
+}
+
+static sk_status plugin_pattern(sk_term *base, sk_system *sys, unsigned char *rows) {
+  plugin_term *term = (plugin_term *)base;
+  for (int v = 0; v < term->n_views; ++v) {
+    const sk_view *view = term->view_list[v];
+    for (int k = 0; k < dof_count(view); ++k) rows[view->dofs[k]] = 1;
+  }
+  if (term->wants_linear && term->again_size < sys->n) {
+    free(term->again_b);
+    free(term->again_y);
+    term->again_b = zeros(sys->capacity);
+    term->again_y = zeros(sys->capacity);
+    if (!term->again_b || !term->again_y)
+      return sk_error_set(SK_ERR_NOMEM, "out of memory for solve_again (%lld unknowns)", (long long)sys->capacity);
+    term->again_size = sys->capacity;
+  }
+  if (!term->table.pattern) return SK_OK;
+  pattern_relay relay = {.abi = {SK_TABLE_HEADER(sk_pattern), .add_block = relay_block}, .sys = sys, .status = SK_OK};
+  SK_TRY(term->table.pattern(term->instance, &term->state, &relay.abi));
+  return relay.status;
+}
+
+static sk_status plugin_update_active_set(sk_term *base, sk_system *sys, int *changed) {
+  plugin_term *term = (plugin_term *)base;
+  if (!term->table.update_active_set) return SK_OK;
+  refresh_x(term, sys);
+  return term->table.update_active_set(term->instance, &term->state, changed);
+}
+
+static sk_status plugin_residual(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  refresh_x(term, sys);
+  return term->table.residual(term->instance, &term->state, &sys->sink.abi);
+}
+
+static sk_status plugin_jacobian(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  refresh_x(term, sys);
+  return term->table.jacobian(term->instance, &term->state, &sys->sink.abi);
+}
+
+static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, double *dx) {
+  plugin_term *term = (plugin_term *)base;
+  if (!term->table.recover) return SK_OK;
+  refresh_x(term, sys);
+  for (int v = 0; v < term->n_views; ++v) {
+    const sk_view *view = term->view_list[v];
+    gather(view, F, term->F_view[v]);
+    gather(view, dx, term->dx_view[v]);
+    if (base->recover_needs_jdx) gather(view, sys->Jdx, term->Jdx_view[v]);
+  }
+  sk_vectors vectors = {.struct_size = sizeof vectors,
+                        .F_view = term->F_list,
+                        .F_extra = F + base->extra_offset,
+                        .dx_view = term->dx_list,
+                        .dx_extra = dx + base->extra_offset,
+                        .Jdx_view = base->recover_needs_jdx ? term->Jdx_list : NULL,
+                        .Jdx_extra = base->recover_needs_jdx ? sys->Jdx + base->extra_offset : NULL};
+  return term->table.recover(term->instance, &term->state, &vectors);
+}
+
+static sk_status plugin_converged(sk_term *base, sk_system *sys, int *accept) {
+  plugin_term *term = (plugin_term *)base;
+  if (!term->table.converged) return SK_OK;
+  refresh_x(term, sys);
+  return term->table.converged(term->instance, &term->state, accept);
+}
+
+static sk_status plugin_commit(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  refresh_x(term, sys);
+  sk_status status = SK_OK;
+  if (term->claimed && term->integrator) {
+    memset(term->pending_v, 0, sizeof(double) * (size_t)dof_count(term->view_list[0]));
+    status = sk_system_collective(sys, term->integrator->velocity(term->instance, &term->state, term->pending_v));
+    if (status != SK_OK) return sk_error_prefix(status, "%s: velocity: ", base->name);
+    scatter_body(term, sys, term->pending_v, sys->v);
+  }
+  term->has_pending_state = 0;
+  status = sk_system_collective(sys, term->table.commit_step(term->instance, &term->state));
+  if (status != SK_OK) return status;
+  int pending = term->has_pending_state, anywhere = 0;
+  MPI_Allreduce(&pending, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
+  if (anywhere) {
+    /* set_state: the body's displacement and velocity for output, invariants and the next step */
+    scatter_body(term, sys, term->pending_u, sys->x);
+    scatter_body(term, sys, term->pending_v, sys->v);
+    for (int k = 0; k < sys->model->n_dofs; ++k) sys->q[k] = sys->model->X[k] + sys->x[k];
+    sys->x_version++;
+  }
+  return SK_OK;
+}
+
+static void plugin_reject(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  (void)sys;
+  term->table.reject_step(term->instance);
+}
+
+static sk_status plugin_report(sk_term *base, sk_system *sys, int initial, sk_contact_report *report) {
+  plugin_term *term = (plugin_term *)base;
+  sk_plugin_term_refresh(term, sys, initial);
+  return term->table.report(term->instance, &term->state, report);
+}
+
+static sk_status plugin_points(sk_term *base, sk_system *sys, int initial, sk_point_callback callback, void *ctx) {
+  plugin_term *term = (plugin_term *)base;
+  if (!term->table.points) return SK_OK;
+  sk_plugin_term_refresh(term, sys, initial);
+  return term->table.points(term->instance, &term->state, callback, ctx);
+}
+
+static const sk_term_ops plugin_ops = {.kind = "plugin",
+                                       .destroy = plugin_destroy,
+                                       .predict = plugin_predict,
+                                       .begin_step = plugin_begin_step,
+                                       .layout = plugin_layout,
+                                       .pattern = plugin_pattern,
+                                       .update_active_set = plugin_update_active_set,
+                                       .residual = plugin_residual,
+                                       .jacobian = plugin_jacobian,
+                                       .recover = plugin_recover,
+                                       .converged = plugin_converged,
+                                       .commit = plugin_commit,
+                                       .reject = plugin_reject,
+                                       .report = plugin_report,
+                                       .points = plugin_points};
+
+int sk_term_plugin_has_obstacle(const sk_term *base) {
+  if (base->ops != &plugin_ops) return 0;
+  return ((const plugin_term *)base)->attach.obstacle != NULL;
+}
+
+int sk_term_plugin_pair(const sk_term *base) {
+  if (base->ops != &plugin_ops) return -1;
+  return ((const plugin_term *)base)->pair;
+}
+
+/* ---- creation --------------------------------------------------------------------------------------------------- */
+
+static sk_status add_view(plugin_term *term, const sk_model *m, const sk_surface *surface, const char *name,
+                          int whole, int body) {
+  const int v = term->n_views;
+  sk_view_data *data = &term->views[v];
+  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, data) : sk_view_body(m, body, data));
+  term->view_list[v] = &data->view;
+  const int n = dof_count(&data->view);
+  term->x[v] = zeros(n);
+  term->x_n[v] = zeros(n);
+  term->v_n[v] = zeros(n);
+  term->F_view[v] = zeros(n);
+  term->dx_view[v] = zeros(n);
+  term->Jdx_view[v] = zeros(n);
+  if (!term->x[v] || !term->x_n[v] || !term->v_n[v] || !term->F_view[v] || !term->dx_view[v] || !term->Jdx_view[v])
+    return sk_error_set(SK_ERR_NOMEM, "out of memory for the state of view '%s'", name);
+  term->x_list[v] = term->x[v];
+  term->x_n_list[v] = term->x_n[v];
+  term->v_n_list[v] = term->v_n[v];
+  term->F_list[v] = term->F_view[v];
+  term->dx_list[v] = term->dx_view[v];
+  term->Jdx_list[v] = term->Jdx_view[v];
+  term->n_views++;
+  return SK_OK;
+}
+
+/* The plugin's table as this host reads it: members beyond its struct_size are NULL. */
+static void copy_table(plugin_term *term, const sk_plugin *plugin) {
+  memset(&term->table, 0, sizeof term->table);
+  size_t size = plugin->struct_size < sizeof term->table ? plugin->struct_size : sizeof term->table;
+  memcpy(&term->table, plugin, size);
+}
+
+static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_index) {
+  const sk_model *m = sys->model;
+  const int dynamic = sys->integrator->dynamic;
+  sk_attach *attach = &term->attach;
+  attach->struct_size = sizeof *attach;
+  if (pair_index >= 0) {
+    const sk_contact_pair *pair = &m->pairs[pair_index];
+    term->plugin = pair->plugin;
+    term->host.params = pair->params;
+    snprintf(term->base.name, sizeof term->base.name, "contact pair '%s'", pair->name);
+    attach->kind = SK_KIND_PAIR;
+    attach->name = pair->name;
+    attach->strategy = pair->strategy;
+    /* the slave as this rank sees it; the master whole (every face a slave point could reach) */
+    SK_TRY(add_view(term, m, &pair->slave, pair->slave.name, 0, -1));
+    attach->slave = term->view_list[0];
+    if (!pair->has_obstacle) {
+      SK_TRY(add_view(term, m, &pair->master, pair->master.name, 1, -1));
+      attach->master = term->view_list[1];
+    } else {
+      attach->obstacle = &pair->obstacle;
+    }
+    attach->self_contact = pair->self_contact;
+  } else {
+    const sk_body *b = &m->bodies[body];
+    term->plugin = b->plugin;
+    term->host.params = b->params;
+    snprintf(term->base.name, sizeof term->base.name, "body '%s'", b->name);
+    attach->kind = SK_KIND_BODY;
+    attach->name = b->name;
+    attach->strategy = b->strategy;
+    SK_TRY(add_view(term, m, NULL, b->name, 0, body));
+    attach->body = term->view_list[0];
+    term->body_buffer = zeros(m->n_dofs);
+    term->pending_u = zeros(dof_count(attach->body));
+    term->pending_v = zeros(dof_count(attach->body));
+    term->scratch_K = zeros((int64_t)(SK_MAX_NEN * 3) * (SK_MAX_NEN * 3));
+    if (!term->body_buffer || !term->pending_u || !term->pending_v || !term->scratch_K)
+      return sk_error_set(SK_ERR_NOMEM, "body '%s': out of memory", b->name);
+  }
+  attach->n_views = term->n_views;
+  attach->views = term->view_list;
+  copy_table(term, term->plugin);
+  sk_state *st = &term->state;
+  st->struct_size = sizeof *st;
+  st->scheme = sys->integrator->name;
+  st->alpha = sys->integrator->alpha;
+  st->dynamic = dynamic;
+  st->n_views = term->n_views;
+  st->x = term->x_list;
+  st->x_n = term->x_n_list;
+  st->v_n = dynamic ? term->v_n_list : NULL;
+  term->host.sys = sys;
+  term->host.term = term;
+  term->host.name = term->base.name;
+  return SK_OK;
+}
+
+sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **out) {
+  plugin_term *term = calloc(1, sizeof *term);
+  if (!term) return sk_error_set(SK_ERR_NOMEM, "out of memory for a plugin instance");
+  term->base.ops = &plugin_ops;
+  term->body = body;
+  term->pair = pair;
+  sk_status status = setup(term, sys, body, pair);
+  if (status == SK_OK) {
+    status = term->table.create(sk_host_api_table(), &term->host, &term->attach, &term->instance);
+    if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);
+  }
+  /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */
+  if (status == SK_OK && body >= 0 && term->table.integrator && !term->claimed)
+    status = sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' supplies an integrator but did not claim the body "
+                          "(stickslip.bulk claim)", term->base.name, term->plugin->name);
+  if (status == SK_OK && term->claimed) {
+    term->integrator = term->table.integrator;
+    if (term->integrator) {
+      term->state.scheme = term->integrator->name;
+      term->state.alpha = term->integrator->alpha;
+      term->state.dynamic = term->integrator->dynamic;
+      term->state.v_n = term->integrator->dynamic ? term->v_n_list : NULL;
+    }
+  }
+  if (status != SK_OK) {
+    plugin_destroy(&term->base);
+    return status;
+  }
+  *out = &term->base;
+  return SK_OK;
+}
+
+const sk_term_ops *sk_plugin_term_ops(void) { return &plugin_ops; }

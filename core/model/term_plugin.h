@@ -1,0 +1,48 @@
+/* A plugin instance as a term of the system (internal): the instance, its host handle, attachment, views and the
+ * state it sees. term_plugin.c runs the ABI calls; host.c serves the api and the extensions. */
+#ifndef STICKSLIP_TERM_PLUGIN_H
+#define STICKSLIP_TERM_PLUGIN_H
+
+#include "host.h"
+
+enum { PLUGIN_MAX_VIEWS = 2 };
+
+typedef struct plugin_term {
+  sk_term base;
+  sk_plugin table;                 /* the plugin's table, members beyond its struct_size NULL */
+  const sk_plugin *plugin;         /* as loaded (its name, strategies) */
+  sk_instance *instance;
+  sk_host host;
+  sk_attach attach;
+  int body, pair;                  /* what it is attached to (-1: not that kind) */
+  int n_views;
+  sk_view_data views[PLUGIN_MAX_VIEWS];
+  const sk_view *view_list[PLUGIN_MAX_VIEWS];
+  /* the state it sees: positions per view, refreshed when the system's iterate changes */
+  sk_state state;
+  double *x[PLUGIN_MAX_VIEWS], *x_n[PLUGIN_MAX_VIEWS], *v_n[PLUGIN_MAX_VIEWS];
+  const double *x_list[PLUGIN_MAX_VIEWS], *x_n_list[PLUGIN_MAX_VIEWS], *v_n_list[PLUGIN_MAX_VIEWS];
+  uint64_t x_version;
+  sk_layout layout;
+  /* recover: the solve's vectors in the instance's layout */
+  double *F_view[PLUGIN_MAX_VIEWS], *dx_view[PLUGIN_MAX_VIEWS], *Jdx_view[PLUGIN_MAX_VIEWS];
+  const double *F_list[PLUGIN_MAX_VIEWS], *dx_list[PLUGIN_MAX_VIEWS], *Jdx_list[PLUGIN_MAX_VIEWS];
+  /* body plugins */
+  int claimed;                     /* stickslip.bulk claim() */
+  const sk_integrator *integrator; /* its own integrator when claimed */
+  double *pending_u, *pending_v;   /* set_state() of this commit (view layout), applied by the host */
+  int has_pending_state;
+  double *body_buffer;             /* n_dofs: scatter of body values over ranks */
+  double *scratch_K;               /* one element stiffness (stickslip.bulk add_stiffness, inside Newton) */
+  /* stickslip.linear: solve_again's full vectors (allocated at layout, used inside Newton) */
+  int wants_linear;
+  double *again_b, *again_y;
+  int64_t again_size;
+} plugin_term;
+
+/* Positions, x_n and v_n of the views from the system (refresh_state: only when the iterate changed). */
+void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial);
+/* The ops of plugin terms (to tell them apart from core terms). */
+const sk_term_ops *sk_plugin_term_ops(void);
+
+#endif

@@ -1,0 +1,429 @@
+/* The recorder: the result files of a run (history.csv, contact.csv, results.pvd + .vtu, summary.json, scene.yaml) in
+ * a staging folder that is swapped in at the end. It reads the system after a commit, while the state still spans
+ * the step (x, v at t); it never feeds anything back into the stepping. */
+#define _GNU_SOURCE
+#include "recorder.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../model/assemble.h"
+#include "stickslip/output.h"
+
+/* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
+typedef enum {
+  COL_TIME, COL_STEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
+  COL_MOMENTUM_Z, COL_ANGULAR_X, COL_ANGULAR_Y, COL_ANGULAR_Z, COL_FORCE_X, COL_FORCE_Y, COL_FORCE_Z, COL_ACTIVE,
+  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, N_FIXED_COLUMNS
+} history_column;
+
+static const char *const fixed_columns[N_FIXED_COLUMNS] = {
+    "time", "step", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
+    "momentum_y", "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z", "contact_force_x",
+    "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
+    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z"};
+
+enum { POINT_FIELDS = 14 };
+
+struct sk_recorder {
+  sk_scene *scene;
+  sk_system *sys;
+  const sk_run_options *options;
+  double wall_start;
+  sk_csv *history;
+  sk_pvd *pvd;
+  char dir[1100];          /* staging folder ("" when nothing is written) */
+  int n_columns;
+  const char **names;
+  char (*name_storage)[96];
+  double *row;
+  double *reactions;       /* 3 per Dirichlet condition */
+  double *obstacle_force;  /* 3 per obstacle pair */
+  int n_obstacles;
+  double dissipated;       /* accumulated over the steps */
+  double total_energy;     /* of the last row */
+  int vtu_count;
+};
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static sk_status no_memory(const char *what) { return sk_error_set(SK_ERR_NOMEM, "out of memory for %s", what); }
+
+double sk_recorder_total_energy(const sk_recorder *rec) { return rec->total_energy; }
+
+void sk_recorder_free(sk_recorder *rec) {
+  if (!rec) return;
+  sk_csv_close(rec->history);
+  sk_pvd_close(rec->pvd);
+  if (rec->dir[0]) sk_outdir_abort(rec->dir);
+  free(rec->names);
+  free(rec->name_storage);
+  free(rec->row);
+  free(rec->reactions);
+  free(rec->obstacle_force);
+  free(rec);
+}
+
+sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options *options, double wall_start,
+                           sk_recorder **out) {
+  *out = NULL;
+  const sk_model *m = &scene->model;
+  sk_recorder *rec = calloc(1, sizeof *rec);
+  if (!rec) return no_memory("the recorder");
+  rec->scene = scene;
+  rec->sys = sys;
+  rec->options = options;
+  rec->wall_start = wall_start;
+  for (int k = 0; k < m->n_pairs; ++k) rec->n_obstacles += m->pairs[k].has_obstacle;
+  rec->n_columns = N_FIXED_COLUMNS + 3 * (m->n_dirichlet + rec->n_obstacles) + 1;
+  rec->names = calloc((size_t)rec->n_columns, sizeof(char *));
+  rec->name_storage = calloc((size_t)rec->n_columns, sizeof *rec->name_storage);
+  rec->row = calloc((size_t)rec->n_columns, sizeof(double));
+  rec->reactions = calloc(3 * (size_t)m->n_dirichlet + 1, sizeof(double));
+  rec->obstacle_force = calloc(3 * (size_t)rec->n_obstacles + 1, sizeof(double));
+  *out = rec;
+  if (!rec->names || !rec->name_storage || !rec->row || !rec->reactions || !rec->obstacle_force)
+    return no_memory("the history columns");
+  int c = 0;
+  for (; c < N_FIXED_COLUMNS; ++c) rec->names[c] = fixed_columns[c];
+  for (int k = 0; k < m->n_dirichlet; ++k)
+    for (int i = 0; i < 3; ++i) {
+      snprintf(rec->name_storage[c], sizeof rec->name_storage[c], "reaction_%s_%c", m->dirichlet[k].name, "xyz"[i]);
+      rec->names[c] = rec->name_storage[c];
+      ++c;
+    }
+  /* the force each rigid obstacle receives (minus the contact force on its slave surface) */
+  for (int k = 0; k < m->n_pairs; ++k)
+    if (m->pairs[k].has_obstacle)
+      for (int i = 0; i < 3; ++i) {
+        snprintf(rec->name_storage[c], sizeof rec->name_storage[c], "reaction_%s_%c", m->pairs[k].obstacle.name,
+                 "xyz"[i]);
+        rec->names[c] = rec->name_storage[c];
+        ++c;
+      }
+  rec->names[c] = "wall_seconds";
+  if (!options->out_dir || m->rank != 0) return SK_OK;
+  SK_TRY(sk_outdir_begin(options->out_dir, rec->dir, sizeof rec->dir));
+  char path[1300];
+  snprintf(path, sizeof path, "%s/history.csv", rec->dir);
+  SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
+  snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
+  SK_TRY(sk_cfg_write_file(scene->cfg, path));
+  if (scene->output.write_vtu) {
+    snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
+    SK_TRY(sk_pvd_open(path, &rec->pvd));
+  }
+  return SK_OK;
+}
+
+/* ---- contact points -------------------------------------------------------------------------------------------- */
+
+typedef struct {
+  double *buffer;
+  int n, cap;
+  int failed;
+  double *pressure, *gap, *state; /* per node, for the VTU */
+} point_collector;
+
+static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
+  point_collector *c = ctx;
+  if (c->failed) return;
+  if (c->n == c->cap) {
+    const int cap = 2 * c->cap + 256;
+    double *grown = realloc(c->buffer, sizeof(double) * POINT_FIELDS * (size_t)cap);
+    if (!grown) {
+      c->failed = 1;
+      return;
+    }
+    c->buffer = grown;
+    c->cap = cap;
+  }
+  const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1;
+  double *r = c->buffer + POINT_FIELDS * (size_t)c->n++;
+  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], p->normal[0], p->normal[1], p->normal[2],
+                                       p->pressure, p->traction[0], p->traction[1], p->traction[2], p->gap,
+                                       (double)p->state, (double)node, (double)pair};
+  memcpy(r, values, sizeof values);
+  if (node >= 0 && c->pressure) {
+    c->pressure[node] = p->pressure;
+    c->gap[node] = p->gap;
+    c->state[node] = p->state;
+  }
+}
+
+/* Gathers the contact points of every pair to rank 0. Caller frees *all. */
+static sk_status gather_points(sk_recorder *rec, int initial, double *node_fields, double **all, int *n_all) {
+  const sk_model *m = &rec->scene->model;
+  point_collector c = {0};
+  if (node_fields) {
+    c.pressure = node_fields;
+    c.gap = node_fields + m->n_nodes;
+    c.state = node_fields + 2 * m->n_nodes;
+  }
+  sk_status status = sk_system_points(rec->sys, initial, collect_point, &c);
+  if (status == SK_OK && c.failed) status = no_memory("the contact points");
+  status = sk_system_collective(rec->sys, status);
+  if (status != SK_OK) {
+    free(c.buffer);
+    return status;
+  }
+  int count = c.n * POINT_FIELDS;
+  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
+  if (!counts || !displs) {
+    free(counts);
+    free(displs);
+    free(c.buffer);
+    return no_memory("the contact points");
+  }
+  MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
+  int total = 0;
+  for (int r = 0; r < m->n_ranks; ++r) {
+    displs[r] = total;
+    total += counts[r];
+  }
+  *all = calloc((size_t)total + 1, sizeof(double));
+  if (*all) MPI_Gatherv(c.buffer, count, MPI_DOUBLE, *all, counts, displs, MPI_DOUBLE, 0, m->comm);
+  *n_all = total / POINT_FIELDS;
+  free(counts);
+  free(displs);
+  free(c.buffer);
+  return *all ? SK_OK : no_memory("the contact points");
+}
+
+static sk_status write_contact_csv(sk_recorder *rec, const double *points, int n_points) {
+  static const char *const names[POINT_FIELDS] = {"x", "y", "z", "normal_x", "normal_y", "normal_z", "pressure",
+                                                  "traction_x", "traction_y", "traction_z", "gap", "state", "node",
+                                                  "pair"};
+  char path[1300];
+  snprintf(path, sizeof path, "%s/contact.csv", rec->dir);
+  sk_csv *csv;
+  SK_TRY(sk_csv_open(path, POINT_FIELDS, names, &csv));
+  for (int k = 0; k < n_points; ++k) SK_TRY(sk_csv_row(csv, points + POINT_FIELDS * (size_t)k));
+  return sk_csv_close(csv);
+}
+
+/* ---- VTU -------------------------------------------------------------------------------------------------------- */
+
+typedef struct {
+  double *points, *displacement, *velocity, *node_fields, *node_fields_sum, *stress, *stress_sum;
+  sk_elem_type *types;
+  int *offsets, *conn;
+  double *body_id, *rank_id;
+} vtu_buffers;
+
+static void free_vtu_buffers(vtu_buffers *b) {
+  void *all[] = {b->points, b->displacement, b->velocity, b->node_fields, b->node_fields_sum, b->stress,
+                 b->stress_sum, b->types, b->offsets, b->conn, b->body_id, b->rank_id};
+  for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
+}
+
+/* The mesh at displacement u and velocity v (time t, step), with stresses and contact point fields. */
+static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const double *v, double t, int64_t step) {
+  const sk_model *m = &rec->scene->model;
+  const int dim = m->dim, nn = m->n_nodes;
+  vtu_buffers b = {0};
+  b.points = calloc(3 * (size_t)nn, sizeof(double));
+  b.displacement = calloc(3 * (size_t)nn, sizeof(double));
+  b.velocity = calloc(3 * (size_t)nn, sizeof(double));
+  b.node_fields = calloc(3 * (size_t)nn, sizeof(double));
+  b.node_fields_sum = calloc(3 * (size_t)nn, sizeof(double));
+  b.stress = calloc(9 * (size_t)m->n_elements, sizeof(double));
+  b.stress_sum = calloc(9 * (size_t)m->n_elements, sizeof(double));
+  sk_status status = b.points && b.displacement && b.velocity && b.node_fields && b.node_fields_sum && b.stress &&
+                             b.stress_sum
+                         ? SK_OK
+                         : no_memory("the VTU output");
+  if (status == SK_OK) status = sk_bulk_stress(m, u, b.stress);
+  status = sk_system_collective(rec->sys, status);
+  double *all_points = NULL;
+  int n_points = 0;
+  if (status == SK_OK) status = gather_points(rec, initial, b.node_fields, &all_points, &n_points);
+  free(all_points);
+  if (status != SK_OK) {
+    free_vtu_buffers(&b);
+    return status;
+  }
+  MPI_Reduce(b.stress, b.stress_sum, 9 * m->n_elements, MPI_DOUBLE, MPI_SUM, 0, m->comm);
+  MPI_Reduce(b.node_fields, b.node_fields_sum, 3 * nn, MPI_DOUBLE, MPI_SUM, 0, m->comm);
+  if (m->rank == 0) {
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < dim; ++i) {
+        b.displacement[3 * a + i] = u[a * dim + i];
+        b.velocity[3 * a + i] = v[a * dim + i];
+        b.points[3 * a + i] = m->X[a * dim + i] + u[a * dim + i];
+      }
+    const int n_cells = m->n_elements;
+    b.types = calloc((size_t)n_cells + 1, sizeof(sk_elem_type));
+    b.offsets = calloc((size_t)n_cells + 1, sizeof(int));
+    b.conn = calloc((size_t)n_cells * SK_MAX_NEN + 1, sizeof(int));
+    b.body_id = calloc((size_t)n_cells + 1, sizeof(double));
+    b.rank_id = calloc((size_t)n_cells + 1, sizeof(double));
+    if (!b.types || !b.offsets || !b.conn || !b.body_id || !b.rank_id) status = no_memory("the VTU output");
+    for (int e = 0; e < n_cells && status == SK_OK; ++e) {
+      const sk_body *body;
+      const int *ec;
+      int dofs[SK_MAX_NEN * 3];
+      sk_element_dofs(m, e, dofs, &body, &ec);
+      b.types[e] = body->group->type;
+      b.offsets[e + 1] = b.offsets[e] + body->group->nen;
+      memcpy(b.conn + b.offsets[e], ec, sizeof(int) * (size_t)body->group->nen);
+      b.body_id[e] = (double)(body - m->bodies);
+      b.rank_id[e] = m->element_part[e];
+    }
+    sk_vtu_field point_fields[] = {{"displacement", 3, b.displacement},
+                                   {"velocity", 3, b.velocity},
+                                   {"contact_pressure", 1, b.node_fields_sum},
+                                   {"contact_gap", 1, b.node_fields_sum + nn},
+                                   {"contact_state", 1, b.node_fields_sum + 2 * nn}};
+    sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress_sum}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
+    const int n_point_fields = m->n_pairs > 0 ? 5 : 2;
+    char file[64], path[1400];
+    snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
+    snprintf(path, sizeof path, "%s/%s", rec->dir, file);
+    if (status == SK_OK)
+      status = sk_vtu_write(path, nn, b.points, n_cells, b.types, b.offsets, b.conn, n_point_fields, point_fields, 3,
+                            cell_fields);
+    if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
+    rec->vtu_count++;
+  }
+  free_vtu_buffers(&b);
+  return status;
+}
+
+/* ---- history ---------------------------------------------------------------------------------------------------- */
+
+/* One row for the state (u, v) at time t with the contact totals of the step that led to it. */
+static sk_status history_row(sk_recorder *rec, const double *u, const double *v, double t, int64_t step,
+                             int newton_iterations, const sk_contact_totals *contact) {
+  const sk_model *m = &rec->scene->model;
+  sk_invariants inv;
+  SK_TRY(sk_bulk_invariants(m, u, v, &inv));
+  sk_system_reactions(rec->sys, rec->reactions);
+  rec->dissipated += contact->dissipated;
+  double *row = rec->row;
+  row[COL_TIME] = t;
+  row[COL_STEP] = (double)step;
+  row[COL_DT] = rec->sys->dt;
+  row[COL_NEWTON] = newton_iterations;
+  row[COL_KINETIC] = inv.kinetic;
+  row[COL_STRAIN] = inv.strain;
+  row[COL_TOTAL] = inv.kinetic + inv.strain;
+  for (int i = 0; i < 3; ++i) {
+    row[COL_MOMENTUM_X + i] = inv.momentum[i];
+    row[COL_ANGULAR_X + i] = inv.angular_momentum[i];
+    row[COL_FORCE_X + i] = contact->force[i];
+    row[COL_MOMENT_X + i] = contact->moment[i];
+  }
+  row[COL_ACTIVE] = contact->active;
+  row[COL_STICK] = contact->stick;
+  row[COL_SLIP] = contact->slip;
+  row[COL_DISSIPATED] = rec->dissipated;
+  row[COL_CONSTRAINT] = contact->constraint;
+  int c = N_FIXED_COLUMNS;
+  for (int k = 0; k < 3 * m->n_dirichlet; ++k) row[c++] = rec->reactions[k];
+  for (int k = 0; k < 3 * rec->n_obstacles; ++k) row[c++] = rec->obstacle_force[k];
+  row[c++] = now_seconds() - rec->wall_start;
+  rec->total_energy = row[COL_TOTAL];
+  if (rec->history) SK_TRY(sk_csv_row(rec->history, row));
+  return SK_OK;
+}
+
+static int writes_vtu(const sk_recorder *rec) { return rec->scene->output.write_vtu && rec->options->out_dir; }
+
+sk_status sk_recorder_initial(sk_recorder *rec) {
+  sk_system *sys = rec->sys;
+  /* the initial row reports no contact: the pairs have not stepped yet (report() is not called for it) */
+  const sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
+  sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, &contact);
+  status = sk_system_collective(sys, status);
+  if (status == SK_OK && writes_vtu(rec)) status = write_vtu(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
+  return status;
+}
+
+sk_status sk_recorder_step(sk_recorder *rec, int steps_done, int last) {
+  sk_system *sys = rec->sys;
+  sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
+  SK_TRY(sk_system_contact_totals(sys, 0, &contact));
+  sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, sys->newton.iterations, &contact);
+  status = sk_system_collective(sys, status);
+  const int every = rec->scene->output.vtu_every;
+  if (status == SK_OK && writes_vtu(rec) && ((every > 0 && steps_done % every == 0) || last))
+    status = write_vtu(rec, 0, sys->x, sys->v, sys->t, sys->step);
+  return status;
+}
+
+static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
+  const sk_model *m = &rec->scene->model;
+  char path[1300];
+  snprintf(path, sizeof path, "%s/summary.json", rec->dir);
+  sk_json *json;
+  SK_TRY(sk_json_open(path, &json));
+  sk_json_string(json, "status", sum->failed ? "failed" : "ok");
+  if (sum->failed) sk_json_string(json, "message", sum->message);
+  sk_json_string(json, "scene", rec->scene->path);
+  sk_json_int(json, "steps", sum->steps);
+  sk_json_number(json, "final_time", sum->final_time);
+  sk_json_int(json, "newton_iterations", sum->newton_iterations);
+  sk_json_int(json, "linear_solves", sum->linear_solves);
+  sk_json_int(json, "step_cuts", sum->cuts);
+  sk_json_int(json, "active_set_loops", sum->active_set_loops);
+  sk_json_int(json, "dofs", m->n_dofs);
+  sk_json_int(json, "unknowns", (int)sum->unknowns_max);
+  sk_json_int(json, "linear_system_size", (int)sum->linear_size_max);
+  sk_json_int(json, "ranks", m->n_ranks);
+  char plugins[512] = "", strategies[512] = "";
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const sk_contact_pair *pair = &m->pairs[k];
+    snprintf(plugins + strlen(plugins), sizeof plugins - strlen(plugins), "%s%s", k ? "," : "", pair->plugin->name);
+    snprintf(strategies + strlen(strategies), sizeof strategies - strlen(strategies), "%s%s", k ? "," : "",
+             pair->plugin->strategies[pair->strategy]);
+  }
+  sk_json_string(json, "plugin", m->n_pairs ? plugins : "none");
+  sk_json_string(json, "strategy", m->n_pairs ? strategies : "none");
+  sk_json_string(json, "linear_solver", sk_linear_solver_name(rec->scene->solver.linear.kind));
+  sk_json_number(json, "wall_seconds", sum->wall_seconds);
+  sk_json_number(json, "assembly_seconds", sum->assembly_seconds);
+  sk_json_number(json, "contact_seconds", sum->contact_seconds);
+  sk_json_number(json, "solve_seconds", sum->solve_seconds);
+  return sk_json_close(json);
+}
+
+sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status) {
+  const sk_model *m = &rec->scene->model;
+  /* results: complete files up to the last converged step, then the folder is swapped in atomically */
+  double *points = NULL;
+  int n_points = 0;
+  sk_status points_status = SK_OK;
+  char message[1100];
+  snprintf(message, sizeof message, "%s", sk_error_message());
+  if (rec->options->out_dir && m->n_pairs > 0 && rec->scene->output.write_contact_csv && summary->steps > 0) {
+    points_status = gather_points(rec, 0, NULL, &points, &n_points);
+    sk_error_set(status, "%s", message);
+  }
+  if (rec->options->out_dir && m->rank == 0 && rec->dir[0]) {
+    sk_status out_status = points_status;
+    if (out_status == SK_OK && points) out_status = write_contact_csv(rec, points, n_points);
+    sk_csv_close(rec->history);
+    rec->history = NULL;
+    sk_pvd_close(rec->pvd);
+    rec->pvd = NULL;
+    if (out_status == SK_OK) out_status = write_summary(rec, summary);
+    if (out_status == SK_OK)
+      out_status = sk_outdir_commit(rec->dir, rec->options->out_dir,
+                                    summary->failed ? SK_RESULTS_FAILED : SK_RESULTS_OK, summary->results_dir,
+                                    sizeof summary->results_dir);
+    else sk_outdir_abort(rec->dir);
+    rec->dir[0] = '\0';
+    if (status == SK_OK) status = out_status;
+    else sk_error_set(status, "%s", message);
+  }
+  free(points);
+  return status;
+}

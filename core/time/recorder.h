@@ -1,0 +1,25 @@
+/* The result files of a run (recorder.c), internal to the simulation layer. */
+#ifndef STICKSLIP_RECORDER_H
+#define STICKSLIP_RECORDER_H
+
+#include "../model/system.h"
+#include "stickslip/run.h"
+
+typedef struct sk_recorder sk_recorder;
+
+/* Opens the staging folder (rank 0, when options->out_dir) and the history columns. *rec is set even on failure. */
+sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options *options, double wall_start,
+                           sk_recorder **rec);
+/* Row 0 (and the initial VTU) at the initial state. Collective. */
+sk_status sk_recorder_initial(sk_recorder *rec);
+/* After a commit, before the system advances: the step's row, and a VTU every vtu_every steps or at the last. */
+sk_status sk_recorder_step(sk_recorder *rec, int steps_done, int last);
+/* The total energy of the last row (for the progress line). */
+double sk_recorder_total_energy(const sk_recorder *rec);
+/* contact.csv at the final state, summary.json, and the folder swapped in (or dropped on an output error); sets
+ * summary->results_dir to where the files are. Returns
+ * `status` unless the output failed. Collective. */
+sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status);
+void sk_recorder_free(sk_recorder *rec);
+
+#endif

@@ -1,0 +1,274 @@
+/* stickslip plugin "covariant-penalty": Konyukhov-Schweizerhof covariant penalty contact with parallel transport
+ * (docs/plugins/covariant-penalty.md). The ABI v2 glue: this file reads the parameters, makes the contact points
+ * and holds the plugin table; step.c does the step (search, master faces, history, assembly); kernel.c evaluates
+ * one point.
+ *
+ * Contact points ("entities"): sts, one per Gauss point of each slave face this rank owns; nts, one per slave node it
+ * owns; stas, one per Gauss point of each owned face of the deformable surface (the scene's `slave`) against the
+ * obstacle. Each has its weight (reference area), its master face selection and its friction history. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "glue.h"
+
+#define CP_EXPORT __attribute__((visibility("default")))
+
+static const char *const cp_strategies[] = {"none", NULL};
+static const char *const cp_parameters[] = {
+    "penalty: normal penalty eps_n > 0, pressure per length [required]",
+    "penalty_tangential: tangential penalty eps_t > 0 [penalty]",
+    "mu: Coulomb friction coefficient >= 0 [0]",
+    "variant: sts (Gauss points on the slave faces) or nts (slave nodes) against a deformable master; an obstacle "
+    "always gives stas [sts]",
+    "gauss_points: Gauss points per face direction for sts and stas, 1..5 [2 on QUAD4/TRI3, 3 on QUAD9]",
+    "tangent: full, no-curvature, no-rotational or main-only [full]",
+    "tangent_form: exact (the derivative of the residual) or paper (the printed matrices, symmetric in stick) [exact]",
+    "area_weighted: nts: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
+    "stiffnesses [1]",
+    "search_margin: inflation of the search boxes (length) [half the mean master face size]",
+    "master_extension: a point up to this fraction of a face beyond the master's border stays in contact with the "
+    "extrapolated face, 0 switches it off [0.1]",
+    NULL};
+
+/* ---- creation ---------------------------------------------------------------------------------------------------- */
+static void cp_destroy(sk_instance *in) {
+  if (!in) return;
+  if (in->search) in->cs->search_destroy(in->search);
+  free(in->entities);
+  free(in->cand);
+  free(in->K[0]);
+  free(in);
+}
+
+static sk_status read_positive(sk_instance *in, const char *key, int required, double dflt, double *out) {
+  SK_TRY(in->api->param_double(in->host, key, required, dflt, out));
+  if (!(*out > 0.0) || !isfinite(*out))
+    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter '%s' must be a finite number > 0, got %g",
+                          key, *out);
+  return SK_OK;
+}
+
+/* Mean diagonal of the cells' bounding boxes in the reference configuration. */
+static double mean_face_size(const sk_view *v) {
+  double sum = 0.0;
+  for (int32_t f = 0; f < v->n_cells; ++f) {
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, d2 = 0.0;
+    for (int k = 0; k < v->nen; ++k)
+      for (int i = 0; i < 3; ++i) {
+        double x = v->X[3 * (size_t)v->conn[(size_t)f * v->nen + k] + i];
+        lo[i] = fmin(lo[i], x);
+        hi[i] = fmax(hi[i], x);
+      }
+    for (int i = 0; i < 3; ++i) d2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
+    sum += sqrt(d2);
+  }
+  return v->n_cells > 0 ? sum / v->n_cells : 0.0;
+}
+
+static sk_status read_parameters(sk_instance *in) {
+  const sk_host_api *api = in->api;
+  SK_TRY(read_positive(in, "penalty", 1, 0.0, &in->eps_n));
+  SK_TRY(read_positive(in, "penalty_tangential", 0, in->eps_n, &in->eps_t));
+  SK_TRY(api->param_double(in->host, "mu", 0, 0.0, &in->mu));
+  if (!(in->mu >= 0.0) || !isfinite(in->mu))
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'mu' must be a finite number >= 0, got %g",
+                      in->mu);
+  const char *variant, *tangent, *form;
+  SK_TRY(api->param_string(in->host, "variant", 0, in->obstacle ? "stas" : "sts", &variant));
+  if (in->obstacle) {
+    if (strcmp(variant, "stas") != 0)
+      return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'variant': a pair with an obstacle is "
+                        "'stas' (Gauss points of the slave faces against the obstacle), got '%s'", variant);
+    in->variant = CP_STAS;
+  } else if (strcmp(variant, "sts") == 0) {
+    in->variant = CP_STS;
+  } else if (strcmp(variant, "nts") == 0) {
+    in->variant = CP_NTS;
+  } else {
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'variant' must be 'sts' or 'nts' with a "
+                      "deformable master, got '%s'", variant);
+  }
+  SK_TRY(api->param_string(in->host, "tangent", 0, "full", &tangent));
+  static const char *const tangents[] = {"full", "no-curvature", "no-rotational", "main-only"};
+  int which = -1;
+  for (int k = 0; k < 4; ++k)
+    if (strcmp(tangent, tangents[k]) == 0) which = k;
+  if (which < 0)
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'tangent' must be full, no-curvature, "
+                      "no-rotational or main-only, got '%s'", tangent);
+  in->want[CP_MAIN] = 1;
+  in->want[CP_ROTATIONAL] = which == 0 || which == 1;
+  in->want[CP_CURVATURE] = which == 0 || which == 2;
+  SK_TRY(api->param_string(in->host, "tangent_form", 0, "exact", &form));
+  if (strcmp(form, "exact") == 0) in->form = CP_FORM_EXACT;
+  else if (strcmp(form, "paper") == 0) in->form = CP_FORM_PAPER;
+  else
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'tangent_form' must be exact or paper, "
+                      "got '%s'", form);
+  const int quadratic = in->slave->cell_type == SK_QUAD9;
+  SK_TRY(api->param_int(in->host, "gauss_points", 0, quadratic ? 3 : 2, &in->gauss));
+  if (in->gauss < 1 || in->gauss > 5)
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'gauss_points' must be 1..5, got %d",
+                      in->gauss);
+  SK_TRY(api->param_int(in->host, "area_weighted", 0, 1, &in->area_weighted));
+  if (in->area_weighted != 0 && in->area_weighted != 1)
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'area_weighted' must be 0 or 1, got %d",
+                      in->area_weighted);
+  SK_TRY(api->param_double(in->host, "search_margin", 0, in->master ? 0.5 * mean_face_size(in->master) : 0.0,
+                           &in->margin));
+  if (!(in->margin >= 0.0) || !isfinite(in->margin))
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'search_margin' must be a finite number "
+                      ">= 0, got %g", in->margin);
+  SK_TRY(api->param_double(in->host, "master_extension", 0, 0.1, &in->extension));
+  if (!(in->extension >= 0.0 && in->extension <= 0.5))
+    return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'master_extension' must be in [0, 0.5], "
+                      "got %g", in->extension);
+  return SK_OK;
+}
+
+/* The contact points this rank owns, with their reference areas. */
+static sk_status make_entities(sk_instance *in) {
+  const sk_view *s = in->slave;
+  double xi[MAX_GAUSS][2], w[MAX_GAUSS];
+  cp_face slave_face;
+  cp_face_init(&slave_face, s->cell_type, in->cs->shape, in->cs->shape_hessian);
+  if (in->variant == CP_NTS) {
+    /* Tributary areas A_k = integral of N_k over the slave faces at X (3x3-point rule, every face of an owned node
+     * is in the view). */
+    int nq = in->cs->quadrature(s->cell_type, 5, MAX_GAUSS, xi, w);
+    double *area = calloc((size_t)s->n_nodes + 1, sizeof *area);
+    in->entities = calloc((size_t)s->n_nodes + 1, sizeof *in->entities);
+    if (!area || !in->entities) {
+      free(area);
+      return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+    }
+    for (int32_t f = 0; f < s->n_cells; ++f)
+      for (int q = 0; q < nq; ++q) {
+        sk_surface_point p = cp_new_surface_point();
+        in->cs->geometry(s, f, xi[q], s->X, &p);
+        for (int k = 0; k < s->nen; ++k) area[s->conn[(size_t)f * s->nen + k]] += p.N[k] * p.jacobian * w[q];
+      }
+    for (int32_t k = 0; k < s->n_nodes; ++k) {
+      if (!s->owned[k]) continue;
+      entity *e = &in->entities[in->n_entities++];
+      e->cell = -1;
+      e->n_slave = 1;
+      e->slave[0] = k;
+      e->S[0] = 1.0;
+      e->weight = in->area_weighted ? area[k] : 1.0;
+    }
+    free(area);
+  } else {
+    int nq = in->cs->quadrature(s->cell_type, 2 * in->gauss - 1, MAX_GAUSS, xi, w);
+    if (nq <= 0)
+      return in->api->error(in->host, SK_ERR_INTERNAL, "covariant-penalty: no %d-point rule for the slave faces",
+                            in->gauss);
+    in->entities = calloc((size_t)s->n_cells * nq + 1, sizeof *in->entities);
+    if (!in->entities) return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+    for (int32_t f = 0; f < s->n_cells; ++f) {
+      if (!s->cell_owned[f]) continue;
+      for (int q = 0; q < nq; ++q) {
+        sk_surface_point p = cp_new_surface_point();
+        in->cs->geometry(s, f, xi[q], s->X, &p);
+        entity *e = &in->entities[in->n_entities++];
+        e->cell = f;
+        e->eta[0] = xi[q][0];
+        e->eta[1] = xi[q][1];
+        e->weight = w[q] * p.jacobian; /* ds held constant: the reference area (docs §2) */
+        if (in->variant == CP_STS) {
+          e->n_slave = s->nen;
+          for (int k = 0; k < s->nen; ++k) {
+            e->slave[k] = s->conn[(size_t)f * s->nen + k];
+            e->S[k] = p.N[k];
+          }
+        }
+      }
+    }
+  }
+  for (int k = 0; k < in->n_entities; ++k) in->entities[k].sel_face = -1;
+  return SK_OK;
+}
+
+static sk_status cp_create_checked(sk_instance *in) {
+  const sk_attach *at = in->attach;
+  in->slave = at->slave;
+  in->master = at->master;
+  in->obstacle = at->obstacle;
+  if (!in->slave || (!in->master) == (!in->obstacle))
+    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty needs a slave surface and either a master "
+                          "surface or an obstacle");
+  if (in->slave->dim != 3)
+    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty works in 3D, not %dD", in->slave->dim);
+  if (at->self_contact)
+    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty does not handle self contact");
+  const sk_view *carrier = in->master ? in->master : in->slave; /* the surface whose faces carry the geometry */
+  if (cp_face_init(&in->face, carrier->cell_type, in->cs->shape, in->cs->shape_hessian) != 0 ||
+      (in->slave->cell_type != SK_QUAD4 && in->slave->cell_type != SK_QUAD9 && in->slave->cell_type != SK_TRI3))
+    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty supports QUAD4, QUAD9 and TRI3 faces");
+  SK_TRY(read_parameters(in));
+  SK_TRY(make_entities(in));
+  const double size = mean_face_size(in->slave);
+  in->touch_tol = 1e-10 * size; /* the round-off scale of gaps */
+  in->max_depth = 0.5 * size;   /* stas: deeper rays are not this face's contact (the far side of a body) */
+  in->distance.cs = in->cs;
+  in->distance.obstacle = in->obstacle;
+  in->K[0] = malloc(sizeof(double) * (CP_N_PARTS + 1) * CP_MAX_DOFS * CP_MAX_DOFS);
+  if (!in->K[0]) return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+  for (int part = 1; part < CP_N_PARTS; ++part) in->K[part] = in->K[0] + (size_t)part * CP_MAX_DOFS * CP_MAX_DOFS;
+  in->K_sum = in->K[0] + (size_t)CP_N_PARTS * CP_MAX_DOFS * CP_MAX_DOFS;
+  if (in->master) SK_TRY(in->cs->search_create(in->master, &in->search));
+  static const char *const names[] = {"sts", "nts", "stas"};
+  in->api->log(in->host, 2, "covariant-penalty: %s, %d contact points on this rank, tangent %s%s%s (%s form)",
+               names[in->variant], in->n_entities, "main", in->want[CP_ROTATIONAL] ? " + rotational" : "",
+               in->want[CP_CURVATURE] ? " + curvature" : "", in->form == CP_FORM_EXACT ? "exact" : "paper");
+  return SK_OK;
+}
+
+static sk_status cp_create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **instance) {
+  *instance = NULL;
+  sk_instance *in = calloc(1, sizeof *in);
+  if (!in) return api->error(host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+  in->api = api;
+  in->host = host;
+  in->attach = attach;
+  in->cs = api->contact;
+  sk_status status = cp_create_checked(in);
+  if (status != SK_OK) {
+    cp_destroy(in);
+    return status;
+  }
+  *instance = in;
+  return SK_OK;
+}
+
+static const sk_plugin cp_plugin = {
+    SK_TABLE_HEADER(sk_plugin),
+    .name = "covariant-penalty",
+    .summary = "Konyukhov-Schweizerhof covariant penalty contact (STS, NTS, STAS) with parallel transport and the "
+               "main/rotational/curvature tangent split",
+    .kinds = SK_KIND_PAIR,
+    .caps = SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_NEEDS_CURVATURE,
+    .strategies = cp_strategies,
+    .parameters = cp_parameters,
+    .create = cp_create,
+    .destroy = cp_destroy,
+    .begin_step = cp_begin_step,
+    .layout = cp_layout,
+    .pattern = cp_pattern,
+    .update_active_set = cp_update_active_set,
+    .residual = cp_residual,
+    .jacobian = cp_jacobian,
+    .recover = NULL,
+    .converged = NULL,
+    .commit_step = cp_commit_step,
+    .reject_step = cp_reject_step,
+    .report = cp_report,
+    .points = cp_points,
+    .integrator = NULL,
+    .get_extension = NULL,
+};
+
+CP_EXPORT const sk_plugin *stickslip_plugin_entry(void);
+CP_EXPORT const sk_plugin *stickslip_plugin_entry(void) { return &cp_plugin; }

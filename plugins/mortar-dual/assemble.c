@@ -1,0 +1,612 @@
+/* mortar-dual glue: the contact terms at one point x (mortar.h). For every needed slave view face: D of the face,
+ * M and the weighted gap of each candidate master face (or the obstacle); owned faces add their nodes' forces D^T z
+ * and the master's -M^T z [F1]; owned nodes collect g~_j and the weighted slip and add their NCP rows [C1], [C2].
+ * Derivatives come from the kernel with respect to the pair's local unknowns [x_s | x_m | n_s] and are chained here
+ * to global columns, n_s through the nodal normals' derivatives [N3]. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mortar.h"
+
+/* ---- positions and normals ------------------------------------------------------------------------------------- */
+static void gather(const sk_view *v, const double *x, int face, double *out) {
+  for (int a = 0; a < v->nen; ++a) {
+    const int k = v->conn[(int64_t)face * v->nen + a];
+    for (int i = 0; i < 3; ++i) out[3 * a + i] = i < v->dim ? x[(int64_t)k * v->dim + i] : 0.0;
+  }
+}
+
+/* Averaged nodal normals [N1] and their derivatives [N3] at every slave view node. */
+void mortar_compute_normals(sk_instance *inst, const double *xs) {
+  const sk_view *v = inst->slave;
+  const int nen = v->nen;
+  memset(inst->cvec, 0, sizeof(double) * 3 * (size_t)v->n_nodes);
+  memset(inst->dc, 0, sizeof(double) * 9 * (size_t)inst->star_node_ptr[v->n_nodes]);
+  for (int f = 0; f < v->n_cells; ++f) {
+    double xf[12], c[3], dcf[MORTAR_MAX_NEN][3][3];
+    gather(v, xs, f, xf);
+    for (int a = 0; a < nen; ++a) {
+      const int j = v->conn[(int64_t)f * nen + a];
+      mortar_face_normal_at_node(&inst->st, inst->dim, xf, a, c, dcf);
+      for (int i = 0; i < 3; ++i) inst->cvec[3 * j + i] += c[i];
+      for (int b = 0; b < nen; ++b) {
+        double *blk = inst->dc + 9 * (size_t)inst->face_star_index[(f * nen + a) * nen + b];
+        for (int i = 0; i < 9; ++i) blk[i] += (&dcf[b][0][0])[i];
+      }
+    }
+  }
+  for (int j = 0; j < v->n_nodes; ++j) {
+    double dn_dc[3][3];
+    if (mortar_normalize(inst->cvec + 3 * j, inst->normal + 3 * j, dn_dc) != 0) {
+      memset(inst->normal + 3 * j, 0, sizeof(double) * 3); /* a node of no view face: never used */
+      continue;
+    }
+    for (int s = inst->star_node_ptr[j]; s < inst->star_node_ptr[j + 1]; ++s) {
+      const double *blk = inst->dc + 9 * (size_t)s;
+      double *out = inst->dnormal + 9 * (size_t)s;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          double val = 0.0;
+          for (int k = 0; k < 3; ++k) val += dn_dc[r][k] * blk[k * 3 + c];
+          out[r * 3 + c] = val;
+        }
+    }
+  }
+}
+
+/* ---- from the pair's local slots to global columns ------------------------------------------------------------- */
+static int chain_node(pair_chain *pc, int side, int node) {
+  for (int i = 0; i < pc->n_nodes; ++i)
+    if (pc->node[i] == node && pc->side[i] == side) return i;
+  pc->side[pc->n_nodes] = side;
+  pc->node[pc->n_nodes] = node;
+  return pc->n_nodes++;
+}
+
+/* Slots [x_s | x_m | n_s] of slave face f and master face m (-1: none) -> columns node * dim + component of the
+ * chain's nodes. */
+static void chain_build(sk_instance *inst, int f, int m) {
+  pair_chain *pc = &inst->chain;
+  const sk_view *sv = inst->slave;
+  const int dim = inst->dim, ns = sv->nen, nm = m >= 0 && inst->master ? inst->master->nen : 0;
+  pc->n_nodes = 0;
+  int e = 0, slot = 0;
+  for (int a = 0; a < ns; ++a)
+    for (int i = 0; i < dim; ++i, ++slot) {
+      pc->slot_ptr[slot] = e;
+      pc->entry[e++] = (chain_entry){chain_node(pc, SIDE_SLAVE, sv->conn[(int64_t)f * ns + a]) * dim + i, 1.0};
+    }
+  for (int b = 0; b < nm; ++b)
+    for (int i = 0; i < dim; ++i, ++slot) {
+      pc->slot_ptr[slot] = e;
+      pc->entry[e++] =
+          (chain_entry){chain_node(pc, SIDE_MASTER, inst->master->conn[(int64_t)m * nm + b]) * dim + i, 1.0};
+    }
+  for (int a = 0; a < ns; ++a) {
+    const int j = sv->conn[(int64_t)f * ns + a];
+    for (int i = 0; i < dim; ++i, ++slot) {
+      pc->slot_ptr[slot] = e;
+      for (int s = inst->star_node_ptr[j]; s < inst->star_node_ptr[j + 1]; ++s) {
+        const int pos = chain_node(pc, SIDE_SLAVE, inst->star_node[s]) * dim;
+        const double *dn = inst->dnormal + 9 * (size_t)s;
+        for (int c = 0; c < dim; ++c)
+          if (dn[i * 3 + c] != 0.0) pc->entry[e++] = (chain_entry){pos + c, dn[i * 3 + c]};
+      }
+    }
+  }
+  pc->slot_ptr[slot] = e;
+}
+
+/* row[pos] += scale * d y / d (chain columns) */
+static void chain_apply(const pair_chain *pc, const fwd *y, double scale, double *row) {
+  for (int s = 0; s < y->n; ++s) {
+    const double d = scale * y->d[s];
+    if (d == 0.0) continue;
+    for (int e = pc->slot_ptr[s]; e < pc->slot_ptr[s + 1]; ++e) row[pc->entry[e].pos] += d * pc->entry[e].coef;
+  }
+}
+
+static int64_t node_dof(const sk_instance *inst, int side, int node, int i) {
+  const sk_view *v = side == SIDE_SLAVE ? inst->slave : inst->master;
+  return v->dofs[(int64_t)node * v->dim + i];
+}
+
+/* Position of each chain column in owned node o's sorted column list (-1 if absent: not a coupling of the node). */
+static void map_to_node(sk_instance *inst, const owned_node *o) {
+  const pair_chain *pc = &inst->chain;
+  const int64_t *cols = inst->col + o->cols;
+  for (int n = 0; n < pc->n_nodes; ++n)
+    for (int i = 0; i < inst->dim; ++i) {
+      const int64_t key = node_dof(inst, pc->side[n], pc->node[n], i);
+      int lo = 0, hi = o->n_cols - 1, found = -1;
+      while (lo <= hi) {
+        const int mid = (lo + hi) / 2;
+        if (cols[mid] == key) {
+          found = mid;
+          break;
+        }
+        if (cols[mid] < key) lo = mid + 1;
+        else hi = mid - 1;
+      }
+      inst->pos_map[n * inst->dim + i] = found;
+    }
+}
+
+/* acc[pos_map[c]] += d y / d (chain column c) */
+static void accumulate(sk_instance *inst, const fwd *y, double *acc) {
+  const int nc = inst->chain.n_nodes * inst->dim;
+  memset(inst->block, 0, sizeof(double) * (size_t)nc);
+  chain_apply(&inst->chain, y, 1.0, inst->block);
+  for (int c = 0; c < nc; ++c)
+    if (inst->block[c] != 0.0 && inst->pos_map[c] >= 0) acc[inst->pos_map[c]] += inst->block[c];
+}
+
+/* ---- forces of one pair on owned faces [F1] ------------------------------------------------------------------ */
+/* Slave rows (the face part: D) or master rows (a pair: M) of face f against master face m. */
+static void add_forces(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink, int f, int m,
+                       const mortar_pair *p, const mortar_integrals *I, double z[][3]) {
+  const int dim = inst->dim, ns = p->nen_s, nm = p->nen_m;
+  const int first = m < 0 ? 0 : ns, last = m < 0 ? ns : ns + nm; /* rows: slave nodes or master nodes */
+  fwd F[2 * MORTAR_MAX_NEN][3];
+  mortar_pair_forces(p, I, inst->basis, z, F);
+  int64_t rows[2 * MORTAR_MAX_NEN * 3];
+  int nr = 0;
+  for (int a = first; a < last; ++a)
+    for (int i = 0; i < dim; ++i)
+      rows[nr++] = a < ns ? node_dof(inst, SIDE_SLAVE, inst->slave->conn[(int64_t)f * ns + a], i)
+                          : node_dof(inst, SIDE_MASTER, inst->master->conn[(int64_t)m * nm + a - ns], i);
+  if (mode == EVAL_RESIDUAL) {
+    double vals[2 * MORTAR_MAX_NEN * 3];
+    int r = 0;
+    for (int a = first; a < last; ++a)
+      for (int i = 0; i < dim; ++i) vals[r++] = F[a][i].v;
+    sink->add_vector(sink, nr, rows, vals);
+    return;
+  }
+  /* geometry columns */
+  const pair_chain *pc = &inst->chain;
+  const int nc = pc->n_nodes * dim;
+  memset(inst->block, 0, sizeof(double) * (size_t)(nr * nc));
+  int r = 0;
+  for (int a = first; a < last; ++a)
+    for (int i = 0; i < dim; ++i, ++r) chain_apply(pc, &F[a][i], 1.0, inst->block + (size_t)r * nc);
+  for (int n = 0; n < pc->n_nodes; ++n)
+    for (int i = 0; i < dim; ++i) inst->block_cols[n * dim + i] = node_dof(inst, pc->side[n], pc->node[n], i);
+  sink->add_matrix(sink, nr, rows, nc, inst->block_cols, inst->block);
+  /* columns of the unknowns z~_j = A_j z_j [U1]: d f_k,i / d z~_j,i = D_jk / A_j (slave rows), -M_jl / A_j (master) */
+  int64_t zcols[MORTAR_MAX_NEN * 3];
+  double zblk[2 * MORTAR_MAX_NEN * 3 * MORTAR_MAX_NEN * 3];
+  const int nzc = ns * dim;
+  for (int j = 0; j < ns; ++j)
+    for (int i = 0; i < dim; ++i)
+      zcols[j * dim + i] =
+          state->extra_offset + dim * inst->slave->node_index[inst->slave->conn[(int64_t)f * ns + j]] + i;
+  memset(zblk, 0, sizeof(double) * (size_t)(nr * nzc));
+  r = 0;
+  for (int a = first; a < last; ++a)
+    for (int i = 0; i < dim; ++i, ++r)
+      for (int j = 0; j < ns; ++j) {
+        double coef;
+        if (a < ns) coef = (inst->basis == MORTAR_DUAL && j != a) ? 0.0 : I->D[j][a].v;
+        else coef = -I->M[j][a - ns].v;
+        zblk[r * nzc + j * dim + i] = coef / inst->A_node[inst->slave->conn[(int64_t)f * ns + j]];
+      }
+  sink->add_matrix(sink, nr, rows, nzc, zcols, zblk);
+}
+
+/* ---- one pair's contributions -------------------------------------------------------------------------------- */
+typedef struct {
+  const sk_state *state;
+  eval_mode mode;
+  sk_sink *sink;
+  double z[MORTAR_MAX_NEN][3];
+  const double *xs_n;
+} eval_ctx;
+
+/* The face part (m = -1: D, the obstacle's slip jump) or a pair's part (M, gap) of slave face f. */
+static void contribute(sk_instance *inst, const eval_ctx *ec, int f, int m, const mortar_pair *p,
+                       const mortar_integrals *I) {
+  const sk_view *sv = inst->slave;
+  const int dim = inst->dim, ns = sv->nen, deriv = ec->mode == EVAL_JACOBIAN;
+  if (deriv) chain_build(inst, f, m);
+  const int forces_here = (ec->mode == EVAL_RESIDUAL || ec->mode == EVAL_JACOBIAN) && sv->cell_owned[f];
+  /* the obstacle takes its force (no master rows) */
+  if (forces_here && !(m >= 0 && inst->obstacle))
+    add_forces(inst, ec->state, ec->mode, ec->sink, f, m, p, I, (double(*)[3])ec->z);
+  if (ec->mode == EVAL_COMMIT && m < 0 && sv->cell_owned[f]) {
+    /* the resultant force on the slave and its moment about the origin: minus the residual's D^T z */
+    fwd F[2 * MORTAR_MAX_NEN][3];
+    mortar_pair_forces(p, I, inst->basis, (double(*)[3])ec->z, F);
+    for (int a = 0; a < ns; ++a) {
+      double fa[3] = {0, 0, 0}, xa[3] = {0, 0, 0};
+      for (int i = 0; i < dim; ++i) {
+        fa[i] = -F[a][i].v;
+        xa[i] = p->xs[a][i].v;
+        inst->force[i] += fa[i];
+      }
+      inst->moment[0] += xa[1] * fa[2] - xa[2] * fa[1];
+      inst->moment[1] += xa[2] * fa[0] - xa[0] * fa[2];
+      inst->moment[2] += xa[0] * fa[1] - xa[1] * fa[0];
+    }
+  }
+  fwd W[MORTAR_MAX_NEN][3];
+  if (inst->friction && inst->master) mortar_pair_weighted_positions(p, I, inst->basis, W);
+  for (int a = 0; a < ns; ++a) {
+    const int j = sv->conn[(int64_t)f * ns + a], oi = inst->owned_of_node[j];
+    if (oi < 0) continue;
+    owned_node *o = &inst->owned[oi];
+    if (deriv) map_to_node(inst, o);
+    if (m >= 0) { /* a pair: weighted gap and coverage */
+      o->gap += I->gap[a].v;
+      o->cover += I->cover[a];
+      if (deriv) accumulate(inst, &I->gap[a], inst->acc_gap + o->cols);
+    }
+    if (inst->friction && inst->master) {
+      for (int i = 0; i < dim; ++i) {
+        o->W[i] += W[a][i].v;
+        if (deriv) accumulate(inst, &W[a][i], inst->acc_W + (size_t)i * inst->n_col + o->cols);
+      }
+    } else if (inst->friction && m < 0) {
+      /* obstacle: U_j = sum_k D_jk (x_k - x_k^n - (d - d^n)) */
+      for (int k = 0; k < ns; ++k) {
+        if (inst->basis == MORTAR_DUAL && k != a) continue;
+        const int node = sv->conn[(int64_t)f * ns + k];
+        for (int i = 0; i < dim; ++i) {
+          const double jump = -ec->xs_n[(int64_t)node * dim + i] - (inst->obstacle_d[i] - inst->obstacle_d_n[i]);
+          const fwd u = fwd_mul(I->D[a][k], fwd_addc(p->xs[k][i], jump));
+          o->W[i] += u.v;
+          if (deriv) accumulate(inst, &u, inst->acc_W + (size_t)i * inst->n_col + o->cols);
+        }
+      }
+    }
+    if (ec->mode == EVAL_COMMIT && inst->master) {
+      /* D^n (+) on slave nodes, M^n (-) on master nodes, at the node's component-0 columns */
+      for (int k = 0; k < (m < 0 ? ns : p->nen_m); ++k) {
+        const double coef = m < 0 ? ((inst->basis == MORTAR_DUAL && k != a) ? 0.0 : I->D[a][k].v) : -I->M[a][k].v;
+        const int side = m < 0 ? SIDE_SLAVE : SIDE_MASTER;
+        const int node = m < 0 ? sv->conn[(int64_t)f * ns + k] : inst->master->conn[(int64_t)m * p->nen_m + k];
+        const int64_t key = node_dof(inst, side, node, 0);
+        for (int c = 0; c < o->n_cols; ++c)
+          if (inst->col[o->cols + c] == key) {
+            inst->commit_rows[o->cols + c] += coef;
+            break;
+          }
+      }
+    }
+  }
+}
+
+typedef struct {
+  const sk_host_api *api;
+  const sk_obstacle *obstacle;
+  double t;
+  int dim;
+} obstacle_ctx;
+
+static int project_obstacle(void *ctx, const double *x, double *gap, double *normal) {
+  const obstacle_ctx *oc = ctx;
+  sk_surface_point pt = {.struct_size = sizeof pt};
+  if (oc->api->contact->obstacle_project(oc->obstacle, oc->t, x, oc->dim, &pt, gap) != SK_OK) return -1;
+  for (int i = 0; i < 3; ++i) normal[i] = pt.n[i];
+  return 0;
+}
+
+/* Every pair of slave face f. */
+static sk_status face_pairs(sk_instance *inst, const eval_ctx *ec, int f, const double *xs, const double *xm) {
+  const sk_view *sv = inst->slave;
+  const int dim = inst->dim, deriv = ec->mode == EVAL_JACOBIAN;
+  double xf[12], nf[12], xmf[12];
+  gather(sv, xs, f, xf);
+  for (int a = 0; a < sv->nen; ++a)
+    for (int i = 0; i < 3; ++i) nf[3 * a + i] = inst->normal[3 * sv->conn[(int64_t)f * sv->nen + a] + i];
+  mortar_pair p;
+  mortar_basis_coeffs A;
+  mortar_integrals I;
+  /* the face part: D over the whole slave face */
+  mortar_pair_set(&p, dim, &inst->st, NULL, xf, NULL, nf, deriv);
+  mortar_basis_coefficients(&p, inst->basis, &A);
+  mortar_integrals_zero(&I, &p);
+  mortar_slave_integrals(&p, &A, inst->basis, inst->n_d_points, inst->d_xi, inst->d_w, &I);
+  contribute(inst, ec, f, -1, &p, &I);
+  if (inst->obstacle) {
+    obstacle_ctx oc = {inst->api, inst->obstacle, ec->state->t, dim};
+    mortar_integrals_zero(&I, &p);
+    mortar_obstacle_points(&p, &A, inst->basis, inst->n_face_points, inst->face_xi, inst->face_w, project_obstacle,
+                           &oc, &I);
+    if (I.n_cells > 0) contribute(inst, ec, f, 0, &p, &I); /* m = 0: a pair without master rows */
+    return SK_OK;
+  }
+  const int pd = inst->st.pdim;
+  for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c) {
+    const int m = inst->cand[c];
+    gather(inst->master, xm, m, xmf);
+    mortar_pair_set(&p, dim, &inst->st, &inst->mt, xf, xmf, nf, deriv); /* A (of x_s alone) stays valid */
+    mortar_integrals_zero(&I, &p);
+    if (inst->integration == INTEGRATION_SEGMENTS) {
+      if (dim == 2) mortar_segments_2d(&p, &A, inst->basis, inst->segment_gauss, &I);
+      else mortar_segments_3d(&p, &A, inst->basis, inst->cell_rule, &I);
+    } else {
+      double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+      int n = 0;
+      for (int q = 0; q < inst->n_face_points; ++q)
+        if (inst->ip_master[f * inst->n_face_points + q] == m) {
+          for (int k = 0; k < pd; ++k) xi[n * pd + k] = inst->face_xi[q * pd + k];
+          w[n++] = inst->face_w[q];
+        }
+      mortar_points(&p, &A, inst->basis, inst->normal_variant, n, xi, w, &I);
+      if (I.n_cells < n)
+        return inst->api->error(inst->host, SK_ERR_DIVERGED,
+                                "mortar-dual: a Gauss point of slave face %lld does not project onto its master face "
+                                "%lld any more (the step moved too far)",
+                                (long long)sv->cell_index[f], (long long)inst->master->cell_index[m]);
+    }
+    if (I.n_cells > 0) contribute(inst, ec, f, m, &p, &I);
+  }
+  return SK_OK;
+}
+
+/* ---- the NCP rows of an owned node [C1], [C2] ------------------------------------------------------------------ */
+static int column_of(const sk_instance *inst, const owned_node *o, int64_t key) {
+  const int64_t *cols = inst->col + o->cols;
+  int lo = 0, hi = o->n_cols - 1;
+  while (lo <= hi) {
+    const int mid = (lo + hi) / 2;
+    if (cols[mid] == key) return mid;
+    if (cols[mid] < key) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, const double *xs, const double *xm,
+                          int *changed) {
+  const int dim = inst->dim, nt = dim - 1, j = o->node, nc = o->n_cols;
+  const double *n = inst->normal + 3 * j, *z = o->z;
+  double tau[2][3], dtau_dn[2][3][3];
+  if (mortar_tangents(dim, n, o->ref, tau, dtau_dn) != 0)
+    return inst->api->error(inst->host, SK_ERR_DIVERGED,
+                            "mortar-dual: the normal of slave node %lld turned onto its tangent reference direction "
+                            "within one step",
+                            (long long)inst->slave->node_id[j]);
+  /* the weighted slip u~ [S1]: -(W - W^n(x)) on a deformable master, the weighted jump on an obstacle */
+  double u[3] = {0, 0, 0};
+  for (int i = 0; i < dim; ++i) u[i] = inst->master ? -o->W[i] : o->W[i];
+  if (inst->master && inst->friction)
+    for (int h = o->hist; h < o->hist + o->n_hist; ++h) {
+      const double *x = inst->hist_side[h] == SIDE_SLAVE ? xs : xm;
+      for (int i = 0; i < dim; ++i) u[i] += inst->hist_value[h] * x[(int64_t)inst->hist_node[h] * dim + i];
+    }
+  const double A = o->A_ref;
+  double zn = 0.0, zt[2] = {0, 0}, s[2] = {0, 0};
+  for (int i = 0; i < dim; ++i) zn += n[i] * z[i];
+  for (int a = 0; a < nt; ++a)
+    for (int i = 0; i < dim; ++i) {
+      zt[a] += tau[a][i] * z[i];
+      s[a] += tau[a][i] * u[i] / A;
+    }
+  const double g = o->gap / A;
+  /* the branch: decided at a new point (update_active_set), frozen for F and J there */
+  int force = o->state;
+  const int uncovered = o->cover < inst->min_cover * A;
+  if (ec->mode == EVAL_SET && (inst->active_set == ACTIVE_SET_SEMISMOOTH ? o->flips < inst->max_flips : inst->deciding))
+    force = -1;
+  if (uncovered) force = MORTAR_INACTIVE; /* no master under the node: no contact (docs §5) */
+  mortar_ncp r;
+  mortar_ncp_eval(nt, zn, zt, g, s, &inst->ncp, force, &r);
+  if (ec->mode == EVAL_COMMIT) {
+    o->dissipation = 0.0; /* z_t . u~_t: friction force times the weighted slip of the step */
+    for (int a = 0; a < nt; ++a) o->dissipation += zt[a] * s[a] * A;
+    return SK_OK;
+  }
+  if (ec->mode == EVAL_SET) {
+    if (r.state != o->state) {
+      ++*changed;
+      ++o->flips;
+      o->state = r.state;
+    }
+    return SK_OK;
+  }
+  int64_t rows[3];
+  for (int c = 0; c < dim; ++c) rows[c] = mortar_z_index(inst, ec->state, o->extra, c);
+  /* the rows in force units, A_j C [U1] (with the columns z~ = A_j z, d(A_j C)/dz~ = dC/dz) */
+  if (ec->mode == EVAL_RESIDUAL) {
+    double scaled[3];
+    for (int c = 0; c < dim; ++c) scaled[c] = A * r.C[c];
+    ec->sink->add_vector(ec->sink, dim, rows, scaled);
+    return SK_OK;
+  }
+  if (ec->mode != EVAL_JACOBIAN) return SK_OK;
+  /* z columns: dC/dz = dC/dz_n n + sum_a dC/dz_ta tau_a */
+  double zblk[9];
+  int64_t zcols[3];
+  for (int c = 0; c < dim; ++c) {
+    zcols[c] = rows[c];
+    for (int i = 0; i < dim; ++i) {
+      double v = r.dC[c][0] * n[i];
+      for (int a = 0; a < nt; ++a) v += r.dC[c][1 + a] * tau[a][i];
+      zblk[c * dim + i] = v;
+    }
+  }
+  ec->sink->add_matrix(ec->sink, dim, rows, dim, zcols, zblk);
+  /* geometry columns: through n, tau (star of j), g~ and u~ (the accumulators) */
+  double *blk = inst->block;
+  memset(blk, 0, sizeof(double) * (size_t)(dim * nc));
+  for (int c = 0; c < dim; ++c) {
+    double *row = blk + (size_t)c * nc;
+    for (int k = 0; k < nc; ++k) row[k] += r.dC[c][3] * inst->acc_gap[o->cols + k] / A;
+    for (int a = 0; a < nt; ++a) {
+      const double ds = r.dC[c][4 + a] / A; /* d C / d s_a, s_a = tau_a . u~ / A */
+      if (ds == 0.0) continue;
+      for (int i = 0; i < dim; ++i) {
+        const double sign = inst->master ? -1.0 : 1.0;
+        const double *dW = inst->acc_W + (size_t)i * inst->n_col + o->cols;
+        for (int k = 0; k < nc; ++k) row[k] += ds * tau[a][i] * sign * dW[k];
+      }
+      if (inst->master)
+        for (int h = o->hist; h < o->hist + o->n_hist; ++h)
+          for (int i = 0; i < dim; ++i) {
+            const int pos = column_of(inst, o, node_dof(inst, inst->hist_side[h], inst->hist_node[h], i));
+            if (pos >= 0) row[pos] += ds * tau[a][i] * inst->hist_value[h];
+          }
+    }
+    /* n and tau: d n / d x_k over the star of j */
+    for (int e = inst->star_node_ptr[j]; e < inst->star_node_ptr[j + 1]; ++e) {
+      const double *dn = inst->dnormal + 9 * (size_t)e;
+      for (int mcomp = 0; mcomp < dim; ++mcomp) {
+        const int pos = column_of(inst, o, node_dof(inst, SIDE_SLAVE, inst->star_node[e], mcomp));
+        if (pos < 0) continue;
+        double v = 0.0;
+        for (int i = 0; i < dim; ++i) v += r.dC[c][0] * z[i] * dn[i * 3 + mcomp];
+        for (int a = 0; a < nt; ++a)
+          for (int i = 0; i < dim; ++i)
+            for (int q = 0; q < dim; ++q) {
+              const double dtau = dtau_dn[a][i][q] * dn[q * 3 + mcomp];
+              v += (r.dC[c][1 + a] * z[i] + r.dC[c][4 + a] * u[i] / A) * dtau;
+            }
+        row[pos] += v;
+      }
+    }
+  }
+  for (int k = 0; k < dim * nc; ++k) blk[k] *= A;
+  ec->sink->add_matrix(ec->sink, dim, rows, nc, inst->col + o->cols, blk);
+  return SK_OK;
+}
+
+/* ---- the evaluation ------------------------------------------------------------------------------------------- */
+sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink, int *changed) {
+  const sk_view *sv = inst->slave;
+  const int dim = inst->dim;
+  const double *xs = state->x[0], *xm = inst->master ? state->x[1] : NULL;
+  eval_ctx ec = {state, mode, sink, {{0}}, state->x_n[0]};
+  mortar_compute_normals(inst, xs);
+  for (int i = 0; i < inst->n_owned; ++i) {
+    owned_node *o = &inst->owned[i];
+    o->gap = o->cover = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      o->W[c] = 0.0;
+      o->z[c] = c < dim && state->extra ? state->extra[o->extra + c] / o->A_ref : 0.0; /* [U1] */
+    }
+  }
+  if (mode == EVAL_JACOBIAN && inst->n_col > 0) {
+    memset(inst->acc_gap, 0, sizeof(double) * (size_t)inst->n_col);
+    memset(inst->acc_W, 0, sizeof(double) * 3 * (size_t)inst->n_col);
+  }
+  if (mode == EVAL_COMMIT) {
+    if (inst->n_col > 0) memset(inst->commit_rows, 0, sizeof(double) * (size_t)inst->n_col);
+    memset(inst->force, 0, sizeof inst->force);
+    memset(inst->moment, 0, sizeof inst->moment);
+  }
+  if (inst->obstacle) {
+    inst->api->contact->obstacle_displacement(inst->obstacle, state->t, inst->obstacle_d);
+    inst->api->contact->obstacle_displacement(inst->obstacle, state->t_n, inst->obstacle_d_n);
+  }
+  for (int f = 0; f < sv->n_cells; ++f) {
+    if (!inst->face_needed[f]) continue;
+    for (int a = 0; a < sv->nen; ++a) {
+      const int k = sv->conn[(int64_t)f * sv->nen + a];
+      const int64_t g = sv->node_index[k];
+      for (int i = 0; i < 3; ++i)
+        ec.z[a][i] = i < dim && state->extra ? state->extra[dim * g + i] / inst->A_node[k] : 0.0;
+    }
+    SK_TRY(face_pairs(inst, &ec, f, xs, xm));
+  }
+  int count = 0;
+  for (int i = 0; i < inst->n_owned; ++i) SK_TRY(ncp_rows(inst, &ec, &inst->owned[i], xs, xm, &count));
+  if (changed) *changed = count;
+  return SK_OK;
+}
+
+/* ---- columns of the owned nodes' rows --------------------------------------------------------------------------- */
+struct column_entry {
+  int64_t dof;
+  int side, node, comp;
+};
+
+static int compare_entries(const void *a, const void *b) {
+  const int64_t x = ((const struct column_entry *)a)->dof, y = ((const struct column_entry *)b)->dof;
+  return x < y ? -1 : x > y;
+}
+
+static sk_status push_node(sk_instance *inst, int *n, int side, int node) {
+  if (*n + inst->dim > inst->tmp_cap) {
+    const int cap = 2 * (*n + inst->dim) + 64;
+    struct column_entry *t = realloc(inst->tmp_entries, sizeof *t * (size_t)cap);
+    if (!t) return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (column lists)");
+    inst->tmp_entries = t;
+    inst->tmp_cap = cap;
+  }
+  for (int i = 0; i < inst->dim; ++i)
+    inst->tmp_entries[(*n)++] = (struct column_entry){node_dof(inst, side, node, i), side, node, i};
+  return SK_OK;
+}
+
+sk_status mortar_build_columns(sk_instance *inst) {
+  const sk_view *sv = inst->slave;
+  inst->n_col = 0;
+  int max_cols = 0;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    int n = 0;
+    for (int e = inst->star_face_ptr[o->node]; e < inst->star_face_ptr[o->node + 1]; ++e) {
+      const int f = inst->star_face[e];
+      for (int a = 0; a < sv->nen; ++a) {
+        const int b = sv->conn[(int64_t)f * sv->nen + a];
+        for (int s = inst->star_node_ptr[b]; s < inst->star_node_ptr[b + 1]; ++s)
+          SK_TRY(push_node(inst, &n, SIDE_SLAVE, inst->star_node[s]));
+      }
+      if (inst->master)
+        for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c)
+          for (int b = 0; b < inst->master->nen; ++b)
+            SK_TRY(push_node(inst, &n, SIDE_MASTER,
+                             inst->master->conn[(int64_t)inst->cand[c] * inst->master->nen + b]));
+    }
+    for (int h = o->hist; h < o->hist + o->n_hist; ++h)
+      SK_TRY(push_node(inst, &n, inst->hist_side[h], inst->hist_node[h]));
+    qsort(inst->tmp_entries, (size_t)n, sizeof *inst->tmp_entries, compare_entries);
+    int unique = 0;
+    for (int k = 0; k < n; ++k)
+      if (unique == 0 || inst->tmp_entries[k].dof != inst->tmp_entries[unique - 1].dof)
+        inst->tmp_entries[unique++] = inst->tmp_entries[k];
+    if (inst->n_col + unique > inst->col_cap) {
+      const int cap = 2 * (inst->n_col + unique) + 256;
+      int64_t *c = realloc(inst->col, sizeof *c * (size_t)cap);
+      if (c) inst->col = c;
+      int *cs = realloc(inst->col_side, sizeof *cs * (size_t)cap);
+      if (cs) inst->col_side = cs;
+      int *cn = realloc(inst->col_node, sizeof *cn * (size_t)cap);
+      if (cn) inst->col_node = cn;
+      int *cc = realloc(inst->col_comp, sizeof *cc * (size_t)cap);
+      if (cc) inst->col_comp = cc;
+      double *ag = realloc(inst->acc_gap, sizeof *ag * (size_t)cap);
+      if (ag) inst->acc_gap = ag;
+      double *cr = realloc(inst->commit_rows, sizeof *cr * (size_t)cap);
+      if (cr) inst->commit_rows = cr;
+      if (!c || !cs || !cn || !cc || !ag || !cr)
+        return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (column lists)");
+      inst->col_cap = cap;
+    }
+    o->cols = inst->n_col;
+    o->n_cols = unique;
+    for (int k = 0; k < unique; ++k) {
+      inst->col[inst->n_col + k] = inst->tmp_entries[k].dof;
+      inst->col_side[inst->n_col + k] = inst->tmp_entries[k].side;
+      inst->col_node[inst->n_col + k] = inst->tmp_entries[k].node;
+      inst->col_comp[inst->n_col + k] = inst->tmp_entries[k].comp;
+    }
+    inst->n_col += unique;
+    if (unique > max_cols) max_cols = unique;
+  }
+  /* acc_W holds 3 columns lists; the scratch block dim rows of the longest list (or of a pair chain) */
+  double *aw = realloc(inst->acc_W, sizeof(double) * 3 * (size_t)(inst->n_col > 0 ? inst->n_col : 1));
+  if (!aw) return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (accumulators)");
+  inst->acc_W = aw;
+  const int need = 3 * max_cols;
+  if (need > inst->block_cap) {
+    double *b = realloc(inst->block, sizeof(double) * (size_t)need);
+    if (!b) return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (scratch)");
+    inst->block = b;
+    inst->block_cap = need;
+  }
+  return SK_OK;
+}

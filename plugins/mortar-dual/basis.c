@@ -1,0 +1,323 @@
+/* mortar-dual kernel: face shape functions in fwd arithmetic, the multiplier bases, nodal normals and tangents,
+ * quadrature rules (see kernel.h). */
+#include <math.h>
+#include <string.h>
+
+#include "kernel.h"
+
+int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_fn shape,
+                          mortar_shape_hessian_fn shape_hessian) {
+  switch (type) {
+    case SK_LINE2: ft->nen = 2; ft->pdim = 1; break;
+    case SK_TRI3: ft->nen = 3; ft->pdim = 2; break;
+    case SK_QUAD4: ft->nen = 4; ft->pdim = 2; break;
+    default: return -1;
+  }
+  ft->type = type;
+  ft->shape = shape;
+  ft->shape_hessian = shape_hessian;
+  return 0;
+}
+
+void mortar_pair_set(mortar_pair *p, int dim, const mortar_face_type *slave, const mortar_face_type *master,
+                     const double *xs, const double *xm, const double *ns, int derivatives) {
+  p->dim = dim;
+  p->slave = slave;
+  p->master = master;
+  p->nen_s = slave->nen;
+  p->nen_m = master ? master->nen : 0;
+  p->n_local = derivatives ? (2 * p->nen_s + p->nen_m) * dim : 0;
+  for (int a = 0; a < p->nen_s; ++a)
+    for (int i = 0; i < 3; ++i) {
+      const int seeded = p->n_local > 0 && i < dim;
+      p->xs[a][i] = seeded ? fwd_var(xs[3 * a + i], mortar_slot_xs(p, a, i), p->n_local) : fwd_const(xs[3 * a + i]);
+      p->ns[a][i] = seeded ? fwd_var(ns[3 * a + i], mortar_slot_ns(p, a, i), p->n_local) : fwd_const(ns[3 * a + i]);
+    }
+  for (int b = 0; b < p->nen_m; ++b)
+    for (int i = 0; i < 3; ++i) {
+      const int seeded = p->n_local > 0 && i < dim;
+      p->xm[b][i] = seeded ? fwd_var(xm[3 * b + i], mortar_slot_xm(p, b, i), p->n_local) : fwd_const(xm[3 * b + i]);
+    }
+}
+
+/* ---- shape functions ------------------------------------------------------------------------------------------- */
+void mortar_shape(const mortar_face_type *ft, const fwd *xi, fwd *N, fwd dN[][2]) {
+  const int pd = ft->pdim;
+  double x[2] = {xi[0].v, pd > 1 ? xi[1].v : 0.0};
+  double Nv[MORTAR_MAX_NEN], dNv[2 * MORTAR_MAX_NEN], ddN[4 * MORTAR_MAX_NEN];
+  ft->shape(ft->type, x, Nv, dNv);
+  if (dN) ft->shape_hessian(ft->type, x, ddN);
+  for (int a = 0; a < ft->nen; ++a) {
+    fwd_set_chain(&N[a], Nv[a], pd, dNv + a * pd, xi);
+    if (dN)
+      for (int k = 0; k < pd; ++k) fwd_set_chain(&dN[a][k], dNv[a * pd + k], pd, ddN + (a * pd + k) * pd, xi);
+  }
+}
+
+void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fwd *pos, fwd a[2][3]) {
+  fwd N[MORTAR_MAX_NEN], dN[MORTAR_MAX_NEN][2];
+  mortar_shape(ft, xi, N, a ? dN : NULL);
+  for (int i = 0; i < 3; ++i) {
+    if (pos) {
+      fwd_set_mul(&pos[i], &N[0], &x[0][i]);
+      for (int b = 1; b < ft->nen; ++b) fwd_acc_mul(&pos[i], &N[b], &x[b][i]);
+    }
+    if (a)
+      for (int k = 0; k < ft->pdim; ++k) {
+        fwd_set_mul(&a[k][i], &dN[0][k], &x[0][i]);
+        for (int b = 1; b < ft->nen; ++b) fwd_acc_mul(&a[k][i], &dN[b][k], &x[b][i]);
+      }
+  }
+}
+
+/* Jacobian of the slave face map at xi: |a_1| (lines) or |a_1 x a_2| (surfaces). */
+static fwd face_jacobian(const mortar_face_type *ft, fwd a[2][3]) {
+  if (ft->pdim == 1) return fwd_norm(3, a[0]);
+  fwd c[3];
+  fwd_cross3(a[0], a[1], c);
+  return fwd_norm(3, c);
+}
+
+/* ---- multiplier bases ------------------------------------------------------------------------------------------ */
+void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_basis_coeffs *A) {
+  const mortar_face_type *ft = p->slave;
+  const int nen = ft->nen;
+  A->nen = nen;
+  for (int j = 0; j < nen; ++j)
+    for (int k = 0; k < nen; ++k) A->coeff[j][k] = fwd_const(j == k ? 1.0 : 0.0);
+  if (basis == MORTAR_STANDARD) return;
+  /* D_e and M_e over the whole face (exact: N_j N_k J is polynomial of degree <= 2 per direction on affine faces) */
+  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  const int nq = mortar_face_rule(ft->type, 3, xi, w);
+  fwd De[MORTAR_MAX_NEN], Me[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
+  for (int j = 0; j < nen; ++j) {
+    De[j] = fwd_const(0.0);
+    for (int k = 0; k < nen; ++k) Me[j][k] = fwd_const(0.0);
+  }
+  fwd xs[MORTAR_MAX_NEN][3];
+  memcpy(xs, p->xs, sizeof xs);
+  for (int q = 0; q < nq; ++q) {
+    fwd x_q[2] = {fwd_const(xi[q * ft->pdim]), fwd_const(ft->pdim > 1 ? xi[q * ft->pdim + 1] : 0.0)};
+    fwd N[MORTAR_MAX_NEN], a[2][3];
+    mortar_shape(ft, x_q, N, NULL);
+    mortar_face_point(ft, xs, x_q, NULL, a);
+    const fwd wJ = fwd_scale(w[q], face_jacobian(ft, a));
+    for (int j = 0; j < nen; ++j) {
+      const fwd wN = fwd_mul(wJ, N[j]);
+      De[j] = fwd_add(De[j], wN);
+      for (int k = 0; k < nen; ++k) Me[j][k] = fwd_add(Me[j][k], fwd_mul(wN, N[k]));
+    }
+  }
+  /* A_e = D_e M_e^-1: Gauss-Jordan on [M_e | I] (M_e is symmetric positive definite: no pivoting) */
+  fwd inv[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
+  for (int j = 0; j < nen; ++j)
+    for (int k = 0; k < nen; ++k) inv[j][k] = fwd_const(j == k ? 1.0 : 0.0);
+  for (int c = 0; c < nen; ++c) {
+    const fwd piv = Me[c][c];
+    for (int k = 0; k < nen; ++k) {
+      Me[c][k] = fwd_div(Me[c][k], piv);
+      inv[c][k] = fwd_div(inv[c][k], piv);
+    }
+    for (int r = 0; r < nen; ++r) {
+      if (r == c) continue;
+      const fwd f = Me[r][c];
+      for (int k = 0; k < nen; ++k) {
+        Me[r][k] = fwd_sub(Me[r][k], fwd_mul(f, Me[c][k]));
+        inv[r][k] = fwd_sub(inv[r][k], fwd_mul(f, inv[c][k]));
+      }
+    }
+  }
+  for (int j = 0; j < nen; ++j)
+    for (int k = 0; k < nen; ++k) A->coeff[j][k] = fwd_mul(De[j], inv[j][k]);
+}
+
+/* ---- nodal normals and tangents -------------------------------------------------------------------------------- */
+void mortar_face_normal_at_node(const mortar_face_type *ft, int dim, const double *x, int a, double c[3],
+                                double dc[][3][3]) {
+  static const double line2[] = {-1, 1};
+  static const double tri3[] = {0, 0, 1, 0, 0, 1};
+  static const double quad4[] = {-1, -1, 1, -1, 1, 1, -1, 1};
+  const double *nodes = ft->type == SK_LINE2 ? line2 : ft->type == SK_TRI3 ? tri3 : quad4;
+  const int pd = ft->pdim, nen = ft->nen;
+  double N[MORTAR_MAX_NEN], dN[2 * MORTAR_MAX_NEN];
+  ft->shape(ft->type, nodes + a * pd, N, dN);
+  double t[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  for (int b = 0; b < nen; ++b)
+    for (int k = 0; k < pd; ++k)
+      for (int i = 0; i < 3; ++i) t[k][i] += dN[b * pd + k] * x[3 * b + i];
+  memset(dc, 0, sizeof(double) * 9 * (size_t)nen);
+  if (dim == 2) {
+    /* c = a_1 x e_z = (a_y, -a_x) */
+    c[0] = t[0][1];
+    c[1] = -t[0][0];
+    c[2] = 0.0;
+    for (int b = 0; b < nen; ++b) {
+      dc[b][0][1] = dN[b];
+      dc[b][1][0] = -dN[b];
+    }
+    return;
+  }
+  /* c = a_1 x a_2;  dc = -[a_2]x da_1 + [a_1]x da_2,  da_k / dx_b = dN_b,k I */
+  c[0] = t[0][1] * t[1][2] - t[0][2] * t[1][1];
+  c[1] = t[0][2] * t[1][0] - t[0][0] * t[1][2];
+  c[2] = t[0][0] * t[1][1] - t[0][1] * t[1][0];
+  for (int b = 0; b < nen; ++b) {
+    const double g1 = dN[b * 2], g2 = dN[b * 2 + 1];
+    const double *a1 = t[0], *a2 = t[1];
+    /* [v]x = [[0, -v2, v1], [v2, 0, -v0], [-v1, v0, 0]] */
+    const double S1[3][3] = {{0, -a1[2], a1[1]}, {a1[2], 0, -a1[0]}, {-a1[1], a1[0], 0}};
+    const double S2[3][3] = {{0, -a2[2], a2[1]}, {a2[2], 0, -a2[0]}, {-a2[1], a2[0], 0}};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) dc[b][i][j] = -g1 * S2[i][j] + g2 * S1[i][j];
+  }
+}
+
+int mortar_normalize(const double c[3], double n[3], double dn_dc[3][3]) {
+  const double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (!(len > 0.0)) return -1;
+  for (int i = 0; i < 3; ++i) n[i] = c[i] / len;
+  if (dn_dc)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) dn_dc[i][j] = ((i == j ? 1.0 : 0.0) - n[i] * n[j]) / len;
+  return 0;
+}
+
+int mortar_tangents(int dim, const double n[3], const double ref[3], double tau[2][3], double dtau_dn[2][3][3]) {
+  memset(tau, 0, sizeof(double) * 6);
+  memset(dtau_dn, 0, sizeof(double) * 18);
+  if (dim == 2) {
+    /* tau = e_z x n = (-n_y, n_x) */
+    tau[0][0] = -n[1];
+    tau[0][1] = n[0];
+    dtau_dn[0][0][1] = -1.0;
+    dtau_dn[0][1][0] = 1.0;
+    return 0;
+  }
+  const double rn = ref[0] * n[0] + ref[1] * n[1] + ref[2] * n[2];
+  double p[3], dp_dn[3][3], dt1_dp[3][3];
+  for (int i = 0; i < 3; ++i) p[i] = ref[i] - rn * n[i];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) dp_dn[i][j] = -rn * (i == j ? 1.0 : 0.0) - n[i] * ref[j];
+  const double plen = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  if (plen < 1e-8 * sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2])) return -1;
+  if (mortar_normalize(p, tau[0], dt1_dp) != 0) return -1;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double v = 0.0;
+      for (int k = 0; k < 3; ++k) v += dt1_dp[i][k] * dp_dn[k][j];
+      dtau_dn[0][i][j] = v;
+    }
+  const double *t1 = tau[0];
+  tau[1][0] = n[1] * t1[2] - n[2] * t1[1];
+  tau[1][1] = n[2] * t1[0] - n[0] * t1[2];
+  tau[1][2] = n[0] * t1[1] - n[1] * t1[0];
+  /* d(n x t1) = dn x t1 + n x dt1 = -[t1]x dn + [n]x dt1 */
+  const double St[3][3] = {{0, -t1[2], t1[1]}, {t1[2], 0, -t1[0]}, {-t1[1], t1[0], 0}};
+  const double Sn[3][3] = {{0, -n[2], n[1]}, {n[2], 0, -n[0]}, {-n[1], n[0], 0}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double v = -St[i][j];
+      for (int k = 0; k < 3; ++k) v += Sn[i][k] * dtau_dn[0][k][j];
+      dtau_dn[1][i][j] = v;
+    }
+  return 0;
+}
+
+/* ---- quadrature ------------------------------------------------------------------------------------------------ */
+void mortar_gauss_legendre(int n, double *x, double *w) {
+  /* Newton on the Legendre polynomial P_n from the Chebyshev-like initial guesses (Golub-Welsch would need an
+   * eigensolver); converges to round-off in a few iterations for n <= 16. */
+  for (int i = 0; i < (n + 1) / 2; ++i) {
+    double z = cos(3.14159265358979323846 * (i + 0.75) / (n + 0.5)), dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = z;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (n == 1) p0 = 1.0;
+      dp = n * (z * p1 - p0) / (z * z - 1.0);
+      const double dz = p1 / dp;
+      z -= dz;
+      if (fabs(dz) < 1e-16) break;
+    }
+    x[i] = -z;
+    x[n - 1 - i] = z;
+    w[i] = w[n - 1 - i] = 2.0 / ((1.0 - z * z) * dp * dp);
+  }
+  if (n % 2 == 1) x[n / 2] = 0.0;
+}
+
+/* Dunavant (1985) symmetric rules on the unit triangle; weights normalised to sum 1/2. */
+static const double tri1_xi[] = {1.0 / 3, 1.0 / 3};
+static const double tri1_w[] = {0.5};
+static const double tri3_xi[] = {1.0 / 6, 1.0 / 6, 2.0 / 3, 1.0 / 6, 1.0 / 6, 2.0 / 3};
+static const double tri3_w[] = {1.0 / 6, 1.0 / 6, 1.0 / 6};
+#define T6A 0.445948490915965
+#define T6B 0.091576213509771
+#define T6WA (0.223381589678011 / 2)
+#define T6WB (0.109951743655322 / 2)
+static const double tri6_xi[] = {T6A, T6A, 1 - 2 * T6A, T6A, T6A, 1 - 2 * T6A,
+                                 T6B, T6B, 1 - 2 * T6B, T6B, T6B, 1 - 2 * T6B};
+static const double tri6_w[] = {T6WA, T6WA, T6WA, T6WB, T6WB, T6WB};
+#define T7A 0.470142064105115
+#define T7B 0.101286507323456
+#define T7WA (0.132394152788506 / 2)
+#define T7WB (0.125939180544827 / 2)
+static const double tri7_xi[] = {1.0 / 3,     1.0 / 3,     T7A, T7A, T7A, 1 - 2 * T7A, 1 - 2 * T7A, T7A,
+                                 T7B,         T7B,         T7B, 1 - 2 * T7B, 1 - 2 * T7B, T7B};
+static const double tri7_w[] = {0.225 / 2, T7WA, T7WA, T7WA, T7WB, T7WB, T7WB};
+#define T12A 0.249286745170910
+#define T12B 0.063089014491502
+#define T12C 0.310352451033784
+#define T12D 0.053145049844817
+#define T12WA (0.116786275726379 / 2)
+#define T12WB (0.050844906370207 / 2)
+#define T12WC (0.082851075618374 / 2)
+static const double tri12_xi[] = {
+    T12A, T12A, 1 - 2 * T12A, T12A, T12A, 1 - 2 * T12A,
+    T12B, T12B, 1 - 2 * T12B, T12B, T12B, 1 - 2 * T12B,
+    T12C, T12D, T12D, T12C, 1 - T12C - T12D, T12C, T12C, 1 - T12C - T12D, T12D, 1 - T12C - T12D, 1 - T12C - T12D,
+    T12D};
+static const double tri12_w[] = {T12WA, T12WA, T12WA, T12WB, T12WB, T12WB,
+                                 T12WC, T12WC, T12WC, T12WC, T12WC, T12WC};
+
+int mortar_triangle_rule(int n, const double **xi, const double **w) {
+  switch (n) {
+    case 1: *xi = tri1_xi; *w = tri1_w; return 1;
+    case 3: *xi = tri3_xi; *w = tri3_w; return 3;
+    case 6: *xi = tri6_xi; *w = tri6_w; return 6;
+    case 7: *xi = tri7_xi; *w = tri7_w; return 7;
+    case 12: *xi = tri12_xi; *w = tri12_w; return 12;
+    default: return 0;
+  }
+}
+
+int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w) {
+  if (order < 1) order = 1;
+  if (order > MORTAR_MAX_RULE) order = MORTAR_MAX_RULE;
+  double g[MORTAR_MAX_RULE], gw[MORTAR_MAX_RULE];
+  if (type == SK_TRI3) {
+    static const int sizes[] = {1, 3, 7, 7, 12};
+    const double *txi = tri1_xi, *tw = tri1_w;
+    const int n = mortar_triangle_rule(sizes[order > 5 ? 4 : order - 1], &txi, &tw);
+    memcpy(xi, txi, sizeof(double) * 2 * (size_t)n);
+    memcpy(w, tw, sizeof(double) * (size_t)n);
+    return n;
+  }
+  mortar_gauss_legendre(order, g, gw);
+  if (type == SK_LINE2) {
+    memcpy(xi, g, sizeof(double) * (size_t)order);
+    memcpy(w, gw, sizeof(double) * (size_t)order);
+    return order;
+  }
+  int q = 0;
+  for (int j = 0; j < order; ++j)
+    for (int i = 0; i < order; ++i, ++q) {
+      xi[2 * q] = g[i];
+      xi[2 * q + 1] = g[j];
+      w[q] = gw[i] * gw[j];
+    }
+  return q;
+}

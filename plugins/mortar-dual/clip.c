@@ -1,0 +1,243 @@
+/* mortar-dual kernel: segment-based integration in 3D — auxiliary plane, polygon clipping, triangulation
+ * (Puso & Laursen 2004; Popp, Gitterle, Gee, Wall 2010). Every step in fwd arithmetic, so the integration cells
+ * carry their derivatives with respect to the pair's coordinates and normals (kernel.h). */
+#include <math.h>
+#include <string.h>
+
+#include "kernel.h"
+#include "kernel_internal.h"
+
+typedef struct {
+  fwd x[2];
+} vertex;
+
+static fwd cross_edge(const vertex *a, const vertex *b, const vertex *p) {
+  fwd e[2] = {fwd_sub(b->x[0], a->x[0]), fwd_sub(b->x[1], a->x[1])};
+  fwd r[2] = {fwd_sub(p->x[0], a->x[0]), fwd_sub(p->x[1], a->x[1])};
+  return fwd_cross2(e, r);
+}
+
+static fwd polygon_area(const vertex *v, int n) {
+  fwd s = fwd_const(0.0);
+  for (int i = 0; i < n; ++i) {
+    const vertex *a = &v[i], *b = &v[(i + 1) % n];
+    s = fwd_add(s, fwd_sub(fwd_mul(a->x[0], b->x[1]), fwd_mul(b->x[0], a->x[1])));
+  }
+  return fwd_scale(0.5, s);
+}
+
+/* Sutherland-Hodgman: the polygon `poly` (any) clipped by the convex counter-clockwise polygon `clip`. Returns the
+ * number of vertices of the result in `out` (capacity MORTAR_MAX_POLY). */
+static int clip_polygon(const vertex *poly, int n_poly, const vertex *clip, int n_clip, vertex *out) {
+  vertex buf[2][MORTAR_MAX_POLY];
+  int n = n_poly;
+  memcpy(buf[0], poly, sizeof(vertex) * (size_t)n_poly);
+  int cur = 0;
+  for (int e = 0; e < n_clip && n > 0; ++e) {
+    const vertex *a = &clip[e], *b = &clip[(e + 1) % n_clip];
+    const vertex *in = buf[cur];
+    vertex *res = buf[1 - cur];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const vertex *p = &in[(i + n - 1) % n], *q = &in[i];
+      const fwd sp = cross_edge(a, b, p), sq = cross_edge(a, b, q);
+      const int p_in = sp.v >= 0.0, q_in = sq.v >= 0.0;
+      if (p_in != q_in && m < MORTAR_MAX_POLY) {
+        const fwd t = fwd_div(sp, fwd_sub(sp, sq));
+        for (int k = 0; k < 2; ++k) res[m].x[k] = fwd_add(p->x[k], fwd_mul(t, fwd_sub(q->x[k], p->x[k])));
+        ++m;
+      }
+      if (q_in && m < MORTAR_MAX_POLY) res[m++] = *q;
+    }
+    n = m;
+    cur = 1 - cur;
+  }
+  memcpy(out, buf[cur], sizeof(vertex) * (size_t)n);
+  return n;
+}
+
+/* Parameters xi of the face point that projects along n0 onto the plane point (p0, p1):
+ * F_alpha(xi) = (x(xi) - x0) . t_alpha - p_alpha = 0. Newton on values, derivatives by the implicit function
+ * theorem. Returns 0, or -1 if it fails. */
+static int plane_parameters(const mortar_face_type *ft, fwd x[][3], const fwd *x0, fwd t[2][3], const vertex *pt,
+                            fwd xi[2]) {
+  double xv[2] = {ft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0, ft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0};
+  double J[4];
+  for (int it = 0; it < 40; ++it) {
+    double pos[3], a[2][3], aa[2][2][3], F[2];
+    mortar_face_values(ft, x, xv, pos, a, aa);
+    for (int al = 0; al < 2; ++al) {
+      double v = -pt->x[al].v;
+      for (int i = 0; i < 3; ++i) v += (pos[i] - x0[i].v) * t[al][i].v;
+      F[al] = -v;
+      for (int be = 0; be < 2; ++be) {
+        double s = 0.0;
+        for (int i = 0; i < 3; ++i) s += a[be][i] * t[al][i].v;
+        J[al * 2 + be] = s;
+      }
+    }
+    if (mortar_solve_small(2, J, F, 1) != 0) return -1;
+    xv[0] += F[0];
+    xv[1] += F[1];
+    if (!isfinite(xv[0]) || fabs(xv[0]) > 1e3 || fabs(xv[1]) > 1e3) return -1;
+    if (fabs(F[0]) < 1e-14 && fabs(F[1]) < 1e-14) break;
+  }
+  const fwd xc[2] = {fwd_const(xv[0]), fwd_const(xv[1])};
+  fwd pos[3], a[2][3], diff[3], r[2];
+  mortar_face_point(ft, x, xc, pos, a);
+  for (int i = 0; i < 3; ++i) diff[i] = fwd_sub(pos[i], x0[i]);
+  for (int al = 0; al < 2; ++al) {
+    r[al] = fwd_sub(fwd_dot(3, diff, t[al]), pt->x[al]);
+    for (int be = 0; be < 2; ++be) J[al * 2 + be] = fwd_dot(3, a[be], t[al]).v;
+  }
+  return mortar_implicit(2, J, r, xv, xi);
+}
+
+/* A cheap test on values: do the two faces' boxes in the auxiliary plane (the slave face's plane at its centre,
+ * coordinates along two in-plane axes) overlap? Most candidate pairs of the broad phase do not. */
+static int plane_boxes_overlap(const mortar_pair *p) {
+  double c[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+  const double w = 1.0 / p->nen_s;
+  for (int a = 0; a < p->nen_s; ++a)
+    for (int i = 0; i < 3; ++i) {
+      c[i] += w * p->xs[a][i].v;
+      n[i] += w * p->ns[a][i].v;
+    }
+  /* in-plane axes: the first slave edge and n x it */
+  double e[3], t2[3];
+  for (int i = 0; i < 3; ++i) e[i] = p->xs[1][i].v - p->xs[0][i].v;
+  const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2], en = (e[0] * n[0] + e[1] * n[1] + e[2] * n[2]) / nn;
+  for (int i = 0; i < 3; ++i) e[i] -= en * n[i];
+  t2[0] = n[1] * e[2] - n[2] * e[1];
+  t2[1] = n[2] * e[0] - n[0] * e[2];
+  t2[2] = n[0] * e[1] - n[1] * e[0];
+  double lo[2][2] = {{INFINITY, INFINITY}, {INFINITY, INFINITY}};
+  double hi[2][2] = {{-INFINITY, -INFINITY}, {-INFINITY, -INFINITY}};
+  for (int side = 0; side < 2; ++side) {
+    const int nen = side ? p->nen_m : p->nen_s;
+    for (int a = 0; a < nen; ++a) {
+      double d[3], u[2] = {0, 0};
+      for (int i = 0; i < 3; ++i) d[i] = (side ? p->xm[a][i].v : p->xs[a][i].v) - c[i];
+      for (int i = 0; i < 3; ++i) {
+        u[0] += d[i] * e[i];
+        u[1] += d[i] * t2[i];
+      }
+      for (int k = 0; k < 2; ++k) {
+        lo[side][k] = fmin(lo[side][k], u[k]);
+        hi[side][k] = fmax(hi[side][k], u[k]);
+      }
+    }
+  }
+  /* generous: this plane is not exactly the clip's (centre of the nodes, mean normal), and a rejected pair whose true
+   * overlap is a sliver would make its (tiny) contribution jump */
+  const double tol = 0.05 * (hi[0][0] - lo[0][0] + hi[0][1] - lo[0][1]);
+  return lo[1][0] <= hi[0][0] + tol && lo[0][0] <= hi[1][0] + tol && lo[1][1] <= hi[0][1] + tol &&
+         lo[0][1] <= hi[1][1] + tol;
+}
+
+int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
+                       mortar_integrals *I) {
+  if (!plane_boxes_overlap(p)) return 0;
+  const mortar_face_type *st = p->slave, *mt = p->master;
+  fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3];
+  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
+  memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
+  /* auxiliary plane: the slave face's centre x0 and unit normal n0 there */
+  const double centre = st->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
+  const fwd xc[2] = {fwd_const(centre), fwd_const(centre)};
+  fwd N[MORTAR_MAX_NEN], x0[3], nc[3], n0[3], t[2][3];
+  mortar_shape(st, xc, N, NULL);
+  mortar_face_point(st, xs, xc, x0, NULL);
+  mortar_slave_normal(p, N, nc);
+  const fwd nlen = fwd_norm(3, nc);
+  for (int i = 0; i < 3; ++i) n0[i] = fwd_div(nc[i], nlen);
+  /* faces must face each other: the master's outward normal at its centre against n0 */
+  {
+    const double mc = mt->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
+    const fwd xmc[2] = {fwd_const(mc), fwd_const(mc)};
+    fwd a[2][3], nm[3];
+    mortar_face_point(mt, xm, xmc, NULL, a);
+    mortar_face_normal(3, 2, a, nm);
+    if (fwd_dot(3, nm, n0).v >= 0.0) return 0;
+  }
+  /* in-plane basis: t1 along the first slave edge, projected; t2 = n0 x t1 */
+  fwd e[3];
+  for (int i = 0; i < 3; ++i) e[i] = fwd_sub(xs[1][i], xs[0][i]);
+  const fwd en = fwd_dot(3, e, n0);
+  for (int i = 0; i < 3; ++i) e[i] = fwd_sub(e[i], fwd_mul(en, n0[i]));
+  const fwd elen = fwd_norm(3, e);
+  for (int i = 0; i < 3; ++i) t[0][i] = fwd_div(e[i], elen);
+  fwd_cross3(n0, t[0], t[1]);
+  /* both faces in plane coordinates, counter-clockwise about n0 (the master's order reversed) */
+  vertex sp[MORTAR_MAX_NEN], mp[MORTAR_MAX_NEN], cell[MORTAR_MAX_POLY];
+  for (int k = 0; k < p->nen_s; ++k) {
+    fwd d[3];
+    for (int i = 0; i < 3; ++i) d[i] = fwd_sub(xs[k][i], x0[i]);
+    for (int al = 0; al < 2; ++al) sp[k].x[al] = fwd_dot(3, d, t[al]);
+  }
+  for (int k = 0; k < p->nen_m; ++k) {
+    fwd d[3];
+    for (int i = 0; i < 3; ++i) d[i] = fwd_sub(xm[p->nen_m - 1 - k][i], x0[i]);
+    for (int al = 0; al < 2; ++al) mp[k].x[al] = fwd_dot(3, d, t[al]);
+  }
+  const double area_s = polygon_area(sp, p->nen_s).v;
+  if (!(area_s > 0.0) || !(polygon_area(mp, p->nen_m).v > 0.0)) return 0;
+  int n = clip_polygon(mp, p->nen_m, sp, p->nen_s, cell);
+  /* drop (nearly) coincident consecutive vertices: a master vertex on a slave edge appears twice */
+  const double tol2 = 1e-24 * area_s;
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const vertex *prev = m > 0 ? &cell[m - 1] : NULL;
+    const double dx = prev ? cell[i].x[0].v - prev->x[0].v : 1.0, dy = prev ? cell[i].x[1].v - prev->x[1].v : 1.0;
+    if (dx * dx + dy * dy > tol2) cell[m++] = cell[i];
+  }
+  while (m > 1) {
+    const double dx = cell[m - 1].x[0].v - cell[0].x[0].v, dy = cell[m - 1].x[1].v - cell[0].x[1].v;
+    if (dx * dx + dy * dy > tol2) break;
+    --m;
+  }
+  n = m;
+  if (n < 3 || !(polygon_area(cell, n).v > 1e-12 * area_s)) return 0;
+  /* triangles about the centroid */
+  vertex c;
+  c.x[0] = c.x[1] = fwd_const(0.0);
+  for (int i = 0; i < n; ++i)
+    for (int al = 0; al < 2; ++al) c.x[al] = fwd_add(c.x[al], cell[i].x[al]);
+  for (int al = 0; al < 2; ++al) c.x[al] = fwd_scale(1.0 / n, c.x[al]);
+  const double *rxi, *rw;
+  const int nq = mortar_triangle_rule(rule, &rxi, &rw);
+  for (int tri = 0; tri < n; ++tri) {
+    const vertex *a = &cell[tri], *b = &cell[(tri + 1) % n];
+    fwd ea[2] = {fwd_sub(a->x[0], c.x[0]), fwd_sub(a->x[1], c.x[1])};
+    fwd eb[2] = {fwd_sub(b->x[0], c.x[0]), fwd_sub(b->x[1], c.x[1])};
+    const fwd jac_cell = fwd_cross2(ea, eb); /* twice the triangle's area */
+    if (!(jac_cell.v > 0.0)) continue;
+    for (int q = 0; q < nq; ++q) {
+      vertex g;
+      for (int al = 0; al < 2; ++al)
+        g.x[al] = fwd_add(c.x[al], fwd_lin(rxi[2 * q], ea[al], rxi[2 * q + 1], eb[al]));
+      fwd xi1[2], xi2[2];
+      if (plane_parameters(st, xs, x0, t, &g, xi1) != 0 || plane_parameters(mt, xm, x0, t, &g, xi2) != 0) continue;
+      fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], x1[3], a1[2][3], x2[3], n1[3], c1[3], diff[3];
+      mortar_shape(st, xi1, N1, NULL);
+      mortar_shape(mt, xi2, N2, NULL);
+      mortar_face_point(st, xs, xi1, x1, a1);
+      for (int i = 0; i < 3; ++i) { /* x2 = sum_l N_l x_l */
+        fwd_set_mul(&x2[i], &N2[0], &xm[0][i]);
+        for (int l = 1; l < p->nen_m; ++l) fwd_acc_mul(&x2[i], &N2[l], &xm[l][i]);
+      }
+      mortar_slave_normal(p, N1, n1);
+      /* slave surface measure: dgamma = |a1 x a2| / |det(a_beta . t_alpha)| dA (the plane's area element) */
+      fwd_cross3(a1[0], a1[1], c1);
+      const fwd det = fwd_sub(fwd_mul(fwd_dot(3, a1[0], t[0]), fwd_dot(3, a1[1], t[1])),
+                              fwd_mul(fwd_dot(3, a1[1], t[0]), fwd_dot(3, a1[0], t[1])));
+      const fwd ratio = fwd_div(fwd_norm(3, c1), det.v < 0.0 ? fwd_neg(det) : det);
+      for (int i = 0; i < 3; ++i) diff[i] = fwd_sub(x2[i], x1[i]);
+      const fwd g_n = fwd_div(fwd_dot(3, diff, n1), fwd_norm(3, n1));
+      const fwd weight = fwd_mul(fwd_scale(rw[q], jac_cell), ratio);
+      mortar_add_point_shapes(p, A, basis, N1, N2, &weight, &g_n, I);
+    }
+    I->n_cells += 1;
+  }
+  return 1;
+}

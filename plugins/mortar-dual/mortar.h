@@ -1,0 +1,156 @@
+/* mortar-dual — the glue's shared state (plugin.c: the ABI calls; assemble.c: the contact terms at a point x).
+ * Views: attach->views = {slave, master} (or {slave} with an obstacle). Extra unknowns: z, dim per slave surface
+ * node, at dim * node_index. Faces of the slave view are processed when owned (their forces) or when they touch an
+ * owned node (that node's weighted gap and slip). */
+#ifndef MORTAR_GLUE_H
+#define MORTAR_GLUE_H
+
+#include "kernel.h"
+#include "stickslip/plugin.h"
+
+enum { STRATEGY_SADDLE_POINT = 0, STRATEGY_CONDENSED = 1 };
+enum { INTEGRATION_SEGMENTS = 0, INTEGRATION_CONCENTRATED = 1 };
+enum { ACTIVE_SET_SEMISMOOTH = 0, ACTIVE_SET_NESTED = 1 };
+enum { SIDE_SLAVE = 0, SIDE_MASTER = 1 };
+
+/* One owned slave node: its constraint rows live on a column list fixed for the step attempt. */
+typedef struct {
+  int node;                 /* slave view node */
+  int64_t extra;            /* index of z_j[0] among the instance's extras (dim * node_index) */
+  double A_ref;             /* reference tributary measure int N_j over the slave surface ([C1], [U1]) */
+  double ref[3];            /* tangent reference direction for the attempt (3D) */
+  int state, c_state;       /* NCP branch (mortar_state) now / committed */
+  int flips;                /* branch changes within the attempt (semismooth) */
+  int cols, n_cols;         /* its columns: inst->col[cols .. cols + n_cols), sorted */
+  int hist, n_hist;         /* committed D^n (+) and M^n (-) coefficients: inst->hist_* [hist .. hist + n_hist) */
+  /* values at the last evaluation */
+  double gap;               /* g~_j [I3] */
+  double cover;             /* int_overlap N_j: the master's coverage of the node's support */
+  double W[3];              /* deformable master: W_j [S1]; obstacle: the weighted jump D (x - x^n - dd) */
+  double z[3];              /* z_j at the last evaluation (output) */
+  double dissipation;       /* EVAL_COMMIT: z_t . u~_t, the friction work of the step */
+} owned_node;
+
+/* From a pair's local slots [x_s | x_m | n_s] to the global columns of the nodes involved. */
+typedef struct {
+  int pos;
+  double coef;
+} chain_entry;
+
+typedef struct {
+  int dim, n_nodes, cap_nodes;
+  int *side, *node;
+  int slot_ptr[FWD_MAX + 1];
+  chain_entry *entry;
+  int cap_entries;
+} pair_chain;
+
+struct sk_instance {
+  const sk_host_api *api;
+  sk_host *host;
+  const sk_attach *attach;
+  const sk_view *slave, *master;
+  const sk_obstacle *obstacle;
+  int dim;
+
+  /* options (parameters) */
+  int strategy, integration, active_set, friction;
+  mortar_basis basis;
+  mortar_normal normal_variant;
+  mortar_ncp_params ncp;
+  int segment_gauss, cell_rule, face_gauss, max_flips;
+  double search_margin, min_cover;
+
+  mortar_face_type st, mt;
+  sk_search *search;
+
+  /* slave view topology (static): faces around each node, nodes of those faces ("stars") */
+  int *star_face_ptr, *star_face;
+  int *star_node_ptr, *star_node;
+  int *face_star_index;     /* [(f * nen + a) * nen + b]: entry of conn[f][b] in the node star of conn[f][a] */
+  unsigned char *face_needed; /* owned, or with an owned node */
+  int max_star;
+
+  /* nodal normals at the current evaluation (per slave view node) */
+  double *A_node;           /* per slave view node: reference tributary measure A_j = int N_j (complete at the nodes
+                               of needed faces: check_stars) */
+  double *normal;           /* 3 per node */
+  double *dnormal;          /* 9 per star entry: d n_j / d x_b (3 x 3 row-major, dim x dim used) */
+  double *cvec, *dc;
+
+  /* owned slave nodes */
+  int n_owned;
+  owned_node *owned;
+  int *owned_of_node;       /* slave view node -> owned index, -1 */
+
+  /* rules: whole slave face (D, dual coefficients, concentrated and obstacle points), 2D segments, 3D cells */
+  int n_face_points;
+  double face_xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], face_w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  int n_d_points;
+  double d_xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], d_w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  double seg_eta[MORTAR_MAX_RULE], seg_w[MORTAR_MAX_RULE];
+
+  /* the attempt's candidates: master faces per slave view face (segments: all that may overlap; concentrated: the
+   * frozen face of each Gauss point, Hammer 7.2.3, ip_master[f * n_face_points + q], -1 when dropped) */
+  int *cand_ptr, *cand;
+  int cand_cap;
+  int *ip_master;
+  int *query;                         /* search results (master faces) */
+  int *master_star_ptr, *master_star; /* master faces around each master view node (concentrated selection) */
+  unsigned char *master_border;       /* master node on the border of the master surface (out-of-first/-last) */
+
+  /* owned nodes' columns and derivative accumulators */
+  int64_t *col;
+  int *col_side, *col_node, *col_comp; /* which node's which component each column is */
+  int col_cap, n_col;
+  double *acc_gap, *acc_W; /* n_col; 3 * n_col */
+
+  /* history */
+  double *z_committed;      /* n_extra: the last converged z of OWNED nodes, zero elsewhere (the host sums the
+                               ranks' initial values) */
+  int64_t n_extra;
+  int *hist_side, *hist_node;
+  double *hist_value;
+  int hist_cap, n_hist;
+  int history_ready;        /* D^n, M^n recorded (after the first commit, or at the first step's start) */
+  double obstacle_d[3], obstacle_d_n[3];
+  const sk_condense_ext *condense;
+
+  /* results of the committed step (EVAL_COMMIT), for report() */
+  double force[3], moment[3], dissipated;
+
+  /* condensation pairs (owned nodes) */
+  int64_t *pair_extra, *pair_row;
+
+  /* scratch (sized in create): the pair chain, a block of rows x chain columns, column indices, a position map */
+  pair_chain chain;
+  double *block;
+  int64_t *block_cols;
+  int *pos_map;
+  int block_cap;
+  double *commit_rows;      /* EVAL_COMMIT: D_jk (+) and -M_jl on the owned nodes' columns (component 0) */
+  int deciding;             /* EVAL_SET of the nested loop's outer update (converged): decide the branches */
+  struct column_entry *tmp_entries;
+  int tmp_cap;
+};
+
+/* What an evaluation does: decide the active set, add F, add J, or record D^n, M^n for the committed step. */
+typedef enum { EVAL_SET = 0, EVAL_RESIDUAL = 1, EVAL_JACOBIAN = 2, EVAL_COMMIT = 3 } eval_mode;
+
+/* The contact terms at state->x (mortar.h header comment). EVAL_SET decides the NCP branches (semismooth, or
+ * `decide` for the nested loop's outer update) and sets *changed. Returns SK_ERR_DIVERGED when a projection fails. */
+sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink, int *changed);
+
+/* Averaged nodal normals [N1] and their derivatives [N3] at every slave view node, at positions xs. */
+void mortar_compute_normals(sk_instance *inst, const double *xs);
+
+/* The attempt's columns of every owned node's rows (after the candidates; begin_step). */
+sk_status mortar_build_columns(sk_instance *inst);
+
+/* Global unknown index of z_j component i for owned node o. */
+static inline int64_t mortar_z_index(const sk_instance *inst, const sk_state *state, int64_t extra, int i) {
+  (void)inst;
+  return state->extra_offset + extra + i;
+}
+
+#endif

@@ -1,0 +1,760 @@
+/* mortar-dual — plugin glue: parameters, topology, the step's candidates, the active-set loops, history, output.
+ * The contact terms themselves are assembled by assemble.c from the kernel (kernel.h). Strategies:
+ *   saddle-point  displacements and z (standard or dual basis): a direct solver
+ *   condensed     dual basis; z eliminated by the host on the assembled operator (stickslip.condense.v1) */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mortar.h"
+
+static const char *const strategies[] = {"saddle-point", "condensed", NULL};
+static const char *const parameters[] = {
+    "basis: dual | standard multipliers (condensed needs dual) [dual]",
+    "integration: segments (exact for straight edges / flat faces) | concentrated (Hammer's Gauss points) [segments]",
+    "normal: A (averaged slave normal) | M (master normal; concentrated integration only) [A]",
+    "active_set: semismooth (set updated with the iterate) | nested (Hammer: frozen in Newton, updated at "
+    "convergence) [semismooth]",
+    "mu: Coulomb friction coefficient [0]",
+    "c_n: complementarity parameter of the normal condition, traction per length (about E / h) [1]",
+    "c_t: complementarity parameter of the tangential condition, traction per length [c_n]",
+    "segment_gauss: Gauss points per 2D integration segment [3]",
+    "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
+    "there; else 6, exact on parallelograms]",
+    "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
+    "max_flips: active-set changes of a node within a step before its branch is frozen (semismooth) [8]",
+    "min_cover: share of a node's support the master must cover for it to enter contact [0.5]",
+    "search_margin: inflation of the search boxes (length) [the mean master edge length]",
+    NULL};
+
+/* ---- helpers ----------------------------------------------------------------------------------------------------- */
+static void *alloc_zero(size_t n, size_t size) { return calloc(n > 0 ? n : 1, size); }
+
+static void destroy(sk_instance *inst) {
+  if (!inst) return;
+  if (inst->search) inst->api->contact->search_destroy(inst->search);
+  void *ptrs[] = {inst->A_node, inst->star_face_ptr, inst->star_face, inst->star_node_ptr, inst->star_node,
+                  inst->face_star_index,
+                  inst->face_needed, inst->normal, inst->dnormal, inst->cvec, inst->dc, inst->owned,
+                  inst->owned_of_node, inst->cand_ptr, inst->cand, inst->ip_master, inst->col, inst->col_side,
+                  inst->col_node, inst->col_comp, inst->acc_gap, inst->acc_W, inst->z_committed, inst->hist_side,
+                  inst->hist_node, inst->hist_value, inst->pair_extra, inst->pair_row, inst->chain.side,
+                  inst->chain.node, inst->chain.entry, inst->block, inst->block_cols, inst->pos_map,
+                  inst->commit_rows, inst->tmp_entries, inst->master_star_ptr, inst->master_star,
+                  inst->master_border};
+  for (size_t i = 0; i < sizeof ptrs / sizeof ptrs[0]; ++i) free(ptrs[i]);
+  free(inst);
+}
+
+static sk_status nomem(sk_instance *inst) {
+  return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory");
+}
+
+static int choice(const char *value, const char *const *options) {
+  for (int i = 0; options[i]; ++i)
+    if (strcmp(value, options[i]) == 0) return i;
+  return -1;
+}
+
+static sk_status read_choice(sk_instance *inst, const char *key, const char *const *options, int *out) {
+  const char *value;
+  SK_TRY(inst->api->param_string(inst->host, key, 0, options[0], &value));
+  *out = choice(value, options);
+  if (*out < 0)
+    return inst->api->error(inst->host, SK_ERR_INPUT, "mortar-dual: %s must be %s or %s (got '%s')", key, options[0],
+                            options[1], value);
+  return SK_OK;
+}
+
+/* Node -> faces and node -> nodes of those faces (CSR), for a view. */
+static sk_status build_stars(sk_instance *inst, const sk_view *v, int **face_ptr, int **faces, int **node_ptr,
+                             int **nodes) {
+  const int nn = v->n_nodes, nen = v->nen;
+  int *fp = alloc_zero((size_t)nn + 1, sizeof(int)), *fl = alloc_zero((size_t)v->n_cells * nen, sizeof(int));
+  if (!fp || !fl) {
+    free(fp);
+    free(fl);
+    return nomem(inst);
+  }
+  for (int f = 0; f < v->n_cells; ++f)
+    for (int a = 0; a < nen; ++a) ++fp[v->conn[(int64_t)f * nen + a] + 1];
+  for (int k = 0; k < nn; ++k) fp[k + 1] += fp[k];
+  int *fill = alloc_zero((size_t)nn, sizeof(int));
+  if (!fill) {
+    free(fp);
+    free(fl);
+    return nomem(inst);
+  }
+  for (int f = 0; f < v->n_cells; ++f)
+    for (int a = 0; a < nen; ++a) {
+      const int k = v->conn[(int64_t)f * nen + a];
+      fl[fp[k] + fill[k]++] = f;
+    }
+  *face_ptr = fp;
+  *faces = fl;
+  if (!node_ptr) {
+    free(fill);
+    return SK_OK;
+  }
+  /* nodes of the faces around each node, unique, the node itself included */
+  int *np = alloc_zero((size_t)nn + 1, sizeof(int)), *nl = alloc_zero((size_t)fp[nn] * nen, sizeof(int));
+  if (!np || !nl) {
+    free(fill);
+    free(np);
+    free(nl);
+    return nomem(inst);
+  }
+  int n = 0;
+  for (int k = 0; k < nn; ++k) {
+    np[k] = n;
+    for (int e = fp[k]; e < fp[k + 1]; ++e)
+      for (int a = 0; a < nen; ++a) {
+        const int b = v->conn[(int64_t)fl[e] * nen + a];
+        int seen = 0;
+        for (int s = np[k]; s < n && !seen; ++s) seen = nl[s] == b;
+        if (!seen) nl[n++] = b;
+      }
+  }
+  np[nn] = n;
+  free(fill);
+  *node_ptr = np;
+  *nodes = nl;
+  return SK_OK;
+}
+
+/* Checks that the faces around every node of a needed slave face are in the view on this rank (the averaged normal
+ * of such a node and its derivative need them all): face counts per node, maximised over ranks. */
+static sk_status check_stars(sk_instance *inst) {
+  const sk_view *v = inst->slave;
+  double *count = alloc_zero((size_t)v->n_nodes_global, sizeof(double));
+  if (!count) return nomem(inst);
+  for (int k = 0; k < v->n_nodes; ++k) count[v->node_index[k]] = inst->star_face_ptr[k + 1] - inst->star_face_ptr[k];
+  double *local = alloc_zero((size_t)v->n_nodes_global, sizeof(double));
+  if (!local) {
+    free(count);
+    return nomem(inst);
+  }
+  memcpy(local, count, sizeof(double) * (size_t)v->n_nodes_global);
+  sk_status st = inst->api->reduce(inst->host, 1, count, (int)v->n_nodes_global);
+  int64_t bad = -1;
+  for (int f = 0; st == SK_OK && f < v->n_cells && bad < 0; ++f)
+    if (inst->face_needed[f])
+      for (int a = 0; a < v->nen; ++a) {
+        const int k = v->conn[(int64_t)f * v->nen + a];
+        if (local[v->node_index[k]] < count[v->node_index[k]]) bad = v->node_id[k];
+      }
+  free(count);
+  free(local);
+  SK_TRY(st);
+  if (bad >= 0)
+    return inst->api->error(inst->host, SK_ERR_INPUT,
+                            "mortar-dual: the slave view of this rank lacks faces around node %lld, whose averaged "
+                            "normal enters this rank's contact terms: the host must ghost two layers of slave faces",
+                            (long long)bad);
+  return SK_OK;
+}
+
+static double mean_edge(const sk_view *v) {
+  double sum = 0.0;
+  int count = 0;
+  const int corners = v->cell_type == SK_QUAD4 ? 4 : v->cell_type == SK_TRI3 ? 3 : 2;
+  for (int f = 0; f < v->n_cells; ++f)
+    for (int e = 0; e < (corners == 2 ? 1 : corners); ++e) {
+      const int a = v->conn[(int64_t)f * v->nen + e], b = v->conn[(int64_t)f * v->nen + (e + 1) % corners];
+      double d2 = 0.0;
+      for (int i = 0; i < v->dim; ++i) {
+        const double d = v->X[(int64_t)a * v->dim + i] - v->X[(int64_t)b * v->dim + i];
+        d2 += d * d;
+      }
+      sum += sqrt(d2);
+      ++count;
+    }
+  return count ? sum / count : 1.0;
+}
+
+static sk_status read_parameters(sk_instance *inst) {
+  const sk_host_api *api = inst->api;
+  sk_host *host = inst->host;
+  static const char *const bases[] = {"dual", "standard", NULL};
+  static const char *const integrations[] = {"segments", "concentrated", NULL};
+  static const char *const normals[] = {"A", "M", NULL};
+  static const char *const sets[] = {"semismooth", "nested", NULL};
+  int basis, normal;
+  SK_TRY(read_choice(inst, "basis", bases, &basis));
+  inst->basis = basis == 0 ? MORTAR_DUAL : MORTAR_STANDARD;
+  SK_TRY(read_choice(inst, "integration", integrations, &inst->integration));
+  SK_TRY(read_choice(inst, "normal", normals, &normal));
+  inst->normal_variant = normal == 0 ? MORTAR_NORMAL_A : MORTAR_NORMAL_M;
+  SK_TRY(read_choice(inst, "active_set", sets, &inst->active_set));
+  SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->ncp.mu));
+  SK_TRY(api->param_double(host, "c_n", 0, 1.0, &inst->ncp.c_n));
+  SK_TRY(api->param_double(host, "c_t", 0, inst->ncp.c_n, &inst->ncp.c_t));
+  SK_TRY(api->param_int(host, "segment_gauss", 0, 3, &inst->segment_gauss));
+  /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
+  const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
+  SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : 6, &inst->cell_rule));
+  SK_TRY(api->param_int(host, "face_gauss", 0, 5, &inst->face_gauss));
+  SK_TRY(api->param_int(host, "max_flips", 0, 8, &inst->max_flips));
+  SK_TRY(api->param_double(host, "min_cover", 0, 0.5, &inst->min_cover));
+  const double edge = inst->master ? mean_edge(inst->master) : mean_edge(inst->slave);
+  SK_TRY(api->param_double(host, "search_margin", 0, edge, &inst->search_margin));
+  const double *dummy_xi, *dummy_w;
+  if (inst->ncp.mu < 0.0 || !(inst->ncp.c_n > 0.0) || !(inst->ncp.c_t > 0.0) || inst->search_margin < 0.0 ||
+      inst->segment_gauss < 1 || inst->segment_gauss > MORTAR_MAX_RULE || inst->face_gauss < 1 ||
+      inst->face_gauss > MORTAR_MAX_RULE || mortar_triangle_rule(inst->cell_rule, &dummy_xi, &dummy_w) == 0 ||
+      inst->max_flips < 1 || inst->min_cover < 0.0 || inst->min_cover > 1.0)
+    return api->error(host, SK_ERR_INPUT,
+                      "mortar-dual: need mu >= 0, c_n > 0, c_t > 0, search_margin >= 0, 1 <= segment_gauss, face_gauss "
+                      "<= %d, cell_rule in {1, 3, 6, 7, 12}, max_flips >= 1, 0 <= min_cover <= 1 (got mu %g, c_n %g, "
+                      "c_t %g, search_margin %g, segment_gauss %d, face_gauss %d, cell_rule %d, max_flips %d, "
+                      "min_cover %g)",
+                      MORTAR_MAX_RULE, inst->ncp.mu, inst->ncp.c_n, inst->ncp.c_t, inst->search_margin,
+                      inst->segment_gauss, inst->face_gauss, inst->cell_rule, inst->max_flips, inst->min_cover);
+  inst->friction = inst->ncp.mu > 0.0;
+  if (inst->strategy == STRATEGY_CONDENSED && inst->basis != MORTAR_DUAL)
+    return api->error(host, SK_ERR_INPUT,
+                      "mortar-dual: strategy 'condensed' eliminates z with a diagonal D: it needs basis: dual");
+  if (inst->integration == INTEGRATION_SEGMENTS && inst->normal_variant == MORTAR_NORMAL_M)
+    return api->error(host, SK_ERR_INPUT,
+                      "mortar-dual: normal: M (the master normal) has no unique normal at master nodes to segment "
+                      "with: use integration: concentrated, or normal: A");
+  if (inst->obstacle && inst->normal_variant == MORTAR_NORMAL_M)
+    return api->error(host, SK_ERR_INPUT,
+                      "mortar-dual: a rigid obstacle measures the gap along its own normal; normal: M is for "
+                      "deformable masters");
+  return SK_OK;
+}
+
+/* The slave surface's reference tributary measures A_j = int N_j ([C1], [U1]), complete at the nodes of needed faces
+ * (check_stars makes sure). */
+static void reference_measures(sk_instance *inst) {
+  const sk_view *v = inst->slave;
+  memset(inst->A_node, 0, sizeof(double) * (size_t)v->n_nodes);
+  for (int f = 0; f < v->n_cells; ++f) {
+    double X[12] = {0}, n[12] = {0};
+    for (int a = 0; a < v->nen; ++a)
+      for (int i = 0; i < v->dim; ++i) X[3 * a + i] = v->X[(int64_t)v->conn[(int64_t)f * v->nen + a] * v->dim + i];
+    mortar_pair p;
+    mortar_basis_coeffs A;
+    mortar_integrals I;
+    mortar_pair_set(&p, inst->dim, &inst->st, NULL, X, NULL, n, 0);
+    mortar_basis_coefficients(&p, MORTAR_STANDARD, &A);
+    mortar_integrals_zero(&I, &p);
+    mortar_slave_integrals(&p, &A, MORTAR_STANDARD, inst->n_d_points, inst->d_xi, inst->d_w, &I);
+    for (int a = 0; a < v->nen; ++a)
+      for (int k = 0; k < v->nen; ++k) inst->A_node[v->conn[(int64_t)f * v->nen + a]] += I.D[a][k].v;
+  }
+  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].A_ref = inst->A_node[inst->owned[oi].node];
+}
+
+static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **out) {
+  *out = NULL;
+  sk_instance *inst = calloc(1, sizeof *inst);
+  if (!inst) return api->error(host, SK_ERR_NOMEM, "mortar-dual: out of memory");
+  inst->api = api;
+  inst->host = host;
+  inst->attach = attach;
+  inst->slave = attach->slave;
+  inst->master = attach->master;
+  inst->obstacle = attach->obstacle;
+  inst->dim = attach->slave->dim;
+  inst->strategy = attach->strategy;
+  const sk_view *sv = inst->slave;
+  sk_status st = SK_OK;
+  if (mortar_face_type_init(&inst->st, sv->cell_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
+      (inst->master &&
+       mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape,
+                             api->contact->shape_hessian) != 0))
+    st = api->error(host, SK_ERR_INPUT,
+                    "mortar-dual: handles straight faces only (line2 in 2D, tri3 and quad4 in 3D); surface '%s'%s%s "
+                    "has curved faces",
+                    sv->name, inst->master ? " or '" : "", inst->master ? inst->master->name : "");
+  if (st == SK_OK) st = read_parameters(inst);
+  if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
+    inst->condense = api->get_extension(host, SK_EXT_CONDENSE);
+    if (!inst->condense)
+      st = api->error(host, SK_ERR_PLUGIN,
+                      "mortar-dual: strategy 'condensed' needs the host extension %s, which this stickslip lacks",
+                      SK_EXT_CONDENSE);
+  }
+  if (st != SK_OK) {
+    destroy(inst);
+    return st;
+  }
+  /* rules: D and the dual coefficients (degree 2 per direction suffices on affine faces; 3 points per direction),
+   * the whole face (concentrated points, obstacles), the 2D segments */
+  inst->n_d_points = mortar_face_rule(sv->cell_type, 3, inst->d_xi, inst->d_w);
+  inst->n_face_points = mortar_face_rule(sv->cell_type, inst->face_gauss, inst->face_xi, inst->face_w);
+  mortar_gauss_legendre(inst->segment_gauss, inst->seg_eta, inst->seg_w);
+  /* topology */
+  const int nn = sv->n_nodes, nen = sv->nen, dim = inst->dim;
+  st = build_stars(inst, sv, &inst->star_face_ptr, &inst->star_face, &inst->star_node_ptr, &inst->star_node);
+  if (st == SK_OK && inst->master)
+    st = build_stars(inst, inst->master, &inst->master_star_ptr, &inst->master_star, NULL, NULL);
+  if (st != SK_OK) {
+    destroy(inst);
+    return st;
+  }
+  const int n_star = inst->star_node_ptr[nn];
+  inst->face_star_index = alloc_zero((size_t)sv->n_cells * nen * nen, sizeof(int));
+  inst->face_needed = alloc_zero((size_t)sv->n_cells, 1);
+  inst->normal = alloc_zero(3 * (size_t)nn, sizeof(double));
+  inst->A_node = alloc_zero((size_t)nn, sizeof(double));
+  inst->cvec = alloc_zero(3 * (size_t)nn, sizeof(double));
+  inst->dnormal = alloc_zero(9 * (size_t)n_star, sizeof(double));
+  inst->dc = alloc_zero(9 * (size_t)n_star, sizeof(double));
+  inst->owned_of_node = alloc_zero((size_t)nn, sizeof(int));
+  inst->owned = alloc_zero((size_t)nn, sizeof(owned_node));
+  inst->cand_ptr = alloc_zero((size_t)sv->n_cells + 1, sizeof(int));
+  inst->ip_master = alloc_zero((size_t)sv->n_cells * inst->n_face_points, sizeof(int));
+  inst->n_extra = (int64_t)dim * sv->n_nodes_global;
+  inst->z_committed = alloc_zero((size_t)inst->n_extra, sizeof(double));
+  inst->pair_extra = alloc_zero((size_t)nn * dim, sizeof(int64_t));
+  inst->pair_row = alloc_zero((size_t)nn * dim, sizeof(int64_t));
+  if (inst->master) {
+    inst->master_border = alloc_zero((size_t)inst->master->n_nodes, 1);
+    if (!inst->master_border) {
+      destroy(inst);
+      return nomem(inst);
+    }
+  }
+  if (!inst->face_star_index || !inst->face_needed || !inst->normal || !inst->A_node || !inst->cvec ||
+      !inst->dnormal || !inst->dc ||
+      !inst->owned_of_node || !inst->owned || !inst->cand_ptr || !inst->ip_master || !inst->z_committed ||
+      !inst->pair_extra || !inst->pair_row) {
+    st = nomem(inst);
+    destroy(inst);
+    return st;
+  }
+  for (int f = 0; f < sv->n_cells; ++f)
+    for (int a = 0; a < nen; ++a) {
+      const int j = sv->conn[(int64_t)f * nen + a];
+      if (sv->owned[j] || sv->cell_owned[f]) inst->face_needed[f] = 1;
+      for (int b = 0; b < nen; ++b) {
+        const int k = sv->conn[(int64_t)f * nen + b];
+        for (int s = inst->star_node_ptr[j]; s < inst->star_node_ptr[j + 1]; ++s)
+          if (inst->star_node[s] == k) inst->face_star_index[(f * nen + a) * nen + b] = s;
+      }
+      inst->max_star = fwd_imax(inst->max_star, inst->star_node_ptr[j + 1] - inst->star_node_ptr[j]);
+    }
+  for (int k = 0; k < nn; ++k) {
+    inst->owned_of_node[k] = -1;
+    if (!sv->owned[k]) continue;
+    owned_node *o = &inst->owned[inst->n_owned];
+    o->node = k;
+    o->extra = (int64_t)dim * sv->node_index[k];
+    inst->owned_of_node[k] = inst->n_owned++;
+  }
+  if (inst->master) { /* border nodes: a 2D end point without neighbour, a 3D edge without neighbour */
+    const sk_view *mv = inst->master;
+    for (int f = 0; f < mv->n_cells; ++f)
+      for (int e = 0; e < mv->n_edges; ++e)
+        if (mv->neighbors[(int64_t)f * mv->n_edges + e] < 0) {
+          inst->master_border[mv->conn[(int64_t)f * mv->nen + e]] = 1;
+          if (dim == 3) inst->master_border[mv->conn[(int64_t)f * mv->nen + (e + 1) % mv->n_edges]] = 1;
+        }
+  }
+  reference_measures(inst);
+  /* scratch for a pair's chain of columns */
+  pair_chain *pc = &inst->chain;
+  const int nen_m = inst->master ? inst->master->nen : 0;
+  pc->dim = dim;
+  pc->cap_nodes = nen + nen_m + nen * inst->max_star;
+  pc->cap_entries = (nen + nen_m) * dim + nen * dim * inst->max_star * dim;
+  pc->side = alloc_zero((size_t)pc->cap_nodes, sizeof(int));
+  pc->node = alloc_zero((size_t)pc->cap_nodes, sizeof(int));
+  pc->entry = alloc_zero((size_t)pc->cap_entries, sizeof(chain_entry));
+  inst->block_cap = 2 * MORTAR_MAX_NEN * 3 * pc->cap_nodes * dim;
+  inst->block = alloc_zero((size_t)inst->block_cap, sizeof(double));
+  inst->block_cols = alloc_zero((size_t)pc->cap_nodes * dim, sizeof(int64_t));
+  inst->pos_map = alloc_zero((size_t)pc->cap_nodes * dim, sizeof(int));
+  if (!pc->side || !pc->node || !pc->entry || !inst->block || !inst->block_cols || !inst->pos_map) {
+    st = nomem(inst);
+    destroy(inst);
+    return st;
+  }
+  st = check_stars(inst);
+  if (st == SK_OK && inst->master) st = api->contact->search_create(inst->master, &inst->search);
+  if (st != SK_OK) {
+    destroy(inst);
+    return st;
+  }
+  *out = inst;
+  return SK_OK;
+}
+
+/* D^n (+) and M^n (-) of every owned node from the last EVAL_COMMIT, for the objective slip [S1]. */
+static sk_status store_history(sk_instance *inst) {
+  int need = 0;
+  for (int k = 0; k < inst->n_col; ++k) need += inst->col_comp[k] == 0 && inst->commit_rows[k] != 0.0;
+  if (need > inst->hist_cap) {
+    const int cap = 2 * need + 64;
+    int *hs = realloc(inst->hist_side, sizeof(int) * (size_t)cap);
+    if (hs) inst->hist_side = hs;
+    int *hn = realloc(inst->hist_node, sizeof(int) * (size_t)cap);
+    if (hn) inst->hist_node = hn;
+    double *hv = realloc(inst->hist_value, sizeof(double) * (size_t)cap);
+    if (hv) inst->hist_value = hv;
+    if (!hs || !hn || !hv) return nomem(inst);
+    inst->hist_cap = cap;
+  }
+  inst->n_hist = 0;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->hist = inst->n_hist;
+    for (int k = o->cols; k < o->cols + o->n_cols; ++k)
+      if (inst->col_comp[k] == 0 && inst->commit_rows[k] != 0.0) {
+        inst->hist_side[inst->n_hist] = inst->col_side[k];
+        inst->hist_node[inst->n_hist] = inst->col_node[k];
+        inst->hist_value[inst->n_hist++] = inst->commit_rows[k];
+      }
+    o->n_hist = inst->n_hist - o->hist;
+  }
+  inst->history_ready = 1;
+  return SK_OK;
+}
+
+/* ---- the step ---------------------------------------------------------------------------------------------------- */
+static sk_status grow_candidates(sk_instance *inst, int need) {
+  if (need <= inst->cand_cap) return SK_OK;
+  const int cap = 2 * need + 64;
+  int *c = realloc(inst->cand, sizeof(int) * (size_t)cap);
+  if (!c) return nomem(inst);
+  inst->cand = c;
+  inst->cand_cap = cap;
+  return SK_OK;
+}
+
+/* Concentrated integration: the master face of slave Gauss point q of face f among the candidates (Hammer 7.2.1):
+ * the face it projects into (in-of-both: the smaller |g_n|); none: if its nearest master node is interior, the
+ * nearer of that node's faces (out-of-both), else -1 (out-of-first/-last: the point is dropped). */
+static int select_master(sk_instance *inst, int f, int q, const double *xs, const double *xm, const int *cands,
+                         int nc) {
+  const sk_view *sv = inst->slave, *mv = inst->master;
+  const int pd = inst->st.pdim;
+  double xf[12], nf[12], xmf[12];
+  for (int a = 0; a < sv->nen; ++a) {
+    const int k = sv->conn[(int64_t)f * sv->nen + a];
+    for (int i = 0; i < 3; ++i) {
+      xf[3 * a + i] = i < inst->dim ? xs[(int64_t)k * inst->dim + i] : 0.0;
+      nf[3 * a + i] = inst->normal[3 * k + i];
+    }
+  }
+  const double *xi = inst->face_xi + q * pd;
+  int best_inside = -1, best_any = -1;
+  double gap_inside = INFINITY;
+  double N[MORTAR_MAX_NEN], dN[2 * MORTAR_MAX_NEN], x1[3] = {0, 0, 0};
+  inst->api->contact->shape(inst->st.type, xi, N, dN);
+  for (int a = 0; a < sv->nen; ++a)
+    for (int i = 0; i < 3; ++i) x1[i] += N[a] * xf[3 * a + i];
+  /* the nearest master node of the candidates */
+  int nearest = -1;
+  double d_near = INFINITY;
+  for (int c = 0; c < nc; ++c) {
+    const int m = cands[c];
+    for (int b = 0; b < mv->nen; ++b) {
+      const int l = mv->conn[(int64_t)m * mv->nen + b];
+      double d2 = 0.0;
+      for (int i = 0; i < inst->dim; ++i) {
+        const double d = xm[(int64_t)l * inst->dim + i] - x1[i];
+        d2 += d * d;
+      }
+      if (d2 < d_near) {
+        d_near = d2;
+        nearest = l;
+      }
+    }
+  }
+  double gap_near = INFINITY;
+  for (int c = 0; c < nc; ++c) {
+    const int m = cands[c];
+    for (int b = 0; b < mv->nen; ++b) {
+      const int l = mv->conn[(int64_t)m * mv->nen + b];
+      for (int i = 0; i < 3; ++i) xmf[3 * b + i] = i < inst->dim ? xm[(int64_t)l * inst->dim + i] : 0.0;
+    }
+    mortar_pair p;
+    mortar_pair_set(&p, inst->dim, &inst->st, &inst->mt, xf, xmf, nf, 0);
+    mortar_point_projection pr;
+    if (mortar_project_point(&p, inst->normal_variant, xi, 1e-12, &pr) != 0) continue;
+    if (pr.inside && fabs(pr.gap) < gap_inside) {
+      gap_inside = fabs(pr.gap);
+      best_inside = m;
+    }
+    int touches = 0;
+    for (int b = 0; b < mv->nen; ++b) touches |= mv->conn[(int64_t)m * mv->nen + b] == nearest;
+    if (touches && fabs(pr.gap) < gap_near) {
+      gap_near = fabs(pr.gap);
+      best_any = m;
+    }
+  }
+  if (best_inside >= 0) return best_inside;
+  if (nearest >= 0 && !inst->master_border[nearest]) return best_any;
+  return -1;
+}
+
+static sk_status begin_step(sk_instance *inst, const sk_state *state) {
+  if (state->alpha != 1.0)
+    return inst->api->error(inst->host, SK_ERR_INPUT,
+                            "mortar-dual: the scheme '%s' balances forces at t_n + %g dt; mortar-dual enforces contact "
+                            "at t_(n+1) and supports quasi-static and backward-euler",
+                            state->scheme, state->alpha);
+  const sk_view *sv = inst->slave;
+  const int dim = inst->dim;
+  /* the attempt starts from the committed set; tangent references from the normals at t_n */
+  mortar_compute_normals(inst, state->x_n[0]);
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->state = o->c_state;
+    o->flips = 0;
+    const double *n = inst->normal + 3 * o->node;
+    int axis = 0;
+    for (int i = 1; i < 3; ++i)
+      if (fabs(n[i]) < fabs(n[axis])) axis = i;
+    o->ref[0] = o->ref[1] = o->ref[2] = 0.0;
+    o->ref[axis] = 1.0;
+  }
+  /* candidates: master faces whose boxes, swept from t_n to the predictor, meet the slave face's swept box */
+  inst->cand_ptr[0] = 0;
+  if (!inst->master) {
+    memset(inst->cand_ptr, 0, sizeof(int) * ((size_t)sv->n_cells + 1));
+    return mortar_build_columns(inst);
+  }
+  const sk_view *mv = inst->master;
+  if (!inst->query) {
+    inst->query = alloc_zero((size_t)mv->n_cells, sizeof(int));
+    if (!inst->query) return nomem(inst);
+  }
+  inst->api->contact->search_update(inst->search, state->x_n[1], state->x[1], inst->search_margin);
+  if (inst->integration == INTEGRATION_CONCENTRATED) mortar_compute_normals(inst, state->x[0]);
+  int n = 0;
+  for (int f = 0; f < sv->n_cells; ++f) {
+    inst->cand_ptr[f + 1] = n;
+    if (!inst->face_needed[f]) continue;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int a = 0; a < sv->nen; ++a) {
+      const int64_t k = sv->conn[(int64_t)f * sv->nen + a];
+      for (int i = 0; i < 3; ++i) {
+        const double p0 = i < dim ? state->x_n[0][k * dim + i] : 0.0, p1 = i < dim ? state->x[0][k * dim + i] : 0.0;
+        lo[i] = fmin(lo[i], fmin(p0, p1) - inst->search_margin);
+        hi[i] = fmax(hi[i], fmax(p0, p1) + inst->search_margin);
+      }
+    }
+    int nq = inst->api->contact->search_query(inst->search, lo, hi, inst->query, mv->n_cells);
+    if (nq > mv->n_cells) nq = mv->n_cells;
+    SK_TRY(grow_candidates(inst, n + nq));
+    if (inst->integration == INTEGRATION_SEGMENTS) {
+      memcpy(inst->cand + n, inst->query, sizeof(int) * (size_t)nq);
+      n += nq;
+    } else {
+      /* each Gauss point's master face, frozen for the step; the distinct ones are the face's candidates */
+      for (int q = 0; q < inst->n_face_points; ++q) {
+        const int m = select_master(inst, f, q, state->x[0], state->x[1], inst->query, nq);
+        inst->ip_master[f * inst->n_face_points + q] = m;
+        int seen = m < 0;
+        for (int c = inst->cand_ptr[f]; c < n && !seen; ++c) seen = inst->cand[c] == m;
+        if (!seen) inst->cand[n++] = m;
+      }
+    }
+    inst->cand_ptr[f + 1] = n;
+  }
+  SK_TRY(mortar_build_columns(inst));
+  if (inst->friction && !inst->history_ready) {
+    /* the first step: the slip is measured from the start configuration, whose D and M it needs */
+    sk_state start = *state;
+    start.x = state->x_n;
+    start.extra = NULL;
+    SK_TRY(mortar_evaluate(inst, &start, EVAL_COMMIT, NULL, NULL));
+    SK_TRY(store_history(inst));
+    SK_TRY(mortar_build_columns(inst));
+  }
+  return SK_OK;
+}
+
+static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *layout) {
+  (void)state;
+  layout->n_extra = inst->n_extra;
+  layout->initial = inst->z_committed;
+  layout->eliminated = NULL;
+  layout->recover_needs_jdx = 0;
+  if (inst->strategy != STRATEGY_CONDENSED) return SK_OK;
+  /* z_j paired with the slave rows of node j: their D block is D_jj I (dual basis) */
+  const int dim = inst->dim;
+  for (int oi = 0; oi < inst->n_owned; ++oi)
+    for (int i = 0; i < dim; ++i) {
+      inst->pair_extra[oi * dim + i] = inst->owned[oi].extra + i;
+      inst->pair_row[oi * dim + i] = inst->slave->dofs[(int64_t)inst->owned[oi].node * dim + i];
+    }
+  return inst->condense->pair(inst->host, inst->n_owned, dim, inst->pair_extra, inst->pair_row);
+}
+
+static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *pat) {
+  const sk_view *sv = inst->slave;
+  const int dim = inst->dim, nen = sv->nen, nen_m = inst->master ? inst->master->nen : 0;
+  /* an owned face: its nodes' rows against their stars and z (the face part); each pair with a candidate: the
+   * face's and the candidate's rows against the stars, the candidate's nodes and z */
+  const size_t cap = (size_t)((nen + nen_m) * dim + nen * inst->max_star * dim + nen * dim);
+  int64_t *rows = malloc(sizeof(int64_t) * cap), *cols = malloc(sizeof(int64_t) * cap);
+  if (!rows || !cols) {
+    free(rows);
+    free(cols);
+    return nomem(inst);
+  }
+  for (int f = 0; f < sv->n_cells; ++f) {
+    if (!sv->cell_owned[f]) continue;
+    int nr = 0, nc = 0;
+    for (int a = 0; a < nen; ++a) {
+      const int j = sv->conn[(int64_t)f * nen + a];
+      for (int i = 0; i < dim; ++i) {
+        rows[nr++] = sv->dofs[(int64_t)j * dim + i];
+        cols[nc++] = state->extra_offset + dim * sv->node_index[j] + i;
+      }
+      for (int s = inst->star_node_ptr[j]; s < inst->star_node_ptr[j + 1]; ++s)
+        for (int i = 0; i < dim; ++i) cols[nc++] = sv->dofs[(int64_t)inst->star_node[s] * dim + i];
+    }
+    pat->add_block(pat, nr, rows, nc, cols);
+    const int nr_face = nr, nc_face = nc;
+    for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c) {
+      nr = nr_face;
+      nc = nc_face;
+      for (int b = 0; b < nen_m; ++b)
+        for (int i = 0; i < dim; ++i) {
+          const int32_t node = inst->master->conn[(int64_t)inst->cand[c] * nen_m + b];
+          rows[nr++] = cols[nc++] = inst->master->dofs[(int64_t)node * dim + i];
+        }
+      pat->add_block(pat, nr, rows, nc, cols);
+    }
+  }
+  free(rows);
+  free(cols);
+  /* an owned node's constraint rows against its columns and its z */
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    const owned_node *o = &inst->owned[oi];
+    int64_t zr[3];
+    for (int i = 0; i < dim; ++i) zr[i] = state->extra_offset + o->extra + i;
+    pat->add_block(pat, dim, zr, o->n_cols, inst->col + o->cols);
+    pat->add_block(pat, dim, zr, dim, zr);
+  }
+  return SK_OK;
+}
+
+static sk_status update_active_set(sk_instance *inst, const sk_state *state, int *changed) {
+  *changed = 0;
+  if (inst->active_set == ACTIVE_SET_NESTED) return SK_OK; /* the set changes only at convergence */
+  return mortar_evaluate(inst, state, EVAL_SET, NULL, changed);
+}
+
+static sk_status residual(sk_instance *inst, const sk_state *state, sk_sink *sink) {
+  return mortar_evaluate(inst, state, EVAL_RESIDUAL, sink, NULL);
+}
+
+static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink) {
+  return mortar_evaluate(inst, state, EVAL_JACOBIAN, sink, NULL);
+}
+
+/* Newton converged: the set decided at the converged point. The nested loop (Hammer, Algorithm 1) updates it here
+ * and asks for Newton again when it changed; the semismooth loop changes nothing here unless a node's branch was
+ * frozen by max_flips (it gets another Newton with a fresh count). */
+static sk_status converged(sk_instance *inst, const sk_state *state, int *accept) {
+  int changed = 0;
+  inst->deciding = 1;
+  const sk_status st = mortar_evaluate(inst, state, EVAL_SET, NULL, &changed);
+  inst->deciding = 0;
+  SK_TRY(st);
+  if (changed > 0) {
+    for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].flips = 0;
+    inst->api->log(inst->host, 2, "mortar-dual: %d nodes changed their contact state at convergence: Newton again",
+                   changed);
+  }
+  double c = changed;
+  SK_TRY(inst->api->reduce(inst->host, 0, &c, 1));
+  *accept = c == 0.0;
+  return SK_OK;
+}
+
+static sk_status commit_step(sk_instance *inst, const sk_state *state) {
+  SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
+  if (inst->master && inst->friction) SK_TRY(store_history(inst));
+  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].c_state = inst->owned[oi].state;
+  if (state->extra)
+    for (int oi = 0; oi < inst->n_owned; ++oi)
+      for (int i = 0; i < inst->dim; ++i)
+        inst->z_committed[inst->owned[oi].extra + i] = state->extra[inst->owned[oi].extra + i];
+  return SK_OK;
+}
+
+static void reject_step(sk_instance *inst) {
+  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].state = inst->owned[oi].c_state;
+}
+
+/* ---- results ---------------------------------------------------------------------------------------------------- */
+static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_report *rep) {
+  if (!state->extra) return SK_OK; /* the initial row: no contact yet */
+  for (int i = 0; i < 3; ++i) {
+    rep->force[i] = inst->force[i];
+    rep->moment[i] = inst->moment[i];
+  }
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    const owned_node *o = &inst->owned[oi];
+    if (o->state == MORTAR_INACTIVE) continue;
+    ++rep->active;
+    if (o->state == MORTAR_STICK) ++rep->stick;
+    else ++rep->slip;
+    rep->dissipated += o->dissipation;
+    rep->constraint_norm = fmax(rep->constraint_norm, fabs(o->gap) / o->A_ref);
+  }
+  return SK_OK;
+}
+
+static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
+  if (!state->extra) mortar_compute_normals(inst, state->x[0]);
+  const int dim = inst->dim;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    const owned_node *o = &inst->owned[oi];
+    const double *n = inst->normal + 3 * o->node;
+    sk_contact_point pt = {.struct_size = sizeof pt};
+    double zn = 0.0;
+    for (int i = 0; i < dim; ++i) zn += n[i] * o->z[i];
+    for (int i = 0; i < 3; ++i) {
+      pt.x[i] = i < dim ? state->x[0][(int64_t)o->node * dim + i] : 0.0;
+      pt.normal[i] = n[i];
+      pt.traction[i] = o->z[i] - zn * n[i];
+    }
+    pt.pressure = state->extra ? zn : 0.0;
+    pt.gap = o->gap / o->A_ref;
+    pt.state = o->state == MORTAR_INACTIVE ? 0 : (o->state == MORTAR_SLIP && inst->friction ? 2 : 1);
+    pt.slave_node = inst->slave->node_id[o->node];
+    callback(ctx, &pt);
+  }
+  return SK_OK;
+}
+
+static const sk_plugin plugin = {
+    SK_TABLE_HEADER(sk_plugin),
+    .name = "mortar-dual",
+    .summary = "segment-to-segment mortar contact, standard or dual multipliers, semismooth Newton, condensation "
+               "(Hammer 2012; Popp et al.)",
+    .kinds = SK_KIND_PAIR,
+    .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS | SK_CAP_CONDENSATION,
+    .strategies = strategies,
+    .parameters = parameters,
+    .create = create,
+    .destroy = destroy,
+    .begin_step = begin_step,
+    .layout = layout,
+    .pattern = pattern,
+    .update_active_set = update_active_set,
+    .residual = residual,
+    .jacobian = jacobian,
+    .recover = NULL,
+    .converged = converged,
+    .commit_step = commit_step,
+    .reject_step = reject_step,
+    .report = report,
+    .points = points,
+    .integrator = NULL,
+    .get_extension = NULL,
+};
+
+__attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);
+__attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void) { return &plugin; }

@@ -1,0 +1,169 @@
+/* nts-augmented — begin_step: the search, each slave node's facet for the step and its history on that facet
+ * (glue.h). With a rigid plane obstacle every slave node has one fixed plane facet for the whole run. */
+#include <math.h>
+#include <string.h>
+
+#include "glue.h"
+
+/* The nodes of a node's plane facet at time t: x(f) = c + f^a t_a with c = origin + d(t) (a QUAD4 whose corners are
+ * c -+ t_1 -+ t_2 in 3D; a LINE2 from c - t_1 to c + t_1 in 2D), so f is arc length along the orthonormal t_a. */
+static void plane_facet(const sk_instance *inst, const slave_point *p, double t, double *x) {
+  static const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  double d[3] = {0, 0, 0};
+  inst->api->contact->obstacle_displacement(inst->obstacle, t, d);
+  for (int I = 0; I < inst->facet.nen; ++I)
+    for (int i = 0; i < 3; ++i) {
+      double v = p->plane_origin[i] + (i < inst->dim ? d[i] : 0.0) + corner[I][0] * inst->plane_tangent[0][i];
+      if (inst->pdim == 2) v += corner[I][1] * inst->plane_tangent[1][i];
+      x[3 * I + i] = v;
+    }
+}
+
+void nts_gather(const sk_instance *inst, const slave_point *p, const double *const *x, double t, double *q_A) {
+  const int dim = inst->dim, nen = inst->facet.nen;
+  memset(q_A, 0, sizeof(double) * (size_t)(3 + 3 * nen));
+  for (int i = 0; i < dim; ++i) q_A[i] = x[0][dim * p->k + i];
+  if (inst->obstacle) {
+    plane_facet(inst, p, t, q_A + 3);
+    return;
+  }
+  for (int I = 0; I < nen; ++I)
+    for (int i = 0; i < dim; ++i) q_A[3 * (1 + I) + i] = x[1][dim * p->facet_nodes[I] + i];
+}
+
+double nts_gap_on_facet(const sk_instance *inst, const slave_point *p, const double *const *x, double t,
+                        double f[2]) {
+  double q_A[NTS_MAX_NQ];
+  nts_gather(inst, p, x, t, q_A);
+  if (nts_closest_point(&inst->facet, q_A, f, LOCAL_NEWTON_TOL, LOCAL_NEWTON_MAX) < 0) return HUGE_VAL;
+  nts_geometry geo;
+  nts_geometry_eval(&inst->facet, q_A, f, &geo);
+  return geo.phi[NTS_PHI_N];
+}
+
+static void set_facet(sk_instance *inst, slave_point *p, int facet) {
+  p->facet = facet;
+  if (inst->obstacle) return;
+  for (int I = 0; I < inst->facet.nen; ++I) p->facet_nodes[I] = inst->master->conn[facet * inst->master->nen + I];
+}
+
+/* The step's facet of a node, its projection (xi, gap) and whether anything is reachable. */
+static sk_status find_facet(sk_instance *inst, slave_point *p, const sk_state *state, sk_projection *proj) {
+  const sk_contact_services *cs = inst->api->contact;
+  const int dim = inst->dim;
+  *proj = (sk_projection){.struct_size = sizeof *proj, .face = -1};
+  const double *x_n = state->x_n[0] + dim * p->k, *x_p = state->x[0] + dim * p->k;
+  if (inst->obstacle) {
+    /* one plane facet for the run: the projection on it is exact */
+    p->facet = 0;
+    proj->face = 0;
+    proj->xi[0] = proj->xi[1] = 0.0;
+    proj->gap = nts_gap_on_facet(inst, p, state->x, state->t, proj->xi);
+    proj->kind = SK_PROJ_INTERIOR;
+    return SK_OK;
+  }
+  const sk_view *master = inst->master;
+  double lo[3] = {-inst->search_margin, -inst->search_margin, -inst->search_margin};
+  double hi[3] = {inst->search_margin, inst->search_margin, inst->search_margin};
+  for (int i = 0; i < dim; ++i) {
+    lo[i] = fmin(x_n[i], x_p[i]) - inst->search_margin;
+    hi[i] = fmax(x_n[i], x_p[i]) + inst->search_margin;
+  }
+  const int n_cand = cs->search_query(inst->search, lo, hi, inst->candidates, master->n_cells);
+  if (n_cand > 0)
+    SK_TRY(cs->project(master, state->x[1], x_p, inst->candidates, n_cand < master->n_cells ? n_cand : master->n_cells,
+                       proj));
+  return SK_OK;
+}
+
+sk_status nts_begin_step(sk_instance *inst, const sk_state *state) {
+  inst->alpha = state->alpha;
+  if (inst->search) inst->api->contact->search_update(inst->search, state->x_n[1], state->x[1], inst->search_margin);
+  for (int k = 0; k < inst->n_points; ++k) {
+    slave_point *p = &inst->points[k];
+    double *init = inst->initial + inst->stride * p->index;
+    sk_projection proj;
+    SK_TRY(find_facet(inst, p, state, &proj));
+    p->flips = 0;
+    p->slip = 0;
+    p->return_map = 0;
+    p->wants_in = 0;
+    memset(init, 0, sizeof(double) * (size_t)inst->stride);
+    if (proj.face < 0 || proj.kind == SK_PROJ_OUTSIDE || proj.gap == HUGE_VAL) {
+      /* nothing reachable this step (or beyond the master's border): trivial equations */
+      p->facet = -1;
+      p->active = 0;
+      p->f_frozen[0] = p->f_frozen[1] = 0.0;
+      p->f_start[0] = p->f_start[1] = p->t_start[0] = p->t_start[1] = 0.0;
+      p->gap_estimate = inst->search_margin;
+      continue;
+    }
+    set_facet(inst, p, proj.face);
+    p->gap_estimate = proj.gap;
+    if (p->c_active && p->c_facet >= 0 && p->c_facet != p->facet) {
+      /* A contact about to move onto another facet. The step enforces Phi_n = 0 at its end on the new facet, so
+       * its normal force does the work -lambda_n (0 - g_n), g_n = the gap of q_n on the new facet. Across a convex
+       * kink the slave, still on its old facet at t_n, lies below the new facet's plane (g_n < 0): the switch
+       * would put lambda_n g_n > 0 into the bodies (up to 1e-4 of the energy per switch on the coarse tori). Such a
+       * contact stays on its old facet (extended beyond its edge) for this step; once it has passed the edge, g_n
+       * on the new facet is >= 0 and the switch only loses energy. */
+      double f_n[2] = {proj.xi[0], proj.xi[1]};
+      const double g_n = nts_gap_on_facet(inst, p, state->x_n, state->t_n, f_n);
+      if (g_n < 0.0) {
+        double f[2] = {p->c_f[0], p->c_f[1]};
+        set_facet(inst, p, p->c_facet);
+        const double g = nts_gap_on_facet(inst, p, state->x, state->t, f);
+        if (g != HUGE_VAL) proj.gap = p->gap_estimate = g;
+      }
+    }
+    double f_init[2] = {proj.xi[0], inst->pdim == 2 ? proj.xi[1] : 0.0}, lambda_n = 0.0;
+    double lambda_aug[2] = {0.0, 0.0};
+    if (p->c_active && p->c_facet == p->facet) {
+      /* persisting contact on the same facet: keep f and the history as committed */
+      for (int a = 0; a < 2; ++a) {
+        p->f_start[a] = f_init[a] = p->c_f[a];
+        p->t_start[a] = p->c_t[a];
+      }
+      lambda_aug[0] = p->c_extra[nts_slot_of_e(inst, 2)];
+      if (inst->pdim == 2) lambda_aug[1] = p->c_extra[4];
+      lambda_n = p->c_extra[0];
+      p->slip = p->c_slip;
+    } else {
+      /* new contact or a new facet: f from the closest point of q_n on this facet; a committed traction is carried
+       * over as a spatial vector (t_a = t . a_a on the new facet) */
+      double f_n[2] = {f_init[0], f_init[1]};
+      if (nts_gap_on_facet(inst, p, state->x_n, state->t_n, f_n) == HUGE_VAL) {
+        f_n[0] = f_init[0];
+        f_n[1] = f_init[1];
+      }
+      p->f_start[0] = f_n[0];
+      p->f_start[1] = f_n[1];
+      p->t_start[0] = p->t_start[1] = 0.0;
+      if (p->c_active) {
+        double q_A[NTS_MAX_NQ];
+        nts_geometry geo;
+        nts_gather(inst, p, state->x_n, state->t_n, q_A);
+        nts_geometry_eval(&inst->facet, q_A, f_n, &geo);
+        for (int a = 0; a < inst->pdim; ++a)
+          p->t_start[a] = geo.a[a][0] * p->c_t_vector[0] + geo.a[a][1] * p->c_t_vector[1] +
+                          geo.a[a][2] * p->c_t_vector[2];
+        lambda_n = p->c_extra[0];
+      }
+    }
+    p->f_frozen[0] = p->f_gap[0] = f_init[0];
+    p->f_frozen[1] = p->f_gap[1] = f_init[1];
+    p->active = nts_wants_contact(inst, lambda_n, proj.gap);
+    if (p->active) {
+      init[0] = lambda_n;
+      init[nts_slot_of_e(inst, 2)] = lambda_aug[0];
+      if (inst->pdim == 2) init[4] = lambda_aug[1];
+    }
+    init[1] = f_init[0];
+    if (inst->pdim == 2) init[2] = f_init[1];
+  }
+  /* the starting values of the owned points only: the host sums them over ranks */
+  for (int k = 0; k < inst->n_points; ++k)
+    if (!nts_owned(inst, &inst->points[k]))
+      memset(inst->initial + inst->stride * inst->points[k].index, 0, sizeof(double) * (size_t)inst->stride);
+  return SK_OK;
+}

@@ -1,0 +1,57 @@
+"""Checks of the benchmark harness's own arithmetic (no driver runs): active-set change counting, reversals, Pareto
+fronts, expressions and derived variables, YAML flow values. Usage: python3 tests/bench/harness/test_harness.py"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "validation"))
+import declarations as dec  # noqa: E402
+import report  # noqa: E402
+import stress_metrics as sm  # noqa: E402
+from stickslip_results import Checks  # noqa: E402
+
+
+def row(active, stick=0, slip=0):
+    return {"active_points": active, "stick_points": stick, "slip_points": slip}
+
+
+def main():
+    c = Checks("test_harness")
+    # state changes between steps: a lower bound on the points that changed state
+    c.check(sm.state_changes(row(3, 3, 0), row(3, 2, 1)) == 1, "stick -> slip of one point counts 1")
+    c.check(sm.state_changes(row(2), row(1)) == 1, "a frictionless point leaving contact counts 1")
+    c.check(sm.state_changes(row(0), row(4, 4, 0)) == 4, "four points entering in stick count 4")
+    c.check(sm.state_changes(row(2, 1, 1), row(2, 1, 1)) == 0, "one point in, one out (a swap) is invisible: 0")
+    c.check(sm.state_changes(row(2, 0, 0), row(2, 2, 0)) == 2, "frictionless contact -> stick counts per point")
+    c.check(sm.reversals([0, 2, 0, 2, 2, 2, 0]) == 2, "0 2 0 2 . . 0: two turn-backs within two steps")
+    c.check(sm.reversals([0, 1, 2, 3, 3, 3, 2, 1]) == 0, "a rise, two steps at rest, a fall: no reversal")
+    c.check(sm.reversals([0, 1, 2, 3, 3, 2, 1]) == 1, "a rise, one step at rest, a fall: one reversal")
+    # Pareto front: no point of it is beaten in both time and error
+    recs = [{"status": "ok", "cpu_seconds": t, "error": e} for t, e in ((1, 0.1), (2, 0.05), (3, 0.2), (4, 0.01),
+                                                                        (5, 0.01))]
+    front = report.pareto(recs)
+    c.check([(r["cpu_seconds"], r["error"]) for r in front] == [(1, 0.1), (2, 0.05), (4, 0.01)],
+            "Pareto front of five runs: %s" % [(r["cpu_seconds"], r["error"]) for r in front])
+    c.check(report.pareto([{"status": "failed", "cpu_seconds": 1, "error": 0.1}]) == [], "failed runs are no front")
+    # expressions: arithmetic over variables, nothing else
+    c.check(dec.evaluate_expression("1e3*E", {"E": 2.0}, "t") == 2000.0, "1e3*E")
+    c.check(dec.evaluate_expression("[0, 0, 6*f]", {"f": 10}, "t") == [0, 0, 60], "a list expression")
+    for bad in ("__import__('os')", "E.real", "open('x')", "undefined + 1"):
+        try:
+            dec.evaluate_expression(bad, {"E": 1.0}, "t")
+            c.check(False, "refused: %s" % bad)
+        except dec.DeclarationError as e:
+            c.check(True, "refused: %s (%s)" % (bad, str(e)[:60]))
+    env = dec.environment({"E": 1000, "penalty": "$(factor*E)", "pt": "$penalty"}, {"factor": 0.01}, "t")
+    c.check(env["penalty"] == 10.0 and env["pt"] == 10.0, "derived variables: penalty %r, pt %r" % (env["penalty"],
+                                                                                                 env["pt"]))
+    c.check(dec.substitute({"a": "$(2*x)", "b": "text", "c": ["$x"]}, {"x": 3}, "t") == {"a": 6, "b": "text",
+                                                                                        "c": [3]}, "substitute")
+    c.check(dec.yaml_flow({"mu": 0.3, "m": None, "v": [1, 2.5], "on": True}) == "{mu: 0.3, m: ~, v: [1, 2.5], on: true}",
+            "YAML flow: %s" % dec.yaml_flow({"mu": 0.3, "m": None, "v": [1, 2.5], "on": True}))
+    c.check(dec.numeric("1.0e6") == 1.0e6 and dec.numeric("text") == "text", "YAML 1.1 floats without a sign")
+    sys.exit(c.finish())
+
+
+if __name__ == "__main__":
+    main()

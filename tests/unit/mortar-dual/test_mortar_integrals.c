@@ -1,0 +1,446 @@
+/* mortar-dual kernel: the mortar integrals of one face pair. Biorthogonality of the dual basis; patch-test-type
+ * integrals (a flat non-matching interface: sum_l M_jl = D_jj, linear fields reproduced, constant gap) exact with
+ * segment-based integration and only approximate with concentrated integration (deviation printed); invariance
+ * under a rigid motion; and a finite-difference check of every derivative of D, M and the weighted gap for 2D
+ * segments, 3D segments (tri3/quad4 in all combinations), concentrated points (normal variants A and M) and rigid
+ * obstacles. */
+#include "mortar_test_support.h"
+
+static const double FD_STEP = 1e-6;
+static const double FD_TOL = 2e-7;
+
+/* ---- quadrature and bases -------------------------------------------------------------------------------------- */
+static void check_quadrature(void) {
+  for (int n = 1; n <= 8; ++n) {
+    double x[MORTAR_MAX_RULE], w[MORTAR_MAX_RULE];
+    mortar_gauss_legendre(n, x, w);
+    double err = 0.0;
+    for (int p = 0; p <= 2 * n - 1; ++p) {
+      double s = 0.0;
+      for (int i = 0; i < n; ++i) s += w[i] * pow(x[i], p);
+      err = fmax(err, fabs(s - (p % 2 ? 0.0 : 2.0 / (p + 1))));
+    }
+    SK_CHECK(err < 1e-14);
+  }
+  static const int sizes[] = {1, 3, 6, 7, 12}, degrees[] = {1, 2, 4, 5, 6};
+  for (int r = 0; r < 5; ++r) {
+    const double *xi, *w;
+    const int n = mortar_triangle_rule(sizes[r], &xi, &w);
+    SK_CHECK(n == sizes[r]);
+    double err = 0.0;
+    for (int a = 0; a <= degrees[r]; ++a)
+      for (int b = 0; a + b <= degrees[r]; ++b) {
+        double s = 0.0, exact = tgamma(a + 1) * tgamma(b + 1) / tgamma(a + b + 3); /* int x^a y^b */
+        for (int q = 0; q < n; ++q) s += w[q] * pow(xi[2 * q], a) * pow(xi[2 * q + 1], b);
+        err = fmax(err, fabs(s - exact));
+      }
+    SK_CHECK(err < 1e-13);
+  }
+}
+
+/* int_e Phi_j N_k = delta_jk int_e N_k on the current face, with a rule finer than the kernel's. Exact on planar
+ * faces; on a warped QUAD4 only up to the error of the kernel's 3 x 3 rule for D_e, M_e (the Jacobian is not
+ * polynomial there): `tol`. */
+static void check_biorthogonality(const mortar_face_type *ft, const double *x, double tol) {
+  mortar_pair p;
+  double ns[12] = {0};
+  mortar_pair_set(&p, ft->pdim + 1, ft, NULL, x, NULL, ns, 0);
+  mortar_basis_coeffs A;
+  mortar_basis_coefficients(&p, MORTAR_DUAL, &A);
+  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  const int nq = mortar_face_rule(ft->type, 8, xi, w);
+  double PN[4][4] = {{0}}, intN[4] = {0};
+  for (int q = 0; q < nq; ++q) {
+    fwd xq[2] = {fwd_const(xi[q * ft->pdim]), fwd_const(ft->pdim > 1 ? xi[q * ft->pdim + 1] : 0.0)};
+    fwd N[4], a[2][3], pos[3];
+    mortar_shape(ft, xq, N, NULL);
+    mortar_face_point(ft, p.xs, xq, pos, a);
+    double J;
+    if (ft->pdim == 1) {
+      J = fwd_norm(3, a[0]).v;
+    } else {
+      fwd c[3];
+      fwd_cross3(a[0], a[1], c);
+      J = fwd_norm(3, c).v;
+    }
+    for (int j = 0; j < ft->nen; ++j) {
+      double phi = 0.0;
+      for (int k = 0; k < ft->nen; ++k) phi += A.coeff[j][k].v * N[k].v;
+      intN[j] += w[q] * J * N[j].v;
+      for (int k = 0; k < ft->nen; ++k) PN[j][k] += w[q] * J * phi * N[k].v;
+    }
+  }
+  double err = 0.0;
+  for (int j = 0; j < ft->nen; ++j)
+    for (int k = 0; k < ft->nen; ++k) err = fmax(err, fabs(PN[j][k] - (j == k ? intN[k] : 0.0)));
+  printf("  biorthogonality %s: max |int Phi_j N_k - delta_jk int N_k| = %.2e\n", sk_elem_name(ft->type), err);
+  SK_CHECK(err < tol);
+  /* the affine faces give the textbook constants */
+  if (ft->type == SK_LINE2) {
+    SK_CHECK_CLOSE(A.coeff[0][0].v, 2.0, 1e-13);
+    SK_CHECK_CLOSE(A.coeff[0][1].v, -1.0, 1e-13);
+  }
+  if (ft->type == SK_TRI3) {
+    SK_CHECK_CLOSE(A.coeff[1][1].v, 3.0, 1e-13);
+    SK_CHECK_CLOSE(A.coeff[1][2].v, -1.0, 1e-13);
+  }
+}
+
+/* ---- one pair as a function of its local unknowns u = [x_s | x_m | n_s] ---------------------------------------- */
+typedef enum { MODE_SEGMENTS, MODE_POINTS_A, MODE_POINTS_M, MODE_OBSTACLE_PLANE, MODE_OBSTACLE_SPHERE } pair_mode;
+
+typedef struct {
+  int dim;
+  const mortar_face_type *st, *mt;
+  mortar_basis basis;
+  pair_mode mode;
+  int order;
+} pair_case;
+
+static int obstacle_plane(void *ctx, const double *x, double *gap, double *normal) {
+  const int dim = *(const int *)ctx; /* y (2D) or z (3D) = -0.1, outward normal up */
+  normal[0] = normal[1] = normal[2] = 0.0;
+  normal[dim - 1] = 1.0;
+  *gap = x[dim - 1] + 0.1;
+  return 0;
+}
+
+static int obstacle_sphere(void *ctx, const double *x, double *gap, double *normal) {
+  const int dim = *(const int *)ctx; /* radius 2 centred 2.1 below the origin */
+  double c[3] = {0.3, 0.0, 0.0};
+  c[dim - 1] = -2.1;
+  double d = 0.0;
+  for (int i = 0; i < dim; ++i) d += (x[i] - c[i]) * (x[i] - c[i]);
+  d = sqrt(d);
+  for (int i = 0; i < 3; ++i) normal[i] = i < dim ? (x[i] - c[i]) / d : 0.0;
+  *gap = d - 2.0;
+  return 0;
+}
+
+static int n_local(const pair_case *c) {
+  return (2 * c->st->nen + (c->mt ? c->mt->nen : 0)) * c->dim;
+}
+
+static int n_outputs(const pair_case *c) {
+  const int ns = c->st->nen, nm = c->mt ? c->mt->nen : 0;
+  return ns * ns + ns * nm + ns;
+}
+
+static void unpack(const pair_case *c, const double *u, double *xs, double *xm, double *ns) {
+  const int d = c->dim, es = c->st->nen, em = c->mt ? c->mt->nen : 0;
+  memset(xs, 0, sizeof(double) * 12);
+  memset(xm, 0, sizeof(double) * 12);
+  memset(ns, 0, sizeof(double) * 12);
+  for (int a = 0; a < es; ++a)
+    for (int i = 0; i < d; ++i) {
+      xs[3 * a + i] = u[a * d + i];
+      ns[3 * a + i] = u[(es + em + a) * d + i];
+    }
+  for (int b = 0; b < em; ++b)
+    for (int i = 0; i < d; ++i) xm[3 * b + i] = u[(es + b) * d + i];
+}
+
+static int integrate_case(const pair_case *c, const double *xs, const double *xm, const double *ns, int derivatives,
+                          mortar_pair *p, mortar_integrals *I) {
+  mortar_pair_set(p, c->dim, c->st, c->mt, xs, xm, ns, derivatives);
+  mortar_basis_coeffs A;
+  mortar_basis_coefficients(p, c->basis, &A);
+  mortar_integrals_zero(I, p);
+  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  int nq = mortar_face_rule(c->st->type, 3, xi, w);
+  mortar_slave_integrals(p, &A, c->basis, nq, xi, w, I);
+  nq = mortar_face_rule(c->st->type, c->order, xi, w);
+  int dim = c->dim;
+  switch (c->mode) {
+    case MODE_SEGMENTS:
+      return c->dim == 2 ? mortar_segments_2d(p, &A, c->basis, c->order, I) - 1
+                         : mortar_segments_3d(p, &A, c->basis, c->order, I) - 1;
+    case MODE_POINTS_A:
+    case MODE_POINTS_M:
+      mortar_points(p, &A, c->basis, c->mode == MODE_POINTS_A ? MORTAR_NORMAL_A : MORTAR_NORMAL_M, nq, xi, w, I);
+      return I->n_cells == nq ? 0 : -1;
+    case MODE_OBSTACLE_PLANE:
+      mortar_obstacle_points(p, &A, c->basis, nq, xi, w, obstacle_plane, &dim, I);
+      return 0;
+    case MODE_OBSTACLE_SPHERE:
+      mortar_obstacle_points(p, &A, c->basis, nq, xi, w, obstacle_sphere, &dim, I);
+      return 0;
+  }
+  return -1;
+}
+
+static int eval_pair(void *ctx, const double *u, int derivatives, fwd *out) {
+  const pair_case *c = ctx;
+  double xs[12], xm[12], ns[12];
+  unpack(c, u, xs, xm, ns);
+  mortar_pair p;
+  mortar_integrals I;
+  if (integrate_case(c, xs, xm, ns, derivatives, &p, &I) != 0) return -1;
+  int m = 0;
+  for (int j = 0; j < p.nen_s; ++j) {
+    for (int k = 0; k < p.nen_s; ++k) out[m++] = I.D[j][k];
+    for (int l = 0; l < p.nen_m; ++l) out[m++] = I.M[j][l];
+    out[m++] = I.gap[j];
+  }
+  return 0;
+}
+
+/* A generic (curved, partly overlapping) configuration: slave above with outward normal down, master below facing
+ * up, perturbed nodal normals. */
+static void generic_configuration(const pair_case *c, double *u) {
+  const int d = c->dim, es = c->st->nen, em = c->mt ? c->mt->nen : 0;
+  static const double line_s[2][2] = {{0, 0}, {1, 0.1}}, line_m[2][2] = {{0.7, -0.05}, {-0.4, 0.02}};
+  static const double tri_s[3][3] = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}};
+  static const double quad_s[4][3] = {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
+  static const double tri_m[3][3] = {{-0.2, -0.1, -0.05}, {0.9, -0.2, -0.04}, {0.1, 0.8, -0.06}};
+  static const double quad_m[4][3] = {{-0.3, -0.2, -0.05}, {0.8, -0.3, -0.04}, {0.9, 0.7, -0.06}, {-0.2, 0.8, -0.05}};
+  for (int a = 0; a < es; ++a) {
+    double nrm[3] = {0.05 * test_rand(), 0.05 * test_rand(), 0.05 * test_rand()};
+    nrm[d - 1] = -1.0;
+    const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + (d == 3 ? nrm[2] * nrm[2] : 0.0));
+    for (int i = 0; i < d; ++i) {
+      const double base = d == 2 ? line_s[a][i] : es == 3 ? tri_s[a][i] : quad_s[a][i];
+      u[a * d + i] = base + (i < d - 1 ? 0.03 : 0.02) * test_rand();
+      u[(es + em + a) * d + i] = nrm[i] / len;
+    }
+  }
+  for (int b = 0; b < em; ++b)
+    for (int i = 0; i < d; ++i) {
+      const double base = d == 2 ? line_m[b][i] : em == 3 ? tri_m[b][i] : quad_m[b][i];
+      u[(es + b) * d + i] = base + 0.02 * test_rand();
+    }
+}
+
+static void check_derivatives(const char *label, pair_case c) {
+  double u[FWD_MAX];
+  generic_configuration(&c, u);
+  const double err = test_fd_check(label, eval_pair, &c, u, n_local(&c), n_outputs(&c), FD_STEP);
+  SK_CHECK(err < FD_TOL);
+}
+
+/* ---- patch-test-type integrals: a flat slave face over several master faces, summed --------------------------- */
+enum { MAX_PATCH_MASTERS = 32 };
+typedef struct {
+  double D[4], Msum[4], Mx[4][3], Dx[4][3], gap[4];
+  double M[MAX_PATCH_MASTERS][4][4]; /* per master face */
+} patch_sums;
+
+typedef struct {
+  int n;
+  double xm[MAX_PATCH_MASTERS][12];
+} patch_masters;
+
+/* M and gap of a pair (D, of the slave face alone, is added once by integrate_patch). */
+static void add_integrals(const mortar_pair *p, const mortar_integrals *I, const double *xm, int face,
+                          patch_sums *s) {
+  for (int j = 0; j < p->nen_s; ++j) {
+    for (int l = 0; l < p->nen_m; ++l) {
+      s->Msum[j] += I->M[j][l].v;
+      s->M[face][j][l] += I->M[j][l].v;
+      for (int i = 0; i < 3; ++i) s->Mx[j][i] += I->M[j][l].v * xm[3 * l + i];
+    }
+    s->gap[j] += I->gap[j].v;
+  }
+}
+
+/* Segments: every pair. Concentrated: each slave point goes to the first master face it projects into. */
+static void integrate_patch(const pair_case *c, const double *xs, const double *ns, const patch_masters *pm,
+                            patch_sums *s) {
+  mortar_pair p;
+  mortar_integrals I;
+  integrate_case(c, xs, pm->xm[0], ns, 0, &p, &I); /* D of the slave face */
+  for (int j = 0; j < p.nen_s; ++j)
+    for (int k = 0; k < p.nen_s; ++k) {
+      s->D[j] += I.D[j][k].v;
+      for (int i = 0; i < 3; ++i) s->Dx[j][i] += I.D[j][k].v * xs[3 * k + i];
+    }
+  if (c->mode == MODE_SEGMENTS) {
+    for (int f = 0; f < pm->n; ++f)
+      if (integrate_case(c, xs, pm->xm[f], ns, 0, &p, &I) == 0) add_integrals(&p, &I, pm->xm[f], f, s);
+    return;
+  }
+  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  const int nq = mortar_face_rule(c->st->type, c->order, xi, w), pd = c->st->pdim;
+  for (int q = 0; q < nq; ++q)
+    for (int f = 0; f < pm->n; ++f) {
+      mortar_pair_set(&p, c->dim, c->st, c->mt, xs, pm->xm[f], ns, 0);
+      mortar_point_projection proj;
+      if (mortar_project_point(&p, MORTAR_NORMAL_A, xi + q * pd, 1e-12, &proj) != 0 || !proj.inside) continue;
+      mortar_basis_coeffs A;
+      mortar_basis_coefficients(&p, c->basis, &A);
+      mortar_integrals_zero(&I, &p);
+      mortar_points(&p, &A, c->basis, MORTAR_NORMAL_A, 1, xi + q * pd, w + q, &I);
+      add_integrals(&p, &I, pm->xm[f], f, s);
+      break;
+    }
+}
+
+/* Returns the largest deviation of sum_l M_jl = sum_k D_jk, sum_l M_jl x_l = sum_k D_jk x_k (in-plane
+ * components) and gap_j = delta sum_k D_jk, relative to the face measure. */
+static double patch_deviation(const pair_case *c, double delta, patch_sums *sums) {
+  const int d = c->dim;
+  patch_sums s;
+  memset(&s, 0, sizeof s);
+  double xs[12] = {0}, ns[12] = {0}, xm[12] = {0};
+  double measure;
+  patch_masters pm = {0};
+  if (d == 2) {
+    xs[3] = 1.0; /* slave (0,0)-(1,0), outward normal down */
+    ns[1] = ns[4] = -1.0;
+    static const double xn[] = {1.25, 0.6, 0.15, -0.3};
+    for (int e = 0; e < 3; ++e) {
+      xm[0] = xn[e];
+      xm[3] = xn[e + 1];
+      xm[1] = xm[4] = -delta;
+      memcpy(pm.xm[pm.n++], xm, sizeof xm);
+    }
+    measure = 1.0;
+  } else {
+    static const double quad[4][2] = {{0, 0}, {0, 1}, {1, 1}, {1, 0}}, tri[3][2] = {{0, 0}, {0, 1}, {1, 0}};
+    const int es = c->st->nen;
+    for (int a = 0; a < es; ++a) {
+      xs[3 * a] = es == 4 ? quad[a][0] : tri[a][0];
+      xs[3 * a + 1] = es == 4 ? quad[a][1] : tri[a][1];
+      ns[3 * a + 2] = -1.0;
+    }
+    measure = es == 4 ? 1.0 : 0.5;
+    /* master grid over [-0.2, 1.3]^2, irregular lines, facing up (counter-clockwise from above) */
+    static const double gx[] = {-0.2, 0.37, 0.81, 1.3}, gy[] = {-0.2, 0.29, 0.74, 1.3};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double P[4][2] = {{gx[i], gy[j]}, {gx[i + 1], gy[j]}, {gx[i + 1], gy[j + 1]}, {gx[i], gy[j + 1]}};
+        if (c->mt->nen == 4) {
+          for (int b = 0; b < 4; ++b) {
+            xm[3 * b] = P[b][0];
+            xm[3 * b + 1] = P[b][1];
+            xm[3 * b + 2] = -delta;
+          }
+          memcpy(pm.xm[pm.n++], xm, sizeof xm);
+        } else {
+          static const int split[2][3] = {{0, 1, 2}, {0, 2, 3}};
+          for (int t = 0; t < 2; ++t) {
+            for (int b = 0; b < 3; ++b) {
+              xm[3 * b] = P[split[t][b]][0];
+              xm[3 * b + 1] = P[split[t][b]][1];
+              xm[3 * b + 2] = -delta;
+            }
+            memcpy(pm.xm[pm.n++], xm, sizeof xm);
+          }
+        }
+      }
+  }
+  integrate_patch(c, xs, ns, &pm, &s);
+  double dev = 0.0, total = 0.0;
+  for (int j = 0; j < c->st->nen; ++j) {
+    total += s.D[j];
+    dev = fmax(dev, fabs(s.Msum[j] - s.D[j]));
+    for (int i = 0; i < d - 1; ++i) dev = fmax(dev, fabs(s.Mx[j][i] - s.Dx[j][i]));
+    dev = fmax(dev, fabs(s.gap[j] - delta * s.D[j]));
+  }
+  SK_CHECK(fabs(total - measure) < 1e-13);
+  *sums = s;
+  return dev / measure;
+}
+
+/* The sums hold for any rule (partition of unity, linear fields); the entries M_jl show the integration error:
+ * segment-based entries do not change with the rule (exact), concentrated ones do. */
+static double max_entry_difference(const patch_sums *a, const patch_sums *b) {
+  double e = 0.0;
+  for (int f = 0; f < MAX_PATCH_MASTERS; ++f)
+    for (int j = 0; j < 4; ++j)
+      for (int l = 0; l < 4; ++l) e = fmax(e, fabs(a->M[f][j][l] - b->M[f][j][l]));
+  return e;
+}
+
+static void check_patch(void) {
+  const mortar_face_type *slaves[] = {&ft_line2, &ft_tri3, &ft_quad4, &ft_quad4, &ft_tri3};
+  const mortar_face_type *masters[] = {&ft_line2, &ft_tri3, &ft_quad4, &ft_tri3, &ft_quad4};
+  static patch_sums s1, s2, c1;
+  for (int t = 0; t < 5; ++t)
+    for (int basis = 0; basis < 2; ++basis) {
+      const int dim = t == 0 ? 2 : 3;
+      pair_case seg = {dim, slaves[t], masters[t], (mortar_basis)basis, MODE_SEGMENTS, dim == 2 ? 2 : 7};
+      const double e1 = patch_deviation(&seg, 0.01, &s1);
+      seg.order = dim == 2 ? 6 : 12;
+      const double e2 = patch_deviation(&seg, 0.01, &s2);
+      pair_case con = {dim, slaves[t], masters[t], (mortar_basis)basis, MODE_POINTS_A, dim == 2 ? 5 : 4};
+      const double e3 = patch_deviation(&con, 0.01, &c1);
+      const double d_seg = max_entry_difference(&s1, &s2), d_con = max_entry_difference(&s2, &c1);
+      printf("  patch %s/%s %s: sums %.1e %.1e %.1e; entries: segments rule a vs b %.1e, concentrated %.2e\n",
+             sk_elem_name(slaves[t]->type), sk_elem_name(masters[t]->type), basis ? "dual" : "standard", e1, e2, e3,
+             d_seg, d_con);
+      SK_CHECK(e1 < 1e-14 && e2 < 1e-14 && e3 < 1e-14);
+      SK_CHECK(d_seg < 1e-15);
+      SK_CHECK(d_con > 1e-4); /* concentrated integration does not see the master kinks */
+    }
+}
+
+/* ---- a rigid motion leaves D, M and the gap unchanged (the objectivity of the weighted slip rests on it) -------- */
+static void check_rigid_motion(pair_case c) {
+  double u[FWD_MAX], v[FWD_MAX];
+  generic_configuration(&c, u);
+  const double ang = 0.7, R[3][3] = {{cos(ang), -sin(ang), 0}, {sin(ang), cos(ang), 0}, {0, 0, 1}};
+  const double R3[3][3] = {{1, 0, 0}, {0, cos(0.4), -sin(0.4)}, {0, sin(0.4), cos(0.4)}};
+  const int d = c.dim, nodes = n_local(&c) / d, es = c.st->nen, em = c.mt ? c.mt->nen : 0;
+  for (int a = 0; a < nodes; ++a) {
+    double x[3] = {0, 0, 0}, y[3] = {0, 0, 0};
+    for (int i = 0; i < d; ++i) x[i] = u[a * d + i];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        double Q = 0.0; /* Q = R3 R in 3D, R in 2D */
+        for (int m = 0; m < 3; ++m) Q += (d == 3 ? R3[i][m] : (i == m ? 1.0 : 0.0)) * R[m][k];
+        y[i] += Q * x[k];
+      }
+    const int is_normal = a >= es + em;
+    for (int i = 0; i < d; ++i) v[a * d + i] = y[i] + (is_normal ? 0.0 : 1.5 + i);
+  }
+  fwd y0[TEST_MAX_OUT], y1[TEST_MAX_OUT];
+  SK_CHECK(eval_pair(&c, u, 0, y0) == 0 && eval_pair(&c, v, 0, y1) == 0);
+  double err = 0.0;
+  for (int i = 0; i < n_outputs(&c); ++i) err = fmax(err, fabs(y0[i].v - y1[i].v));
+  SK_CHECK(err < 1e-13);
+}
+
+int main(void) {
+  test_face_types();
+  check_quadrature();
+  const double line[] = {0.1, 0.2, 0, 1.3, 0.7, 0};
+  const double tri[] = {0, 0, 0, 1.2, 0.1, 0.2, 0.3, 0.9, -0.1};
+  const double quad[] = {0, 0, 0, 1.3, -0.1, 0.0, 1.1, 1.2, 0.0, -0.2, 0.8, 0};
+  const double warped[] = {0, 0, 0, 1.3, -0.1, 0.1, 1.1, 1.2, 0.3, -0.2, 0.8, 0};
+  check_biorthogonality(&ft_line2, line, 1e-15);
+  check_biorthogonality(&ft_tri3, tri, 1e-15);
+  check_biorthogonality(&ft_quad4, quad, 1e-15);
+  check_biorthogonality(&ft_quad4, warped, 3e-6); /* measured 2.1e-6 (face area 1.4) */
+  check_patch();
+
+  const mortar_face_type *st3[] = {&ft_tri3, &ft_quad4, &ft_quad4, &ft_tri3};
+  const mortar_face_type *mt3[] = {&ft_tri3, &ft_quad4, &ft_tri3, &ft_quad4};
+  for (int basis = 0; basis < 2; ++basis) {
+    char label[96];
+    snprintf(label, sizeof label, "2D segments (%s)", basis ? "dual" : "standard");
+    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 3});
+    snprintf(label, sizeof label, "2D points A (%s)", basis ? "dual" : "standard");
+    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_A, 4});
+    snprintf(label, sizeof label, "2D points M (%s)", basis ? "dual" : "standard");
+    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_M, 4});
+    const mortar_basis b = (mortar_basis)basis;
+    check_derivatives("2D obstacle plane", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_PLANE, 3});
+    check_derivatives("2D obstacle circle", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_SPHERE, 3});
+    for (int t = 0; t < 4; ++t) {
+      snprintf(label, sizeof label, "3D segments %s/%s (%s)", sk_elem_name(st3[t]->type), sk_elem_name(mt3[t]->type),
+               basis ? "dual" : "standard");
+      check_derivatives(label, (pair_case){3, st3[t], mt3[t], (mortar_basis)basis, MODE_SEGMENTS, 7});
+      snprintf(label, sizeof label, "3D points A %s/%s", sk_elem_name(st3[t]->type), sk_elem_name(mt3[t]->type));
+      check_derivatives(label, (pair_case){3, st3[t], mt3[t], (mortar_basis)basis, MODE_POINTS_A, 3});
+      snprintf(label, sizeof label, "3D points M %s/%s", sk_elem_name(st3[t]->type), sk_elem_name(mt3[t]->type));
+      check_derivatives(label, (pair_case){3, st3[t], mt3[t], (mortar_basis)basis, MODE_POINTS_M, 3});
+    }
+    check_derivatives("3D obstacle sphere quad4", (pair_case){3, &ft_quad4, NULL, b, MODE_OBSTACLE_SPHERE, 3});
+    check_derivatives("3D obstacle sphere tri3", (pair_case){3, &ft_tri3, NULL, b, MODE_OBSTACLE_SPHERE, 3});
+    check_rigid_motion((pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 3});
+    check_rigid_motion((pair_case){3, &ft_quad4, &ft_tri3, (mortar_basis)basis, MODE_SEGMENTS, 7});
+    check_rigid_motion((pair_case){3, &ft_tri3, &ft_quad4, (mortar_basis)basis, MODE_POINTS_A, 3});
+  }
+  return sk_test_finish("test_mortar_integrals");
+}
