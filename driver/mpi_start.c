@@ -6,12 +6,20 @@
  * 0.04 s. Neither matters to a single process: an isolated singleton has no daemon to spawn further processes
  * with (stickslip never does), and ob1 with the self transport is how one process talks to itself. Settings the
  * user made in the environment are kept; under mpirun nothing is changed. --version, --help and plugins do not
- * start MPI at all. */
+ * start MPI at all.
+ * Isolated singletons all use job family 0, so they would share the session directory /tmp/ompi.HOST.UID/jf.0: one
+ * process finishing removed it while another was creating its own below it (MPI_Init aborted, seen in
+ * cli_hostile_non_finite with two tests at once). Each process gets a session base of its own, removed after
+ * MPI_Finalize. */
 #define _POSIX_C_SOURCE 200112L /* setenv */
 #include "mpi_start.h"
 
 #include <mpi.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
+
+static char session_base[512]; /* set when this process chose its own Open MPI session directory */
 
 /* Environment variables a launcher (mpirun of Open MPI or MPICH, srun) sets for the processes it starts. */
 static const char *const launcher_variables[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE",
@@ -30,6 +38,11 @@ void sk_driver_mpi_init(int *argc, char ***argv) {
   if (!launched_by_mpirun()) {
     setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
     setenv("OMPI_MCA_pml", "ob1", 0);
+    if (!getenv("OMPI_MCA_orte_tmpdir_base")) {
+      const char *tmp = getenv("TMPDIR");
+      snprintf(session_base, sizeof session_base, "%s/stickslip-mpi-%ld", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+      setenv("OMPI_MCA_orte_tmpdir_base", session_base, 1);
+    }
   }
   MPI_Init(argc, argv);
 }
@@ -39,6 +52,7 @@ void sk_driver_mpi_finalize(void) {
   MPI_Initialized(&initialized);
   MPI_Finalized(&finalized);
   if (initialized && !finalized) MPI_Finalize();
+  if (session_base[0]) rmdir(session_base); /* Open MPI emptied it; a failure leaves only an empty directory */
 }
 
 int sk_driver_rank(void) {
