@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "mpi_start.h"
 #include "stickslip/bridge.h"
 #include "stickslip/fe.h"
 #include "stickslip/interrupt.h"
@@ -18,11 +19,7 @@
 #endif
 
 
-static int rank_of_world(void) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+static int rank_of_world(void) { return sk_driver_rank(); }
 
 static void usage_main(FILE *out) {
   fprintf(out,
@@ -192,6 +189,8 @@ static void report_results_after_failure(const arguments *args, const sk_run_sum
 }
 
 static int command_scene(int argc, char **argv, int run) {
+  sk_driver_mpi_init(&argc, &argv); /* the only commands that need a communicator */
+  sk_interrupt_install();           /* after MPI_Init, which may install handlers of its own */
   arguments args;
   int parsed = parse_arguments(argc, argv, run ? "run" : "check", &args);
   if (parsed != 0) {
@@ -260,8 +259,6 @@ static int command_scene(int argc, char **argv, int run) {
 }
 
 int main(int argc, char **argv) {
-  MPI_Init(&argc, &argv);
-  sk_interrupt_install(); /* after MPI_Init, which may install handlers of its own */
   int code;
   if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
     if (rank_of_world() == 0) usage_main(argc < 2 ? stderr : stdout);
@@ -281,6 +278,6 @@ int main(int argc, char **argv) {
               argv[1]);
     code = 1;
   }
-  MPI_Finalize();
+  sk_driver_mpi_finalize();
   return code;
 }

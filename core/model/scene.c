@@ -503,8 +503,10 @@ static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
 }
 
 /* in sk_linear_solver_kind order */
-static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto", "mumps", "klu2", "klu", NULL};
+static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto",     "mumps",
+                                           "klu2",   "klu",         "gmres-sgs", NULL};
 static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", NULL};
+static const char *const predictor_names[] = {"last-state", "previous-increment", NULL};
 
 static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   const sk_cfg *node = sk_cfg_get(root, "solver");
@@ -523,6 +525,8 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   SK_TRY(sk_cfg_int(newton, "max_iterations", 0, solver->newton.max_iterations, &solver->newton.max_iterations));
   SK_TRY(sk_cfg_choice(newton, "line_search", 0, line_search_names, line_search, &line_search));
   SK_TRY(sk_cfg_bool(newton, "verbose", 0, solver->newton.verbose, &solver->newton.verbose));
+  SK_TRY(sk_cfg_bool(newton, "inexact", 0, solver->newton.forcing, &solver->newton.forcing));
+  SK_TRY(sk_cfg_choice(newton, "predictor", 0, predictor_names, 1, &solver->predictor));
   SK_TRY(sk_cfg_int(newton, "max_active_set_loops", 0, 10, &solver->max_active_set_loops));
   if (solver->max_active_set_loops < 1)
     return fail_at(sk_cfg_get(newton, "max_active_set_loops"), "%s", "must be at least 1");

@@ -92,13 +92,14 @@ sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk
   const size_t nb = (size_t)(model->n_bodies > 0 ? model->n_bodies : 1);
   sys->u_n = calloc(nd, sizeof(double));
   sys->v_n = calloc(nd, sizeof(double));
+  sys->rate_n = calloc(nd, sizeof(double));
   sys->v = calloc(nd, sizeof(double));
   sys->q_n = calloc(nd, sizeof(double));
   sys->q = calloc(nd, sizeof(double));
   sys->body_plugin = calloc(nb, sizeof *sys->body_plugin);
   sys->claimed = calloc(nb, 1);
   sys->elem_pos_offset = calloc((size_t)model->n_elements + 1, sizeof(int64_t));
-  if (!sys->u_n || !sys->v_n || !sys->v || !sys->q_n || !sys->q || !sys->body_plugin || !sys->claimed ||
+  if (!sys->u_n || !sys->v_n || !sys->rate_n || !sys->v || !sys->q_n || !sys->q || !sys->body_plugin || !sys->claimed ||
       !sys->elem_pos_offset) {
     sk_system_destroy(sys);
     return out_of_memory("the state vectors", model->n_dofs);
@@ -147,6 +148,7 @@ void sk_system_destroy(sk_system *sys) {
   free(sys->x);
   free(sys->u_n);
   free(sys->v_n);
+  free(sys->rate_n);
   free(sys->v);
   free(sys->q_n);
   free(sys->q);
@@ -386,7 +388,10 @@ static sk_status lay_out(sk_system *sys, int again) {
       sys->pair_row[k] = row;
     }
     SK_TRY(sk_system_collective(sys, status));
-    if (!sys->condenser) SK_TRY(sk_condenser_create(sys->comm, &sys->solver->linear, &sys->condenser));
+    if (!sys->condenser) {
+      SK_TRY(sk_condenser_create(sys->comm, &sys->solver->linear, &sys->condenser));
+      if (sys->linear_fallback) SK_TRY(sk_linsys_set_solver(sk_condenser_reduced(sys->condenser), SK_LINEAR_DIRECT));
+    }
     SK_TRY(sk_condenser_set_pairs(sys->condenser, sys->linsys, sys->n_pairs, sys->pair_z, sys->pair_row,
                                   sys->pair_block));
     sys->condensing = 1;
@@ -456,15 +461,38 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
   return status;
 }
 
-/* The kept system J_c dy = b; with stickslip.condense pairs through the condenser (reduced solve + recovery). */
+/* The system that the linear solves go to: the reduced one when pairs are condensed. */
+static sk_linear_system *solving_system(sk_system *sys) {
+  return sys->condensing ? sk_condenser_reduced(sys->condenser) : sys->linsys;
+}
+
+static sk_status solve_once(sk_system *sys, const double *b, double *y, sk_linear_report *report) {
+  return sys->condensing ? sk_condenser_solve(sys->condenser, sys->linsys, b, y, report)
+                         : sk_linsys_solve(sys->linsys, b, y, report);
+}
+
+/* The kept system J_c dy = b; with stickslip.condense pairs through the condenser (reduced solve + recovery).
+ * A Krylov solver the scene chose that misses its tolerance is replaced by the direct solver for the rest of the run
+ * and the system solved again: a shorter step would not change its behaviour on this system (bridge.h,
+ * sk_linear_failure). `auto` falls back by itself; a singular matrix fails for every solver and is reported. */
 static sk_status linear_solve(sk_system *sys, const double *b, double *y) {
   sk_linear_report report = {0};
   const double t0 = now_seconds();
-  sk_status status = sys->condensing ? sk_condenser_solve(sys->condenser, sys->linsys, b, y, &report)
-                                     : sk_linsys_solve(sys->linsys, b, y, &report);
+  sk_status status = solve_once(sys, b, y, &report);
+  const sk_linear_solver_kind chosen = sys->solver->linear.kind;
+  if (status == SK_ERR_LINEAR_SOLVER && report.failure == SK_LINEAR_FAILURE_NOT_CONVERGED &&
+      chosen != SK_LINEAR_AUTO && !sys->linear_fallback) {
+    if (sys->rank == 0)
+      fprintf(stderr, "stickslip: step %lld: %s; solver.linear.solver %s replaced by direct (MUMPS) for the rest "
+              "of the run\n", (long long)sys->step, sk_error_message(), sk_linear_solver_name(chosen));
+    sys->linear_fallback = 1;
+    SK_TRY(sk_linsys_set_solver(sys->linsys, SK_LINEAR_DIRECT));
+    if (sys->condenser) SK_TRY(sk_linsys_set_solver(sk_condenser_reduced(sys->condenser), SK_LINEAR_DIRECT));
+    status = solve_once(sys, b, y, &report);
+  }
   sys->t_solve += now_seconds() - t0;
   sys->linear_solves++;
-  if (report.solved) sys->step_solvers |= 1u << report.backend;
+  if (report.solved) sys->step_solvers |= 1u << report.solver;
   return status;
 }
 
@@ -514,10 +542,17 @@ sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y) {
                                      : sk_linsys_solve_again(sys->linsys, sys->b, sys->y, &report);
   sys->t_solve += now_seconds() - t0;
   sys->linear_solves++;
-  if (report.solved) sys->step_solvers |= 1u << report.backend;
+  if (report.solved) sys->step_solvers |= 1u << report.solver;
   SK_TRY(status);
   for (int64_t i = 0; i < sys->n; ++i) y[i] = sys->kept[i] >= 0 ? sys->y[sys->kept[i]] : 0.0;
   return SK_OK;
+}
+
+/* An inexact Newton step (newton.cpp's forcing term): iterative solvers stop at `tolerance`. */
+static sk_status cb_solve_to_tolerance(void *ctx, const double *x, const double *F, double tolerance, double *dx) {
+  sk_system *sys = ctx;
+  SK_TRY(sk_linsys_set_tolerance(solving_system(sys), tolerance));
+  return cb_solve(ctx, x, F, dx);
 }
 
 static sk_status cb_after_iteration(void *ctx, int iteration, const double *x, double residual_norm) {
@@ -533,6 +568,7 @@ sk_status sk_system_solve(sk_system *sys) {
                                          .residual = cb_residual,
                                          .jacobian = cb_jacobian,
                                          .solve = cb_solve,
+                                         .solve_to_tolerance = cb_solve_to_tolerance,
                                          .after_iteration = cb_after_iteration};
   memset(&sys->newton, 0, sizeof sys->newton);
   const int max_loops = sys->solver->max_active_set_loops;
@@ -596,6 +632,7 @@ void sk_system_reject(sk_system *sys) {
 
 void sk_system_advance(sk_system *sys) {
   const size_t n = sizeof(double) * (size_t)sys->model->n_dofs;
+  for (int64_t k = 0; k < sys->model->n_dofs; ++k) sys->rate_n[k] = (sys->x[k] - sys->u_n[k]) / sys->dt;
   memcpy(sys->u_n, sys->x, n);
   memcpy(sys->v_n, sys->v, n);
   memcpy(sys->q_n, sys->q, n);

@@ -40,6 +40,7 @@ struct sk_system {
   double t_n, t, dt;
   int64_t step;
   double *u_n, *v_n;       /* at t_n */
+  double *rate_n;          /* (u_n - u_{n-1}) / dt of the last step: the quasi-static predictor's rate */
   double *v;               /* at t after commit */
   double *q_n;             /* positions X + u_n */
 
@@ -88,6 +89,7 @@ struct sk_system {
   double t_assembly, t_contact, t_solve;
   int64_t unknowns_max, linear_size_max;
   int verbose;
+  int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
   /* a plugin, internal or memory error inside Newton ends the run (NOX reports every failure as divergence) */
   sk_status fatal;
   char fatal_message[1024];

@@ -157,11 +157,9 @@ static sk_status build_pattern(sk_system *sys) {
   free(row_cols);
   free(count);
 
-  /* Pure displacement systems get MueLu's elasticity setup (whole-node aggregates, rigid-body-mode nullspace);
-   * systems with plugin unknowns are saddle points, for which the direct solver is the measured choice. */
-  const int displacement_only = nk == m->n_dofs;
-  SK_TRY(sk_linsys_set_block_size(sys->linsys, displacement_only ? dim : 1));
-  if (displacement_only) SK_TRY(sk_linsys_set_coordinates(sys->linsys, m->n_nodes, dim, m->X));
+  /* The displacements are the bridge's nodal block (whole-node aggregates, rigid-body-mode nullspace); plugin
+   * unknowns after them are constraint rows, which its iterative solvers take through their Schur complement. */
+  SK_TRY(sk_linsys_set_coordinates(sys->linsys, m->n_nodes, dim, m->X));
   SK_TRY(sk_linsys_set_pattern(sys->linsys, (int)nk, sys->row_ptr, sys->cols, sys->n_local_rows, sys->local_rows));
   sys->values = sk_linsys_values(sys->linsys);
 

@@ -41,7 +41,9 @@ static sk_status bulk_predict(sk_term *base, sk_system *sys) {
   bulk_term *term = (bulk_term *)base;
   if (!active(term, sys)) return SK_OK;
   const sk_body *body = &sys->model->bodies[term->body];
-  body->integrator->predict(term->n_dofs, term->dofs, sys->u_n, sys->v_n, sys->dt, sys->x);
+  /* quasi-static: the previous increment's rate when solver.newton.predictor asks for it (NULL: from u_n) */
+  const double *rate = body->integrator->dynamic ? sys->v_n : sys->solver->predictor ? sys->rate_n : NULL;
+  body->integrator->predict(term->n_dofs, term->dofs, sys->u_n, rate, sys->dt, sys->x);
   return SK_OK;
 }
 

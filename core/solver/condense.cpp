@@ -298,6 +298,8 @@ void sk_condenser_destroy(sk_condenser *c) {
 
 int sk_condenser_size(const sk_condenser *c) { return c->n_red; }
 
+sk_linear_system *sk_condenser_reduced(sk_condenser *c) { return c->reduced; }
+
 sk_status sk_condenser_set_pairs(sk_condenser *c, sk_linear_system *full, int64_t n_pairs, const int64_t *z,
                                  const int64_t *row, const int *block) {
   sk_status status = SK_OK;

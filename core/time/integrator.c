@@ -21,17 +21,22 @@ static double end_time(double t_n, double t) {
 }
 static double mid_time(double t_n, double t) { return 0.5 * (t_n + t); }
 
-static void predict_last(int64_t n, const int64_t *dofs, const double *u_n, const double *v_n, double dt, double *u) {
-  (void)v_n, (void)dt;
-  for (int64_t k = 0; k < n; ++k) u[dof_at(dofs, k)] = u_n[dof_at(dofs, k)];
-}
-
-/* constant velocity */
+/* constant velocity (quasi-static: the previous increment continued over dt) */
 static void predict_drift(int64_t n, const int64_t *dofs, const double *u_n, const double *v_n, double dt, double *u) {
   for (int64_t k = 0; k < n; ++k) {
     const int64_t i = dof_at(dofs, k);
     u[i] = u_n[i] + dt * v_n[i];
   }
+}
+
+/* quasi-static: u_n continued at the rate of the previous increment, or u_n itself without one */
+static void predict_increment(int64_t n, const int64_t *dofs, const double *u_n, const double *rate_n, double dt,
+                              double *u) {
+  if (rate_n) {
+    predict_drift(n, dofs, u_n, rate_n, dt, u);
+    return;
+  }
+  for (int64_t k = 0; k < n; ++k) u[dof_at(dofs, k)] = u_n[dof_at(dofs, k)];
 }
 
 static void velocity_zero(int64_t n, const int64_t *dofs, const double *u_n, const double *v_n, const double *u,
@@ -63,7 +68,7 @@ static void velocity_midpoint(int64_t n, const int64_t *dofs, const double *u_n,
 
 static const sk_time_integrator integrators[] = {
     {.name = "quasi-static", .alpha = 1.0, .dynamic = 0, .discrete_gradient = 0, .plugin_caps = SK_CAP_QUASISTATIC,
-     .energy_momentum = 0, .inertia_coefficient = no_inertia, .force_time = end_time, .predict = predict_last,
+     .energy_momentum = 0, .inertia_coefficient = no_inertia, .force_time = end_time, .predict = predict_increment,
      .velocity = velocity_zero},
     {.name = "backward-euler", .alpha = 1.0, .dynamic = 1, .discrete_gradient = 0, .plugin_caps = SK_CAP_DYNAMICS,
      .energy_momentum = 0, .inertia_coefficient = euler_inertia, .force_time = end_time, .predict = predict_drift,

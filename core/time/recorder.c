@@ -423,6 +423,8 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_string(json, "linear_solver", sk_linear_solver_name(rec->scene->solver.linear.kind));
   close_solver_range(rec);
   sk_json_string(json, "linear_solvers_used", rec->solvers_used[0] ? rec->solvers_used : "none");
+  /* 1 when that Krylov solver failed and the direct one took over (core/model/system.c, linear_solve) */
+  sk_json_number(json, "linear_solver_replaced_by_direct", rec->sys->linear_fallback);
   sk_json_number(json, "wall_seconds", sum->wall_seconds);
   sk_json_number(json, "assembly_seconds", sum->assembly_seconds);
   sk_json_number(json, "contact_seconds", sum->contact_seconds);

@@ -1,6 +1,8 @@
 /* The stepper: steps from t_start to t_end through the system of terms (core/model/system.h), cutting a failed step
  * in half (up to time.max_cuts times in a row) and letting dt grow back after three good steps; the recorder writes
- * the results. Everything a step is made of lives in the terms. */
+ * the results. Everything a step is made of lives in the terms. Only failures a shorter step can cure are cut:
+ * Newton's divergence and inverted elements, not a residual stalled at its round-off floor (the floor does not drop
+ * with dt) nor a failed linear solve (sk_newton_outcome in bridge.h). */
 #define _GNU_SOURCE
 #include "stickslip/run.h"
 
@@ -77,7 +79,8 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
         dt = fmin(time->dt, 2.0 * dt);
         good_steps = 0;
       }
-    } else if (status == SK_ERR_DIVERGED || status == SK_ERR_INVERTED) {
+    } else if ((status == SK_ERR_DIVERGED && sys->newton.outcome != SK_NEWTON_STAGNATED) ||
+               status == SK_ERR_INVERTED) {
       /* cut the step and retry */
       sk_system_reject(sys);
       summary->cuts++;
@@ -94,6 +97,9 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
       dt = 0.5 * step_dt;
       good_steps = 0;
       status = SK_OK;
+    } else if (status == SK_ERR_DIVERGED || status == SK_ERR_LINEAR_SOLVER) {
+      sk_error_prefix(status, "step %lld from t = %.6g (dt = %.3g), not cut (a shorter step does not help here): ",
+                      (long long)step, sys->t_n, step_dt);
     }
   }
   if (options->progress && m->rank == 0) sk_progress_end();

@@ -21,13 +21,16 @@ extern "C" {
 /* ---- linear systems ----------------------------------------------------------------------------------------- */
 typedef enum {
   SK_LINEAR_DIRECT = 0,   /* the fastest direct backend measured on these systems (docs/linear-solvers.md): MUMPS */
-  SK_LINEAR_GMRES_MUELU,  /* Belos GMRES preconditioned by MueLu smoothed-aggregation AMG */
-  SK_LINEAR_GMRES_ILU,    /* Belos GMRES preconditioned by Ifpack2 ILU(k) */
-  SK_LINEAR_AUTO,         /* the measured default: chosen from the size and kind of the system (docs/linear-solvers.md) */
+  SK_LINEAR_GMRES_MUELU,  /* Belos GMRES preconditioned by MueLu smoothed-aggregation AMG on the nodal block, the
+                             constraint rows (if any) through their Schur complement (docs/linear-solvers.md) */
+  SK_LINEAR_GMRES_ILU,    /* the same with Ifpack2 ILU(k) in place of AMG */
+  SK_LINEAR_AUTO,         /* the default: MUMPS, GMRES + MueLu or GMRES + SGS from measurements (docs/linear-solvers.md) */
   SK_LINEAR_DIRECT_MUMPS, /* Amesos (v1, Epetra) MUMPS: multifrontal LU, factorised in parallel on the distributed matrix */
   SK_LINEAR_DIRECT_KLU2,  /* Amesos2 KLU2; on more than one rank the matrix is gathered and factorised on rank 0
                              (Debian's Trilinos 13.2 KLU2 gives wrong answers on distributed matrices) */
-  SK_LINEAR_DIRECT_KLU    /* Amesos (v1, Epetra) KLU (gathers to rank 0 itself) */
+  SK_LINEAR_DIRECT_KLU,   /* Amesos (v1, Epetra) KLU (gathers to rank 0 itself) */
+  SK_LINEAR_GMRES_SGS     /* the same with one symmetric Gauss-Seidel sweep in place of AMG: no set-up, cheapest
+                             per iteration; its iterations grow under refinement unless inertia dominates */
 } sk_linear_solver_kind;
 
 typedef struct {
@@ -35,31 +38,60 @@ typedef struct {
   double tolerance;        /* Krylov relative residual tolerance (default 1e-10) */
   int max_iterations;      /* Krylov iterations (default 500) */
   int verbose;             /* print solver details on rank 0 */
+  /* Where `auto` says what it chose and why (one line per decision, rank 0 only). NULL: stderr on rank 0. */
+  void (*log)(void *log_ctx, const char *line);
+  void *log_ctx;
 } sk_linear_options;
 
+/* Why a solve failed (sk_linsys_solve returned SK_ERR_LINEAR_SOLVER), and what its caller does about it:
+ *   NOT_CONVERGED  a Krylov solver missed the tolerance within max_iterations: the system may still be fine for a
+ *                  direct solver — switch to it (sk_linsys_set_solver) and solve again; `auto` does so itself.
+ *   SINGULAR       a direct solver found the matrix (numerically) singular, or an iterative solver's setup did
+ *                  (a singular block of its preconditioner): no other solver helps — the Jacobian at this iterate
+ *                  is singular (a body without supports in a quasi-static run, a degenerate contact element).
+ *   INPUT          the system's description does not fit the solver (coordinates against the unknowns): fix it. */
+typedef enum {
+  SK_LINEAR_FAILURE_NONE = 0,
+  SK_LINEAR_FAILURE_NOT_CONVERGED,
+  SK_LINEAR_FAILURE_SINGULAR,
+  SK_LINEAR_FAILURE_INPUT
+} sk_linear_failure;
+
 typedef struct {
-  int iterations;          /* Krylov iterations (0 for direct) */
-  double relative_residual;/* ||b - A x|| / ||b|| measured after the solve */
-  double seconds;          /* wall time of the solve (factorisation included) */
-  int refactored_symbolic; /* 1 when a symbolic factorisation / preconditioner setup had to be redone */
-  int solved;              /* 1 when a solver ran (0: b = 0, x = 0 without one) */
-  sk_linear_solver_kind backend; /* with solved: the solver that produced x (auto resolved, after any fallback) */
+  sk_linear_solver_kind solver;  /* the backend that produced x (mumps, gmres-muelu, ...; never direct or auto) */
+  sk_linear_failure failure;     /* why it failed (NONE on success) */
+  int iterations;                /* Krylov iterations (0 for direct; those of a failed attempt if `auto` fell back) */
+  double relative_residual;      /* ||b - A x|| / ||b|| measured after the solve */
+  double seconds;                /* wall time of the solve (factorisation / preconditioner set-up included) */
+  int refactored_symbolic;       /* 1 when a symbolic factorisation / preconditioner set-up had to be redone */
+  const char *decision;          /* `auto` decided in this solve: what and why (valid until the next solve); or NULL */
+  int solved;                    /* 1 when a solver ran (0: b = 0 gave x = 0 without one) */
 } sk_linear_report;
 
 typedef struct sk_linear_system sk_linear_system;
 
 void sk_linear_options_default(sk_linear_options *options);
-sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *kind); /* direct|gmres-muelu|gmres-ilu|auto|mumps|klu2|klu */
+/* direct | gmres-muelu | gmres-ilu | gmres-sgs | auto | mumps | klu2 | klu */
+sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *kind);
 const char *sk_linear_solver_name(sk_linear_solver_kind kind);
 
 sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_linear_system **sys);
 void sk_linsys_destroy(sk_linear_system *sys);
-/* Unknowns per mesh node (default 1; the spatial dimension for elasticity): MueLu aggregates whole nodes and
- * builds a block nullspace, and rows are distributed in whole nodes. Call before sk_linsys_set_pattern. */
+/* Switches the solver (collective; e.g. to `direct` after an iterative solver failed, see sk_linear_failure). */
+sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind);
+/* The Krylov relative residual tolerance of the next solves (an inexact Newton's forcing term); direct solvers
+ * ignore it. */
+sk_status sk_linsys_set_tolerance(sk_linear_system *sys, double tolerance);
+/* Unknowns per mesh node for systems without coordinates (default 1): MueLu aggregates whole nodes and rows are
+ * distributed in whole nodes. Call before sk_linsys_set_pattern. */
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size);
-/* Optional, for elasticity with GMRES_MUELU: the (replicated) coordinates of the n_nodes mesh nodes, dim per node,
- * whose unknowns are numbered node-major (unknown = dim * node + component) with block size dim (2 or 3). MueLu then
- * uses the rigid-body modes (3 in 2D, 6 in 3D) as its nullspace instead of translations only. Copied. */
+/* The nodal block: unknowns [0, n_nodes * dim) are nodal displacements numbered node-major (unknown = dim * node +
+ * component) at these (replicated) coordinates; any unknowns beyond (a plugin's multipliers) are constraint
+ * unknowns. The iterative solvers then run AMG / ILU on the nodal block only — MueLu with whole-node aggregates and
+ * the rigid-body modes (3 in 2D, 6 in 3D) as nullspace — and solve the constraint rows through their Schur
+ * complement; rows are distributed in whole nodes, constraint rows on the last rank. Without coordinates the whole
+ * system is one block (block size from sk_linsys_set_block_size, translations as nullspace). Copied; call before
+ * sk_linsys_set_pattern. */
 sk_status sk_linsys_set_coordinates(sk_linear_system *sys, int n_nodes, int dim, const double *coordinates);
 
 /* Sets (or replaces) the sparsity pattern: n unknowns, CSR row_ptr[n+1], cols[row_ptr[n]] sorted within rows,
@@ -73,8 +105,9 @@ double *sk_linsys_values(sk_linear_system *sys);
 void sk_linsys_zero(sk_linear_system *sys);
 /* Sums all ranks' contributions into the distributed matrix (collective). */
 sk_status sk_linsys_assemble(sk_linear_system *sys);
-/* Solves A x = b (collective). b and x are replicated, length n. Re-uses the symbolic factorisation or the
- * preconditioner hierarchy's structure while the pattern is unchanged. SK_ERR_DIVERGED if the solve fails. */
+/* Solves A x = b (collective). b and x are replicated, length n. Keeps the symbolic factorisation while the pattern
+ * is unchanged, and the AMG hierarchy of the nodal block as long as it keeps GMRES fast (also across pattern
+ * changes). SK_ERR_LINEAR_SOLVER if the solve fails, with report->failure saying how. */
 sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
 /* y = A x with the assembled matrix (replicated vectors), for tests and residual checks. */
 sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y);
@@ -93,6 +126,9 @@ typedef struct {
   sk_status (*solve)(void *ctx, const double *x, const double *F, double *dx);
   /* After each Newton iteration (iterate x accepted by the line search): bookkeeping such as active-set updates. */
   sk_status (*after_iteration)(void *ctx, int iteration, const double *x, double residual_norm);
+  /* Optional (NULL: `solve` is used): the Newton direction to a relative linear residual ||J dx + F|| <= tolerance
+   * ||F||, the forcing term of an inexact Newton method (sk_newton_options.forcing); a direct solver may ignore it. */
+  sk_status (*solve_to_tolerance)(void *ctx, const double *x, const double *F, double tolerance, double *dx);
 } sk_newton_callbacks;
 
 typedef enum { SK_LINE_SEARCH_FULL_STEP = 0, SK_LINE_SEARCH_BACKTRACK, SK_LINE_SEARCH_POLYNOMIAL } sk_line_search;
@@ -100,27 +136,62 @@ typedef enum { SK_LINE_SEARCH_FULL_STEP = 0, SK_LINE_SEARCH_BACKTRACK, SK_LINE_S
 typedef struct {
   double residual_tolerance;  /* absolute ||F||_2 (default 1e-8) */
   double relative_tolerance;  /* ||F|| / ||F_0|| (default 1e-10): either test converges when the update test holds */
-  double update_tolerance;    /* ||dx||_2 <= update_tolerance * (1 + ||x||_2)... weighted RMS as NOX NormUpdate (1e-8) */
+  /* ||dx||_2 <= update_tolerance * (1 + ||x||_2) (default 1e-8), applied to the smaller of the step just taken and
+   * the next Newton update predicted from it (||dx_k|| ||F_k|| / ||F_{k-1}||), so a converged iterate needs no extra
+   * solve to prove it (newton.cpp) */
+  double update_tolerance;
   int max_iterations;         /* default 25 */
   sk_line_search line_search; /* default full step */
+  /* Inexact Newton (used with callbacks.solve_to_tolerance): each linear solve only as accurate as the Newton step
+   * can use, from the Eisenstat-Walker forcing term (newton.cpp); never below linear_tolerance (default 1e-10).
+   * Default on. */
+  int forcing;
+  double linear_tolerance;
   int verbose;                /* NOX output on rank 0 */
 } sk_newton_options;
 
 enum { SK_NEWTON_HISTORY_MAX = 64 };
 
+/* How a Newton solve ended, and what the caller (the time stepper) does about it:
+ *   CONVERGED        accept the step.
+ *   MAX_ITERATIONS,  no convergence within max_iterations, or the line search found no decrease: a shorter step
+ *   LINE_SEARCH      may converge — cut the step (SK_ERR_DIVERGED).
+ *   RESIDUAL_FAILED  F could not be evaluated along the way (an inverted element, a plugin's local failure) and no
+ *                    admissible iterate was found: cut the step (SK_ERR_DIVERGED, or the callback's status).
+ *   CALLBACK_FAILED  the Jacobian, the Newton direction (other than the linear solve itself) or after_iteration
+ *                    failed: the callback's status decides (SK_ERR_DIVERGED: cut; anything else: stop).
+ *   STAGNATED        ||F|| stopped decreasing while the updates are at round-off, above both tolerances: the
+ *                    residual's round-off floor lies above the tolerances. A shorter step does not lower that floor
+ *                    (in dynamics the inertia term grows as 1/dt^2), so do not cut: stop and name the tolerance
+ *                    (SK_ERR_DIVERGED, the message gives the numbers).
+ *   LINEAR_SOLVER    the linear solve failed (SK_ERR_LINEAR_SOLVER, the linear report's failure says how); a shorter
+ *                    step does not change the solver's behaviour on the system: see sk_linear_failure. */
+typedef enum {
+  SK_NEWTON_CONVERGED = 0,
+  SK_NEWTON_MAX_ITERATIONS,
+  SK_NEWTON_LINE_SEARCH,
+  SK_NEWTON_RESIDUAL_FAILED,
+  SK_NEWTON_CALLBACK_FAILED,
+  SK_NEWTON_STAGNATED,
+  SK_NEWTON_LINEAR_SOLVER
+} sk_newton_outcome;
+
 typedef struct {
   int converged;
+  sk_newton_outcome outcome;
   int iterations;
   int linear_solves;
   int n_history;
   double residual_history[SK_NEWTON_HISTORY_MAX]; /* ||F|| at the start and after each iteration */
-  char reason[128];                               /* NOX's status on failure */
+  char reason[384];                               /* why it failed, with the numbers */
 } sk_newton_report;
 
 void sk_newton_options_default(sk_newton_options *options);
 sk_status sk_line_search_from_name(const char *name, sk_line_search *ls); /* full-step|backtrack|polynomial */
-/* Runs NOX from the replicated initial guess x (length n, overwritten by the solution). Collective.
- * Returns SK_ERR_DIVERGED (with the reason in report and the error message) if NOX does not converge. */
+/* Runs NOX from the replicated initial guess x (length n, overwritten by the solution, or by the last accepted
+ * iterate on failure). Collective. On failure returns SK_ERR_LINEAR_SOLVER when the solve callback reported a
+ * linear-solver failure, the callback's status when another callback failed with a status other than
+ * SK_ERR_DIVERGED, SK_ERR_DIVERGED otherwise; report->outcome and report->reason say which case it was. */
 sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const sk_newton_callbacks *callbacks,
                           int n, double *x, sk_newton_report *report);
 

@@ -40,6 +40,8 @@ sk_status sk_condenser_solve_again(sk_condenser *condenser, sk_linear_system *fu
                                    sk_linear_report *report);
 /* The reduced system's size (for tests and summaries). */
 int sk_condenser_size(const sk_condenser *condenser);
+/* The reduced system itself (its solver and tolerance are set there: sk_linsys_set_solver, sk_linsys_set_tolerance). */
+sk_linear_system *sk_condenser_reduced(sk_condenser *condenser);
 
 /* Solves A x = b again with the factorisation (or preconditioner) of the last sk_linsys_solve of `sys`, with no
  * numeric refactorisation (linear_system.cpp). */

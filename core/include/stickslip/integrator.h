@@ -24,7 +24,8 @@ typedef struct sk_time_integrator {
   double (*inertia_coefficient)(double dt);
   /* the time at which loads are evaluated */
   double (*force_time)(double t_n, double t);
-  /* predictor u (n dofs listed in `dofs`, or the first n dofs when dofs is NULL) from u_n, v_n */
+  /* predictor u (n dofs listed in `dofs`, or the first n dofs when dofs is NULL) from u_n and v_n; a quasi-static
+   * integrator gets the rate of the previous increment (u_n - u_{n-1}) / dt_n in v_n, or NULL for u = u_n */
   void (*predict)(int64_t n, const int64_t *dofs, const double *u_n, const double *v_n, double dt, double *u);
   /* velocity at t from u_n, v_n and the converged u */
   void (*velocity)(int64_t n, const int64_t *dofs, const double *u_n, const double *v_n, const double *u, double dt,

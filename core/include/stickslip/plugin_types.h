@@ -41,11 +41,13 @@ typedef enum {
   SK_ERR_INPUT = 1,     /* bad scene, mesh, parameter or command line */
   SK_ERR_IO = 2,        /* a file could not be read or written */
   SK_ERR_INVERTED = 3,  /* an element has det F <= 0 (the step may be cut and retried) */
-  SK_ERR_DIVERGED = 4,  /* Newton, a local Newton or a linear solve failed (the step is cut and retried) */
+  SK_ERR_DIVERGED = 4,  /* Newton or a local Newton did not converge (the step is cut and retried) */
   SK_ERR_PLUGIN = 5,    /* a plugin failed to load, has the wrong ABI or lacks a capability */
   SK_ERR_INTERNAL = 6,  /* a broken invariant: a bug */
   SK_ERR_NOMEM = 7,     /* out of memory: returned with a message, never an abort */
-  SK_ERR_INTERRUPTED = 8 /* SIGINT/SIGTERM: stopped on the user's request (stickslip/interrupt.h) */
+  SK_ERR_INTERRUPTED = 8, /* SIGINT/SIGTERM: stopped on the user's request (stickslip/interrupt.h) */
+  SK_ERR_LINEAR_SOLVER = 9 /* a linear solve failed (no Krylov convergence, singular matrix): a property of the
+                              solver and the system, so cutting the step does not help (bridge.h says what does) */
 } sk_status;
 
 /* Propagates a failing status to the caller. */

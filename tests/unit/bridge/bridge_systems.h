@@ -78,6 +78,88 @@ static inline test_csr test_saddle_2d(int m, int n_multipliers) {
   return a;
 }
 
+/* A contact-like system with a nodal block: an m x m x m grid of nodes with 3 unknowns each (node-major), the
+ * coupled vector Laplacian K = L (x) M + shift I (L the 7-point graph Laplacian with its boundary tied to zero,
+ * M = [1 .3 .3; .3 1 .3; .3 .3 1]), then multiplier rows: `n_active` gap rows tying u_z of a node to the mean
+ * u_z of its two x-neighbours (C), with B = C^T scaled by 0.9 on the neighbours (nonsymmetric, as friction makes
+ * it) and a diagonal of `diagonal` (0: stored zero; 1e-24: the round-off of a condensed row); each active
+ * multiplier optionally carries a friction-like unknown f (`with_friction`): row f = 0.5 lambda + f + 0.2 u_x,
+ * column entries 0.2 in its node's x row; then `n_inactive` identity rows. `coordinates` (3 per node) are filled
+ * when not NULL (m^3 * 3 values). */
+static inline test_csr test_contact_3d(int m, int n_active, int n_inactive, double diagonal, int with_friction,
+                                       double shift, double *coordinates) {
+  const int n_nodes = m * m * m, n_nodal = 3 * n_nodes, per_active = with_friction ? 2 : 1;
+  const int n = n_nodal + per_active * n_active + n_inactive;
+  /* the active points: nodes in the interior of the z = m/2 plane, spread along x */
+  int *node = (int *)malloc(sizeof(int) * (size_t)(n_active > 0 ? n_active : 1));
+  for (int j = 0; j < n_active; ++j) {
+    const int i = 1 + (j % (m - 2)), jj = 1 + (j / (m - 2)) % (m - 2), k = m / 2;
+    node[j] = i + m * (jj + m * k);
+  }
+  test_csr a;
+  a.n = n;
+  a.row_ptr = (int64_t *)malloc(sizeof(int64_t) * (size_t)(n + 1));
+  const size_t cap = (size_t)n_nodal * 21 + (size_t)n_active * 16 + (size_t)n_inactive + 16;
+  a.cols = (int *)malloc(sizeof(int) * cap);
+  a.values = (double *)malloc(sizeof(double) * cap);
+  const double mix[3][3] = {{1, .3, .3}, {.3, 1, .3}, {.3, .3, 1}};
+  int64_t k = 0;
+  int *row_cols = (int *)malloc(sizeof(int) * 64);
+  double *row_vals = (double *)malloc(sizeof(double) * 64);
+  for (int row = 0; row < n; ++row) {
+    a.row_ptr[row] = k;
+    int len = 0;
+    if (row < n_nodal) {
+      const int p = row / 3, c = row % 3, x = p % m, y = (p / m) % m, z = p / (m * m);
+      const int neighbours[6] = {x > 0 ? p - 1 : -1, x < m - 1 ? p + 1 : -1, y > 0 ? p - m : -1,
+                                 y < m - 1 ? p + m : -1, z > 0 ? p - m * m : -1, z < m - 1 ? p + m * m : -1};
+      for (int d = 0; d < 3; ++d) { row_cols[len] = 3 * p + d; row_vals[len++] = 6.0 * mix[c][d] + (d == c ? shift : 0.0); }
+      for (int q = 0; q < 6; ++q)
+        if (neighbours[q] >= 0)
+          for (int d = 0; d < 3; ++d) { row_cols[len] = 3 * neighbours[q] + d; row_vals[len++] = -mix[c][d]; }
+      /* B: multiplier columns of the active points touching this dof */
+      for (int j = 0; j < n_active; ++j) {
+        const int lambda = n_nodal + per_active * j;
+        if (c == 2 && p == node[j]) { row_cols[len] = lambda; row_vals[len++] = 1.0; }
+        if (c == 2 && (p == node[j] - 1 || p == node[j] + 1)) { row_cols[len] = lambda; row_vals[len++] = -0.45; }
+        if (with_friction && c == 0 && p == node[j]) { row_cols[len] = lambda + 1; row_vals[len++] = 0.2; }
+      }
+    } else if (row < n_nodal + per_active * n_active) {
+      const int j = (row - n_nodal) / per_active, lambda = n_nodal + per_active * j;
+      if (row == lambda) { /* gap row: u_z(node) - (u_z(left) + u_z(right)) / 2 */
+        row_cols[len] = 3 * node[j] + 2; row_vals[len++] = 1.0;
+        row_cols[len] = 3 * (node[j] - 1) + 2; row_vals[len++] = -0.5;
+        row_cols[len] = 3 * (node[j] + 1) + 2; row_vals[len++] = -0.5;
+        row_cols[len] = row; row_vals[len++] = diagonal;
+      } else { /* friction-like row */
+        row_cols[len] = 3 * node[j]; row_vals[len++] = 0.2;
+        row_cols[len] = lambda; row_vals[len++] = 0.5;
+        row_cols[len] = row; row_vals[len++] = 1.0;
+      }
+    } else {
+      row_cols[len] = row; row_vals[len++] = 1.0;
+    }
+    /* sort the row by column (insertion sort: rows are short) */
+    for (int i = 1; i < len; ++i)
+      for (int j = i; j > 0 && row_cols[j - 1] > row_cols[j]; --j) {
+        const int tc = row_cols[j]; row_cols[j] = row_cols[j - 1]; row_cols[j - 1] = tc;
+        const double tv = row_vals[j]; row_vals[j] = row_vals[j - 1]; row_vals[j - 1] = tv;
+      }
+    for (int i = 0; i < len; ++i) { a.cols[k] = row_cols[i]; a.values[k++] = row_vals[i]; }
+  }
+  a.row_ptr[n] = k;
+  if (coordinates)
+    for (int p = 0; p < n_nodes; ++p) {
+      coordinates[3 * p] = p % m;
+      coordinates[3 * p + 1] = (p / m) % m;
+      coordinates[3 * p + 2] = p / (m * m);
+    }
+  free(node);
+  free(row_cols);
+  free(row_vals);
+  return a;
+}
+
 static inline void test_csr_multiply(const test_csr *a, const double *x, double *y) {
   for (int i = 0; i < a->n; ++i) {
     double sum = 0;

@@ -1,4 +1,5 @@
 /* sk_linsys_*: every solver kind against a known solution, pattern reuse, apply, and clean failures. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -61,11 +62,14 @@ static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, doub
     SK_CHECK(status == SK_OK);
     SK_CHECK(test_max_difference(a.n, x, x_ref) <= error_tolerance);
     SK_CHECK(report.relative_residual <= solver_tolerance);
-    /* the symbolic factorisation / preconditioner structure is built once per pattern */
-    SK_CHECK(report.refactored_symbolic == (pass == 0));
-    if (kind != SK_LINEAR_GMRES_MUELU && kind != SK_LINEAR_GMRES_ILU && kind != SK_LINEAR_AUTO)
+    /* the symbolic factorisation / preconditioner structure is built once per pattern (AUTO may try the other
+     * candidate on the second pass: check_auto_* test it) */
+    if (kind != SK_LINEAR_AUTO) SK_CHECK(report.refactored_symbolic == (pass == 0));
+    if (kind != SK_LINEAR_GMRES_MUELU && kind != SK_LINEAR_GMRES_ILU && kind != SK_LINEAR_GMRES_SGS &&
+        kind != SK_LINEAR_AUTO)
       SK_CHECK(report.iterations == 0);
-    if (kind == SK_LINEAR_GMRES_MUELU || kind == SK_LINEAR_GMRES_ILU) SK_CHECK(report.iterations > 0);
+    if (kind == SK_LINEAR_GMRES_MUELU || kind == SK_LINEAR_GMRES_ILU || kind == SK_LINEAR_GMRES_SGS)
+      SK_CHECK(report.iterations > 0);
     SK_CHECK(report.seconds >= 0);
   }
 
@@ -100,26 +104,77 @@ static void check_kind(sk_linear_solver_kind kind, double solver_tolerance, doub
   free(y_ref);
 }
 
-/* AUTO: direct on small systems, GMRES + MueLu on large sparse ones, and direct again when the Krylov solve fails. */
+/* AUTO: GMRES + MueLu on a large sparse system by the size rule; with one Krylov iteration allowed every iterative
+ * solver fails, and AUTO answers with the direct solver, never tries a solver again on the pattern it failed on,
+ * and waits 2, then 4 patterns before it tries it again (back-off). Every decision is reported once. */
+static void log_line(void *ctx, const char *line) {
+  int *count = ctx;
+  ++*count;
+  printf("log: %s\n", line);
+}
+
 static void check_auto(void) {
   test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns, 5 per row: above the sparse limit of 10000 */
   double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
   double *x = malloc(sizeof(double) * (size_t)a.n);
+  int *rows = malloc(sizeof(int) * (size_t)a.n);
+  for (int i = 0; i < a.n; ++i) rows[i] = i;
   test_reference_solution(a.n, x_ref);
   test_csr_multiply(&a, x_ref, b);
-  for (int max_iterations = 500; max_iterations >= 1; max_iterations -= 499) {
-    sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-12, max_iterations, &a);
-    SK_CHECK(sys != NULL);
-    if (!sys) continue;
+  sk_linear_report report;
+
+  /* converging: the size rule's choice */
+  sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-12, 500, &a);
+  SK_CHECK(sys != NULL);
+  if (sys) {
     SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
-    sk_linear_report report;
     SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
-    SK_CHECK(report.iterations > 0); /* GMRES ran (and, with one iteration allowed, failed over to direct) */
-    SK_CHECK(test_max_difference(a.n, x, x_ref) <= (max_iterations == 1 ? 1e-10 : 1e-8));
-    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
-    if (max_iterations == 1) SK_CHECK(report.iterations == 0 && report.refactored_symbolic == 0); /* stays direct */
+    SK_CHECK(report.solver == SK_LINEAR_GMRES_MUELU && report.iterations > 0);
+    SK_CHECK(report.decision != NULL && strstr(report.decision, "size rule") != NULL);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-8);
     sk_linsys_destroy(sys);
   }
+
+  /* failing: one iteration allowed */
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.max_iterations = 1;
+  options.tolerance = 1e-12;
+  int logged = 0;
+  options.log = log_line;
+  options.log_ctx = &logged;
+  sys = NULL;
+  SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &sys) == SK_OK);
+  if (sys) {
+    SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_OK);
+    /* the first two solves of the pattern try one iterative solver each (and fail over to MUMPS) */
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.iterations > 0 && report.solver == SK_LINEAR_DIRECT_MUMPS);
+      SK_CHECK(report.decision != NULL && strstr(report.decision, "failed") != NULL);
+      SK_CHECK(strstr(report.decision, attempt == 0 ? "gmres-muelu" : "gmres-sgs") != NULL);
+      SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-10);
+    }
+    /* then neither is tried again on this pattern */
+    for (int again = 0; again < 4; ++again) {
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.iterations == 0 && report.solver == SK_LINEAR_DIRECT_MUMPS);
+      SK_CHECK(report.refactored_symbolic == 0);
+    }
+    /* back-off: the next pattern stays direct, the one after tries again (and fails again) */
+    for (int pattern = 1; pattern <= 2; ++pattern) {
+      SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_OK);
+      SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+      SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+      SK_CHECK(report.solver == SK_LINEAR_DIRECT_MUMPS);
+      SK_CHECK((report.iterations > 0) == (pattern == 2));
+    }
+    SK_CHECK(logged >= 3); /* every decision went to the log callback, once */
+    sk_linsys_destroy(sys);
+  }
+  free(rows);
   free(x_ref);
   free(b);
   free(x);
@@ -164,12 +219,81 @@ static void check_auto_saddle(void) {
   test_csr_free(&a);
 }
 
+/* Contact-like systems with a nodal block (coordinates) and multiplier rows: zero and round-off diagonals,
+ * nonsymmetric coupling, friction-like rows, inactive identity rows. GMRES with MueLu or ILU on the nodal block and
+ * the Schur complement of the multipliers equals the direct solve to the tolerance, in a bounded number of
+ * iterations, and keeps its preconditioner across a pattern change. */
+static void check_constraint_systems(void) {
+  const int m = 14; /* 2744 nodes, 8232 nodal unknowns: MueLu builds levels */
+  const struct {
+    const char *name;
+    int n_active, n_inactive, with_friction;
+    double diagonal;
+  } variants[] = {{"stored zero diagonal", 30, 40, 0, 0.0},
+                  {"round-off diagonal", 30, 40, 0, 1e-24},
+                  {"friction rows", 30, 40, 1, 0.0}};
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_GMRES_SGS,
+                                         SK_LINEAR_DIRECT};
+  double *coordinates = malloc(sizeof(double) * 3 * (size_t)(m * m * m));
+  for (size_t v = 0; v < sizeof variants / sizeof variants[0]; ++v) {
+    test_csr a = test_contact_3d(m, variants[v].n_active, variants[v].n_inactive, variants[v].diagonal,
+                                 variants[v].with_friction, 0.5, coordinates);
+    double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+    double *x = malloc(sizeof(double) * (size_t)a.n);
+    int *rows = malloc(sizeof(int) * (size_t)a.n);
+    for (int i = 0; i < a.n; ++i) rows[i] = i;
+    test_reference_solution(a.n, x_ref);
+    test_csr_multiply(&a, x_ref, b);
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+      sk_linear_options options;
+      sk_linear_options_default(&options);
+      options.kind = kinds[k];
+      options.tolerance = 1e-12;
+      sk_linear_system *sys = NULL;
+      SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &sys) == SK_OK);
+      if (!sys) continue;
+      SK_CHECK(sk_linsys_set_coordinates(sys, m * m * m, 3, coordinates) == SK_OK);
+      SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_OK);
+      for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) /* the same structure again: a new pattern, as after a contact change */
+          SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_OK);
+        SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+        sk_linear_report report;
+        memset(x, 0, sizeof(double) * (size_t)a.n);
+        const sk_status status = sk_linsys_solve(sys, b, x, &report);
+        if (status != SK_OK) fprintf(stderr, "%s: %s\n", variants[v].name, sk_error_message());
+        /* relative to the solution's size: the multiplier rows make the system stiffer than the Laplacians */
+        double largest = 0;
+        for (int i = 0; i < a.n; ++i) largest = fmax(largest, fabs(x_ref[i]));
+        const double error = test_max_difference(a.n, x, x_ref) / largest;
+        printf("%-22s %-12s pass %d: %3d iterations, relative residual %.2e, max error %.2e\n", variants[v].name,
+               sk_linear_solver_name(report.solver), pass, report.iterations, report.relative_residual, error);
+        SK_CHECK(status == SK_OK);
+        SK_CHECK(report.relative_residual <= 1e-12);
+        SK_CHECK(error <= 1e-9); /* measured: MUMPS 1e-12, GMRES + MueLu 5e-11, GMRES + ILU 3e-10 */
+        if (kinds[k] != SK_LINEAR_DIRECT) {
+          SK_CHECK(report.iterations <= 40); /* measured: MueLu 14-20, ILU(1) 25-30 */
+          /* the nodal preconditioner survives the pattern change (the nodal distribution is the same) */
+          SK_CHECK(report.refactored_symbolic == (pass == 0));
+        }
+      }
+      sk_linsys_destroy(sys);
+    }
+    free(rows);
+    free(x_ref);
+    free(b);
+    free(x);
+    test_csr_free(&a);
+  }
+  free(coordinates);
+}
+
 static void check_failures(void) {
   test_csr a = test_laplacian_2d(30, 0.0);
   double *b = malloc(sizeof(double) * (size_t)a.n), *x = malloc(sizeof(double) * (size_t)a.n);
   for (int i = 0; i < a.n; ++i) b[i] = 1.0;
 
-  /* a singular matrix (a zero row) makes every direct backend fail with SK_ERR_DIVERGED, not crash */
+  /* a singular matrix (a zero row) makes every direct backend fail with SK_ERR_LINEAR_SOLVER (SINGULAR), not crash */
   const sk_linear_solver_kind direct_kinds[] = {SK_LINEAR_DIRECT, SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2,
                                                 SK_LINEAR_DIRECT_KLU};
   sk_linear_system *sys = NULL;
@@ -181,7 +305,9 @@ static void check_failures(void) {
     double *values = sk_linsys_values(sys);
     for (int64_t k = a.row_ptr[17]; k < a.row_ptr[18]; ++k) values[k] = 0.0;
     SK_CHECK(sk_linsys_assemble(sys) == SK_OK);
-    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_DIVERGED);
+    sk_linear_report report;
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_ERR_LINEAR_SOLVER);
+    SK_CHECK(report.failure == SK_LINEAR_FAILURE_SINGULAR);
     SK_CHECK(strstr(sk_error_message(), "direct solve") != NULL);
     /* and the system recovers once the values are fixed */
     SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
@@ -195,7 +321,7 @@ static void check_failures(void) {
     double *values = sk_linsys_values(sys);
     for (int64_t k = a.row_ptr[3]; k < a.row_ptr[4]; ++k) values[k] = 0.0;
     SK_CHECK(sk_linsys_assemble(sys) == SK_OK);
-    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_DIVERGED);
+    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_LINEAR_SOLVER);
     SK_CHECK(strstr(sk_error_message(), "MUMPS") != NULL);
     sk_linsys_destroy(sys);
   }
@@ -206,22 +332,27 @@ static void check_failures(void) {
   if (sys) {
     SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
     sk_linear_report report;
-    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_ERR_DIVERGED);
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_ERR_LINEAR_SOLVER);
+    SK_CHECK(report.failure == SK_LINEAR_FAILURE_NOT_CONVERGED);
+    SK_CHECK(report.solver == SK_LINEAR_GMRES_ILU);
     SK_CHECK(strstr(sk_error_message(), "gmres-ilu") != NULL);
     SK_CHECK(report.relative_residual > 1e-12);
     sk_linsys_destroy(sys);
   }
 
-  /* coordinates that do not match the system are reported at preconditioner setup */
+  /* coordinates describing more nodal unknowns than the system has are an input error of the pattern */
   sys = create(SK_LINEAR_GMRES_MUELU, 1e-10, 100, &a);
   SK_CHECK(sys != NULL);
   if (sys) {
-    double coordinates[3 * 7] = {0};
+    double *coordinates = calloc(3 * 301, sizeof(double));
+    int *rows = malloc(sizeof(int) * (size_t)a.n);
+    for (int i = 0; i < a.n; ++i) rows[i] = i;
     SK_CHECK(sk_linsys_set_coordinates(sys, 7, 4, coordinates) == SK_ERR_INPUT);
-    SK_CHECK(sk_linsys_set_coordinates(sys, 7, 3, coordinates) == SK_OK);
-    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
-    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_INPUT);
+    SK_CHECK(sk_linsys_set_coordinates(sys, 301, 3, coordinates) == SK_OK); /* 903 > 900 unknowns */
+    SK_CHECK(sk_linsys_set_pattern(sys, a.n, a.row_ptr, a.cols, a.n, rows) == SK_ERR_INPUT);
     SK_CHECK(strstr(sk_error_message(), "coordinates") != NULL);
+    free(rows);
+    free(coordinates);
     sk_linsys_destroy(sys);
   }
 
@@ -233,6 +364,7 @@ static void check_failures(void) {
   const int rows[2] = {0, 1};
   SK_CHECK(sk_linsys_set_pattern(bad, 2, row_ptr, unsorted, 2, rows) == SK_ERR_INPUT);
   SK_CHECK(sk_linsys_solve(bad, b, x, NULL) == SK_ERR_INTERNAL);
+  SK_CHECK(sk_linsys_set_solver(bad, (sk_linear_solver_kind)99) == SK_ERR_INPUT);
   SK_CHECK(sk_linsys_set_block_size(bad, 0) == SK_ERR_INPUT);
   sk_linsys_destroy(bad);
 
@@ -242,8 +374,9 @@ static void check_failures(void) {
 }
 
 static void check_names(void) {
-  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT, SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_AUTO,
-                                         SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2, SK_LINEAR_DIRECT_KLU};
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT,       SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU,
+                                         SK_LINEAR_AUTO,         SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2,
+                                         SK_LINEAR_DIRECT_KLU,   SK_LINEAR_GMRES_SGS};
   for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; ++i) {
     sk_linear_solver_kind parsed = SK_LINEAR_DIRECT;
     SK_CHECK(sk_linear_solver_from_name(sk_linear_solver_name(kinds[i]), &parsed) == SK_OK);
@@ -256,7 +389,7 @@ static void check_names(void) {
   SK_CHECK(SK_LINEAR_DIRECT == 0 && SK_LINEAR_AUTO == 3 && SK_LINEAR_DIRECT_MUMPS == 4);
   sk_linear_options bad_kind;
   sk_linear_options_default(&bad_kind);
-  bad_kind.kind = (sk_linear_solver_kind)(SK_LINEAR_DIRECT_KLU + 1);
+  bad_kind.kind = (sk_linear_solver_kind)(SK_LINEAR_GMRES_SGS + 1);
   sk_linear_system *none = NULL;
   SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &bad_kind, &none) == SK_ERR_INPUT && none == NULL);
   sk_linear_options options;
@@ -273,9 +406,11 @@ int main(int argc, char **argv) {
   check_kind(SK_LINEAR_DIRECT_KLU, 1e-10, 1e-10);
   check_kind(SK_LINEAR_GMRES_MUELU, 1e-12, 1e-8);
   check_kind(SK_LINEAR_GMRES_ILU, 1e-12, 1e-8);
+  check_kind(SK_LINEAR_GMRES_SGS, 1e-12, 1e-8);
   check_kind(SK_LINEAR_AUTO, 1e-12, 1e-8);
   check_auto();
   check_auto_saddle();
+  check_constraint_systems();
   check_failures();
   const int result = sk_test_finish("bridge linear system");
   MPI_Finalize();

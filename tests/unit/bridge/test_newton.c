@@ -2,6 +2,8 @@
  * linear system), callbacks that fail, and the iteration limit.
  *
  * F_i(x) = x_i^3 + a (x_i - x_{i+1}) - c_i, with c chosen so that x* (known) is the root. */
+#include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,14 +25,28 @@ typedef struct {
   int after_last_iteration;
   int after_in_order;
   int after_fail_at;      /* after_iteration fails at this iteration (0: never) */
+  double floor;           /* amplitude of a round-off-like floor added to F (0: none) */
+  int n_tolerances;       /* forcing terms asked for through solve_to_tolerance */
+  double tolerances[32], norms[32];
+  int singular_jacobian;  /* the Jacobian's last row is zero */
+  sk_linear_report last_solve;
 } problem;
+
+/* A deterministic stand-in for round-off: a value in [-1, 1] that jumps with the last bits of x. */
+static double noise(double x) {
+  uint64_t bits;
+  memcpy(&bits, &x, sizeof bits);
+  bits = (bits ^ (bits >> 29)) * 0xbf58476d1ce4e5b9ULL;
+  bits ^= bits >> 32;
+  return (double)(bits % 2001) / 1000.0 - 1.0;
+}
 
 static sk_status residual(void *ctx, const double *x, double *F) {
   problem *p = ctx;
   for (int i = 0; i < N; ++i) {
     if (x[i] > p->fail_above) return sk_error_set(SK_ERR_INVERTED, "element %d inverted (x = %g)", i, x[i]);
     const double next = i + 1 < N ? x[i + 1] : 0.0;
-    F[i] = x[i] * x[i] * x[i] + coupling * (x[i] - next) - p->c[i];
+    F[i] = x[i] * x[i] * x[i] + coupling * (x[i] - next) - p->c[i] + p->floor * noise(x[i]);
   }
   return SK_OK;
 }
@@ -44,6 +60,7 @@ static sk_status jacobian(void *ctx, const double *x) {
     values[p->row_ptr[i]] = 3.0 * x[i] * x[i] + coupling;
     if (i + 1 < N) values[p->row_ptr[i] + 1] = -coupling;
   }
+  if (p->singular_jacobian) values[p->row_ptr[N - 1]] = 0.0;
   return sk_linsys_assemble(p->sys);
 }
 
@@ -51,7 +68,19 @@ static sk_status solve(void *ctx, const double *x, const double *F, double *dx) 
   problem *p = ctx;
   double minus_f[N];
   for (int i = 0; i < N; ++i) minus_f[i] = -F[i];
-  return sk_linsys_solve(p->sys, minus_f, dx, NULL);
+  return sk_linsys_solve(p->sys, minus_f, dx, &p->last_solve);
+}
+
+/* Records the forcing term and solves exactly (what a direct solver does with it). */
+static sk_status solve_to_tolerance(void *ctx, const double *x, const double *F, double tolerance, double *dx) {
+  problem *p = ctx;
+  if (p->n_tolerances < 32) {
+    double norm = 0;
+    for (int i = 0; i < N; ++i) norm += F[i] * F[i];
+    p->norms[p->n_tolerances] = sqrt(norm);
+    p->tolerances[p->n_tolerances++] = tolerance;
+  }
+  return solve(ctx, x, F, dx);
 }
 
 static sk_status after_iteration(void *ctx, int iteration, const double *x, double residual_norm) {
@@ -89,7 +118,8 @@ static void problem_init(problem *p) {
 }
 
 static sk_newton_callbacks callbacks_for(problem *p) {
-  sk_newton_callbacks cb = {p, residual, jacobian, solve, after_iteration};
+  sk_newton_callbacks cb = {
+      .ctx = p, .residual = residual, .jacobian = jacobian, .solve = solve, .after_iteration = after_iteration};
   return cb;
 }
 
@@ -111,7 +141,11 @@ static void check_quadratic_convergence(sk_line_search line_search) {
   SK_CHECK(report.n_history == report.iterations + 1);
   SK_CHECK(report.iterations >= 3 && report.iterations <= 10);
   SK_CHECK(report.linear_solves == report.iterations);
+  SK_CHECK(report.outcome == SK_NEWTON_CONVERGED);
   SK_CHECK(report.residual_history[report.n_history - 1] <= options.residual_tolerance);
+  /* no solve spent on confirming convergence: every earlier iterate failed the residual test, so the iteration
+   * that reached it was the last one (the update test used the predicted next update) */
+  for (int k = 0; k + 1 < report.n_history; ++k) SK_CHECK(report.residual_history[k] > options.residual_tolerance);
   /* quadratic: ||F_{k+1}|| <= C ||F_k||^2 once in the asymptotic range, until round-off */
   int quadratic_steps = 0;
   for (int k = 0; k + 1 < report.n_history; ++k) {
@@ -125,6 +159,40 @@ static void check_quadratic_convergence(sk_line_search line_search) {
   /* after_iteration ran once per iteration, in order */
   SK_CHECK(p.after_calls == report.iterations);
   SK_CHECK(p.after_in_order);
+  sk_linsys_destroy(p.sys);
+}
+
+/* Inexact Newton: the forcing terms follow Eisenstat-Walker (first 1e-4, then 0.9 (||F_k|| / ||F_{k-1}||)^2, at
+ * most 1e-4), never below linear_tolerance nor below what the convergence test can use. */
+static void check_forcing_terms(void) {
+  problem p;
+  problem_init(&p);
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  SK_CHECK(options.forcing == 1 && options.linear_tolerance == 1e-10);
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  cb.solve_to_tolerance = solve_to_tolerance;
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  SK_CHECK(p.n_tolerances == report.linear_solves && p.n_tolerances >= 3);
+  SK_CHECK(p.tolerances[0] == 1e-4);
+  const double converged = fmax(options.residual_tolerance, options.relative_tolerance * report.residual_history[0]);
+  for (int k = 1; k < p.n_tolerances; ++k) {
+    const double ratio = p.norms[k] / p.norms[k - 1];
+    double expected = fmin(0.9 * ratio * ratio, 1e-4);
+    if (0.9 * p.tolerances[k - 1] * p.tolerances[k - 1] > 0.1) expected = fmax(expected, 0.9 * p.tolerances[k - 1] * p.tolerances[k - 1]);
+    expected = fmax(fmax(expected, fmin(1e-4, 0.1 * converged / p.norms[k])), options.linear_tolerance);
+    printf("forcing %d: ||F|| = %.3e, tolerance %.3e (expected %.3e)\n", k, p.norms[k], p.tolerances[k], expected);
+    SK_CHECK_CLOSE(p.tolerances[k], expected, 1e-12 * expected);
+  }
+  /* without the callback (or with forcing off) every solve goes through `solve` */
+  options.forcing = 0;
+  p.n_tolerances = 0;
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  SK_CHECK(p.n_tolerances == 0);
   sk_linsys_destroy(p.sys);
 }
 
@@ -144,8 +212,9 @@ static void check_residual_failure(void) {
     const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report);
     if (ls == SK_LINE_SEARCH_FULL_STEP) {
       /* nothing to fall back on: a clean failure that keeps the callback's message */
-      SK_CHECK(status == SK_ERR_DIVERGED);
+      SK_CHECK(status == SK_ERR_INVERTED); /* the callback's status: the stepper cuts the step */
       SK_CHECK(report.converged == 0);
+      SK_CHECK(report.outcome == SK_NEWTON_RESIDUAL_FAILED);
       SK_CHECK(strstr(sk_error_message(), "inverted") != NULL);
       SK_CHECK(strstr(report.reason, "inverted") != NULL);
       for (int i = 0; i < N; ++i) SK_CHECK(x[i] <= 3.0); /* x is left at the last good iterate */
@@ -168,7 +237,8 @@ static void check_residual_failure(void) {
   for (int i = 0; i < N; ++i) x[i] = 1.0;
   sk_newton_callbacks cb = callbacks_for(&p);
   sk_newton_report report;
-  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_INVERTED);
+  SK_CHECK(report.outcome == SK_NEWTON_RESIDUAL_FAILED);
   SK_CHECK(strstr(sk_error_message(), "inverted") != NULL);
   sk_linsys_destroy(p.sys);
 }
@@ -183,7 +253,9 @@ static void check_jacobian_failure(void) {
   for (int i = 0; i < N; ++i) x[i] = 2.0;
   sk_newton_callbacks cb = callbacks_for(&p);
   sk_newton_report report;
-  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  /* a bug in assembly is not a reason to cut the step: its own status comes back */
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_INTERNAL);
+  SK_CHECK(report.outcome == SK_NEWTON_CALLBACK_FAILED);
   SK_CHECK(strstr(sk_error_message(), "assembly exploded") != NULL);
   SK_CHECK(report.converged == 0);
   sk_linsys_destroy(p.sys);
@@ -199,7 +271,8 @@ static void check_after_iteration_failure(void) {
   for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
   sk_newton_callbacks cb = callbacks_for(&p);
   sk_newton_report report;
-  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_INPUT);
+  SK_CHECK(report.outcome == SK_NEWTON_CALLBACK_FAILED);
   SK_CHECK(strstr(sk_error_message(), "active set cycling at iteration 2") != NULL);
   SK_CHECK(report.converged == 0);
   SK_CHECK(p.after_calls == 2); /* the solve stopped right after the failing callback */
@@ -220,8 +293,62 @@ static void check_max_iterations(void) {
   SK_CHECK(report.converged == 0);
   SK_CHECK(report.iterations == 2);
   SK_CHECK(report.n_history == 3);
+  SK_CHECK(report.outcome == SK_NEWTON_MAX_ITERATIONS);
   SK_CHECK(strstr(report.reason, "2 iterations") != NULL);
   SK_CHECK(strstr(sk_error_message(), "2 iterations") != NULL);
+  sk_linsys_destroy(p.sys);
+}
+
+/* A residual with a floor of 1e-9 per entry (standing in for round-off) above an absolute tolerance of 1e-11:
+ * Newton stops as stagnated within a few iterations (not max_iterations), says so with the numbers in %g. */
+static void check_stagnation(void) {
+  problem p;
+  problem_init(&p);
+  p.floor = 1e-9;
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  options.residual_tolerance = 1e-11;
+  options.relative_tolerance = 1e-14;
+  options.max_iterations = 50;
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  printf("stagnation after %d iterations: %s\n", report.iterations, report.reason);
+  SK_CHECK(report.outcome == SK_NEWTON_STAGNATED);
+  SK_CHECK(report.iterations <= 12); /* measured: 8 (6 to converge onto the floor, 2 stalled) */
+  SK_CHECK(strstr(report.reason, "stagnated") != NULL);
+  SK_CHECK(strstr(report.reason, "0.000000") == NULL); /* %g, not %f */
+  SK_CHECK(strstr(report.reason, "e-09") != NULL || strstr(report.reason, "e-10") != NULL);
+  SK_CHECK(strstr(report.reason, "absolute tolerance 1e-11") != NULL);
+  SK_CHECK(strstr(sk_error_message(), "stagnated") != NULL);
+  for (int i = 0; i < N; ++i) SK_CHECK_CLOSE(x[i], p.x_star[i], 1e-8); /* as close as the floor allows */
+  /* the same floor under a tolerance above it converges */
+  options.residual_tolerance = 1e-7;
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  sk_linsys_destroy(p.sys);
+}
+
+/* A singular Jacobian: the linear solver fails, and Newton reports that as its own status. */
+static void check_linear_solver_failure(void) {
+  problem p;
+  problem_init(&p);
+  p.singular_jacobian = 1;
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_LINEAR_SOLVER);
+  SK_CHECK(report.outcome == SK_NEWTON_LINEAR_SOLVER);
+  SK_CHECK(report.converged == 0 && report.iterations == 0);
+  SK_CHECK(p.last_solve.failure == SK_LINEAR_FAILURE_SINGULAR);
+  SK_CHECK(p.last_solve.solver == SK_LINEAR_DIRECT_MUMPS);
+  SK_CHECK(strstr(report.reason, "linear solve failed in iteration 1") != NULL);
+  SK_CHECK(strstr(sk_error_message(), "MUMPS") != NULL);
   sk_linsys_destroy(p.sys);
 }
 
@@ -250,6 +377,9 @@ int main(int argc, char **argv) {
   check_jacobian_failure();
   check_after_iteration_failure();
   check_max_iterations();
+  check_stagnation();
+  check_forcing_terms();
+  check_linear_solver_failure();
   const int result = sk_test_finish("bridge newton");
   MPI_Finalize();
   return result;

@@ -1,0 +1,243 @@
+// stickslip — what `auto` runs: the direct solver (MUMPS) or GMRES + MueLu, from what it has measured.
+//
+// The candidates: MUMPS, GMRES + MueLu (bounded iterations under refinement) and GMRES + one symmetric Gauss-Seidel
+// sweep (no set-up, half the cost per iteration: the cheapest where inertia dominates the stiffness).
+// 1. Never a solver that failed on this pattern; after a failure an iterative solver waits 2, 4, 8 ... patterns
+//    before it is tried again (a contact run changes pattern every few steps: before this rule GMRES was retried,
+//    and failed, at every one of them: 39 of 39 on scenes/two-tori-coarse.yaml).
+// 2. Not GMRES when the nodal block has a zero diagonal (a saddle point given without coordinates, so without a
+//    constraint block to take the multiplier rows).
+// 3. The size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
+//    entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover it is only a
+//    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones do.
+// 4. Every competing candidate is measured (a trial of kTrialSolves solves each, once the current one has a
+//    measurement at this size, within kMeasuredRange in stored entries); then the cheapest per solve, set-ups
+//    included, wins — a switch needs a kSwitchMargin advantage.
+// Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
+// so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+
+#include "linear_system.hpp"
+
+namespace stickslip::bridge {
+
+namespace {
+
+constexpr int kAutoSparseRowEntries = 40;
+constexpr int kAutoDirectMaxUnknownsSparse = 10000;
+constexpr int kAutoDirectMaxUnknownsDense = 2000;
+constexpr double kContestedBand = 4.0;
+// Growth of the cost per solve with the size (docs/linear-solvers.md): MUMPS n^1.6 on hex8, GMRES + MueLu n^1.1.
+constexpr double kDirectExponent = 1.6;
+constexpr double kIterativeExponent = 1.1;
+constexpr double kMeasuredRange = 2.0;
+constexpr double kSwitchMargin = 1.2;
+constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factorisation / AMG hierarchy)
+// A trial of an iterative candidate may take kTrialIterationFactor x the iterations of the current iterative
+// solver (at least kTrialIterationFloor), or kTrialIterationFloor against a direct one; beyond that it is not
+// competitive and counts as failed. On the quasi-static Hertz 2D (refine 4) GMRES + SGS needs > 500 iterations
+// where GMRES + MueLu needs 10: its uncapped trial cost 6.5 s of a 12 s run.
+constexpr int kTrialIterationFactor = 4;
+constexpr int kTrialIterationFloor = 30;
+// A diagonal below this fraction of its row's largest entry counts as zero (`reduced` multiplier rows: 1e-23).
+constexpr double kZeroDiagonal = 1e-12;
+// What `direct` (and AUTO's direct choice) runs: the fastest correct backend on the benchmark's hex8/quad4
+// elasticity and on the contact saddle-point systems (docs/linear-solvers.md).
+constexpr sk_linear_solver_kind kDirectBackend = SK_LINEAR_DIRECT_MUMPS;
+constexpr sk_linear_solver_kind kIterativeBackend = SK_LINEAR_GMRES_MUELU;
+
+int index_of(sk_linear_solver_kind kind) {
+  for (int c = 0; c < kAutoCandidates; ++c)
+    if (kAutoCandidateKinds[c] == kind) return c;
+  return 0;
+}
+
+double exponent(sk_linear_solver_kind kind) { return is_direct(kind) ? kDirectExponent : kIterativeExponent; }
+
+double entries(const sk_linear_system *sys) { return static_cast<double>(sys->row_ptr[sys->n]); }
+
+bool measured_here(const AutoMemory::Candidate &c, double size) {
+  return c.cost_coefficient > 0 && size <= kMeasuredRange * static_cast<double>(c.entries_measured) &&
+         static_cast<double>(c.entries_measured) <= kMeasuredRange * size;
+}
+
+double predicted_seconds(const AutoMemory::Candidate &c, sk_linear_solver_kind kind, double size) {
+  return c.cost_coefficient * std::pow(size, exponent(kind));
+}
+
+// A zero (or absent) diagonal in the nodal block, on any rank (collective).
+bool nodal_diagonal_deficient(const sk_linear_system *sys) {
+  int deficient = 0;
+  const int first_row = sys->row_offsets[sys->rank];
+  const int end = std::min(sys->row_offsets[sys->rank + 1], sys->n_nodal);
+  for (int row = first_row; row < end && !deficient; ++row) {
+    const int64_t d = sys->owned_diagonal[row - first_row];
+    double largest = 0;
+    for (int64_t k = sys->row_ptr[row]; k < sys->row_ptr[row + 1]; ++k)
+      largest = std::max(largest, std::fabs(sys->owned_values[k - sys->owned_value_begin]));
+    deficient = d < 0 || !(std::fabs(sys->owned_values[d]) > kZeroDiagonal * largest);
+  }
+  int any = 0;
+  MPI_Allreduce(&deficient, &any, 1, MPI_INT, MPI_MAX, sys->comm);
+  return any != 0;
+}
+
+// Takes the decision; it is logged when the solver or the kind of reason changes.
+sk_linear_solver_kind decide(sk_linear_system *sys, sk_linear_solver_kind kind, const char *reason_class,
+                             const std::string &reason) {
+  AutoMemory &m = sys->auto_memory;
+  if (kind != m.current || m.reason_class != reason_class) {
+    m.decision = std::string(sk_linear_solver_name(kind)) + ": " + reason;
+    m.decision_pending = true;
+  }
+  m.current = kind;
+  m.reason_class = reason_class;
+  return kind;
+}
+
+std::string format(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char *fmt, ...) {
+  char text[320];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(text, sizeof text, fmt, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace
+
+sk_linear_solver_kind auto_fallback(sk_linear_system *sys) {
+  AutoMemory &m = sys->auto_memory;
+  const sk_linear_solver_kind failed_kind = m.current;
+  const AutoMemory::Candidate &failed = m.candidates[index_of(failed_kind)];
+  const sk_linear_solver_kind back = m.before_trial;
+  const bool back_usable = back != SK_LINEAR_AUTO && back != failed_kind &&
+                           (is_direct(back) || m.candidates[index_of(back)].failed_on_pattern != sys->pattern_generation);
+  const sk_linear_solver_kind kind = back_usable ? back : kDirectBackend;
+  m.before_trial = SK_LINEAR_AUTO;
+  return decide(sys, kind, "fallback",
+                format("%s failed (%s); not tried again on this pattern", sk_linear_solver_name(failed_kind),
+                       failed.failure.c_str()));
+}
+
+sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
+  AutoMemory &m = sys->auto_memory;
+  const int generation = sys->pattern_generation;
+  const double size = entries(sys);
+  const double per_row = sys->n > 0 ? size / sys->n : 0.0;
+
+  // which candidates may run: iterative ones not after a failure on this pattern, not in back-off, and not on a
+  // nodal block with a zero diagonal
+  const bool deficient = nodal_diagonal_deficient(sys);
+  bool allowed[kAutoCandidates];
+  std::string excluded;
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
+    const AutoMemory::Candidate &k = m.candidates[c];
+    allowed[c] = is_direct(kind) || (!deficient && k.failed_on_pattern != generation && generation >= k.retry_pattern);
+    if (allowed[c] || deficient) continue;
+    excluded += format("%s%s %s", excluded.empty() ? "" : "; ", sk_linear_solver_name(kind),
+                       k.failed_on_pattern == generation
+                           ? ("failed on this pattern (" + k.failure + ")").c_str()
+                           : format("failed on %d pattern(s) in a row, tried again from the %d. pattern on",
+                                    k.failures_in_a_row, k.retry_pattern)
+                                 .c_str());
+  }
+  if (m.trial_solves_left > 0 && m.current != SK_LINEAR_AUTO && allowed[index_of(m.current)]) {
+    --m.trial_solves_left;
+    return m.current;  // the trial goes on, with its iteration cap
+  }
+  m.trial_solves_left = 0;
+  m.iteration_cap = 0;
+  if (deficient)
+    return decide(sys, kDirectBackend, "diagonal",
+                  "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "
+                  "split them off), which the iterative solvers' smoothers divide by");
+  bool any_iterative = false;
+  for (int c = 0; c < kAutoCandidates; ++c) any_iterative = any_iterative || (allowed[c] && !is_direct(kAutoCandidateKinds[c]));
+  if (!any_iterative) {
+    bool failed_here = false;
+    for (const AutoMemory::Candidate &k : m.candidates) failed_here = failed_here || k.failed_on_pattern == generation;
+    return decide(sys, kDirectBackend, failed_here ? "failed" : "backoff", excluded);
+  }
+
+  // the size rule, and where it is only a first guess
+  const int limit = per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
+  const sk_linear_solver_kind by_size = sys->n <= limit ? kDirectBackend : kIterativeBackend;
+  const bool contested = sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
+  const std::string size_reason =
+      format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)", sys->n,
+             per_row, limit);
+  if (!contested && is_direct(by_size)) return decide(sys, kDirectBackend, "size", size_reason);
+  // the candidates to compare: the iterative ones, and the direct one near the crossover
+  bool eligible[kAutoCandidates];
+  for (int c = 0; c < kAutoCandidates; ++c) eligible[c] = allowed[c] && (contested || !is_direct(kAutoCandidateKinds[c]));
+  if (m.current == SK_LINEAR_AUTO || !eligible[index_of(m.current)]) {
+    int first = index_of(by_size);
+    for (int c = 0; c < kAutoCandidates && !eligible[first]; ++c) first = c;
+    return decide(sys, kAutoCandidateKinds[first], "size",
+                  excluded.empty() ? size_reason : size_reason + "; " + excluded);
+  }
+  const int current = index_of(m.current);
+  if (!measured_here(m.candidates[current], size)) return m.current;  // being measured
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    if (!eligible[c] || measured_here(m.candidates[c], size)) continue;
+    m.trial_solves_left = kTrialSolves - 1;
+    m.before_trial = m.current;
+    m.iteration_cap = is_direct(m.current) ? kTrialIterationFloor
+                                           : std::max(kTrialIterationFloor,
+                                                      kTrialIterationFactor * m.candidates[current].iterations);
+    return decide(sys, kAutoCandidateKinds[c], "trial",
+                  format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)", kTrialSolves,
+                         sys->n, sk_linear_solver_name(m.current),
+                         predicted_seconds(m.candidates[current], m.current, size)));
+  }
+  // all measured: the cheapest, if clearly cheaper than the current one (timings are noisy on a shared machine)
+  int best = current;
+  double seconds[kAutoCandidates];
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    seconds[c] = eligible[c] ? predicted_seconds(m.candidates[c], kAutoCandidateKinds[c], size) : 0.0;
+    if (eligible[c] && seconds[c] * kSwitchMargin < seconds[best]) best = c;
+  }
+  std::string others;
+  for (int c = 0; c < kAutoCandidates; ++c)
+    if (eligible[c] && c != best)
+      others += format("%s %s %.3g s", others.empty() ? "" : ",", sk_linear_solver_name(kAutoCandidateKinds[c]),
+                       seconds[c]);
+  return decide(sys, kAutoCandidateKinds[best], "measured",
+                format("measured %.3g s per solve against%s (%d unknowns)", seconds[best], others.c_str(), sys->n));
+}
+
+void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
+                 int iterations) {
+  AutoMemory &m = sys->auto_memory;
+  double agreed = seconds;  // every rank must take the same decisions: the slowest rank's time
+  MPI_Allreduce(&seconds, &agreed, 1, MPI_DOUBLE, MPI_MAX, sys->comm);
+  AutoMemory::Candidate &c = m.candidates[index_of(kind)];
+  const double size = entries(sys);
+  if (status == SK_OK) {
+    const double coefficient = agreed / std::pow(size, exponent(kind));
+    c.cost_coefficient = measured_here(c, size) ? 0.7 * c.cost_coefficient + 0.3 * coefficient : coefficient;
+    c.entries_measured = static_cast<int64_t>(size);
+    c.failures_in_a_row = 0;
+    c.iterations = iterations;
+    return;
+  }
+  if (is_direct(kind)) return;  // nothing to fall back to: the caller reports it
+  c.failed_on_pattern = sys->pattern_generation;
+  ++c.failures_in_a_row;
+  c.retry_pattern = sys->pattern_generation + (1 << std::min(c.failures_in_a_row, 16));
+  c.failure = sk_error_message();
+  if (m.iteration_cap > 0) c.failure += " (a trial, capped at its competitors' cost)";
+  m.trial_solves_left = 0;
+  m.iteration_cap = 0;
+}
+
+const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates] = {kDirectBackend, kIterativeBackend,
+                                                                    SK_LINEAR_GMRES_SGS};
+
+}  // namespace stickslip::bridge

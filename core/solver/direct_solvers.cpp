@@ -1,0 +1,260 @@
+// stickslip — the direct solvers: Amesos v1 MUMPS / KLU on an Epetra copy of the distributed matrix, Amesos2 KLU2
+// (gathered to rank 0 on more than one rank: Debian's KLU2 is wrong on distributed matrices, docs/linear-solvers.md).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+#include <Amesos.h>
+#include <Epetra_CrsGraph.h>
+#include <Epetra_Object.h>
+#include <Teuchos_DefaultMpiComm.hpp>
+
+#include "bridge_internal.hpp"
+#include "linear_system.hpp"
+
+namespace stickslip::bridge {
+
+namespace {
+
+// A direct solve whose measured residual exceeds this is a (numerically) singular matrix, not round-off.
+constexpr double kDirectResidualLimit = 1e-6;
+
+const char *amesos_backend_name(sk_linear_solver_kind kind) { return kind == SK_LINEAR_DIRECT_MUMPS ? "MUMPS" : "KLU"; }
+
+// The Epetra copy of the pattern for Amesos v1: same map (contiguous row blocks of sys->row_offsets), a static
+// graph, and the table from owned CSR entries to Epetra's (column-map ordered) value storage.
+void build_epetra(sk_linear_system *sys) {
+  if (sys->epetra_comm.is_null()) sys->epetra_comm = rcp(new Epetra_MpiComm(sys->comm));
+  const int first_row = sys->row_offsets[sys->rank];
+  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  sys->epetra_map = rcp(new Epetra_Map(sys->n, n_owned, 0, *sys->epetra_comm));
+  std::vector<int> entries(static_cast<size_t>(n_owned));
+  for (int i = 0; i < n_owned; ++i)
+    entries[i] = static_cast<int>(sys->row_ptr[first_row + i + 1] - sys->row_ptr[first_row + i]);
+  Epetra_CrsGraph graph(Epetra_DataAccess::Copy, *sys->epetra_map, entries.data(), true);
+  for (int i = 0; i < n_owned; ++i) {
+    if (graph.InsertGlobalIndices(first_row + i, entries[i], sys->cols.data() + sys->row_ptr[first_row + i]) < 0)
+      throw std::runtime_error("Epetra_CrsGraph::InsertGlobalIndices failed");
+  }
+  if (graph.FillComplete() != 0 || graph.OptimizeStorage() != 0)
+    throw std::runtime_error("Epetra_CrsGraph::FillComplete failed");
+  sys->epetra_matrix = rcp(new Epetra_CrsMatrix(Epetra_DataAccess::Copy, graph));
+  if (sys->epetra_matrix->FillComplete() != 0 || sys->epetra_matrix->OptimizeStorage() != 0)
+    throw std::runtime_error("Epetra_CrsMatrix::FillComplete failed");
+  int *offsets = nullptr, *indices = nullptr;
+  double *values = nullptr;
+  sys->epetra_matrix->ExtractCrsDataPointers(offsets, indices, values);
+  sys->epetra_slots.assign(sys->owned_values.size(), 0);
+  std::vector<std::pair<int, int>> row;  // (global column, storage position)
+  for (int i = 0; i < n_owned; ++i) {
+    row.clear();
+    for (int p = offsets[i]; p < offsets[i + 1]; ++p) row.emplace_back(sys->epetra_matrix->GCID(indices[p]), p);
+    std::sort(row.begin(), row.end());  // CSR columns are sorted: the k-th smallest column is the k-th CSR entry
+    const int64_t base = sys->row_ptr[first_row + i] - sys->owned_value_begin;
+    if (static_cast<int64_t>(row.size()) != static_cast<int64_t>(entries[i]))
+      throw std::runtime_error("Epetra matrix row length differs from the pattern");
+    for (size_t k = 0; k < row.size(); ++k) sys->epetra_slots[static_cast<size_t>(base) + k] = row[k].second;
+  }
+  sys->epetra_x = rcp(new Epetra_Vector(*sys->epetra_map));
+  sys->epetra_b = rcp(new Epetra_Vector(*sys->epetra_map));
+  sys->epetra_problem = rcp(new Epetra_LinearProblem(sys->epetra_matrix.get(), sys->epetra_x.get(), sys->epetra_b.get()));
+}
+
+// Forward and backward substitution with the current Amesos factorisation; x replicated on every rank.
+sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
+  const int first_row = sys->row_offsets[sys->rank];
+  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  std::copy(b + first_row, b + first_row + n_owned, sys->epetra_b->Values());
+  int code = sys->amesos->Solve(), worst = 0;
+  code = code < 0 ? code : -code;
+  MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MIN, sys->comm);  // MUMPS's codes are global; agree anyway
+  if (worst != 0) {
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): solve failed (error %d)",
+                        amesos_backend_name(sys->amesos_kind), worst);
+  }
+  std::vector<int> counts(sys->size), displs(sys->size);
+  for (int r = 0; r < sys->size; ++r) {
+    displs[r] = sys->row_offsets[r];
+    counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+  }
+  MPI_Allgatherv(sys->epetra_x->Values(), n_owned, MPI_DOUBLE, x, counts.data(), displs.data(), MPI_DOUBLE, sys->comm);
+  return SK_OK;
+}
+
+}  // namespace
+
+bool is_direct(sk_linear_solver_kind kind) {
+  return kind == SK_LINEAR_DIRECT || kind == SK_LINEAR_DIRECT_MUMPS || kind == SK_LINEAR_DIRECT_KLU2 ||
+         kind == SK_LINEAR_DIRECT_KLU;
+}
+
+void release_direct(sk_linear_system *sys) {
+  sys->amesos = Teuchos::null;
+  sys->epetra_problem = Teuchos::null;
+  sys->epetra_x = Teuchos::null;
+  sys->epetra_b = Teuchos::null;
+  sys->epetra_matrix = Teuchos::null;
+  sys->epetra_slots.clear();
+  sys->epetra_map = Teuchos::null;
+  sys->direct = Teuchos::null;
+  sys->serial_matrix = Teuchos::null;
+  sys->serial_map = Teuchos::null;
+}
+
+// Direct solve. KLU2 always runs on one process: the distributed matrix itself on one rank, the serial copy on
+// rank 0 otherwise (Debian's Amesos2 KLU2 returns wrong solutions on distributed matrices; Tacho crashes).
+sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
+  const bool gathered = sys->size > 1;
+  int status = SK_OK;
+  char message[256] = "";
+  if (gathered) {
+    MPI_Gatherv(sys->owned_values.data(), sys->gather_counts[sys->rank], MPI_DOUBLE, sys->gathered_values.data(),
+                sys->gather_counts.data(), sys->gather_displs.data(), MPI_DOUBLE, 0, sys->comm);
+  }
+  if (sys->rank == 0) {
+    try {
+      RCP<Matrix> a = sys->matrix;
+      RCP<const Map> map = sys->row_map;
+      if (gathered) {
+        if (sys->serial_matrix.is_null()) {
+          sys->serial_map = rcp(new Map(static_cast<Tpetra::global_size_t>(sys->n), 0,
+                                        rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF))));
+          sys->serial_matrix = build_matrix(sys->serial_map, sys->serial_map, sys->row_ptr, sys->cols, 0,
+                                            sys->serial_local_cols);
+        }
+        replace_values(*sys->serial_matrix, sys->row_ptr, 0, 0, sys->n, sys->gathered_values.data(),
+                       sys->serial_local_cols);
+        a = sys->serial_matrix;
+        map = sys->serial_map;
+      }
+      if (sys->direct.is_null()) {
+        sys->direct = Amesos2::create<Matrix, MultiVector>("KLU2", a);
+        sys->direct->symbolicFactorization();
+        report->refactored_symbolic = 1;
+      }
+      sys->direct->numericFactorization();
+      Vector xs(map), bs(map);
+      auto bd = bs.getDataNonConst();
+      std::copy(b, b + sys->n, bd.getRawPtr());
+      sys->direct->solve(Teuchos::ptr<MultiVector>(&xs), Teuchos::ptr<const MultiVector>(&bs));
+      auto xd = xs.getData();
+      std::copy(xd.getRawPtr(), xd.getRawPtr() + sys->n, x);
+      for (int i = 0; i < sys->n; ++i) {
+        if (!std::isfinite(x[i])) {
+          status = SK_ERR_LINEAR_SOLVER;
+          std::snprintf(message, sizeof message, "direct solve (KLU2): non-finite solution (singular matrix)");
+          break;
+        }
+      }
+    } catch (...) {
+      // a failed factorisation may leave the solver half-built: start afresh next time
+      sys->direct = Teuchos::null;
+      status = status_from_exception(SK_ERR_LINEAR_SOLVER, "direct solve (KLU2, singular matrix?)", std::current_exception());
+      std::snprintf(message, sizeof message, "%s", sk_error_message());
+    }
+  }
+  if (gathered) {
+    MPI_Bcast(&status, 1, MPI_INT, 0, sys->comm);
+    MPI_Bcast(message, sizeof message, MPI_CHAR, 0, sys->comm);
+    MPI_Bcast(&report->refactored_symbolic, 1, MPI_INT, 0, sys->comm);
+    if (status == SK_OK) MPI_Bcast(x, sys->n, MPI_DOUBLE, 0, sys->comm);
+  }
+  if (status != SK_OK) {
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(static_cast<sk_status>(status), "%s", message);
+  }
+  Vector xv(sys->row_map), bv(sys->row_map);
+  scatter_to(sys, x, xv);
+  scatter_to(sys, b, bv);
+  report->relative_residual = relative_residual(sys, bv, xv);
+  if (!(report->relative_residual <= kDirectResidualLimit)) {
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (KLU2): relative residual %.3g (singular matrix)",
+                        report->relative_residual);
+  }
+  return SK_OK;
+}
+
+// Direct solve by Amesos v1 (MUMPS or KLU) on the distributed Epetra matrix: both are correct on several ranks
+// (MUMPS factorises in parallel; Amesos_Klu gathers to rank 0 itself). The symbolic factorisation is computed once
+// per pattern (with the first values: MUMPS's analysis uses them for its scaling / zero-free-diagonal permutation,
+// which matters for the multiplier rows of contact); every solve redoes the numeric factorisation only.
+sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                       sk_linear_report *report) {
+  const char *backend = amesos_backend_name(kind);
+  if (sys->epetra_matrix.is_null()) build_epetra(sys);
+  {
+    int *offsets = nullptr, *indices = nullptr;
+    double *values = nullptr;
+    sys->epetra_matrix->ExtractCrsDataPointers(offsets, indices, values);
+    for (size_t k = 0; k < sys->owned_values.size(); ++k) values[sys->epetra_slots[k]] = sys->owned_values[k];
+  }
+  // Amesos_Mumps reports every MUMPS error (a singular matrix: INFOG(1) = -10) on std::cerr itself; the status and
+  // message returned here say it once, so its report is muted unless verbose
+  struct MuteCerr {
+    std::streambuf *saved = nullptr;
+    explicit MuteCerr(bool mute) : saved(mute ? std::cerr.rdbuf(nullptr) : nullptr) {}
+    ~MuteCerr() {
+      if (saved) std::cerr.rdbuf(saved);  // rdbuf(sb) also clears the badbit set while muted
+    }
+  } mute(!sys->options.verbose);
+  // all ranks see the same return codes (MUMPS's are global) but agree anyway: a mismatch would deadlock
+  auto failed = [sys](int code) {
+    int worst = code < 0 ? code : (code > 0 ? -code : 0), result = 0;
+    MPI_Allreduce(&worst, &result, 1, MPI_INT, MPI_MIN, sys->comm);
+    return result;
+  };
+  if (sys->amesos.is_null() || sys->amesos_kind != kind) {
+    Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
+    Amesos factory;
+    sys->amesos = rcp(factory.Create(kind == SK_LINEAR_DIRECT_MUMPS ? "Amesos_Mumps" : "Amesos_Klu",
+                                     *sys->epetra_problem));
+    if (sys->amesos.is_null())
+      return sk_error_set(SK_ERR_INTERNAL, "direct solve (%s): Amesos has no such solver", backend);
+    sys->amesos_kind = kind;
+    Teuchos::ParameterList params;
+    params.set("OutputLevel", sys->options.verbose ? 1 : 0);
+    params.set("ComputeTrueResidual", false);
+    params.set("ComputeVectorNorms", false);
+    sys->amesos->SetParameters(params);
+    if (const int code = failed(sys->amesos->SymbolicFactorization())) {
+      sys->amesos = Teuchos::null;
+      report->failure = SK_LINEAR_FAILURE_SINGULAR;
+      return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): symbolic factorisation failed (error %d)", backend,
+                          code);
+    }
+    report->refactored_symbolic = 1;
+  }
+  if (const int code = failed(sys->amesos->NumericFactorization())) {
+    sys->amesos = Teuchos::null;  // start afresh (symbolic included) next time
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): numeric factorisation failed (error %d, singular matrix)",
+                        backend, code);
+  }
+  SK_TRY(solve_factorised(sys, b, x, report));
+  Vector xv(sys->row_map), bv(sys->row_map);
+  scatter_to(sys, x, xv);
+  scatter_to(sys, b, bv);
+  report->relative_residual = relative_residual(sys, bv, xv);
+  if (!(report->relative_residual <= kDirectResidualLimit)) {  // NaN included
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): relative residual %.3g (singular matrix)", backend,
+                        report->relative_residual);
+  }
+  return SK_OK;
+}
+
+// Another right-hand side with the factorisation of the last Amesos v1 solve (MUMPS, KLU); false when there is none
+// for `kind` (KLU2 and the iterative solvers solve again in full).
+bool solve_amesos_again(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                        sk_linear_report *report, sk_status *status) {
+  if (sys->amesos.is_null() || sys->amesos_kind != kind || !is_direct(kind) || kind == SK_LINEAR_DIRECT_KLU2) return false;
+  report->solver = kind;
+  *status = solve_factorised(sys, b, x, report);
+  return true;
+}
+
+}  // namespace stickslip::bridge

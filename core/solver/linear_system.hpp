@@ -1,0 +1,251 @@
+// stickslip — the linear system behind sk_linsys_* (internal to the bridge, not installed).
+//
+// Layout of the sources: linear_system.cpp (pattern, assembly, the C entry points), direct_solvers.cpp (Amesos v1
+// MUMPS / KLU, Amesos2 KLU2), iterative_solvers.cpp (Belos GMRES with MueLu or ILU on the nodal block),
+// constraint_block.cpp (the Schur complement of the constraint rows), auto_choice.cpp (what `auto` runs),
+// system_dump.cpp (STICKSLIP_DUMP_SYSTEMS).
+#ifndef STICKSLIP_LINEAR_SYSTEM_HPP
+#define STICKSLIP_LINEAR_SYSTEM_HPP
+
+#include <mpi.h>
+
+#include <chrono>
+#include <ctime>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Amesos2.hpp>
+#include <Amesos_BaseSolver.h>
+#include <Epetra_CrsMatrix.h>
+#include <Epetra_LinearProblem.h>
+#include <Epetra_Map.h>
+#include <Epetra_MpiComm.h>
+#include <Epetra_Vector.h>
+#include <Ifpack2_Preconditioner.hpp>
+#include <MueLu_TpetraOperator.hpp>
+#include <Teuchos_Comm.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_Vector.hpp>
+
+#include "stickslip/bridge.h"
+
+namespace stickslip::bridge {
+
+// Debian's Tpetra is instantiated for exactly these types (TpetraCore_config.h: INST_DOUBLE, INST_INT_LONG_LONG,
+// INST_SERIAL).
+using Scalar = double;
+using LocalOrdinal = int;
+using GlobalOrdinal = long long;
+using Node = Tpetra::Map<>::node_type;
+using Map = Tpetra::Map<LocalOrdinal, GlobalOrdinal, Node>;
+using Graph = Tpetra::CrsGraph<LocalOrdinal, GlobalOrdinal, Node>;
+using Matrix = Tpetra::CrsMatrix<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using Vector = Tpetra::Vector<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using MultiVector = Tpetra::MultiVector<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using Operator = Tpetra::Operator<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using RowMatrix = Tpetra::RowMatrix<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using DirectSolver = Amesos2::Solver<Matrix, MultiVector>;
+using MueLuOperator = MueLu::TpetraOperator<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using Ifpack2Preconditioner = Ifpack2::Preconditioner<Scalar, LocalOrdinal, GlobalOrdinal, Node>;
+using Teuchos::RCP;
+using Teuchos::rcp;
+
+inline double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// CPU time of this process (all its threads): what `auto` compares
+inline double cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// A static-graph Tpetra matrix over a block of the owned rows and columns of the replicated pattern, refilled in
+// place from the owned CSR values: entry e of the block takes owned_values[source[e]].
+struct SubMatrix {
+  RCP<Matrix> matrix;
+  std::vector<int64_t> row_ptr;              // local rows of the block, into source / local_cols
+  std::vector<int64_t> source;               // index into owned_values of each entry
+  std::vector<LocalOrdinal> local_cols;      // Tpetra column-map index of each entry
+  std::vector<double> values;                // gathered values in block order (refill scratch)
+};
+
+struct ConstraintBlock;  // constraint_block.cpp
+struct AutoChoice;       // auto_choice.cpp
+
+// The solvers `auto` chooses among (auto_choice.cpp), and what it remembers of each, across pattern changes.
+enum { kAutoCandidates = 3 };
+extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];  // mumps, gmres-muelu, gmres-sgs
+
+struct AutoMemory {
+  struct Candidate {
+    double cost_coefficient = 0;   // measured CPU seconds per solve / entries^exponent (EWMA); 0: never measured
+    int64_t entries_measured = 0;  // the stored entries it was last measured at
+    int failed_on_pattern = -1;    // the pattern generation it last failed on (-1: never)
+    int failures_in_a_row = 0;     // failed attempts since its last success
+    int retry_pattern = 0;         // the first pattern generation it may be tried on again (back-off)
+    int iterations = 0;            // Krylov iterations of its last successful solve
+    std::string failure;           // the message of its last failure
+  };
+  Candidate candidates[kAutoCandidates];
+  sk_linear_solver_kind current = SK_LINEAR_AUTO;  // the candidate in use (SK_LINEAR_AUTO: none yet)
+  int trial_solves_left = 0;                       // solves left in a trial of another candidate
+  int iteration_cap = 0;                           // Krylov iterations allowed in this solve (0: max_iterations)
+  sk_linear_solver_kind before_trial = SK_LINEAR_AUTO;  // the candidate a trial replaced
+  std::string reason_class;                        // the kind of the last logged reason (logged when it changes)
+  std::string decision;                            // the last decision, for the log and the report
+  bool decision_pending = false;                   // decided in this solve: report it
+};
+
+// A preconditioner of the nodal block, kept across solves and pattern changes (iterative_solvers.cpp).
+struct NodalPreconditioner {
+  RCP<MueLuOperator> muelu;           // GMRES_MUELU
+  RCP<Ifpack2Preconditioner> ifpack;  // GMRES_ILU, GMRES_SGS
+  RCP<const Matrix> matrix;           // the K object it was initialised on
+  int iterations = 0;                 // GMRES iterations of the first solve after its last computation
+  bool refresh = false;               // a later solve needed clearly more iterations: recompute next time
+  RCP<Operator> op() const { return muelu.is_null() ? RCP<Operator>(ifpack) : RCP<Operator>(muelu); }
+};
+
+}  // namespace stickslip::bridge
+
+struct sk_linear_system {
+  using Map = stickslip::bridge::Map;
+  using Matrix = stickslip::bridge::Matrix;
+  using LocalOrdinal = stickslip::bridge::LocalOrdinal;
+  template <class T>
+  using RCP = Teuchos::RCP<T>;
+
+  MPI_Comm comm = MPI_COMM_NULL;  // duplicated, so our collectives never interleave with the caller's
+  int rank = 0;
+  int size = 1;
+  sk_linear_options options{};
+  int block_size = 1;
+  int coordinate_dim = 0;            // 0: no coordinates (translations-only nullspace, no constraint block)
+  std::vector<double> coordinates;   // replicated, node-major
+  RCP<const Teuchos::Comm<int>> tcomm;
+  int pattern_generation = 0;        // counts set_pattern calls: `auto` remembers failures per pattern
+
+  // replicated pattern and this rank's contributions
+  int n = 0;
+  int n_nodal = 0;                   // unknowns [0, n_nodal) are nodal (block_size per node); the rest: constraints
+  std::vector<int64_t> row_ptr;
+  std::vector<int> cols;
+  std::vector<int> local_rows;
+  std::vector<double> values;
+
+  // contiguous row blocks: rank r owns rows [row_offsets[r], row_offsets[r+1]); nodal rows in whole nodes, split
+  // by node count alone (so the nodal distribution, and the AMG hierarchy on it, survive contact pattern changes),
+  // constraint rows all on the last rank
+  std::vector<int> row_offsets;
+  int64_t owned_value_begin = 0;  // row_ptr[first owned row]
+  std::vector<double> owned_values;
+  std::vector<LocalOrdinal> owned_local_cols;  // Tpetra column-map index of each owned CSR entry
+  std::vector<int64_t> owned_diagonal;         // index of each owned row's diagonal in owned_values, -1 if absent
+
+  // the once-per-pattern exchange plan of sk_linsys_assemble (counts in values, per rank)
+  std::vector<int> send_counts, send_displs, recv_counts, recv_displs;
+  std::vector<int> send_rows;  // local rows in send order (sorted; grouped by owner)
+  std::vector<int> recv_rows;  // rows received, in receive order
+  std::vector<double> send_buffer, recv_buffer;
+
+  RCP<const Map> row_map;
+  RCP<Matrix> matrix;
+  bool assembled = false;
+
+  // direct, KLU2: on one rank the distributed matrix itself; on more, a serial copy on rank 0
+  RCP<const Map> serial_map;
+  RCP<Matrix> serial_matrix;
+  std::vector<LocalOrdinal> serial_local_cols;
+  std::vector<int> gather_counts, gather_displs;
+  std::vector<double> gathered_values;
+  RCP<stickslip::bridge::DirectSolver> direct;
+
+  // Amesos v1 (Epetra) direct solvers, MUMPS or KLU: on the same contiguous row blocks as the Tpetra matrix.
+  // Destroyed in reverse order of construction (solver, problem, vectors, matrix, map, comm).
+  RCP<Epetra_MpiComm> epetra_comm;
+  RCP<Epetra_Map> epetra_map;
+  RCP<Epetra_CrsMatrix> epetra_matrix;
+  std::vector<int> epetra_slots;  // position, within Epetra's storage of its row, of each owned CSR entry
+  RCP<Epetra_Vector> epetra_x, epetra_b;
+  RCP<Epetra_LinearProblem> epetra_problem;
+  RCP<Amesos_BaseSolver> amesos;
+  sk_linear_solver_kind amesos_kind = SK_LINEAR_DIRECT;
+  sk_linear_solver_kind last_kind = SK_LINEAR_AUTO;  // the backend of the last solve (sk_linsys_solve_again)
+
+  // iterative: the nodal block K (the matrix itself when there are no constraint rows) and its preconditioner,
+  // which outlives pattern changes while the nodal distribution stays (iterative_solvers.cpp says when it is
+  // refreshed); the constraint rows' Schur complement (constraint_block.cpp)
+  RCP<const Map> nodal_map;
+  stickslip::bridge::SubMatrix nodal;        // K when there are constraint rows (else unused: K is `matrix`)
+  stickslip::bridge::NodalPreconditioner preconditioners[3];  // by kind: GMRES_MUELU, GMRES_ILU, GMRES_SGS
+  std::unique_ptr<stickslip::bridge::ConstraintBlock> constraints;
+
+  stickslip::bridge::AutoMemory auto_memory;
+
+  sk_linear_system();  // both defined where ConstraintBlock is complete (constraint_block.cpp)
+  ~sk_linear_system();
+};
+
+namespace stickslip::bridge {
+
+// linear_system.cpp
+void scatter_to(const sk_linear_system *sys, const double *replicated, Vector &v);
+void gather_from(const sk_linear_system *sys, const Vector &v, double *replicated);
+double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x);
+sk_status agree(MPI_Comm comm, sk_status local, const char *what);
+RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
+                         const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,
+                         std::vector<LocalOrdinal> &local_cols);
+void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int64_t value_begin, int first_row,
+                    int n_rows, const double *values, const std::vector<LocalOrdinal> &local_cols);
+// The block of owned rows [row_begin, row_end) (global, within this rank's rows) and columns [col_begin, col_end),
+// its columns renumbered from col_begin; its matrix has the given row, domain and range maps.
+SubMatrix build_submatrix(const sk_linear_system *sys, int row_begin, int row_end, int col_begin, int col_end,
+                          const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
+                          const RCP<const Map> &range_map);
+void refill_submatrix(const sk_linear_system *sys, SubMatrix &block);
+
+// direct_solvers.cpp
+bool is_direct(sk_linear_solver_kind kind);
+sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
+sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                       sk_linear_report *report);
+void release_direct(sk_linear_system *sys);
+bool solve_amesos_again(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                        sk_linear_report *report, sk_status *status);
+
+// iterative_solvers.cpp
+sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
+                          sk_linear_report *report);
+void release_iterative_pattern(sk_linear_system *sys);  // what depends on the pattern (not the hierarchy)
+void release_iterative(sk_linear_system *sys);          // everything, the hierarchy included
+
+// constraint_block.cpp
+void build_constraint_block(sk_linear_system *sys);  // sys->constraints for the current pattern
+void release_constraint_block(sk_linear_system *sys);
+// The nodal rows this rank owns: [row_offsets[rank], nodal_row_end(sys)).
+int nodal_row_end(const sk_linear_system *sys);
+// Refills the Schur complement from the current values and factorises it (collective).
+sk_status update_constraint_block(sk_linear_system *sys, ConstraintBlock &block);
+// The block upper-triangular preconditioner [K B; C D]^-1 ~ [K~^-1 -K~^-1 B S~^-1; 0 S~^-1].
+RCP<Operator> constraint_preconditioner(sk_linear_system *sys, ConstraintBlock &block,
+                                        const RCP<Operator> &nodal_preconditioner);
+
+// auto_choice.cpp: which solver AUTO runs for this solve, and what it learns from the outcome
+sk_linear_solver_kind auto_choose(sk_linear_system *sys);
+// After an iterative candidate failed (recorded), for this solve: the candidate a failed trial replaced, or the
+// direct solver.
+sk_linear_solver_kind auto_fallback(sk_linear_system *sys);
+void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
+                 int iterations);
+
+// system_dump.cpp
+void dump_system(sk_linear_system *sys, const double *b);
+
+}  // namespace stickslip::bridge
+
+#endif

@@ -1,0 +1,100 @@
+"""Failures a shorter step cannot cure end or adapt the run without cutting the step (issue 8):
+- stagnation: tolerances below the residual's round-off floor stop Newton with a message that prints the numbers in
+  %g (not `||F|| = 0.000000`), the step is not cut, and the results folder says why;
+- iterative_fallback: a Krylov solver the scene chose that misses its tolerance is replaced by the direct solver for
+  the rest of the run (one message, no step cut, summary.json records it), and the run ends as with `direct`;
+- iterative_equals_direct: a contact run whose systems keep their multiplier rows (scenes/two-elements.yaml,
+  nts-augmented `augmented`, the first 25 midpoint steps: contact in steps 13-21) gives with GMRES + MueLu and GMRES + SGS (multiplier rows through
+  their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances.
+Usage: python3 test_solver_failures.py CASE."""
+import csv
+import json
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_bad_input import CONTACT, CRASH_MARKERS, Case  # noqa: E402
+
+
+def summary(case, out):
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def history(out):
+    with open(os.path.join(out, "history.csv")) as f:
+        return list(csv.DictReader(f))
+
+
+def stagnation(c):
+    scene = c.write(CONTACT)
+    proc = c.run("run", scene, "--quiet", "--out", c.out, "--set", "solver.newton.tolerance=1e-30",
+                 "--set", "solver.newton.absolute_tolerance=1e-30")
+    c.check(proc.returncode == 1, "exit 1")
+    c.check(not any(m in proc.stdout + proc.stderr for m in CRASH_MARKERS), "no crash marker")
+    c.check(re.search(r"stagnated in iteration \d+: \|\|F\|\| = \d\.\d\de-1\d \(\d\.\d\de-1\d before\)", proc.stderr),
+            "the stagnation message prints ||F|| and its previous value in %g")
+    c.check("0.000000" not in proc.stderr, "no %f-formatted zero")
+    c.check("absolute tolerance 1e-30" in proc.stderr and "not cut" in proc.stderr,
+            "the message names the tolerance and says the step was not cut")
+    s = summary(c, c.out)
+    c.check(s["status"] == "failed" and s["step_cuts"] == 0, "summary.json: failed, 0 step cuts (got %s)" % s["step_cuts"])
+    c.check("stagnated" in s["message"], "summary.json keeps the reason")
+
+
+def iterative_fallback(c):
+    scene = c.write(CONTACT)
+    direct_out = os.path.join(c.dir, "direct")
+    proc = c.run("run", scene, "--quiet", "--out", c.out, "--set", "solver.linear.solver=gmres-sgs",
+                 "--set", "solver.linear.max_iterations=2")
+    c.check(proc.returncode == 0, "exit 0: the run finishes")
+    c.check(len(re.findall("replaced by direct", proc.stderr)) == 1 and "gmres-sgs: no convergence" in proc.stderr,
+            "one message naming the failed solver and its replacement")
+    s = summary(c, c.out)
+    c.check(s["step_cuts"] == 0 and s["linear_solver_replaced_by_direct"] == 1,
+            "summary.json: 0 step cuts, linear_solver_replaced_by_direct = 1")
+    c.run("run", scene, "--quiet", "--out", direct_out, "--set", "solver.linear.solver=direct")
+    a, b = history(c.out), history(direct_out)
+    worst = max(abs(float(x[k]) - float(y[k])) for x, y in zip(a, b) for k in ("contact_force_z",))
+    scale = max(abs(float(x["contact_force_z"])) for x in b)
+    c.check(len(a) == len(b) and worst <= 1e-10 * scale,
+            "the contact force equals the direct run's to %.1e relative" % (worst / scale))
+
+
+def iterative_equals_direct(c):
+    scene = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "scenes",
+                         "two-elements.yaml")
+    common = ("--quiet", "--steps", "25", "--set", "contact.0.strategy=augmented")
+    runs = {}
+    # (solver, inexact Newton, bound): exact Krylov solves to linear.tolerance 1e-10 (measured: MueLu 1.9e-9,
+    # SGS 1e-13 relative), and the default inexact solves (measured: MueLu 4.3e-8)
+    cases = [("direct", "false", 0.0), ("gmres-muelu", "false", 1e-8), ("gmres-sgs", "false", 1e-8),
+             ("gmres-muelu", "true", 1e-7)]
+    for solver, inexact, bound in cases:
+        out = os.path.join(c.dir, "%s-%s" % (solver, inexact))
+        proc = c.run("run", scene, *common, "--out", out, "--set", "solver.linear.solver=" + solver,
+                     "--set", "solver.newton.inexact=" + inexact)
+        c.check(proc.returncode == 0, "%s (inexact %s): exit 0" % (solver, inexact))
+        runs[(solver, inexact)] = (history(out), summary(c, out))
+    ref, ref_summary = runs[("direct", "false")]
+    c.check(ref_summary["unknowns"] > ref_summary["dofs"] and ref_summary["linear_system_size"] == ref_summary["unknowns"],
+            "the systems keep multiplier rows (%d unknowns, %d displacements)" % (ref_summary["unknowns"], ref_summary["dofs"]))
+    c.check(sum(1 for r in ref if float(r["active_points"]) > 0) >= 5, "contact is active in several steps")
+    keys = ("contact_force_x", "contact_force_y")
+    scale = max(abs(float(r[k])) for r in ref for k in keys)
+    for solver, inexact, bound in cases[1:]:
+        rows, s = runs[(solver, inexact)]
+        worst = max(abs(float(x[k]) - float(y[k])) for x, y in zip(rows, ref) for k in keys)
+        c.check(s["linear_solver_replaced_by_direct"] == 0, "%s (inexact %s) solved every system itself" % (solver, inexact))
+        c.check(len(rows) == len(ref) and worst <= bound * scale,
+                "%s (inexact %s): contact forces equal MUMPS's to %.1e relative (bound %.0e)"
+                % (solver, inexact, worst / scale, bound))
+
+
+if __name__ == "__main__":
+    name = sys.argv[1]
+    c = Case(name)
+    globals()[name](c)
+    print("%s: %d failed" % (name, len(c.failures)))
+    sys.exit(1 if c.failures else 0)
