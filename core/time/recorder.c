@@ -15,13 +15,13 @@
 
 /* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
 typedef enum {
-  COL_TIME, COL_STEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
+  COL_TIME, COL_STEP, COL_SUBSTEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
   COL_MOMENTUM_Z, COL_ANGULAR_X, COL_ANGULAR_Y, COL_ANGULAR_Z, COL_FORCE_X, COL_FORCE_Y, COL_FORCE_Z, COL_ACTIVE,
   COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, N_FIXED_COLUMNS
 } history_column;
 
 static const char *const fixed_columns[N_FIXED_COLUMNS] = {
-    "time", "step", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
+    "time", "step", "substep", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
     "momentum_y", "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z", "contact_force_x",
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
     "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z"};
@@ -300,7 +300,7 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
 /* ---- history ---------------------------------------------------------------------------------------------------- */
 
 /* One row for the state (u, v) at time t with the contact totals of the step that led to it. */
-static sk_status history_row(sk_recorder *rec, const double *u, const double *v, double t, int64_t step,
+static sk_status history_row(sk_recorder *rec, const double *u, const double *v, double t, int64_t step, int substep,
                              int newton_iterations, const sk_contact_totals *contact) {
   const sk_model *m = &rec->scene->model;
   sk_invariants inv;
@@ -310,6 +310,7 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   double *row = rec->row;
   row[COL_TIME] = t;
   row[COL_STEP] = (double)step;
+  row[COL_SUBSTEP] = substep;
   row[COL_DT] = rec->sys->dt;
   row[COL_NEWTON] = newton_iterations;
   row[COL_KINETIC] = inv.kinetic;
@@ -341,20 +342,22 @@ sk_status sk_recorder_initial(sk_recorder *rec) {
   sk_system *sys = rec->sys;
   /* the initial row reports no contact: the pairs have not stepped yet (report() is not called for it) */
   const sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
-  sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, &contact);
+  sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, 0, &contact);
   status = sk_system_collective(sys, status);
   if (status == SK_OK && writes_vtu(rec)) status = write_vtu(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
   return status;
 }
 
-sk_status sk_recorder_step(sk_recorder *rec, int steps_done, int last) {
+sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int last) {
   sk_system *sys = rec->sys;
   sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
-  sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, sys->newton.iterations, &contact);
+  sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, substep, sys->newton.iterations, &contact);
   status = sk_system_collective(sys, status);
+  /* vtu_every counts scheduled steps: the sub-steps of a cut step do not shift the pictures off the schedule */
   const int every = rec->scene->output.vtu_every;
-  if (status == SK_OK && writes_vtu(rec) && ((every > 0 && steps_done % every == 0) || last))
+  const int on_schedule = substep == 0 && every > 0 && scheduled % every == 0;
+  if (status == SK_OK && writes_vtu(rec) && (on_schedule || last))
     status = write_vtu(rec, 0, sys->x, sys->v, sys->t, sys->step);
   return status;
 }
@@ -365,7 +368,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   snprintf(path, sizeof path, "%s/summary.json", rec->dir);
   sk_json *json;
   SK_TRY(sk_json_open(path, &json));
-  sk_json_string(json, "status", sum->failed ? "failed" : "ok");
+  sk_json_string(json, "status", sum->interrupted ? "interrupted" : sum->failed ? "failed" : "ok");
   if (sum->failed) sk_json_string(json, "message", sum->message);
   sk_json_string(json, "scene", rec->scene->path);
   sk_json_int(json, "steps", sum->steps);
@@ -417,7 +420,10 @@ sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status
     if (out_status == SK_OK) out_status = write_summary(rec, summary);
     if (out_status == SK_OK)
       out_status = sk_outdir_commit(rec->dir, rec->options->out_dir,
-                                    summary->failed ? SK_RESULTS_FAILED : SK_RESULTS_OK, summary->results_dir,
+                                    summary->interrupted ? SK_RESULTS_INTERRUPTED
+                                    : summary->failed    ? SK_RESULTS_FAILED
+                                                         : SK_RESULTS_OK,
+                                    summary->results_dir,
                                     sizeof summary->results_dir);
     else sk_outdir_abort(rec->dir);
     rec->dir[0] = '\0';
