@@ -26,7 +26,7 @@ static const char *const fixed_columns[N_FIXED_COLUMNS] = {
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
     "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z"};
 
-enum { POINT_FIELDS = 14 };
+enum { POINT_FIELDS = 18 };
 
 struct sk_recorder {
   sk_scene *scene;
@@ -126,11 +126,21 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
 /* ---- contact points -------------------------------------------------------------------------------------------- */
 
 typedef struct {
+  const sk_model *model;
   double *buffer;
   int n, cap;
   int failed;
   double *pressure, *gap, *state; /* per node, for the VTU */
 } point_collector;
+
+/* The reference position of a contact point: a node's from the mesh, a Gauss point's from the plugin (ABI 2.1), NaN
+ * when a plugin built against 2.0 cannot say. */
+static void reference_position(const sk_model *m, const sk_contact_point *p, int64_t node, double X[3]) {
+  for (int i = 0; i < 3; ++i)
+    X[i] = node >= 0 && node < m->n_nodes ? (i < m->dim ? m->X[node * m->dim + i] : 0.0)
+           : SK_HAS(p, X)                 ? p->X[i]
+                                          : NAN;
+}
 
 static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
   point_collector *c = ctx;
@@ -146,10 +156,13 @@ static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
     c->cap = cap;
   }
   const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1;
+  double X[3];
+  reference_position(c->model, p, node, X);
+  const double multiplier = SK_HAS(p, multiplier) && p->has_multiplier ? p->multiplier : NAN;
   double *r = c->buffer + POINT_FIELDS * (size_t)c->n++;
-  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], p->normal[0], p->normal[1], p->normal[2],
-                                       p->pressure, p->traction[0], p->traction[1], p->traction[2], p->gap,
-                                       (double)p->state, (double)node, (double)pair};
+  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], X[0], X[1], X[2], p->normal[0], p->normal[1],
+                                       p->normal[2], p->pressure, p->traction[0], p->traction[1], p->traction[2],
+                                       p->gap, (double)p->state, multiplier, (double)node, (double)pair};
   memcpy(r, values, sizeof values);
   if (node >= 0 && c->pressure) {
     c->pressure[node] = p->pressure;
@@ -161,7 +174,7 @@ static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
 /* Gathers the contact points of every pair to rank 0. Caller frees *all. */
 static sk_status gather_points(sk_recorder *rec, int initial, double *node_fields, double **all, int *n_all) {
   const sk_model *m = &rec->scene->model;
-  point_collector c = {0};
+  point_collector c = {.model = m};
   if (node_fields) {
     c.pressure = node_fields;
     c.gap = node_fields + m->n_nodes;
@@ -198,9 +211,10 @@ static sk_status gather_points(sk_recorder *rec, int initial, double *node_field
 }
 
 static sk_status write_contact_csv(sk_recorder *rec, const double *points, int n_points) {
-  static const char *const names[POINT_FIELDS] = {"x", "y", "z", "normal_x", "normal_y", "normal_z", "pressure",
-                                                  "traction_x", "traction_y", "traction_z", "gap", "state", "node",
-                                                  "pair"};
+  static const char *const names[POINT_FIELDS] = {
+      "x",          "y",          "z",          "reference_x", "reference_y", "reference_z",
+      "normal_x",   "normal_y",   "normal_z",   "pressure",    "traction_x",  "traction_y",
+      "traction_z", "gap",        "state",      "multiplier",  "node",        "pair"};
   char path[1300];
   snprintf(path, sizeof path, "%s/contact.csv", rec->dir);
   sk_csv *csv;
