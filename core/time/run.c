@@ -117,10 +117,12 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
       sk_system_reject(sys);
       summary->cuts++;
       if (++cuts_in_a_row > time->max_cuts) {
-        char reason[600];
+        char reason[600], where[256];
         snprintf(reason, sizeof reason, "%s", sk_error_message());
-        status = sk_error_set(SK_ERR_DIVERGED, "step %lld from t = %.6g: no convergence after %d step cuts (dt = %.3g): %s",
-                              (long long)step, sys->t_n, time->max_cuts, step_dt, reason);
+        sk_system_describe_worst(sys, where, sizeof where);
+        status = sk_error_set(SK_ERR_DIVERGED, "step %lld from t = %.6g: no convergence after %d step cuts (dt = %.3g): "
+                              "%s%s%s", (long long)step, sys->t_n, time->max_cuts, step_dt, reason, where[0] ? "; " : "",
+                              where);
         break;
       }
       if (m->rank == 0 && options->verbose)

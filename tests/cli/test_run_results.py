@@ -87,7 +87,62 @@ def contact_columns(c):
     c.check(len({(p["reference_x"], p["reference_z"]) for p in points}) == len(points), "every Gauss point once")
 
 
-CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut]}
+def diverging_step(c):
+    """Issue 15: a step that cannot be solved names the step, the time, the cuts and where the residual is largest
+    (node, component, body); exit 1, the results up to the last converged step kept."""
+    scene = replace(replace(BLOCK, "[0, 0, -10]", "[0, 0, -400]"), "model: hooke", "model: neo-hooke-ciarlet")
+    c.run_scene(scene, "--set", "time.dt=0.1", "--set", "solver.newton.max_iterations=1", "--set", "time.max_cuts=2")
+    c.expect_failure(r"step 1 from t = 0: no convergence after 2 step cuts \(dt = 0\.025\)",
+                     r"largest residual at node \d+ \([xyz]\) of body 'block': F = ", r"results up to t = 0 \(step 0\) "
+                     r"are in .*results \(status \"failed\"\)", out_created=True)
+
+
+FAULT_SCENE = """\
+mesh:
+  file: %s/block.geo
+  parameters: {nx: 2, ny: 2, nz: 2}
+bodies:
+  - {name: block, group: body, material: {model: hooke, E: 1000, nu: 0.3}}
+boundary:
+  - {name: top, group: zmax, displacement: [0, 0, -0.01]}
+contact:
+  - name: floor
+    plugin: test-misbehaving
+    slave: zmin
+    obstacle: {type: plane, point: [0, 0, 0], normal: [0, 0, 1]}
+    parameters: {fault: 1}
+time: {scheme: quasi-static, dt: 0.5, end: 1}
+""" % os.path.join(ROOT, "meshes")
+
+
+def misbehaving_plugin(c):
+    """Issue 15, items 4, 11, 15: a plugin's NaN or negative report, a residual row beyond the unknowns, an error
+    without a message and 2e9 extra unknowns each end the run with one message naming the pair and what is wrong
+    (no step cut, no nan in history.csv, no crash, no OOM kill)."""
+    env = {"STICKSLIP_PLUGIN_PATH": os.environ.get("STICKSLIP_CLI_FAULT_DIR", "")}
+    expected = {1: r"report: force\[1\] = nan is not a number",
+                2: r"report: negative point counts \(active -3, stick 0, slip 0\)",
+                3: r"residual entry in row 88, beyond the 81 unknowns",
+                4: r"plugin 'test-misbehaving' failed in residual\(\) with status 6 \(SK_ERR_INTERNAL\) and gave "
+                   r"no message",
+                5: r"2000000081 unknowns \(81 displacement dofs, 2000000000 extra unknowns of contact pair 'floor'\) "
+                   r"need 200 GB for the work vectors alone, more than this machine's"}
+    for fault, pattern in expected.items():
+        out = os.path.join(c.dir, "out-%d" % fault)
+        c.run("run", c.write(FAULT_SCENE), "--out", out, "--quiet", "--set", "contact.0.parameters.fault=%d" % fault,
+              env=env)
+        c.no_crash()
+        c.check(c.proc.returncode == 1, "fault %d: exit 1" % fault)
+        c.check(re.search(r"^stickslip: .*scene\.yaml: (contact pair 'floor': )?" + pattern, c.proc.stderr, re.M)
+                is not None, "fault %d: one message naming the pair and the fault" % fault)
+        c.check(c.proc.stderr.count("floor") == 1, "fault %d: said once" % fault)
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        c.check(summary["status"] == "failed" and summary["step_cuts"] == 0, "fault %d: failed, not cut" % fault)
+        history = open(os.path.join(out, "history.csv")).read()
+        c.check("nan" not in history and "inf" not in history, "fault %d: no nan in history.csv" % fault)
+
+
+CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:
