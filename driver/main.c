@@ -179,7 +179,8 @@ static void report_results_after_failure(const arguments *args, const sk_run_sum
   if (!args->out) return;
   if (summary->results_dir[0]) {
     fprintf(stderr, "stickslip: results up to t = %g (step %d) are in %s (status \"%s\")\n", summary->final_time,
-            summary->steps, summary->results_dir, summary->failed ? "failed" : "ok");
+            summary->steps, summary->results_dir,
+            summary->interrupted ? "interrupted" : summary->failed ? "failed" : "ok");
     if (strcmp(summary->results_dir, args->out) != 0 && access(args->out, F_OK) == 0)
       fprintf(stderr, "stickslip: the results already in %s were kept\n", args->out);
   } else {
@@ -233,9 +234,7 @@ static int command_scene(int argc, char **argv, int run) {
                               .verbose = args.verbose,
                               .max_steps = args.steps};
     sk_run_summary summary;
-    /* The stepper does not poll sk_interrupt_agreed() yet (issue 15, item 7: with the ABI v2 stepper): until it
-     * does, a signal during the run keeps its default action instead of being recorded and ignored. */
-    sk_interrupt_uninstall();
+    /* the stepper polls the signal handlers installed in main() before each step (sk_run) */
     status = sk_run(&scene, &options, &summary);
     if (rank_of_world() == 0) {
       if (status != SK_OK) {

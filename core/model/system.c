@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "stickslip/condense.h"
 
@@ -176,6 +177,18 @@ void sk_system_destroy(sk_system *sys) {
 static sk_status ensure_capacity(sk_system *sys, int64_t n) {
   if (n <= sys->capacity && sys->kept) return SK_OK;
   const int64_t cap = n + n / 4 + 16;
+  /* calloc of many GB succeeds lazily on Linux and the first touch gets the process killed by the OOM killer: refuse
+   * work vectors (x, two numberings, eight vectors: 80 bytes per unknown) larger than the machine's memory */
+  const double need = 80.0 * (double)cap, memory = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+  if (memory > 0 && need > memory) {
+    const sk_term *largest = sys->terms[0];
+    for (int k = 1; k < sys->n_terms; ++k)
+      if (sys->terms[k]->n_extra > largest->n_extra) largest = sys->terms[k];
+    return sk_error_set(SK_ERR_NOMEM, "%lld unknowns (%lld displacement dofs, %lld extra unknowns of %s) need %.3g GB "
+                        "for the work vectors alone, more than this machine's %.3g GB of memory", (long long)n,
+                        (long long)sys->model->n_dofs, (long long)largest->n_extra, largest->name, need / 1e9,
+                        memory / 1e9);
+  }
   free_unknown_arrays(sys);
   double *x = calloc((size_t)cap, sizeof(double));
   if (!x) return out_of_memory("the unknowns", cap);
@@ -316,6 +329,7 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   sys->t = sys->t_n + dt;
   sys->step = step;
   sys->set_valid = 0;
+  sys->worst_row = -1;
   if (!sys->x) SK_TRY(ensure_capacity(sys, m->n_dofs));
   memcpy(sys->x, sys->u_n, sizeof(double) * (size_t)m->n_dofs);
   sk_status status = SK_OK;
@@ -411,24 +425,48 @@ static sk_status note_fatal(sk_system *sys, sk_status status) {
   return status;
 }
 
+/* Remembers the largest |F| entry (the first non-finite one wins): where a step that cannot be solved fails. */
+static void note_worst(sk_system *sys, const double *F) {
+  int64_t worst = -1;
+  double largest = -1.0;
+  for (int64_t i = 0; i < sys->n; ++i) {
+    const double a = fabs(F[i]);
+    if (!isfinite(a)) {
+      worst = i;
+      largest = a;
+      break;
+    }
+    if (a > largest) {
+      worst = i;
+      largest = a;
+    }
+  }
+  sys->worst_row = worst;
+  sys->worst_residual = F && worst >= 0 ? F[worst] : 0.0;
+}
+
 static sk_status cb_residual(void *ctx, const double *x, double *F) {
   sk_system *sys = ctx;
   set_iterate(sys, x);
   sk_status status = update_active_set(sys);
   memset(sys->F_local, 0, sizeof(double) * (size_t)sys->n);
+  sys->sink.failed = 0;
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
     sk_term *term = sys->terms[k];
     if (!term->ops->residual) continue;
     const double t0 = now_seconds();
     status = term->ops->residual(term, sys);
+    if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
     *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
   }
   status = note_fatal(sys, sk_system_collective(sys, status));
+  sys->worst_row = -1; /* a residual that cannot be evaluated names its own culprit (an element, a plugin) */
   if (status != SK_OK) return status;
   MPI_Allreduce(sys->F_local, F, (int)sys->n, MPI_DOUBLE, MPI_SUM, sys->comm);
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
     if (sys->terms[k]->ops->finish_residual) status = sys->terms[k]->ops->finish_residual(sys->terms[k], sys, F);
+  note_worst(sys, F);
   return status;
 }
 

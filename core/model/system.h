@@ -90,6 +90,9 @@ struct sk_system {
   int64_t unknowns_max, linear_size_max;
   int verbose;
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
+  /* the largest residual entry of the attempt's last evaluation (-1: none yet), for the message of a failed step */
+  int64_t worst_row;
+  double worst_residual;
   /* a plugin, internal or memory error inside Newton ends the run (NOX reports every failure as divergence) */
   sk_status fatal;
   char fatal_message[1024];
@@ -141,6 +144,9 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
 /* Calls every plugin term's points() (initial: the initial state); the pair index is passed along. */
 sk_status sk_system_points(sk_system *sys, int initial, void (*callback)(void *ctx, int pair, const sk_contact_point *),
                            void *ctx);
+/* Where the last residual of the attempt was largest ("node 12 (y) of body 'block': |F| = 3.1e+02", or an extra
+ * unknown of a term), for the message of a step that cannot be solved; "" before any residual. */
+void sk_system_describe_worst(const sk_system *sys, char *text, size_t size);
 /* The support reactions of every Dirichlet condition, 3 per condition (summed), from the last residual. */
 void sk_system_reactions(const sk_system *sys, double *sums);
 

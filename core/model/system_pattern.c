@@ -30,16 +30,26 @@ static void sink_fail(sk_system_sink *sink, const char *fmt, long long a, long l
   snprintf(sink->message, sizeof sink->message, fmt, a, b);
 }
 
+/* A negative index means "no row" (skipped); one at or beyond the number of unknowns is a plugin's error, never a
+ * contribution dropped without a word (issue 15, item 15). */
+static int row_in_system(sk_system_sink *sink, int64_t row, const char *what) {
+  if (row < sink->sys->n) return row >= 0;
+  sink_fail(sink, what, (long long)row, (long long)sink->sys->n);
+  return 0;
+}
+
 static void sink_add_vector(sk_sink *abi, int n, const int64_t *rows, const double *values) {
-  sk_system *sys = ((sk_system_sink *)abi)->sys;
+  sk_system_sink *sink = (sk_system_sink *)abi;
   for (int k = 0; k < n; ++k)
-    if (rows[k] >= 0 && rows[k] < sys->n) sys->F_local[rows[k]] += values[k];
+    if (row_in_system(sink, rows[k], "residual entry in row %lld, beyond the %lld unknowns"))
+      sink->sys->F_local[rows[k]] += values[k];
 }
 
 static void sink_add_rhs(sk_sink *abi, int n, const int64_t *rows, const double *values) {
-  sk_system *sys = ((sk_system_sink *)abi)->sys;
+  sk_system_sink *sink = (sk_system_sink *)abi;
   for (int k = 0; k < n; ++k)
-    if (rows[k] >= 0 && rows[k] < sys->n) sys->rhs_local[rows[k]] += values[k];
+    if (row_in_system(sink, rows[k], "right-hand-side entry in row %lld, beyond the %lld unknowns"))
+      sink->sys->rhs_local[rows[k]] += values[k];
 }
 
 int64_t sk_system_position(const sk_system *sys, int row, int col) {
@@ -54,11 +64,11 @@ static void sink_add_matrix(sk_sink *abi, int nr, const int64_t *rows, int nc, c
   sk_system_sink *sink = (sk_system_sink *)abi;
   sk_system *sys = sink->sys;
   for (int i = 0; i < nr; ++i) {
-    if (rows[i] < 0 || rows[i] >= sys->n) continue;
+    if (!row_in_system(sink, rows[i], "Jacobian entry in row %lld, beyond the %lld unknowns")) continue;
     const int r = sys->kept[rows[i]];
     if (r < 0) continue;
     for (int j = 0; j < nc; ++j) {
-      if (cols[j] < 0 || cols[j] >= sys->n) continue;
+      if (!row_in_system(sink, cols[j], "Jacobian entry in column %lld, beyond the %lld unknowns")) continue;
       const int c = sys->kept[cols[j]];
       const double v = values[i * nc + j];
       if (c < 0 || v == 0.0) continue;

@@ -1,10 +1,26 @@
 /* The contact results of the system's plugin terms (system.h): the reports summed over ranks, the points. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "system.h"
 
 /* ---- results ----------------------------------------------------------------------------------------------------- */
+
+/* A report that history.csv would carry as if it were a result: non-finite numbers, negative counts (issue 15,
+ * item 15). */
+static sk_status check_report(const sk_contact_report *r) {
+  const double values[] = {r->force[0],  r->force[1],  r->force[2],  r->moment[0],
+                           r->moment[1], r->moment[2], r->dissipated, r->constraint_norm};
+  static const char *const names[] = {"force[0]",  "force[1]",  "force[2]",   "moment[0]",
+                                      "moment[1]", "moment[2]", "dissipated", "constraint_norm"};
+  for (size_t k = 0; k < sizeof values / sizeof values[0]; ++k)
+    if (!isfinite(values[k])) return sk_error_set(SK_ERR_PLUGIN, "%s = %g is not a number", names[k], values[k]);
+  if (r->active < 0 || r->stick < 0 || r->slip < 0)
+    return sk_error_set(SK_ERR_PLUGIN, "negative point counts (active %lld, stick %lld, slip %lld)",
+                        (long long)r->active, (long long)r->stick, (long long)r->slip);
+  return SK_OK;
+}
 
 sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_totals *totals) {
   double *obstacle_force = totals->obstacle_force;
@@ -18,6 +34,7 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
     if (!term->ops->report) continue;
     sk_contact_report r = {.struct_size = sizeof r};
     status = term->ops->report(term, sys, initial, &r);
+    if (status == SK_OK) status = check_report(&r);
     if (status != SK_OK) {
       sk_error_prefix(status, "%s: report: ", term->name);
       break;
@@ -76,4 +93,25 @@ sk_status sk_system_points(sk_system *sys, int initial,
     if (status != SK_OK) sk_error_prefix(status, "%s: points: ", term->name);
   }
   return status;
+}
+
+void sk_system_describe_worst(const sk_system *sys, char *text, size_t size) {
+  text[0] = '\0';
+  const int64_t row = sys->worst_row;
+  if (row < 0 || row >= sys->n) return;
+  const sk_model *m = sys->model;
+  if (row < m->n_dofs) {
+    const int node = (int)(row / m->dim), body = sk_model_body_of_node(m, node);
+    snprintf(text, size, "largest residual at node %d (%c) of body '%s': F = %.3g", node, "xyz"[row % m->dim],
+             body >= 0 ? m->bodies[body].name : "?", sys->worst_residual);
+    return;
+  }
+  for (int k = 0; k < sys->n_terms; ++k) {
+    const sk_term *term = sys->terms[k];
+    if (row >= term->extra_offset && row < term->extra_offset + term->n_extra) {
+      snprintf(text, size, "largest residual at extra unknown %lld of %s: F = %.3g",
+               (long long)(row - term->extra_offset), term->name, sys->worst_residual);
+      return;
+    }
+  }
 }

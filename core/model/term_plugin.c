@@ -47,6 +47,18 @@ static void refresh_x(plugin_term *term, sk_system *sys) {
   term->x_version = sys->x_version;
 }
 
+/* A plugin that fails without saying why (no api->error) would leave an empty or a stale reason: the host names the
+ * call and the status instead (issue 15, item 11). */
+static sk_status said(const plugin_term *term, const char *call, sk_status status) {
+  static const char *const names[] = {"SK_OK", "SK_ERR_INPUT", "SK_ERR_IO", "SK_ERR_INVERTED", "SK_ERR_DIVERGED",
+                                      "SK_ERR_PLUGIN", "SK_ERR_INTERNAL", "SK_ERR_NOMEM", "SK_ERR_INTERRUPTED"};
+  if (status == SK_OK || sk_error_message()[0]) return status;
+  const int known = status > 0 && (size_t)status < sizeof names / sizeof names[0];
+  return sk_error_set(status, "plugin '%s' failed in %s() with status %d (%s) and gave no message", term->plugin->name,
+                      call, (int)status, known ? names[status] : "unknown status");
+}
+#define PLUGIN_CALL(term, call, ...) (sk_error_clear(), said((term), #call, (term)->table.call(__VA_ARGS__)))
+
 /* ---- the stages ------------------------------------------------------------------------------------------------- */
 
 static void plugin_destroy(sk_term *base) {
@@ -102,7 +114,7 @@ static sk_status plugin_predict(sk_term *base, sk_system *sys) {
 static sk_status plugin_begin_step(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
   sk_plugin_term_refresh(term, sys, 0);
-  return term->table.begin_step(term->instance, &term->state);
+  return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
 }
 
 static sk_status plugin_layout(sk_term *base, sk_system *sys) {
@@ -113,7 +125,7 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   term->state.extra_offset = base->extra_offset;
   term->state.extra = NULL;
   term->state.n_extra = 0;
-  SK_TRY(term->table.layout(term->instance, &term->state, layout));
+  SK_TRY(PLUGIN_CALL(term, layout, term->instance, &term->state, layout));
   const uint64_t caps = term->plugin->caps;
   if (layout->n_extra > 0 && !(caps & SK_CAP_MULTIPLIERS))
     return sk_error_set(SK_ERR_PLUGIN, "plugin '%s' declares %lld extra unknowns without the multipliers capability",
@@ -157,7 +169,7 @@ static sk_status plugin_pattern(sk_term *base, sk_system *sys, unsigned char *ro
   }
   if (!term->table.pattern) return SK_OK;
   pattern_relay relay = {.abi = {SK_TABLE_HEADER(sk_pattern), .add_block = relay_block}, .sys = sys, .status = SK_OK};
-  SK_TRY(term->table.pattern(term->instance, &term->state, &relay.abi));
+  SK_TRY(PLUGIN_CALL(term, pattern, term->instance, &term->state, &relay.abi));
   return relay.status;
 }
 
@@ -165,19 +177,19 @@ static sk_status plugin_update_active_set(sk_term *base, sk_system *sys, int *ch
   plugin_term *term = (plugin_term *)base;
   if (!term->table.update_active_set) return SK_OK;
   refresh_x(term, sys);
-  return term->table.update_active_set(term->instance, &term->state, changed);
+  return PLUGIN_CALL(term, update_active_set, term->instance, &term->state, changed);
 }
 
 static sk_status plugin_residual(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
   refresh_x(term, sys);
-  return term->table.residual(term->instance, &term->state, &sys->sink.abi);
+  return PLUGIN_CALL(term, residual, term->instance, &term->state, &sys->sink.abi);
 }
 
 static sk_status plugin_jacobian(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
   refresh_x(term, sys);
-  return term->table.jacobian(term->instance, &term->state, &sys->sink.abi);
+  return PLUGIN_CALL(term, jacobian, term->instance, &term->state, &sys->sink.abi);
 }
 
 static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, double *dx) {
@@ -197,14 +209,14 @@ static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, 
                         .dx_extra = dx + base->extra_offset,
                         .Jdx_view = base->recover_needs_jdx ? term->Jdx_list : NULL,
                         .Jdx_extra = base->recover_needs_jdx ? sys->Jdx + base->extra_offset : NULL};
-  return term->table.recover(term->instance, &term->state, &vectors);
+  return PLUGIN_CALL(term, recover, term->instance, &term->state, &vectors);
 }
 
 static sk_status plugin_converged(sk_term *base, sk_system *sys, int *accept) {
   plugin_term *term = (plugin_term *)base;
   if (!term->table.converged) return SK_OK;
   refresh_x(term, sys);
-  return term->table.converged(term->instance, &term->state, accept);
+  return PLUGIN_CALL(term, converged, term->instance, &term->state, accept);
 }
 
 static sk_status plugin_commit(sk_term *base, sk_system *sys) {
@@ -218,7 +230,7 @@ static sk_status plugin_commit(sk_term *base, sk_system *sys) {
     scatter_body(term, sys, term->pending_v, sys->v);
   }
   term->has_pending_state = 0;
-  status = sk_system_collective(sys, term->table.commit_step(term->instance, &term->state));
+  status = sk_system_collective(sys, PLUGIN_CALL(term, commit_step, term->instance, &term->state));
   if (status != SK_OK) return status;
   int pending = term->has_pending_state, anywhere = 0;
   MPI_Allreduce(&pending, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
@@ -241,14 +253,14 @@ static void plugin_reject(sk_term *base, sk_system *sys) {
 static sk_status plugin_report(sk_term *base, sk_system *sys, int initial, sk_contact_report *report) {
   plugin_term *term = (plugin_term *)base;
   sk_plugin_term_refresh(term, sys, initial);
-  return term->table.report(term->instance, &term->state, report);
+  return PLUGIN_CALL(term, report, term->instance, &term->state, report);
 }
 
 static sk_status plugin_points(sk_term *base, sk_system *sys, int initial, sk_point_callback callback, void *ctx) {
   plugin_term *term = (plugin_term *)base;
   if (!term->table.points) return SK_OK;
   sk_plugin_term_refresh(term, sys, initial);
-  return term->table.points(term->instance, &term->state, callback, ctx);
+  return PLUGIN_CALL(term, points, term->instance, &term->state, callback, ctx);
 }
 
 static const sk_term_ops plugin_ops = {.kind = "plugin",
@@ -385,7 +397,7 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
                             term->attach.views[v]->name, sk_elem_name(term->attach.views[v]->cell_type),
                             SK_ABI_MAJOR, SK_ABI_MINOR);
   if (status == SK_OK) {
-    status = term->table.create(sk_host_api_table(), &term->host, &term->attach, &term->instance);
+    status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
     if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);
   }
   /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */

@@ -15,18 +15,18 @@
 
 /* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
 typedef enum {
-  COL_TIME, COL_STEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
+  COL_TIME, COL_STEP, COL_SUBSTEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
   COL_MOMENTUM_Z, COL_ANGULAR_X, COL_ANGULAR_Y, COL_ANGULAR_Z, COL_FORCE_X, COL_FORCE_Y, COL_FORCE_Z, COL_ACTIVE,
   COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, N_FIXED_COLUMNS
 } history_column;
 
 static const char *const fixed_columns[N_FIXED_COLUMNS] = {
-    "time", "step", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
+    "time", "step", "substep", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
     "momentum_y", "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z", "contact_force_x",
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
     "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z"};
 
-enum { POINT_FIELDS = 14 };
+enum { POINT_FIELDS = 18 };
 
 struct sk_recorder {
   sk_scene *scene;
@@ -130,11 +130,21 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
 /* ---- contact points -------------------------------------------------------------------------------------------- */
 
 typedef struct {
+  const sk_model *model;
   double *buffer;
   int n, cap;
   int failed;
   double *pressure, *gap, *state; /* per node, for the VTU */
 } point_collector;
+
+/* The reference position of a contact point: a node's from the mesh, a Gauss point's from the plugin (ABI 2.1), NaN
+ * when a plugin built against 2.0 cannot say. */
+static void reference_position(const sk_model *m, const sk_contact_point *p, int64_t node, double X[3]) {
+  for (int i = 0; i < 3; ++i)
+    X[i] = node >= 0 && node < m->n_nodes ? (i < m->dim ? m->X[node * m->dim + i] : 0.0)
+           : SK_HAS(p, X)                 ? p->X[i]
+                                          : NAN;
+}
 
 static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
   point_collector *c = ctx;
@@ -150,10 +160,13 @@ static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
     c->cap = cap;
   }
   const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1;
+  double X[3];
+  reference_position(c->model, p, node, X);
+  const double multiplier = SK_HAS(p, multiplier) && p->has_multiplier ? p->multiplier : NAN;
   double *r = c->buffer + POINT_FIELDS * (size_t)c->n++;
-  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], p->normal[0], p->normal[1], p->normal[2],
-                                       p->pressure, p->traction[0], p->traction[1], p->traction[2], p->gap,
-                                       (double)p->state, (double)node, (double)pair};
+  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], X[0], X[1], X[2], p->normal[0], p->normal[1],
+                                       p->normal[2], p->pressure, p->traction[0], p->traction[1], p->traction[2],
+                                       p->gap, (double)p->state, multiplier, (double)node, (double)pair};
   memcpy(r, values, sizeof values);
   if (node >= 0 && c->pressure) {
     c->pressure[node] = p->pressure;
@@ -165,7 +178,7 @@ static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
 /* Gathers the contact points of every pair to rank 0. Caller frees *all. */
 static sk_status gather_points(sk_recorder *rec, int initial, double *node_fields, double **all, int *n_all) {
   const sk_model *m = &rec->scene->model;
-  point_collector c = {0};
+  point_collector c = {.model = m};
   if (node_fields) {
     c.pressure = node_fields;
     c.gap = node_fields + m->n_nodes;
@@ -202,9 +215,10 @@ static sk_status gather_points(sk_recorder *rec, int initial, double *node_field
 }
 
 static sk_status write_contact_csv(sk_recorder *rec, const double *points, int n_points) {
-  static const char *const names[POINT_FIELDS] = {"x", "y", "z", "normal_x", "normal_y", "normal_z", "pressure",
-                                                  "traction_x", "traction_y", "traction_z", "gap", "state", "node",
-                                                  "pair"};
+  static const char *const names[POINT_FIELDS] = {
+      "x",          "y",          "z",          "reference_x", "reference_y", "reference_z",
+      "normal_x",   "normal_y",   "normal_z",   "pressure",    "traction_x",  "traction_y",
+      "traction_z", "gap",        "state",      "multiplier",  "node",        "pair"};
   char path[1300];
   snprintf(path, sizeof path, "%s/contact.csv", rec->dir);
   sk_csv *csv;
@@ -304,7 +318,7 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
 /* ---- history ---------------------------------------------------------------------------------------------------- */
 
 /* One row for the state (u, v) at time t with the contact totals of the step that led to it. */
-static sk_status history_row(sk_recorder *rec, const double *u, const double *v, double t, int64_t step,
+static sk_status history_row(sk_recorder *rec, const double *u, const double *v, double t, int64_t step, int substep,
                              int newton_iterations, const sk_contact_totals *contact) {
   const sk_model *m = &rec->scene->model;
   sk_invariants inv;
@@ -314,6 +328,7 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   double *row = rec->row;
   row[COL_TIME] = t;
   row[COL_STEP] = (double)step;
+  row[COL_SUBSTEP] = substep;
   row[COL_DT] = rec->sys->dt;
   row[COL_NEWTON] = newton_iterations;
   row[COL_KINETIC] = inv.kinetic;
@@ -345,7 +360,7 @@ sk_status sk_recorder_initial(sk_recorder *rec) {
   sk_system *sys = rec->sys;
   /* the initial row reports no contact: the pairs have not stepped yet (report() is not called for it) */
   const sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
-  sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, &contact);
+  sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, 0, &contact);
   status = sk_system_collective(sys, status);
   if (status == SK_OK && writes_vtu(rec)) status = write_vtu(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
   return status;
@@ -379,15 +394,17 @@ static void note_solvers(sk_recorder *rec, int step) {
   rec->range_first = rec->range_last = step;
 }
 
-sk_status sk_recorder_step(sk_recorder *rec, int steps_done, int last) {
+sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int last) {
   sk_system *sys = rec->sys;
-  note_solvers(rec, steps_done);
+  note_solvers(rec, (int)sys->step);
   sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
-  sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, sys->newton.iterations, &contact);
+  sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, substep, sys->newton.iterations, &contact);
   status = sk_system_collective(sys, status);
+  /* vtu_every counts scheduled steps: the sub-steps of a cut step do not shift the pictures off the schedule */
   const int every = rec->scene->output.vtu_every;
-  if (status == SK_OK && writes_vtu(rec) && ((every > 0 && steps_done % every == 0) || last))
+  const int on_schedule = substep == 0 && every > 0 && scheduled % every == 0;
+  if (status == SK_OK && writes_vtu(rec) && (on_schedule || last))
     status = write_vtu(rec, 0, sys->x, sys->v, sys->t, sys->step);
   return status;
 }
@@ -398,7 +415,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   snprintf(path, sizeof path, "%s/summary.json", rec->dir);
   sk_json *json;
   SK_TRY(sk_json_open(path, &json));
-  sk_json_string(json, "status", sum->failed ? "failed" : "ok");
+  sk_json_string(json, "status", sum->interrupted ? "interrupted" : sum->failed ? "failed" : "ok");
   if (sum->failed) sk_json_string(json, "message", sum->message);
   sk_json_string(json, "scene", rec->scene->path);
   sk_json_int(json, "steps", sum->steps);
@@ -454,7 +471,10 @@ sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status
     if (out_status == SK_OK) out_status = write_summary(rec, summary);
     if (out_status == SK_OK)
       out_status = sk_outdir_commit(rec->dir, rec->options->out_dir,
-                                    summary->failed ? SK_RESULTS_FAILED : SK_RESULTS_OK, summary->results_dir,
+                                    summary->interrupted ? SK_RESULTS_INTERRUPTED
+                                    : summary->failed    ? SK_RESULTS_FAILED
+                                                         : SK_RESULTS_OK,
+                                    summary->results_dir,
                                     sizeof summary->results_dir);
     else sk_outdir_abort(rec->dir);
     rec->dir[0] = '\0';

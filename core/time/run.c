@@ -1,8 +1,9 @@
 /* The stepper: steps from t_start to t_end through the system of terms (core/model/system.h), cutting a failed step
- * in half (up to time.max_cuts times in a row) and letting dt grow back after three good steps; the recorder writes
- * the results. Everything a step is made of lives in the terms. Only failures a shorter step can cure are cut:
- * Newton's divergence and inverted elements, not a residual stalled at its round-off floor (the floor does not drop
- * with dt) nor a failed linear solve (sk_newton_outcome in bridge.h). */
+ * in half (up to time.max_cuts times in a row) and letting dt grow back after three good steps; the sub-steps of a
+ * cut step land on the scheduled times t_start + n dt again; a SIGINT/SIGTERM ends the run between two steps. The
+ * recorder writes the results. Everything a step is made of lives in the terms. Only failures a shorter step can
+ * cure are cut: Newton's divergence and inverted elements, not a residual stalled at its round-off floor (the floor
+ * does not drop with dt) nor a failed linear solve (sk_newton_outcome in bridge.h). */
 #define _GNU_SOURCE
 #include "stickslip/run.h"
 
@@ -12,6 +13,7 @@
 #include <time.h>
 
 #include "recorder.h"
+#include "stickslip/interrupt.h"
 #include "stickslip/output.h"
 
 static double now_seconds(void) {
@@ -39,8 +41,29 @@ static void fill_summary(const sk_system *sys, double wall_start, sk_status stat
   summary->wall_seconds = now_seconds() - wall_start;
   if (status != SK_OK) {
     summary->failed = 1;
+    summary->interrupted = status == SK_ERR_INTERRUPTED;
     snprintf(summary->message, sizeof summary->message, "%s", sk_error_message());
   }
+}
+
+/* The n-th scheduled time t_start + n dt (the last one is t_end): computed, never accumulated, so that the times of
+ * the schedule do not drift by a round-off per step. */
+static double scheduled_time(const sk_time_options *time, int64_t n) {
+  return fmin(time->t_start + (double)n * time->dt, time->t_end);
+}
+
+/* The step from t_n with the current dt, stopped at the next scheduled time `target`; a rest below t_eps is taken
+ * with it, so that the step lands on the schedule exactly instead of leaving a round-off sliver. */
+static double step_size(double t_n, double dt, double target, double t_eps) {
+  return target - (t_n + dt) < t_eps ? target - t_n : dt;
+}
+
+/* Polled before every step attempt (collective, so that all ranks stop after the same step). */
+static sk_status interrupted(const sk_system *sys, int steps) {
+  const int signal_number = sk_interrupt_agreed(sys->comm);
+  if (!signal_number) return SK_OK;
+  return sk_error_set(SK_ERR_INTERRUPTED, "interrupted by %s after step %d (t = %.6g)",
+                      sk_interrupt_name(signal_number), steps, sys->t_n);
 }
 
 sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary *summary) {
@@ -58,16 +81,28 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
   const double t_eps = 1e-12 * fmax(1.0, fabs(time->t_end));
   double dt = time->dt;
   int cuts_in_a_row = 0, good_steps = 0;
+  int64_t scheduled = 0; /* scheduled times reached */
+  int substep = 0;       /* converged sub-steps since the last scheduled time */
   while (status == SK_OK && sys->t_n < time->t_end - t_eps) {
     if (options->max_steps > 0 && summary->steps >= options->max_steps) break;
-    const double step_dt = fmin(dt, time->t_end - sys->t_n);
+    if ((status = interrupted(sys, summary->steps)) != SK_OK) break;
+    const double target = scheduled_time(time, scheduled + 1);
+    const double step_dt = step_size(sys->t_n, dt, target, t_eps);
+    const int on_schedule = step_dt == target - sys->t_n;
     const int64_t step = summary->steps + 1;
     status = attempt(sys, step_dt, step);
     summary->newton_iterations += sys->newton.iterations;
     if (status == SK_OK) {
       summary->steps++;
+      if (on_schedule) {
+        sys->t = target; /* t_n + (target - t_n) may differ from target in the last bit */
+        scheduled++;
+        substep = 0;
+      } else {
+        substep++;
+      }
       const int last = !(sys->t < time->t_end - t_eps) || (options->max_steps > 0 && summary->steps >= options->max_steps);
-      status = sk_recorder_step(rec, summary->steps, last);
+      status = sk_recorder_step(rec, scheduled, substep, last);
       sk_system_advance(sys);
       if (options->progress && m->rank == 0) {
         char extra[128];
@@ -85,10 +120,12 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
       sk_system_reject(sys);
       summary->cuts++;
       if (++cuts_in_a_row > time->max_cuts) {
-        char reason[600];
+        char reason[600], where[256];
         snprintf(reason, sizeof reason, "%s", sk_error_message());
-        status = sk_error_set(SK_ERR_DIVERGED, "step %lld from t = %.6g: no convergence after %d step cuts (dt = %.3g): %s",
-                              (long long)step, sys->t_n, time->max_cuts, step_dt, reason);
+        sk_system_describe_worst(sys, where, sizeof where);
+        status = sk_error_set(SK_ERR_DIVERGED, "step %lld from t = %.6g: no convergence after %d step cuts (dt = %.3g): "
+                              "%s%s%s", (long long)step, sys->t_n, time->max_cuts, step_dt, reason, where[0] ? "; " : "",
+                              where);
         break;
       }
       if (m->rank == 0 && options->verbose)

@@ -440,6 +440,15 @@ sk_status cp_points(sk_instance *in, const sk_state *st, sk_point_callback callb
     cp.gap = r.g;
     cp.state = r.state;
     cp.slave_node = in->variant == CP_NTS ? in->slave->node_id[e->slave[0]] : -1;
+    if (in->variant == CP_STS) { /* a Gauss point's reference position, as cp.x on the reference positions */
+      slave_point(e, in->slave->X, cp.X);
+    } else if (in->variant == CP_STAS) {
+      double xf[3 * CP_MAX_FACE_NODES];
+      sk_surface_point p = {.struct_size = sizeof p};
+      face_positions(in->slave, in->slave->X, e->cell, xf);
+      cp_face_point(&in->face, xf, e->eta, &p);
+      memcpy(cp.X, p.x, sizeof cp.X);
+    }
     callback(ctx, &cp);
   }
   return SK_OK;

@@ -732,6 +732,8 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
       pt.traction[i] = (o->z[i] - zn * n[i]) * nominal;
     }
     pt.pressure = state->extra ? zn * nominal : 0.0;
+    pt.has_multiplier = state->extra != NULL; /* z_n, the normal part of the node's dual multiplier */
+    pt.multiplier = state->extra ? zn : 0.0;
     pt.gap = o->gap / o->A_ref;
     pt.state = o->state == MORTAR_INACTIVE ? 0 : (o->state == MORTAR_SLIP && inst->friction ? 2 : 1);
     pt.slave_node = inst->slave->node_id[o->node];

@@ -532,11 +532,13 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
       SK_TRY(nts_element_eval(inst, k, state, &e));
       const nts_geometry *gh = nts_element_geometry(&e, 1), *ge = nts_element_geometry(&e, 0);
       for (int i = 0; i < 3; ++i) cp.normal[i] = ge->n[i];
+      cp.has_multiplier = 1; /* lambda_n, 0 for an inactive point */
       if (p->active) {
         double force[3];
         nts_element_slave_force(inst, &e, force);
         cp.gap = nts_element_constraints(&e)[NTS_PHI_N];
         cp.pressure = -e.in.lambda_n;
+        cp.multiplier = e.in.lambda_n;
         /* the tangential force: the slave force without its normal part -lambda_n n */
         for (int i = 0; i < 3; ++i) cp.traction[i] = force[i] + e.in.lambda_n * gh->n[i];
         cp.state = point_state(inst, nts_element_friction(&e));

@@ -5,6 +5,7 @@ Usage: python3 test_results_folder.py CASE."""
 import glob
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -167,7 +168,45 @@ def killed_run(c):
     c.check(os.path.exists(history), "and leaves it in place")
 
 
-CASES = {f.__name__: f for f in [failed_run_keeps_results, foreign_files, out_dot, full_disk, killed_run]}
+def interrupted_run(c):
+    """Item 7 (SIGINT, SIGTERM): the stepper stops between two steps; the results up to the last converged step are
+    written complete (summary.json "interrupted", its step count = the history rows), the exit code is 128 + the
+    signal, the message says where the results are, and no staging folder is left."""
+    for sig, code, name in [(signal.SIGINT, 130, r"SIGINT \(Ctrl-C\)"), (signal.SIGTERM, 143, "SIGTERM")]:
+        out = os.path.join(c.dir, "out-%d" % code)
+        env = dict(os.environ)
+        env.pop("STICKSLIP_PLUGIN_PATH", None)
+        proc = subprocess.Popen([BIN, "run", DISK, "--out", out, "--quiet"], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True, env=env, cwd=c.dir)
+        history = os.path.join(out + ".partial-%d" % proc.pid, "history.csv")
+        deadline = time.time() + 60
+        while time.time() < deadline and proc.poll() is None:
+            if os.path.exists(history) and open(history).read().count("\n") >= 4:
+                break
+            time.sleep(0.02)
+        c.check(proc.poll() is None, "the run was still running when signalled")
+        proc.send_signal(sig)
+        _, stderr = proc.communicate(timeout=60)
+        print("exit %d\nstderr: %s" % (proc.returncode, stderr))
+        c.check(proc.returncode == code, "exit %d after %s (got %d)" % (code, sig.name, proc.returncode))
+        match = re.search(r"interrupted by %s after step (\d+) \(t = ([^)]+)\)" % name, stderr)
+        c.check(match is not None, "the message names the signal, the step and the time")
+        c.check(re.search(r"results up to t = .* \(step \d+\) are in .*out-%d \(status \"interrupted\"\)" % code,
+                          stderr) is not None, "the message says where the results are")
+        for marker in ["Segmentation", "Aborted", "AddressSanitizer", "MPI_ABORT"]:
+            c.check(marker not in stderr, "no '%s'" % marker)
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        rows = open(os.path.join(out, "history.csv")).read().strip().split("\n")[1:]
+        c.check(summary["status"] == "interrupted", "summary.json says interrupted")
+        c.check(match is not None and summary["steps"] == int(match.group(1)) == len(rows) - 1,
+                "summary.json, the message and history.csv agree on the last step (%d rows)" % len(rows))
+        c.check(summary["steps"] >= 3, "it stopped after the steps it had done, not at once")
+        c.check(os.path.exists(os.path.join(out, "results.pvd")), "results.pvd is there")
+        c.check(not glob.glob(out + ".partial-*"), "no staging folder left")
+
+
+CASES = {f.__name__: f for f in [failed_run_keeps_results, foreign_files, out_dot, full_disk, killed_run,
+                                 interrupted_run]}
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in CASES:

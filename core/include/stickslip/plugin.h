@@ -48,8 +48,8 @@ typedef struct sk_instance sk_instance; /* a plugin's per-attachment state (opaq
 typedef struct sk_search sk_search;     /* a broad-phase search tree over a surface view */
 
 /* ---- sinks: how an instance adds to the global system ----------------------------------------------------------- */
-/* Allocated by the host for one call; do not keep. Indices outside the system are ignored; exact zeros of
- * add_matrix are skipped. A matrix entry outside the pattern declared by pattern() (plus the bulk's element graph
+/* Allocated by the host for one call; do not keep. A negative index means "no row" and is skipped; an index at or
+ * beyond the number of unknowns is an error naming it (it ends the run); exact zeros of add_matrix are skipped. A matrix entry outside the pattern declared by pattern() (plus the bulk's element graph
  * and the diagonal) is an error naming the entry: declare every coupling first. */
 typedef struct sk_sink {
   uint32_t abi_major, abi_minor, struct_size;

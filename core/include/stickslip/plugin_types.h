@@ -29,7 +29,7 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 1u /* 1: the element types TRI6, QUAD8, TET10, HEX20 */
+#define SK_ABI_MINOR 1u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -278,6 +278,10 @@ typedef struct sk_contact_point {
   double gap;
   int state;                   /* 0 inactive, 1 stick (or in contact without friction), 2 slip */
   int64_t slave_node;          /* mesh node id (sk_view.node_id), or -1 for a Gauss point */
+  /* ABI 2.1 (contact.csv, docs/plugin-abi.md §8): */
+  double X[3];                 /* reference position of a Gauss point (a node's comes from the mesh; not read) */
+  int has_multiplier;          /* 1 when `multiplier` holds the point's normal Lagrange multiplier */
+  double multiplier;           /* the formulation's multiplier of the normal constraint (its own sign convention) */
 } sk_contact_point;
 
 #ifdef __cplusplus

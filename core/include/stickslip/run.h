@@ -26,6 +26,7 @@ typedef struct {
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;
+  int interrupted;         /* with failed: stopped by SIGINT/SIGTERM between two steps (stickslip/interrupt.h) */
   char message[1024];
   char results_dir[4096];  /* where the result files are (out_dir, out_dir.incomplete, the staging folder when it
                               could not be put in place), "" when none were written (no --out, or a write error) */
@@ -33,7 +34,9 @@ typedef struct {
 
 /* Runs the scene to its end time (collective). On a failure after the run started (a step that cannot be solved
  * even after max_cuts halvings), the results up to the last converged step are still written, complete, with
- * status "failed" in summary.json, and the failure status is returned. */
+ * status "failed" in summary.json, and the failure status is returned. A SIGINT/SIGTERM recorded by
+ * sk_interrupt_install() is polled before each step: the run stops there, its results are written the same way with
+ * status "interrupted", and SK_ERR_INTERRUPTED is returned. */
 sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary *summary);
 
 #ifdef __cplusplus

@@ -1,0 +1,153 @@
+"""What a run writes and says (issues 15 and 16): the columns of contact.csv and what they mean, cut steps back on
+the schedule, a step that cannot be solved naming what failed where. Usage: python3 test_run_results.py CASE."""
+import json
+import math
+import os
+import re
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(os.path.dirname(HERE), "validation"))
+from stickslip_results import read_vtu  # noqa: E402
+from test_bad_input import BLOCK, ROOT, Case, replace  # noqa: E402
+
+
+def read_csv(path):
+    with open(path) as f:
+        names = f.readline().strip().split(",")
+        return [dict(zip(names, map(float, line.split(",")))) for line in f if line.strip()]
+
+
+def schedule_after_cut(c):
+    """Issue 16: the compressed block (neo-Hooke, 40 % compression) with Newton limited to 3 iterations cuts the
+    steps of dt = 0.1 (each needs 4) into 8 sub-steps at first; every scheduled time n dt must still have its row,
+    exactly at n dt (computed, not summed), with substep 0, the sub-steps numbered in between, and a VTU at every
+    second scheduled time (vtu_every 2) — not at every second sub-step."""
+    scene = replace(replace(BLOCK, "[0, 0, -10]", "[0, 0, -400]"), "model: hooke", "model: neo-hooke-ciarlet")
+    c.run_scene(scene, "--set", "time.dt=0.1", "--set", "solver.newton.max_iterations=3", "--set",
+                "output.vtu_every=2")
+    c.check(c.proc.returncode == 0, "the run succeeds")
+    summary = json.load(open(os.path.join(c.out, "summary.json")))
+    rows = read_csv(os.path.join(c.out, "history.csv"))
+    c.check(summary["step_cuts"] > 0, "steps were cut (%d cuts)" % summary["step_cuts"])
+    on_schedule = [r["time"] for r in rows if r["substep"] == 0]
+    c.check(on_schedule == [n * 0.1 for n in range(11)], "every scheduled time n dt has its row, exactly: %s"
+            % on_schedule)
+    c.check(len(rows) > 11, "there are sub-steps (%d rows)" % len(rows))
+    expected, previous = 0, 0.0
+    for r in rows[1:]:
+        expected = 0 if r["substep"] == 0 else expected + 1
+        c.check(r["substep"] == expected, "sub-steps are numbered 1, 2, ... since the last scheduled time (t = %r)"
+                % r["time"])
+        c.check(r["time"] > previous and (r["substep"] == 0 or round(r["time"] / 0.1, 9) % 1 != 0),
+                "a sub-step lies strictly between scheduled times (t = %r)" % r["time"])
+        previous = r["time"]
+    pvd = open(os.path.join(c.out, "results.pvd")).read()
+    times = [float(t) for t in re.findall(r'timestep="([^"]+)"', pvd)]
+    c.check(times == [n * 0.1 for n in range(0, 11, 2)], "VTUs at every second scheduled time: %s" % times)
+
+
+def contact_points(c, scene, *args):
+    c.run("run", os.path.join(ROOT, "scenes", scene), "--out", c.out, "--quiet", *args)
+    c.check(c.proc.returncode == 0, "%s runs" % scene)
+    points = read_csv(os.path.join(c.out, "contact.csv"))
+    c.check(len(points) > 0, "contact.csv has rows")
+    return points
+
+
+def contact_columns(c):
+    """Issue 16: contact.csv carries reference and current positions, gap, normal and tangential traction, state and
+    the multiplier. Their meaning: for nodes, reference = the mesh position and current - reference = the node's
+    displacement in the last VTU; a Gauss point (covariant STS) has its own reference position on the reference
+    surface; the multiplier is there where the formulation has one (mortar: z_n, the pressure) and NaN otherwise."""
+    points = contact_points(c, "block-on-plane.yaml", "--steps", "5", "--set", "output.vtu_every=5")
+    displacement = read_vtu(os.path.join(c.out, "step-000005.vtu"))["displacement"]
+    for p in points:
+        u = displacement[int(p["node"])]
+        c.check(abs(p["reference_y"]) == 0 and 0 <= p["reference_x"] <= 1 and p["reference_z"] == 0,
+                "penalty-nts node %d: the reference position lies on the block's base y = 0" % p["node"])
+        c.check(abs(p["x"] - p["reference_x"] - u[0]) < 1e-15 and abs(p["y"] - p["reference_y"] - u[1]) < 1e-15,
+                "node %d: current - reference = its displacement in the VTU" % p["node"])
+        c.check(math.isnan(p["multiplier"]), "penalty has no multiplier: NaN")
+        c.check(p["pressure"] > 0 and p["state"] == 1 and p["gap"] < 0, "pressed: pressure > 0, stick, penetrating")
+    c.check(len({p["reference_x"] for p in points}) == 9, "the 9 base nodes, each once")
+    points = contact_points(c, "mortar-patch-test-2d.yaml")
+    for p in points:
+        c.check(p["multiplier"] == p["pressure"] and p["multiplier"] > 0, "mortar node %d: multiplier z_n = pressure"
+                % p["node"])
+        c.check(p["reference_y"] == 0 and p["y"] < 0, "mortar node %d: reference on the interface y = 0, current "
+                "below it" % p["node"])
+    points = contact_points(c, "ks-block-a.yaml", "--steps", "1")
+    c.check(all(p["node"] == -1 for p in points), "covariant STS writes Gauss points")
+    # the base is fixed: current = reference up to the round-off of the active points' own interpolation (4e-15)
+    c.check(all(p["reference_y"] == 0 and abs(p["x"] - p["reference_x"]) < 1e-13 and abs(p["y"]) < 1e-13 and
+                abs(p["z"] - p["reference_z"]) < 1e-13 for p in points),
+            "covariant Gauss points: reference on the fixed base's top y = 0, equal to the current position")
+    c.check(len({(p["reference_x"], p["reference_z"]) for p in points}) == len(points), "every Gauss point once")
+
+
+def diverging_step(c):
+    """Issue 15: a step that cannot be solved names the step, the time, the cuts and where the residual is largest
+    (node, component, body); exit 1, the results up to the last converged step kept."""
+    scene = replace(replace(BLOCK, "[0, 0, -10]", "[0, 0, -400]"), "model: hooke", "model: neo-hooke-ciarlet")
+    c.run_scene(scene, "--set", "time.dt=0.1", "--set", "solver.newton.max_iterations=1", "--set", "time.max_cuts=2")
+    c.expect_failure(r"step 1 from t = 0: no convergence after 2 step cuts \(dt = 0\.025\)",
+                     r"largest residual at node \d+ \([xyz]\) of body 'block': F = ", r"results up to t = 0 \(step 0\) "
+                     r"are in .*results \(status \"failed\"\)", out_created=True)
+
+
+FAULT_SCENE = """\
+mesh:
+  file: %s/block.geo
+  parameters: {nx: 2, ny: 2, nz: 2}
+bodies:
+  - {name: block, group: body, material: {model: hooke, E: 1000, nu: 0.3}}
+boundary:
+  - {name: top, group: zmax, displacement: [0, 0, -0.01]}
+contact:
+  - name: floor
+    plugin: test-misbehaving
+    slave: zmin
+    obstacle: {type: plane, point: [0, 0, 0], normal: [0, 0, 1]}
+    parameters: {fault: 1}
+time: {scheme: quasi-static, dt: 0.5, end: 1}
+""" % os.path.join(ROOT, "meshes")
+
+
+def misbehaving_plugin(c):
+    """Issue 15, items 4, 11, 15: a plugin's NaN or negative report, a residual row beyond the unknowns, an error
+    without a message and 2e9 extra unknowns each end the run with one message naming the pair and what is wrong
+    (no step cut, no nan in history.csv, no crash, no OOM kill)."""
+    env = {"STICKSLIP_PLUGIN_PATH": os.environ.get("STICKSLIP_CLI_FAULT_DIR", "")}
+    expected = {1: r"report: force\[1\] = nan is not a number",
+                2: r"report: negative point counts \(active -3, stick 0, slip 0\)",
+                3: r"residual entry in row 88, beyond the 81 unknowns",
+                4: r"plugin 'test-misbehaving' failed in residual\(\) with status 6 \(SK_ERR_INTERNAL\) and gave "
+                   r"no message",
+                5: r"2000000081 unknowns \(81 displacement dofs, 2000000000 extra unknowns of contact pair 'floor'\) "
+                   r"need 200 GB for the work vectors alone, more than this machine's"}
+    for fault, pattern in expected.items():
+        out = os.path.join(c.dir, "out-%d" % fault)
+        c.run("run", c.write(FAULT_SCENE), "--out", out, "--quiet", "--set", "contact.0.parameters.fault=%d" % fault,
+              env=env)
+        c.no_crash()
+        c.check(c.proc.returncode == 1, "fault %d: exit 1" % fault)
+        c.check(re.search(r"^stickslip: .*scene\.yaml: (contact pair 'floor': )?" + pattern, c.proc.stderr, re.M)
+                is not None, "fault %d: one message naming the pair and the fault" % fault)
+        c.check(c.proc.stderr.count("floor") == 1, "fault %d: said once" % fault)
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        c.check(summary["status"] == "failed" and summary["step_cuts"] == 0, "fault %d: failed, not cut" % fault)
+        history = open(os.path.join(out, "history.csv")).read()
+        c.check("nan" not in history and "inf" not in history, "fault %d: no nan in history.csv" % fault)
+
+
+CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin]}
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
+        print("usage: test_run_results.py CASE\ncases: " + " ".join(CASES))
+        sys.exit(2)
+    case = Case(sys.argv[1])
+    CASES[sys.argv[1]](case)
+    sys.exit(case.finish())
