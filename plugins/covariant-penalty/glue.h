@@ -31,6 +31,7 @@ typedef struct {
   int sel_face;                   /* selected master face (-1: none) */
   double sel_xi[2];
   int sel_beyond;                 /* the point lies beyond the master's border (and its band) */
+  int escaped;                    /* the closest face at the last point is not a candidate (select_face) */
   int last_state;
   history committed, anchor;      /* at the last commit / used during the step */
 } entity;
@@ -85,6 +86,7 @@ sk_status cp_begin_step(sk_instance *in, const sk_state *st);
 sk_status cp_layout(sk_instance *in, const sk_state *st, sk_layout *layout);
 sk_status cp_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern);
 sk_status cp_update_active_set(sk_instance *in, const sk_state *st, int *changed);
+sk_status cp_converged(sk_instance *in, const sk_state *st, int *accept);
 sk_status cp_residual(sk_instance *in, const sk_state *st, sk_sink *sink);
 sk_status cp_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink);
 sk_status cp_commit_step(sk_instance *in, const sk_state *st);
