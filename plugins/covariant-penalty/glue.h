@@ -2,6 +2,7 @@
 #ifndef COVARIANT_PENALTY_GLUE_H
 #define COVARIANT_PENALTY_GLUE_H
 
+#include "candidates.h"
 #include "kernel.h"
 #include "stickslip/plugin.h"
 
@@ -58,8 +59,7 @@ struct sk_instance {
   int n_entities;
   entity *entities;
   sk_search *search;
-  int *cand;
-  int cand_capacity;
+  cand_list cand;                 /* candidate master faces of all points (find_candidates) */
   distance_ctx distance;
   double *K[CP_N_PARTS], *K_sum;  /* CP_MAX_DOFS^2 each */
 };

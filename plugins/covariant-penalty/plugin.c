@@ -36,7 +36,7 @@ static void cp_destroy(sk_instance *in) {
   if (!in) return;
   if (in->search) in->cs->search_destroy(in->search);
   free(in->entities);
-  free(in->cand);
+  free(in->cand.faces);
   free(in->K[0]);
   free(in);
 }

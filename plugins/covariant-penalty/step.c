@@ -63,7 +63,7 @@ static sk_status project_global(const sk_instance *in, const entity *e, const do
   sk_projection proj;
   memset(&proj, 0, sizeof proj);
   proj.struct_size = sizeof proj;
-  SK_TRY(in->cs->project(in->master, xm, r, in->cand + e->cand_start, e->cand_count, &proj)); /* diverged: cut */
+  SK_TRY(in->cs->project(in->master, xm, r, in->cand.faces + e->cand_start, e->cand_count, &proj)); /* diverged: cut */
   if (proj.face < 0) return SK_OK;
   *face = proj.face;
   xi[0] = proj.xi[0];
@@ -71,12 +71,6 @@ static sk_status project_global(const sk_instance *in, const entity *e, const do
   if (proj.kind != SK_PROJ_OUTSIDE) return SK_OK;
   *beyond = !(in->extension > 0.0 && closest_on_face(in, xm, proj.face, r, xi, in->extension));
   return SK_OK;
-}
-
-static int is_candidate(const sk_instance *in, const entity *e, int face) {
-  for (int c = 0; c < e->cand_count; ++c)
-    if (in->cand[e->cand_start + c] == face) return 1;
-  return 0;
 }
 
 /* The face of entity e at master positions xm: the projection, except that a face selected earlier in the step is
@@ -88,7 +82,7 @@ static sk_status select_face(const sk_instance *in, entity *e, const double *xs,
   int face, beyond;
   slave_point(e, xs, r);
   SK_TRY(project_global(in, e, xm, r, &face, xi, &beyond));
-  e->escaped = face >= 0 && !is_candidate(in, e, face);
+  e->escaped = face >= 0 && !cand_contains(&in->cand, e->cand_start, e->cand_count, face);
   if (e->escaped) {
     face = e->sel_face;
     beyond = face >= 0 ? e->sel_beyond : 0;
@@ -206,29 +200,14 @@ static sk_status evaluate(sk_instance *in, const entity *e, const sk_state *st, 
  * converged point in cp_converged), inflated by the search margin. */
 static sk_status find_candidates(sk_instance *in, const sk_state *st, const double *xs) {
   in->cs->search_update(in->search, st->x_n[1], st->x[1], in->margin);
-  int used = 0;
+  in->cand.used = 0;
   for (int k = 0; k < in->n_entities; ++k) {
     entity *e = &in->entities[k];
-    double r0[3], r1[3], lo[3], hi[3];
+    double r0[3], r1[3];
     slave_point(e, st->x_n[0], r0);
     slave_point(e, xs, r1);
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = fmin(r0[i], r1[i]) - in->margin;
-      hi[i] = fmax(r0[i], r1[i]) + in->margin;
-    }
-    int room = in->cand_capacity - used;
-    int count = in->cs->search_query(in->search, lo, hi, in->cand ? in->cand + used : NULL, room > 0 ? room : 0);
-    if (count > room) {
-      int capacity = 2 * (used + count) + 64;
-      int *grown = realloc(in->cand, (size_t)capacity * sizeof *grown);
-      if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
-      in->cand = grown;
-      in->cand_capacity = capacity;
-      count = in->cs->search_query(in->search, lo, hi, in->cand + used, in->cand_capacity - used);
-    }
-    e->cand_start = used;
-    e->cand_count = count;
-    used += count;
+    if (cand_query_swept(in->cs, in->search, r0, r1, 3, in->margin, &in->cand, &e->cand_start, &e->cand_count) != 0)
+      return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
   }
   return SK_OK;
 }
@@ -294,7 +273,7 @@ sk_status cp_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern) {
         for (int j = 0; j < in->slave->nen; ++j)
           add_node(&L, 0, in->slave->conn[(size_t)e->cell * in->slave->nen + j], in->slave, st->x[0]);
       } else {
-        int face = in->cand[e->cand_start + c];
+        int face = in->cand.faces[e->cand_start + c];
         for (int a = 0; a < e->n_slave; ++a) add_node(&L, 0, e->slave[a], in->slave, st->x[0]);
         for (int j = 0; j < in->master->nen; ++j)
           add_node(&L, 1, in->master->conn[(size_t)face * in->master->nen + j], in->master, st->x[1]);

@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "candidates.h"
 #include "covariant.h"
 #include "stickslip/plugin.h"
 
@@ -79,9 +80,8 @@ struct sk_instance {
   int n_slave;
   double *area;                 /* tributary reference area of each slave node (1 when not area weighted) */
   sk_search *search;
-  int *cand_start, *cand_count; /* candidate master faces of each slave node, fixed during a step */
-  int *cand;
-  int cand_capacity;
+  int *cand_start, *cand_count; /* candidate master faces of each slave node in cand (find_candidates) */
+  cand_list cand;
   friction_history *committed;  /* at the last accepted step */
   friction_history *anchor;     /* used during the current step */
   unsigned char *last_state;    /* for after_iteration's change detection */
@@ -160,12 +160,6 @@ static int extend_on_face(const sk_instance *in, int face, const double *xs, con
  * extension stays within this fraction of the face beyond its edge. */
 #define SELECT_BAND 0.1
 
-static int is_candidate(const sk_instance *in, int k, int face) {
-  for (int c = 0; c < in->cand_count[k]; ++c)
-    if (in->cand[in->cand_start[k] + c] == face) return 1;
-  return 0;
-}
-
 /* The closest-point projection over the candidates with the master_extension treatment at the master's border:
  * face (-1: none), parameters, and whether the point lies beyond the border and its band. */
 static sk_status project_global(const sk_instance *in, const double *xm, const double *xs, int k, int *face,
@@ -176,7 +170,7 @@ static sk_status project_global(const sk_instance *in, const double *xm, const d
   xi[0] = xi[1] = 0.0;
   if (in->cand_count[k] == 0) return SK_OK;
   sk_projection proj = {.struct_size = sizeof proj};
-  SK_TRY(in->cs->project(master, xm, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+  SK_TRY(in->cs->project(master, xm, xs, in->cand.faces + in->cand_start[k], in->cand_count[k], &proj));
   if (proj.face < 0) return SK_OK;
   *face = proj.face;
   xi[0] = proj.xi[0];
@@ -214,7 +208,7 @@ static sk_status select_face(sk_instance *in, const double *const *x, int k) {
   /* The projection walks across faces from the candidates, so under large sliding it may end on a face whose
    * couplings pattern() did not declare. Such a point stays on its last face's extension until Newton converges;
    * pnts_converged then searches again around the converged point and has the host lay out the pattern again. */
-  in->escaped[k] = face >= 0 && !is_candidate(in, k, face);
+  in->escaped[k] = face >= 0 && !cand_contains(&in->cand, in->cand_start[k], in->cand_count[k], face);
   if (in->escaped[k]) {
     face = old;
     beyond = 0;
@@ -433,7 +427,7 @@ static void pnts_destroy(sk_instance *in) {
   free(in->area);
   free(in->cand_start);
   free(in->cand_count);
-  free(in->cand);
+  free(in->cand.faces);
   free(in->committed);
   free(in->anchor);
   free(in->last_state);
@@ -582,30 +576,15 @@ static sk_status pnts_create(const sk_host_api *api, sk_host *host, const sk_att
 /* Candidate faces of every slave node from boxes swept between x_n and x (the predictor at begin_step, the
  * converged point in pnts_converged), inflated by the search margin. */
 static sk_status find_candidates(sk_instance *in, const double *const *x_n, const double *const *x) {
-  const double big = 1e300;
   in->cs->search_update(in->search, x_n[1], x[1], in->margin);
-  int used = 0;
+  in->cand.used = 0;
   for (int k = 0; k < in->n_slave; ++k) {
-    double x0[3], x1[3], lo[3] = {-big, -big, -big}, hi[3] = {big, big, big};
+    double x0[3], x1[3];
     slave_position(in, x_n, k, x0);
     slave_position(in, x, k, x1);
-    for (int i = 0; i < in->dim; ++i) {
-      lo[i] = fmin(x0[i], x1[i]) - in->margin;
-      hi[i] = fmax(x0[i], x1[i]) + in->margin;
-    }
-    int room = in->cand_capacity - used;
-    int count = in->cs->search_query(in->search, lo, hi, in->cand ? in->cand + used : NULL, room > 0 ? room : 0);
-    if (count > room) {
-      int capacity = 2 * (used + count) + 64;
-      int *grown = realloc(in->cand, (size_t)capacity * sizeof(int));
-      if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
-      in->cand = grown;
-      in->cand_capacity = capacity;
-      count = in->cs->search_query(in->search, lo, hi, in->cand + used, in->cand_capacity - used);
-    }
-    in->cand_start[k] = used;
-    in->cand_count[k] = count;
-    used += count;
+    if (cand_query_swept(in->cs, in->search, x0, x1, in->dim, in->margin, &in->cand, &in->cand_start[k],
+                         &in->cand_count[k]) != 0)
+      return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
   }
   return SK_OK;
 }
@@ -625,7 +604,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
     if (master) {
       if (in->cand_count[k] == 0) continue;
       sk_projection proj = {.struct_size = sizeof proj};
-      SK_TRY(cs->project(master, st->x_n[1], x0, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+      SK_TRY(cs->project(master, st->x_n[1], x0, in->cand.faces + in->cand_start[k], in->cand_count[k], &proj));
       if (proj.face < 0) continue;
       if (proj.kind == SK_PROJ_OUTSIDE) {
         sk_surface_point pt = {.struct_size = sizeof pt};
@@ -683,7 +662,7 @@ static sk_status pnts_pattern(sk_instance *in, const sk_state *st, sk_pattern *p
     int n = 0;
     for (int i = 0; i < dim; ++i) dofs[n++] = slave->dofs[k * dim + i];
     for (int c = 0; master && c < in->cand_count[k]; ++c) {
-      const int32_t *conn = master->conn + in->cand[in->cand_start[k] + c] * master->nen;
+      const int32_t *conn = master->conn + in->cand.faces[in->cand_start[k] + c] * master->nen;
       for (int I = 0; I < master->nen; ++I) {
         const int64_t first = master->dofs[conn[I] * dim];
         int seen = 0;
