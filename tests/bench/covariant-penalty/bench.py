@@ -158,6 +158,10 @@ def plot():
     for column, label in ((2, "iterations per step"), (3, "CPU seconds (whole run)")):
         for example, curves in panels:
             lines += ["set title '%s'" % example, "set xlabel 'steps'", "set ylabel '%s'" % label]
+            if not curves:  # an example not measured yet keeps its panel, saying so
+                lines += ["set label 1 'not measured' at graph 0.5, 0.5 center", "plot [10:40] [0:1] 2 notitle",
+                          "unset label 1"]
+                continue
             lines.append("plot " + ", \\\n  ".join("'%s' using 1:%d with linespoints dt %d lw 2 title '%s'" %
                                                    (p, column, dash, t) for p, t, dash in curves))
     lines.append("unset multiplot")
