@@ -2,6 +2,7 @@
 #ifndef COVARIANT_PENALTY_GLUE_H
 #define COVARIANT_PENALTY_GLUE_H
 
+#include "candidates.h"
 #include "kernel.h"
 #include "stickslip/plugin.h"
 
@@ -31,6 +32,7 @@ typedef struct {
   int sel_face;                   /* selected master face (-1: none) */
   double sel_xi[2];
   int sel_beyond;                 /* the point lies beyond the master's border (and its band) */
+  int escaped;                    /* the closest face at the last point is not a candidate (select_face) */
   int last_state;
   history committed, anchor;      /* at the last commit / used during the step */
 } entity;
@@ -57,8 +59,7 @@ struct sk_instance {
   int n_entities;
   entity *entities;
   sk_search *search;
-  int *cand;
-  int cand_capacity;
+  cand_list cand;                 /* candidate master faces of all points (find_candidates) */
   distance_ctx distance;
   double *K[CP_N_PARTS], *K_sum;  /* CP_MAX_DOFS^2 each */
 };
@@ -85,6 +86,7 @@ sk_status cp_begin_step(sk_instance *in, const sk_state *st);
 sk_status cp_layout(sk_instance *in, const sk_state *st, sk_layout *layout);
 sk_status cp_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern);
 sk_status cp_update_active_set(sk_instance *in, const sk_state *st, int *changed);
+sk_status cp_converged(sk_instance *in, const sk_state *st, int *accept);
 sk_status cp_residual(sk_instance *in, const sk_state *st, sk_sink *sink);
 sk_status cp_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink);
 sk_status cp_commit_step(sk_instance *in, const sk_state *st);

@@ -36,7 +36,7 @@ static void cp_destroy(sk_instance *in) {
   if (!in) return;
   if (in->search) in->cs->search_destroy(in->search);
   free(in->entities);
-  free(in->cand);
+  free(in->cand.faces);
   free(in->K[0]);
   free(in);
 }
@@ -264,7 +264,7 @@ static const sk_plugin cp_plugin = {
     .residual = cp_residual,
     .jacobian = cp_jacobian,
     .recover = NULL,
-    .converged = NULL,
+    .converged = cp_converged,
     .commit_step = cp_commit_step,
     .reject_step = cp_reject_step,
     .report = cp_report,

@@ -63,7 +63,7 @@ static sk_status project_global(const sk_instance *in, const entity *e, const do
   sk_projection proj;
   memset(&proj, 0, sizeof proj);
   proj.struct_size = sizeof proj;
-  SK_TRY(in->cs->project(in->master, xm, r, in->cand + e->cand_start, e->cand_count, &proj)); /* diverged: cut */
+  SK_TRY(in->cs->project(in->master, xm, r, in->cand.faces + e->cand_start, e->cand_count, &proj)); /* diverged: cut */
   if (proj.face < 0) return SK_OK;
   *face = proj.face;
   xi[0] = proj.xi[0];
@@ -74,12 +74,21 @@ static sk_status project_global(const sk_instance *in, const entity *e, const do
 }
 
 /* The face of entity e at master positions xm: the projection, except that a face selected earlier in the step is
- * kept while the point stays within SELECT_BAND beyond it. */
+ * kept while the point stays within SELECT_BAND beyond it. The projection walks across faces from the candidates,
+ * so under large sliding it may end on a face whose couplings cp_pattern did not declare: such a point stays on its
+ * last face's extension until Newton converges, and cp_converged searches again. */
 static sk_status select_face(const sk_instance *in, entity *e, const double *xs, const double *xm) {
   double r[3], xi[2];
   int face, beyond;
   slave_point(e, xs, r);
   SK_TRY(project_global(in, e, xm, r, &face, xi, &beyond));
+  e->escaped = face >= 0 && !cand_contains(&in->cand, e->cand_start, e->cand_count, face);
+  if (e->escaped) {
+    face = e->sel_face;
+    beyond = face >= 0 ? e->sel_beyond : 0;
+    xi[0] = e->sel_xi[0];
+    xi[1] = e->sel_xi[1];
+  }
   if (e->sel_face >= 0 && e->sel_face != face && face >= 0 && !beyond) {
     double keep[2] = {e->sel_xi[0], e->sel_xi[1]};
     if (closest_on_face(in, xm, e->sel_face, r, keep, SELECT_BAND)) {
@@ -187,39 +196,28 @@ static sk_status evaluate(sk_instance *in, const entity *e, const sk_state *st, 
 
 /* ---- the step ---------------------------------------------------------------------------------------------------- */
 
-/* Candidate master faces of every point from boxes swept between x_n and x, and the step's friction anchors: the
- * committed history, or for a point without one its projection at x_n with t = 0 (the zero-load projection of the
- * paper's Table 1). The master face of every point is selected at the predictor. */
+/* Candidate master faces of every point from boxes swept between x_n and x (the predictor at begin_step, the
+ * converged point in cp_converged), inflated by the search margin. */
+static sk_status find_candidates(sk_instance *in, const sk_state *st, const double *xs) {
+  in->cs->search_update(in->search, st->x_n[1], st->x[1], in->margin);
+  in->cand.used = 0;
+  for (int k = 0; k < in->n_entities; ++k) {
+    entity *e = &in->entities[k];
+    double r0[3], r1[3];
+    slave_point(e, st->x_n[0], r0);
+    slave_point(e, xs, r1);
+    if (cand_query_swept(in->cs, in->search, r0, r1, 3, in->margin, &in->cand, &e->cand_start, &e->cand_count) != 0)
+      return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+  }
+  return SK_OK;
+}
+
+/* The step's candidate faces (find_candidates) and friction anchors: the committed history, or for a point without
+ * one its projection at x_n with t = 0 (the zero-load projection of the paper's Table 1). The master face of every
+ * point is selected at the predictor. */
 sk_status cp_begin_step(sk_instance *in, const sk_state *st) {
   const double *xs = st->x[0], *xs_n = st->x_n[0];
-  if (in->master) {
-    const double *xm = st->x[1], *xm_n = st->x_n[1];
-    in->cs->search_update(in->search, xm_n, xm, in->margin);
-    int used = 0;
-    for (int k = 0; k < in->n_entities; ++k) {
-      entity *e = &in->entities[k];
-      double r0[3], r1[3], lo[3], hi[3];
-      slave_point(e, xs_n, r0);
-      slave_point(e, xs, r1);
-      for (int i = 0; i < 3; ++i) {
-        lo[i] = fmin(r0[i], r1[i]) - in->margin;
-        hi[i] = fmax(r0[i], r1[i]) + in->margin;
-      }
-      int room = in->cand_capacity - used;
-      int count = in->cs->search_query(in->search, lo, hi, in->cand ? in->cand + used : NULL, room > 0 ? room : 0);
-      if (count > room) {
-        int capacity = 2 * (used + count) + 64;
-        int *grown = realloc(in->cand, (size_t)capacity * sizeof *grown);
-        if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
-        in->cand = grown;
-        in->cand_capacity = capacity;
-        count = in->cs->search_query(in->search, lo, hi, in->cand + used, in->cand_capacity - used);
-      }
-      e->cand_start = used;
-      e->cand_count = count;
-      used += count;
-    }
-  }
+  if (in->master) SK_TRY(find_candidates(in, st, xs));
   for (int k = 0; k < in->n_entities; ++k) {
     entity *e = &in->entities[k];
     e->anchor = e->committed;
@@ -275,7 +273,7 @@ sk_status cp_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern) {
         for (int j = 0; j < in->slave->nen; ++j)
           add_node(&L, 0, in->slave->conn[(size_t)e->cell * in->slave->nen + j], in->slave, st->x[0]);
       } else {
-        int face = in->cand[e->cand_start + c];
+        int face = in->cand.faces[e->cand_start + c];
         for (int a = 0; a < e->n_slave; ++a) add_node(&L, 0, e->slave[a], in->slave, st->x[0]);
         for (int j = 0; j < in->master->nen; ++j)
           add_node(&L, 1, in->master->conn[(size_t)face * in->master->nen + j], in->master, st->x[1]);
@@ -315,6 +313,31 @@ sk_status cp_update_active_set(sk_instance *in, const sk_state *st, int *changed
   in->api->log(in->host, 2, "covariant-penalty: %d face changes; inactive->stick %d, ->slip %d; stick->inactive %d, "
                "->slip %d; slip->inactive %d, ->stick %d", faces, states[0][1], states[0][2], states[1][0],
                states[1][2], states[2][0], states[2][1]);
+  return SK_OK;
+}
+
+/* A point whose closest face at the converged point is not among its candidates (it slid further within the step
+ * than the predictor and the search margin reach) was held on its last face's extension: the candidates are searched
+ * again over the box swept from x_n to the converged point, the faces selected there, and the point is rejected, so
+ * that the host declares the new couplings (layout and pattern again) and Newton runs again from it. */
+sk_status cp_converged(sk_instance *in, const sk_state *st, int *accept) {
+  *accept = 1;
+  if (!in->master) return SK_OK;
+  int escaped = 0;
+  for (int k = 0; k < in->n_entities; ++k) escaped += in->entities[k].escaped;
+  if (escaped == 0) return SK_OK;
+  SK_TRY(find_candidates(in, st, st->x[0]));
+  for (int k = 0; k < in->n_entities; ++k) {
+    entity *e = &in->entities[k];
+    e->sel_face = -1;
+    SK_TRY(select_face(in, e, st->x[0], st->x[1]));
+    if (e->escaped)
+      return in->api->error(in->host, SK_ERR_DIVERGED, "covariant-penalty: a contact point is closest to master face "
+                            "%d, beyond the search margin of its path in this step", e->sel_face);
+  }
+  in->api->log(in->host, 2, "covariant-penalty: %d contact point(s) slid beyond their candidate faces; searching "
+               "again and repeating Newton with the new faces", escaped);
+  *accept = 0;
   return SK_OK;
 }
 

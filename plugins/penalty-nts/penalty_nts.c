@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "candidates.h"
 #include "covariant.h"
 #include "stickslip/plugin.h"
 
@@ -79,14 +80,14 @@ struct sk_instance {
   int n_slave;
   double *area;                 /* tributary reference area of each slave node (1 when not area weighted) */
   sk_search *search;
-  int *cand_start, *cand_count; /* candidate master faces of each slave node, fixed during a step */
-  int *cand;
-  int cand_capacity;
+  int *cand_start, *cand_count; /* candidate master faces of each slave node in cand (find_candidates) */
+  cand_list cand;
   friction_history *committed;  /* at the last accepted step */
   friction_history *anchor;     /* used during the current step */
   unsigned char *last_state;    /* for after_iteration's change detection */
   int *sel_face;                /* master face selected for each slave node (-1: none), see select_face */
   unsigned char *sel_beyond;    /* 1: the selection lies beyond the master's border (and its extension band) */
+  unsigned char *escaped;       /* 1: the closest face at the last point is not a candidate (see select_face) */
   double (*sel_xi)[2];          /* start of the closest-point Newton on the selected face */
   int64_t *pattern_dofs;        /* the dofs of a slave node's neighbourhood (pattern) */
   int pattern_capacity;
@@ -176,7 +177,7 @@ static sk_status project_global(const sk_instance *in, const double *xm, const d
   xi[0] = xi[1] = 0.0;
   if (in->cand_count[k] == 0) return SK_OK;
   sk_projection proj = {.struct_size = sizeof proj};
-  SK_TRY(in->cs->project(master, xm, xs, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+  SK_TRY(in->cs->project(master, xm, xs, in->cand.faces + in->cand_start[k], in->cand_count[k], &proj));
   if (proj.face < 0) return SK_OK;
   *face = proj.face;
   xi[0] = proj.xi[0];
@@ -211,6 +212,19 @@ static sk_status select_face(sk_instance *in, const double *const *x, int k) {
   slave_position(in, x, k, xs);
   SK_TRY(project_global(in, x[1], xs, k, &face, xi, &beyond));
   int old = in->sel_face[k];
+  /* The projection walks across faces from the candidates, so under large sliding it may end on a face whose
+   * couplings pattern() did not declare. Such a point stays on its last face's extension until Newton converges;
+   * pnts_converged then searches again around the converged point and has the host lay out the pattern again. */
+  in->escaped[k] = face >= 0 && !cand_contains(&in->cand, in->cand_start[k], in->cand_count[k], face);
+  if (in->escaped[k]) {
+    face = old;
+    beyond = 0;
+    if (old >= 0) {
+      xi[0] = in->sel_xi[k][0];
+      xi[1] = in->sel_xi[k][1];
+      beyond = in->sel_beyond[k];
+    }
+  }
   if (old >= 0 && old != face && face >= 0 && !beyond) {
     sk_surface_point pt = {.struct_size = sizeof pt};
     in->cs->geometry(in->master, old, in->sel_xi[k], x[1], &pt);
@@ -502,11 +516,12 @@ static void pnts_destroy(sk_instance *in) {
   free(in->area);
   free(in->cand_start);
   free(in->cand_count);
-  free(in->cand);
+  free(in->cand.faces);
   free(in->committed);
   free(in->anchor);
   free(in->last_state);
   free(in->sel_face);
+  free(in->escaped);
   free(in->sel_beyond);
   free(in->sel_xi);
   free(in->pattern_dofs);
@@ -614,9 +629,10 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
   in->last_state = calloc(ns, 1);
   in->sel_face = malloc(ns * sizeof(int));
   in->sel_beyond = calloc(ns, 1);
+  in->escaped = calloc(ns, 1);
   in->sel_xi = calloc(ns, sizeof *in->sel_xi);
   if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->anchor || !in->last_state ||
-      !in->sel_face || !in->sel_beyond || !in->sel_xi)
+      !in->sel_face || !in->sel_beyond || !in->escaped || !in->sel_xi)
     return api->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
 
@@ -663,38 +679,28 @@ static sk_status pnts_create(const sk_host_api *api, sk_host *host, const sk_att
 
 /* ---- step -------------------------------------------------------------------------------------------------------- */
 
-/* Candidate faces of every slave node from boxes swept between x_n and x, and the step's friction anchors: the
- * committed history, or for a node without one the projection of its start-of-step position. */
+/* Candidate faces of every slave node from boxes swept between x_n and x (the predictor at begin_step, the
+ * converged point in pnts_converged), inflated by the search margin. */
+static sk_status find_candidates(sk_instance *in, const double *const *x_n, const double *const *x) {
+  in->cs->search_update(in->search, x_n[1], x[1], in->margin);
+  in->cand.used = 0;
+  for (int k = 0; k < in->n_slave; ++k) {
+    double x0[3], x1[3];
+    slave_position(in, x_n, k, x0);
+    slave_position(in, x, k, x1);
+    if (cand_query_swept(in->cs, in->search, x0, x1, in->dim, in->margin, &in->cand, &in->cand_start[k],
+                         &in->cand_count[k]) != 0)
+      return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
+  }
+  return SK_OK;
+}
+
+/* The step's candidate faces (find_candidates) and friction anchors: the committed history, or for a node without
+ * one the projection of its start-of-step position. */
 static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
   const sk_contact_services *cs = in->cs;
   const sk_view *master = in->master;
-  const double big = 1e300;
-  if (master) {
-    cs->search_update(in->search, st->x_n[1], st->x[1], in->margin);
-    int used = 0;
-    for (int k = 0; k < in->n_slave; ++k) {
-      double x0[3], x1[3], lo[3] = {-big, -big, -big}, hi[3] = {big, big, big};
-      slave_position(in, st->x_n, k, x0);
-      slave_position(in, st->x, k, x1);
-      for (int i = 0; i < in->dim; ++i) {
-        lo[i] = fmin(x0[i], x1[i]) - in->margin;
-        hi[i] = fmax(x0[i], x1[i]) + in->margin;
-      }
-      int room = in->cand_capacity - used;
-      int count = cs->search_query(in->search, lo, hi, in->cand ? in->cand + used : NULL, room > 0 ? room : 0);
-      if (count > room) {
-        int capacity = 2 * (used + count) + 64;
-        int *grown = realloc(in->cand, (size_t)capacity * sizeof(int));
-        if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
-        in->cand = grown;
-        in->cand_capacity = capacity;
-        count = cs->search_query(in->search, lo, hi, in->cand + used, in->cand_capacity - used);
-      }
-      in->cand_start[k] = used;
-      in->cand_count[k] = count;
-      used += count;
-    }
-  }
+  if (master) SK_TRY(find_candidates(in, st->x_n, st->x));
   for (int k = 0; k < in->n_slave; ++k) {
     friction_history *a = &in->anchor[k];
     *a = in->committed[k];
@@ -704,7 +710,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
     if (master) {
       if (in->cand_count[k] == 0) continue;
       sk_projection proj = {.struct_size = sizeof proj};
-      SK_TRY(cs->project(master, st->x_n[1], x0, in->cand + in->cand_start[k], in->cand_count[k], &proj));
+      SK_TRY(cs->project(master, st->x_n[1], x0, in->cand.faces + in->cand_start[k], in->cand_count[k], &proj));
       if (proj.face < 0) continue;
       if (proj.kind == SK_PROJ_OUTSIDE) {
         sk_surface_point pt = {.struct_size = sizeof pt};
@@ -762,7 +768,7 @@ static sk_status pnts_pattern(sk_instance *in, const sk_state *st, sk_pattern *p
     int n = 0;
     for (int i = 0; i < dim; ++i) dofs[n++] = slave->dofs[k * dim + i];
     for (int c = 0; master && c < in->cand_count[k]; ++c) {
-      const int32_t *conn = master->conn + in->cand[in->cand_start[k] + c] * master->nen;
+      const int32_t *conn = master->conn + in->cand.faces[in->cand_start[k] + c] * master->nen;
       for (int I = 0; I < master->nen; ++I) {
         const int64_t first = master->dofs[conn[I] * dim];
         int seen = 0;
@@ -813,6 +819,32 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
     if (e.state != in->last_state[k]) *changed = 1;
     in->last_state[k] = (unsigned char)e.state;
   }
+  return SK_OK;
+}
+
+/* A slave node whose closest face at the converged point is not among its candidates (it slid further within the
+ * step than the predictor and the search margin reach) was held on its last face's extension: the candidates are
+ * searched again over the box swept from x_n to the converged point, the faces selected there, and the point is
+ * rejected, so that the host declares the new couplings (layout and pattern again) and Newton runs again from it.
+ * Never an entry outside the declared pattern, never a converged step on a face that is not the closest. */
+static sk_status pnts_converged(sk_instance *in, const sk_state *st, int *accept) {
+  *accept = 1;
+  if (!in->master) return SK_OK;
+  int escaped = 0;
+  for (int k = 0; k < in->n_slave; ++k) escaped += in->escaped[k];
+  if (escaped == 0) return SK_OK;
+  SK_TRY(find_candidates(in, st->x_n, st->x));
+  for (int k = 0; k < in->n_slave; ++k) {
+    in->sel_face[k] = -1;
+    SK_TRY(select_face(in, st->x, k));
+    if (in->escaped[k])
+      return in->api->error(in->host, SK_ERR_DIVERGED, "%s: penalty-nts: slave node %lld is closest to master face "
+                            "%d, beyond the search margin of its path in this step", in->name,
+                            (long long)in->slave->node_id[k], in->sel_face[k]);
+  }
+  in->api->log(in->host, 2, "%s: penalty-nts: %d slave node(s) slid beyond their candidate faces; searching again "
+               "and repeating Newton with the new faces", in->name, escaped);
+  *accept = 0;
   return SK_OK;
 }
 
@@ -930,6 +962,7 @@ static const sk_plugin pnts_plugin = {
     .update_active_set = pnts_update_active_set,
     .residual = pnts_residual,
     .jacobian = pnts_jacobian,
+    .converged = pnts_converged,
     .commit_step = pnts_commit_step,
     .reject_step = pnts_reject_step,
     .report = pnts_report,

@@ -1,11 +1,13 @@
 """covariant-penalty benchmark (not a ctest test): Newton iterations and run time per tangent variant and step size on
-the large-step examples of Konyukhov & Schweizerhof (6.1 run B, 6.2, 6.3), and run time against error on the Hertz
-sphere beside the other plugins. Writes tests/bench/covariant-penalty/{tangents,hertz}.csv and the plots
-docs/img/covariant-{tangents,hertz}.png (gnuplot).
+the large-step examples of Konyukhov & Schweizerhof (6.1 run B, 6.2, 6.3). Writes tests/bench/covariant-penalty/
+tangents.csv (not committed) and the plot docs/img/covariant-tangents.png (gnuplot). Run time against error beside the
+other plugins is the work-precision harness's (tests/bench/plugins/covariant-penalty.yaml:
+python3 tests/bench/workprecision.py hertz-3d).
 
   python3 tests/bench/covariant-penalty/bench.py tangents   # about 10 min on 2 quiet cores
-  python3 tests/bench/covariant-penalty/bench.py hertz
-  python3 tests/bench/covariant-penalty/bench.py plot       # the plots from the CSV files alone (both)
+  python3 tests/bench/covariant-penalty/bench.py tangents EXAMPLE[:STEPS,...] ...   # some examples / step counts,
+                                                             # e.g. spiral:20 parabolic (block-b, parabolic, spiral)
+  python3 tests/bench/covariant-penalty/bench.py plot       # the plot from the CSV file alone
 
 Needs STICKSLIP_BIN or build/bin/stickslip. Times are wall and CPU (user + system) seconds of the driver; on a
 loaded machine the CPU time is the steadier of the two."""
@@ -65,9 +67,41 @@ EXAMPLES = {"block-b": ("scenes/ks-block-b.yaml", 1, (10, 20, 40)),
             "spiral": ("scenes/ks-spiral.yaml", 1, (10, 20, 40))}
 
 
-def tangents():
+CSV_HEADER = ["example", "steps", "form", "tangent", "iterations", "max_per_step", "steps_done", "wall_seconds",
+              "cpu_seconds"]
+
+
+def store_row(row):
+    """Writes one run into tangents.csv as soon as it is measured (a run of the same example, steps, form and tangent
+    is replaced), so an interrupted benchmark keeps what it measured."""
+    path = os.path.join(HERE, "tangents.csv")
     rows = []
-    for example, (scene, press, step_counts) in EXAMPLES.items():
+    if os.path.exists(path):
+        with open(path) as f:
+            rows = [r for r in csv.reader(f)][1:]
+    rows = [r for r in rows if r[:4] != [str(v) for v in row[:4]]] + [row]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(CSV_HEADER)
+        w.writerows(rows)
+
+
+def selection(args):
+    """{example: step counts} from arguments EXAMPLE[:STEPS,...]; all examples and step counts without arguments."""
+    if not args:
+        return {name: steps for name, (_, _, steps) in EXAMPLES.items()}
+    chosen = {}
+    for arg in args:
+        name, _, counts = arg.partition(":")
+        if name not in EXAMPLES:
+            sys.exit("unknown example %r (known: %s)" % (name, ", ".join(EXAMPLES)))
+        chosen[name] = tuple(int(c) for c in counts.split(",")) if counts else EXAMPLES[name][2]
+    return chosen
+
+
+def tangents(args=()):
+    for example, step_counts in selection(args).items():
+        scene, press, _ = EXAMPLES[example]
         for steps in step_counts:
             for form in ("exact", "paper") if steps == 20 else ("exact",):  # the paper form at the paper's steps
                 for tangent in TANGENTS:
@@ -86,12 +120,7 @@ def tangents():
                         print("%-9s %3d steps %-5s %-12s %4d iterations (max %2d per step, %d steps done), "
                               "%.1f s wall, %.1f s CPU" % (example, steps, form, tangent, sum(its), max(its), done,
                                                            wall, cpu))
-                    rows.append(row)
-    with open(os.path.join(HERE, "tangents.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["example", "steps", "form", "tangent", "iterations", "max_per_step", "steps_done",
-                    "wall_seconds", "cpu_seconds"])
-        w.writerows(rows)
+                    store_row(row)
 
 
 def plot():
@@ -129,6 +158,10 @@ def plot():
     for column, label in ((2, "iterations per step"), (3, "CPU seconds (whole run)")):
         for example, curves in panels:
             lines += ["set title '%s'" % example, "set xlabel 'steps'", "set ylabel '%s'" % label]
+            if not curves:  # an example not measured yet keeps its panel, saying so
+                lines += ["set label 1 'not measured' at graph 0.5, 0.5 center", "plot [10:40] [0:1] 2 notitle",
+                          "unset label 1"]
+                continue
             lines.append("plot " + ", \\\n  ".join("'%s' using 1:%d with linespoints dt %d lw 2 title '%s'" %
                                                    (p, column, dash, t) for p, t, dash in curves))
     lines.append("unset multiplot")
@@ -136,94 +169,12 @@ def plot():
     print("wrote", png)
 
 
-# ---- Hertz: run time against error beside the other plugins ------------------------------------------------------
-HERTZ_PLUGINS = (
-    ("penalty-nts", []),
-    ("covariant-penalty nts", ["--plugin", "covariant-penalty", "--set", "contact.0.parameters.variant=nts"]),
-    ("covariant-penalty sts", ["--plugin", "covariant-penalty", "--set", "contact.0.parameters.variant=sts"]),
-    ("nts-augmented", ["--plugin", "nts-augmented", "--set", "contact.0.parameters={}"]),
-)
-
-
-def hertz_errors(results):
-    """scenes/hertz-3d.yaml (quarter model, d = 0.02): the force F = 4 |reaction_top_z| against Hertz's at the approach
-    of the sphere's lowest point (F(delta), Johnson/Hertz: F = 4/3 E* R^1/2 delta^3/2, delta = d + u_z of the sphere's
-    node at the origin), and the contact radius from the outermost active point (its current position) against
-    a = (3 F R / (4 E*))^(1/3). Both measures read the same for node and Gauss-point plugins."""
-    import math
-    nu, E1, E2, d = 0.3, 1000.0, 1.0e6, 0.02
-    Es = 1.0 / ((1 - nu ** 2) / E1 + (1 - nu ** 2) / E2)
-    F = 4 * abs(results.rows[-1]["reaction_top_z"])
-    vtu = results.last_vtu()
-    # the sphere's node at the origin: of the two coincident nodes there, the one that moved down
-    uz = min(u[2] for x, u in zip(vtu["points"], vtu["displacement"])
-             if math.sqrt(sum((xi - ui) ** 2 for xi, ui in zip(x, u))) < 1e-9)
-    delta = d + uz
-    F_delta = 4.0 / 3.0 * Es * delta ** 1.5
-    a_exact = (3 * F / (4 * Es)) ** (1.0 / 3.0)
-    active = [p for p in results.contact_points() if p["state"] > 0 and p["pressure"] > 0]
-    a = max(math.hypot(p["x"], p["y"]) for p in active) if active else 0.0
-    return (F - F_delta) / F_delta, (a - a_exact) / a_exact, len(active)
-
-
-def hertz():
-    rows = []
-    for refine in (1, 1.5):
-        for name, args in HERTZ_PLUGINS:
-            results, wall, cpu, err = timed_run("scenes/hertz-3d.yaml", args + [
-                "--set", "mesh.parameters.refine=%g" % refine, "--set", "output.vtu_every=0"])
-            if results is None:
-                print("%-22s refine %g failed: %s" % (name, refine, err.strip().splitlines()[-1:]))
-                rows.append([name, refine, "failed", "", "", "", wall, cpu])
-                continue
-            e_F, e_a, n = hertz_errors(results)
-            its = sum(int(r["newton_iterations"]) for r in results.rows)
-            print("%-22s refine %g: F(delta) %+.3e, a (outermost active point) %+.3e, %d active points, %d "
-                  "iterations, %.1f s wall, %.1f s CPU" % (name, refine, e_F, e_a, n, its, wall, cpu))
-            rows.append([name, refine, "%.6e" % e_F, "%.6e" % e_a, n, its, wall, cpu])
-    with open(os.path.join(HERE, "hertz.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["plugin", "refine", "error_F_delta", "error_a", "active_points", "iterations", "wall_seconds",
-                    "cpu_seconds"])
-        w.writerows(rows)
-
-
-def plot_hertz():
-    """docs/img/covariant-hertz.png: |error of F(delta)| against CPU seconds, one curve per plugin (refine 1, 1.5)."""
-    data = {}
-    with open(os.path.join(HERE, "hertz.csv")) as f:
-        for r in csv.DictReader(f):
-            if r["error_F_delta"] != "failed":
-                data.setdefault(r["plugin"], []).append((float(r["cpu_seconds"]), abs(float(r["error_F_delta"])),
-                                                         r["refine"]))
-    work = tempfile.mkdtemp(prefix="stickslip-bench-cp-hertz-")
-    curves = []
-    for name, pts in data.items():
-        path = os.path.join(work, name.replace(" ", "-") + ".dat")
-        with open(path, "w") as f:
-            for cpu, err, refine in sorted(pts):
-                f.write("%.6g %.6g %s\n" % (cpu, err, refine))
-        curves.append((path, name))
-    png = os.path.join(ROOT, "docs", "img", "covariant-hertz.png")
-    lines = ["set terminal pngcairo size 900,560 font ',11'", "set output '%s'" % png,
-             "set title 'hertz-3d (tet4, TRI3 faces): error of F(delta) against run time, refine 1 and 1.5'",
-             "set xlabel 'CPU seconds'", "set ylabel '|F - F_Hertz(delta)| / F_Hertz(delta)'", "set logscale xy",
-             "set grid", "set key top right",
-             "plot " + ", \\\n  ".join("'%s' using 1:2 with linespoints pt 7 lw 2 title '%s'" % c for c in curves)]
-    subprocess.run(["gnuplot"], input="\n".join(lines) + "\n", text=True, check=True)
-    print("wrote", png)
-
-
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "tangents"
     if what == "tangents":
-        tangents()
+        tangents(sys.argv[2:])
         plot()
     elif what == "plot":
         plot()
-        plot_hertz()
-    elif what == "hertz":
-        hertz()
-        plot_hertz()
     else:
         sys.exit(__doc__)
