@@ -119,6 +119,62 @@ def check(case):
         sys.exit(f"FAIL: {worst:.2e} > {TOLERANCE:g}")
 
 
+def mesh_cache():
+    """The mesh cache (STICKSLIP_MESH_CACHE): off vs cold vs warm give the same results; a warm run reads the entry
+    (its file is not replaced); another parameter is another entry; a damaged entry is replaced; two runs racing on
+    an empty cache both succeed and leave one whole entry and no temporary file."""
+    scene, args = "hertz-2d.yaml", ["--steps", "2"]
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = os.path.join(tmp, "cache")
+
+        def go(name, cache, extra=()):
+            os.environ["STICKSLIP_MESH_CACHE"] = cache
+            out = os.path.join(tmp, name)
+            run("run", scene, args + list(extra), out, "")
+            return out
+
+        def entries():
+            return sorted(f for f in os.listdir(folder)) if os.path.isdir(folder) else []
+
+        reference = go("off", "off")
+        if entries():
+            sys.exit("STICKSLIP_MESH_CACHE=off wrote to the cache")
+        cold = go("cold", folder)
+        if len(entries()) != 1:
+            sys.exit(f"a cold run left {entries()} in the cache")
+        entry = os.path.join(folder, entries()[0])
+        inode = os.stat(entry).st_ino
+        warm = go("warm", folder)
+        if os.stat(entry).st_ino != inode:
+            sys.exit("the warm run regenerated the mesh instead of reading the cache")
+        for out in (cold, warm):
+            worst, where, _ = compare(reference, out)
+            if worst != 0.0:
+                sys.exit(f"a mesh from the cache changed the results: {worst:.2e} ({where})")
+        go("other", folder, ["--set", "mesh.parameters.h_far=0.25"])
+        if len(entries()) != 2:
+            sys.exit(f"another parameter did not make another entry: {entries()}")
+        size = os.path.getsize(entry)
+        with open(entry, "r+b") as f:
+            f.truncate(size // 2)
+        damaged = go("damaged", folder)
+        if os.path.getsize(entry) != size or compare(reference, damaged)[0] != 0.0:
+            sys.exit("a damaged entry was not replaced by a good one")
+        for name in entries():
+            os.unlink(os.path.join(folder, name))
+        env = dict(os.environ, STICKSLIP_MESH_CACHE=folder)
+        procs = [subprocess.Popen([BIN, "check", os.path.join(SCENES, scene)], env=env, stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.PIPE, text=True) for _ in range(2)]
+        for proc in procs:
+            _, err = proc.communicate(timeout=300)
+            if proc.returncode != 0:
+                sys.exit(f"a concurrent run failed: {err}")
+        if len(entries()) != 1 or not entries()[0].endswith(".mesh"):
+            sys.exit(f"two concurrent runs left {entries()}")
+    print("mesh_cache: off, cold, warm and repaired runs agree exactly; warm runs read the entry; concurrent runs "
+          "leave one entry")
+
+
 def bench(repeats):
     print("| skip | scene | command | CPU s, skip off | CPU s, skip on | assembly s off → on | max difference |")
     print("|---|---|---|---|---|---|---|")
@@ -143,11 +199,13 @@ def bench(repeats):
 def main():
     if len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] in CASES:
         check(sys.argv[2])
+    elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "mesh_cache":
+        mesh_cache()
     elif len(sys.argv) >= 2 and sys.argv[1] == "bench":
         repeats = int(sys.argv[3]) if len(sys.argv) >= 4 and sys.argv[2] == "-n" else 3
         bench(repeats)
     else:
-        sys.exit(f"usage: skip.py check {{{','.join(CASES)}}} | skip.py bench [-n N]")
+        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache}} | skip.py bench [-n N]")
 
 
 if __name__ == "__main__":
