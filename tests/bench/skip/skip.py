@@ -194,6 +194,22 @@ def bench(repeats):
         asm = f"{min(assembly['off']):.2f} → {min(assembly['on']):.2f}" if command == "run" else "—"
         print(f"| {need} | {scene} {' '.join(a for a in args if a != '--set')} | {command} | {min(cpu['off']):.2f} | "
               f"{min(cpu['on']):.2f} | {asm} | {diff} |")
+    # the mesh cache: off (gmsh every time) against a warm cache, `check` (set-up only), CPU with gmsh's child
+    scene, args = "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"]
+    cpu = {"off": [], "on": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        saved = os.environ.get("STICKSLIP_MESH_CACHE")
+        for mode, cache in (("on", os.path.join(tmp, "cache")), ("off", "off"), ("on", os.path.join(tmp, "cache"))):
+            os.environ["STICKSLIP_MESH_CACHE"] = cache
+            for _ in range(repeats):
+                cpu[mode].append(run("check", scene, args, tmp, "")[1])
+        if saved is None:
+            del os.environ["STICKSLIP_MESH_CACHE"]
+        else:
+            os.environ["STICKSLIP_MESH_CACHE"] = saved
+    cpu["on"] = cpu["on"][repeats:]  # the first pass filled the cache
+    print(f"| mesh cache | {scene} mesh.parameters.refine=2 | check | {min(cpu['off']):.2f} | {min(cpu['on']):.2f} | "
+          f"— | identical (skip_mesh_cache) |")
 
 
 def main():
