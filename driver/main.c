@@ -44,7 +44,9 @@ static void usage_run(FILE *out, const char *command) {
           "  --set key=value      override any scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
           "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n"
           "  --trust-scripts      let the scene's .geo scripts run shell commands and write files (SystemCall,\n"
-          "                       Print, Save, CreateDir, Printf > file); refused otherwise. Only for scripts you trust\n",
+          "                       Print, Save, CreateDir, Printf > file); refused otherwise. Only for scripts you trust\n"
+          "  --explain            print what each term of the scene needs, what will be computed and what is\n"
+          "                       skipped, and why (docs/performance.md)\n",
           command, strcmp(command, "run") == 0 ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
   if (strcmp(command, "run") == 0)
     fprintf(out,
@@ -61,7 +63,7 @@ typedef struct {
   const char *out;
   const char **sets;
   int n_sets;
-  int steps, quiet, verbose, trust_scripts;
+  int steps, quiet, verbose, trust_scripts, explain;
 } arguments;
 
 /* Returns 0 on success, 1 on bad usage (message printed), 2 when help was printed. */
@@ -99,6 +101,8 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       ++i;
     } else if (strcmp(a, "--trust-scripts") == 0) {
       args->trust_scripts = 1;
+    } else if (strcmp(a, "--explain") == 0) {
+      args->explain = 1;
     } else if (allow_run_options && strcmp(a, "--quiet") == 0) {
       args->quiet = 1;
     } else if (allow_run_options && strcmp(a, "--verbose") == 0) {
@@ -227,8 +231,13 @@ static int command_scene(int argc, char **argv, int run) {
         if (m->bodies[b].plugin)
           printf("  body '%s': plugin %s, strategy %s\n", m->bodies[b].name, m->bodies[b].plugin->name,
                  m->bodies[b].plugin->strategies[m->bodies[b].strategy]);
+      if (args.explain) sk_scene_explain(&scene, NULL, stdout);
     }
   } else {
+    if (args.explain && rank_of_world() == 0) {
+      sk_scene_explain(&scene, args.out, stdout);
+      fflush(stdout);
+    }
     sk_run_options options = {.out_dir = args.out,
                               .progress = !args.quiet && rank_of_world() == 0,
                               .verbose = args.verbose,

@@ -23,6 +23,7 @@
 static int trust_scripts = 0;
 
 void sk_mesh_trust_scripts(int trust) { trust_scripts = trust != 0; }
+int sk_mesh_scripts_trusted(void) { return trust_scripts; }
 
 /* ---- tokens ------------------------------------------------------------------------------------------------- */
 

@@ -49,6 +49,30 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
 void sk_mesh_sandbox_phase(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* In the child: ends it at once with `status` and the current error message (from inside a gmsh callback). */
 _Noreturn void sk_mesh_sandbox_fail(sk_status status);
+/* The mesh as one buffer (malloc'ed; NULL when out of memory), and back (every size checked; a corrupt buffer is
+ * SK_ERR_INTERNAL, the mesh then partly filled: free it). The pipe's and the mesh cache's format. */
+char *sk_mesh_serialize(const sk_mesh *mesh, uint64_t *length);
+sk_status sk_mesh_deserialize(const char *buffer, uint64_t length, sk_mesh *mesh);
+
+/* ---- the cache of generated meshes (mesh_cache.c) ------------------------------------------------------------- */
+
+/* What identifies a generated mesh: the .geo text, its parameters, the dimension asked for, mesh.max_elements, the
+ * gmsh version and the cache format. */
+typedef struct {
+  uint64_t hash[2];
+  char file[1100];      /* the cache file, "" when the mesh is not cached (why says why) */
+  char why[160];
+} sk_mesh_cache_key;
+
+/* Fills the key for a .geo with its parameter text; key->file stays "" (with the reason) when caching is off
+ * (STICKSLIP_MESH_CACHE=off, no cache folder, trusted scripts, an unreadable file). */
+void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, long max_elements,
+                            sk_mesh_cache_key *key);
+/* 1 and the mesh when the cache holds it; 0 otherwise (mesh left empty, source kept). */
+int sk_mesh_cache_load(const sk_mesh_cache_key *key, sk_mesh *mesh);
+/* Stores a generated mesh (atomically: a private file renamed into place); failures only cost the cache. */
+void sk_mesh_cache_store(const sk_mesh_cache_key *key, const sk_mesh *mesh);
+int sk_mesh_scripts_trusted(void); /* geo_scan.c */
 
 /* ---- staged generation with a size guard (mesh_guard.c, in the child) ----------------------------------------- */
 

@@ -501,6 +501,8 @@ void sk_mesh_options_default(sk_mesh_options *options) {
   options->time_limit = SK_MESH_DEFAULT_TIME_LIMIT;
 }
 
+static sk_status finish_load(const char *path, sk_mesh *mesh, sk_status status);
+
 sk_status sk_mesh_load(const char *path, const sk_mesh_param *params, int n_params, int dim, sk_mesh *mesh) {
   sk_mesh_options options;
   sk_mesh_options_default(&options);
@@ -546,6 +548,11 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
     snprintf(parameters + used, sizeof parameters - used, "%s%s = %g", p ? ", " : "", params[p].name,
              params[p].value);
   }
+  /* a script meshed before with the same text and parameters comes from the cache (mesh_cache.c) */
+  sk_mesh_cache_key key;
+  memset(&key, 0, sizeof key);
+  if (is_geo) sk_mesh_cache_key_make(path, parameters, dim, options->max_elements, &key);
+  if (is_geo && sk_mesh_cache_load(&key, mesh)) return finish_load(path, mesh, SK_OK);
   char wrapper[1024] = "";
   if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
   load_job job = {.path = path, .open_path = wrapper[0] ? wrapper : path, .is_geo = is_geo, .dim = dim,
@@ -556,13 +563,18 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
                                    .max_elements = options->max_elements};
   sk_status status = sk_mesh_sandbox(load_in_child, &job, &limits, mesh);
   if (wrapper[0]) unlink(wrapper);
+  if (status == SK_OK && is_geo && mesh->n_groups > 0) sk_mesh_cache_store(&key, mesh);
   /* gmsh's own errors say what went wrong but not with which values: name the parameters the scene gave */
   if (status == SK_ERR_INPUT && parameters[0] && !strstr(sk_error_message(), "(parameters: ")) {
     char message[2048];
     snprintf(message, sizeof message, "%s", sk_error_message());
     sk_error_set(status, "%s (parameters: %s)", message, parameters);
   }
+  return finish_load(path, mesh, status);
+}
 
+/* The checks and orientation of a mesh from gmsh or the cache (the cache holds gmsh's mesh as it came). */
+static sk_status finish_load(const char *path, sk_mesh *mesh, sk_status status) {
   if (status == SK_OK && mesh->n_groups == 0)
     status = sk_error_set(SK_ERR_INPUT, "mesh %s: no physical groups of dimension %d or lower", path, mesh->dim);
   if (status == SK_OK && mesh->dim == 2) status = check_plane(path, mesh);

@@ -68,7 +68,7 @@ _Noreturn void sk_mesh_sandbox_fail(sk_status status) {
 }
 
 /* The mesh as one buffer: dim, n_nodes, n_groups (int32), coordinates, then per group its header and conn. */
-static char *serialize(const sk_mesh *mesh, uint64_t *length) {
+char *sk_mesh_serialize(const sk_mesh *mesh, uint64_t *length) {
   uint64_t n = 3 * sizeof(int32_t) + 3 * (uint64_t)mesh->n_nodes * sizeof(double);
   for (int g = 0; g < mesh->n_groups; ++g)
     n += sizeof mesh->groups[g].name + 4 * sizeof(int32_t) +
@@ -91,8 +91,8 @@ static char *serialize(const sk_mesh *mesh, uint64_t *length) {
   return buffer;
 }
 
-/* Rebuilds the mesh from serialize()'s buffer; every size is checked against the buffer. */
-static sk_status deserialize(const char *buffer, uint64_t length, sk_mesh *mesh) {
+/* Rebuilds the mesh from sk_mesh_serialize()'s buffer; every size is checked against the buffer. */
+sk_status sk_mesh_deserialize(const char *buffer, uint64_t length, sk_mesh *mesh) {
   const char *at = buffer, *end = buffer + length;
 #define GET(dst, size) \
   do { \
@@ -156,7 +156,7 @@ _Noreturn static void run_child(int fd, int err_fd, sk_mesh_sandbox_work work, v
   child_fd = fd;
   sk_status status = work(arg, mesh);
   uint64_t length = 0;
-  char *buffer = status == SK_OK ? serialize(mesh, &length) : NULL;
+  char *buffer = status == SK_OK ? sk_mesh_serialize(mesh, &length) : NULL;
   if (status == SK_OK && !buffer) status = sk_error_set(SK_ERR_NOMEM, "out of memory sending the mesh");
   if (status != SK_OK) sk_mesh_sandbox_fail(status);
   /* _exit: none of the parent's atexit handlers (MPI, gmsh) may run in the child */
@@ -321,7 +321,7 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
     status = sk_error_set(SK_ERR_INPUT, "mesh %s: gmsh stopped without a mesh (exit status %d) while %s%s", source,
                           WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1, phase, said);
   } else {
-    status = deserialize(mesh_frame, mesh_length, mesh);
+    status = sk_mesh_deserialize(mesh_frame, mesh_length, mesh);
   }
   free(in.data);
   free(err.data);

@@ -11,8 +11,9 @@ int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body
   const sk_group *g = body->group;
   const int *conn = g->conn + (size_t)(element - body->first_element) * (size_t)g->nen;
   int dim = model->dim;
-  for (int a = 0; a < g->nen; ++a)
-    for (int i = 0; i < dim; ++i) dofs[a * dim + i] = conn[a] * dim + i;
+  if (dofs)
+    for (int a = 0; a < g->nen; ++a)
+      for (int i = 0; i < dim; ++i) dofs[a * dim + i] = conn[a] * dim + i;
   if (body_out) *body_out = body;
   if (conn_out) *conn_out = conn;
   return g->nen * dim;
@@ -29,9 +30,7 @@ static sk_status inverted(const sk_body *body, int element) {
 sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n_out,
                             double *f, double *K) {
   const sk_body *body;
-  const int *conn;
-  int n = sk_element_dofs(model, element, dofs, &body, &conn);
-  int nen = body->group->nen, dim = model->dim;
+  int n = sk_element_dofs(model, element, dofs, &body, NULL);
   double X[SK_MAX_NEN * 3], u[SK_MAX_NEN * 3], u0[SK_MAX_NEN * 3];
   gather(n, dofs, model->X, X);
   gather(n, dofs, state->u, u);
@@ -41,9 +40,21 @@ sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, i
   } else {
     if (sk_solid_internal(&body->solid, X, u, NULL, f, K) != SK_OK) return inverted(body, element);
   }
+  *n_out = n;
+  return sk_element_inertia(model, state, element, dofs, f, K);
+}
+
+sk_status sk_element_inertia(const sk_model *model, const sk_bulk_state *state, int element, const int *dofs,
+                             double *f, double *K) {
+  const sk_body *body;
+  const int n = sk_element_dofs(model, element, NULL, &body, NULL);
+  const int nen = body->group->nen, dim = model->dim;
   double c = state->integrator->inertia_coefficient(state->dt);
   int need_mass = c != 0.0 || model->body_force[0] != 0 || model->body_force[1] != 0 || model->body_force[2] != 0;
   if (need_mass) {
+    if (!model->element_mass)
+      return sk_error_set(SK_ERR_INTERNAL, "body '%s': inertia or body force without the mass (no term declared "
+                          "the mass need)", body->name);
     const double *M = model->element_mass + model->element_mass_offset[element];
     for (int a = 0; a < nen; ++a)
       for (int b = 0; b < nen; ++b) {
@@ -61,7 +72,6 @@ sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, i
         }
       }
   }
-  *n_out = n;
   return SK_OK;
 }
 

@@ -14,7 +14,8 @@ typedef struct {
   const double *u;         /* current iterate */
 } sk_bulk_state;
 
-/* Global dof ids of element e (global element numbering over bodies): returns nen*dim and fills dofs. */
+/* Global dof ids of element e (global element numbering over bodies): returns nen*dim and fills dofs (if not
+ * NULL). */
 int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body **body, const int **conn);
 
 /* Element e's residual f = c M (u - u_n - dt v_n) + f_int - M b (b the body force per unit mass) and, when K is not
@@ -22,6 +23,11 @@ int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body
  * a message naming the body and element) when the element is inverted. */
 sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n,
                             double *f, double *K);
+
+/* The inertia and body-force part of sk_element_system alone, added to f (and K when not NULL): for a bulk term that
+ * keeps the internal part's constant stiffness (hooke). dofs from sk_element_dofs. */
+sk_status sk_element_inertia(const sk_model *model, const sk_bulk_state *state, int element, const int *dofs,
+                             double *f, double *K);
 
 /* Adds traction load k at time t to F (F -= nodal forces), dim per node. */
 void sk_traction_add(const sk_model *model, int k, double t, double *F);

@@ -78,11 +78,12 @@ static sk_status build_node_graph(sk_model *model) {
 }
 
 /* Consistent nodal mass matrix (scalar) and the element mass matrices (kept: the inertia terms of every Newton
- * iteration reuse them). */
-static sk_status build_mass(sk_model *model) {
-  SK_TRY(build_node_graph(model));
+ * iteration reuse them). Built once, when a term declares it needs the mass (system_needs.c). */
+sk_status sk_model_build_mass(sk_model *model) {
+  if (model->element_mass) return SK_OK;
   double X[SK_MAX_NEN * 3];
   const int dim = model->dim;
+  free(model->element_mass_offset); /* a call after a failed one */
   model->element_mass_offset = malloc(sizeof(int64_t) * ((size_t)model->n_elements + 1));
   if (!model->element_mass_offset) return out_of_memory("element mass matrices");
   model->element_mass_offset[0] = 0;
@@ -90,8 +91,9 @@ static sk_status build_mass(sk_model *model) {
     for (int e = 0; e < model->bodies[b].group->n_elems; ++e, ++e_global)
       model->element_mass_offset[e_global + 1] =
           model->element_mass_offset[e_global] + model->bodies[b].group->nen * model->bodies[b].group->nen;
-  model->element_mass = malloc(sizeof(double) * (size_t)(model->element_mass_offset[model->n_elements] + 1));
-  if (!model->element_mass) return out_of_memory("element mass matrices");
+  double *element_mass = malloc(sizeof(double) * (size_t)(model->element_mass_offset[model->n_elements] + 1));
+  if (!element_mass) return out_of_memory("element mass matrices");
+  model->element_mass = element_mass;
   for (int b = 0; b < model->n_bodies; ++b) {
     const sk_body *body = &model->bodies[b];
     const sk_group *g = body->group;
@@ -146,7 +148,7 @@ static sk_status partition(sk_model *model) {
 }
 
 sk_status sk_model_build(sk_model *model) {
-  SK_TRY(build_mass(model));
+  SK_TRY(build_node_graph(model));
   return partition(model);
 }
 

@@ -601,3 +601,25 @@ void sk_scene_free(sk_scene *scene) {
   sk_cfg_free(scene->cfg);
   scene->cfg = NULL;
 }
+
+void sk_scene_explain(const sk_scene *scene, const char *out_dir, FILE *out) {
+  sk_system_explain(scene->system, out);
+  const sk_output_settings *o = &scene->output;
+  fprintf(out, "outputs:\n");
+  fprintf(out, "  %-16s computed: strain and kinetic energy, momenta, reactions and contact totals per step (the\n"
+               "                   progress line shows the energy)\n", "history");
+  if (!out_dir) {
+    fprintf(out, "  %-16s skipped: no --out DIR, no result files\n", "stress, vtu");
+  } else if (!o->write_vtu) {
+    fprintf(out, "  %-16s skipped: output.vtu is false\n", "stress, vtu");
+  } else {
+    if (o->vtu_every > 0)
+      fprintf(out, "  %-16s computed every %d steps and at the last (output.vtu_every)\n", "stress, vtu", o->vtu_every);
+    else
+      fprintf(out, "  %-16s computed at the last step only (output.vtu_every: 0)\n", "stress, vtu");
+  }
+  if (!out_dir || !o->write_contact_csv)
+    fprintf(out, "  %-16s skipped: %s\n", "contact.csv", !out_dir ? "no --out DIR" : "output.contact_csv is false");
+  else
+    fprintf(out, "  %-16s computed: the contact points of the last step\n", "contact.csv");
+}

@@ -108,6 +108,7 @@ sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk
   for (int k = 0; k < model->n_dofs; ++k) sys->q_n[k] = sys->q[k] = model->X[k];
   sk_status status = sk_linsys_create(model->comm, &solver->linear, &sys->linsys);
   if (status == SK_OK) status = create_terms(sys);
+  if (status == SK_OK) status = sk_system_settle_needs(sys);
   if (status != SK_OK) {
     sk_system_destroy(sys);
     return status;

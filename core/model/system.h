@@ -9,6 +9,7 @@
 #define STICKSLIP_SYSTEM_H
 
 #include <mpi.h>
+#include <stdio.h>
 
 #include "stickslip/bridge.h"
 #include "stickslip/model.h"
@@ -113,6 +114,13 @@ sk_status sk_system_commit(sk_system *sys);
 void sk_system_reject(sk_system *sys);
 /* After output: the committed state becomes the start of the next step. */
 void sk_system_advance(sk_system *sys);
+
+/* 1 when some term declared `need` (or the test switch forces it); system_needs.c. */
+int sk_system_needs(const sk_system *sys, sk_need need);
+/* After the terms are created: builds what they declared (the mass) and nothing else. */
+sk_status sk_system_settle_needs(sk_system *sys);
+/* Prints every term's declared needs and what the scene computes or skips, with the reasons (--explain). */
+void sk_system_explain(const sk_system *sys, FILE *out);
 
 /* Declares couplings for the attempt (from a term's pattern stage); indices in the full numbering. */
 sk_status sk_system_declare(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols);

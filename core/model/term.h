@@ -14,6 +14,32 @@
 typedef struct sk_system sk_system;
 typedef struct sk_term sk_term;
 
+/* What a term needs evaluated, declared once when it is created (system_needs.c collects them): the system computes
+ * a need only when some term declares it, and `stickslip run|check --explain` prints the declarations with their
+ * reasons. `applies` says the question makes sense for the term (a bulk term has no friction to skip). */
+typedef enum {
+  SK_NEED_MASS,            /* consistent element mass: inertia, body force, a plugin's stickslip.bulk mass calls */
+  SK_NEED_FRICTION,        /* tangential terms, slip history and friction output of a contact pair */
+  SK_NEED_MASTER_UNKNOWNS, /* a deformable master surface: its dofs coupled into the pair's rows */
+  SK_NEED_STIFFNESS_UPDATE,/* element stiffness re-evaluated at every iterate (else: assembled once, f = K u) */
+  SK_NEED_COUNT
+} sk_need;
+
+typedef struct {
+  unsigned char applies[SK_NEED_COUNT];
+  unsigned char needed[SK_NEED_COUNT];
+  char why[SK_NEED_COUNT][160]; /* the reason, for --explain: "time.scheme backward-euler (inertia)" */
+} sk_needs;
+
+/* Records one declaration of a term (printf-style reason). */
+void sk_needs_declare(sk_needs *needs, sk_need need, int needed, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+const char *sk_need_name(sk_need need);
+/* 1 when the test switch STICKSLIP_NO_SKIP (a comma list of need names, or "all") forces `need` to be computed
+ * even where no term declares it: tests/bench/skip compares the results with and without the skip. Only the needs
+ * the host skips itself (mass, stiffness-update) can be forced; the others are skipped inside the plugins. */
+int sk_need_forced(sk_need need);
+
 typedef struct sk_term_ops {
   const char *kind; /* "bulk", "dirichlet", "traction", "resultant", "plugin" */
   void (*destroy)(sk_term *term);
@@ -55,6 +81,7 @@ struct sk_term {
   const unsigned char *eliminated;
   int recover_needs_jdx;
   double seconds;                  /* time spent in residual/jacobian (summary.json) */
+  sk_needs needs;                  /* declared at create (see sk_need) */
 };
 
 /* The terms of core/model (each returns a new term or an error). */

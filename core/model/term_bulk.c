@@ -14,6 +14,9 @@ typedef struct {
   int64_t n_dofs;
   int64_t *dofs;    /* the body's displacement dofs (its nodes, sorted, dim each) */
   double *K;        /* one element Jacobian (too large for the stack of deep call chains) */
+  double *K_const;  /* linear material (no stiffness-update need): the stiffness of this rank's elements, in loop
+                       order, nd x nd each, computed at set-up; NULL otherwise */
+  int nd;           /* dofs per element */
 } bulk_term;
 
 static sk_bulk_state bulk_state(const sk_system *sys, const sk_body *body) {
@@ -34,6 +37,7 @@ static void bulk_destroy(sk_term *base) {
   bulk_term *term = (bulk_term *)base;
   free(term->dofs);
   free(term->K);
+  free(term->K_const);
   free(term);
 }
 
@@ -61,6 +65,22 @@ static sk_status bulk_pattern(sk_term *base, sk_system *sys, unsigned char *rows
   return SK_OK;
 }
 
+/* The internal force of a linear element from its constant stiffness: f = K u, or K (u_n + u)/2 for the midpoint
+ * rule's discrete gradient (exact for a quadratic energy); then inertia and body force. */
+static sk_status constant_element(const sk_system *sys, const sk_bulk_state *state, int e, const double *K, int *dofs,
+                                  double *f) {
+  const int nd = sk_element_dofs(sys->model, e, dofs, NULL, NULL);
+  const int midpoint = state->integrator->discrete_gradient;
+  double u[SK_MAX_NEN * 3];
+  for (int j = 0; j < nd; ++j) u[j] = midpoint ? 0.5 * (state->u_n[dofs[j]] + state->u[dofs[j]]) : state->u[dofs[j]];
+  for (int i = 0; i < nd; ++i) {
+    double sum = 0.0;
+    for (int j = 0; j < nd; ++j) sum += K[i * nd + j] * u[j];
+    f[i] = sum;
+  }
+  return sk_element_inertia(sys->model, state, e, dofs, f, NULL);
+}
+
 static sk_status bulk_residual(sk_term *base, sk_system *sys) {
   bulk_term *term = (bulk_term *)base;
   if (!active(term, sys)) return SK_OK;
@@ -69,9 +89,16 @@ static sk_status bulk_residual(sk_term *base, sk_system *sys) {
   const sk_bulk_state state = bulk_state(sys, body);
   int dofs[SK_MAX_NEN * 3], n = 0;
   double f[SK_MAX_NEN * 3];
+  const int64_t nd2 = (int64_t)term->nd * term->nd;
+  int64_t own = 0;
   for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) {
     if (m->element_part[e] != m->rank) continue;
-    SK_TRY(sk_element_system(m, &state, e, dofs, &n, f, NULL));
+    if (term->K_const) {
+      SK_TRY(constant_element(sys, &state, e, term->K_const + nd2 * own++, dofs, f));
+      n = term->nd;
+    } else {
+      SK_TRY(sk_element_system(m, &state, e, dofs, &n, f, NULL));
+    }
     for (int k = 0; k < n; ++k) sys->F_local[dofs[k]] += f[k];
   }
   return SK_OK;
@@ -85,11 +112,21 @@ static sk_status bulk_jacobian(sk_term *base, sk_system *sys) {
   const sk_bulk_state state = bulk_state(sys, body);
   int dofs[SK_MAX_NEN * 3], n = 0;
   double f[SK_MAX_NEN * 3];
+  const int64_t nd2 = (int64_t)term->nd * term->nd;
+  const double scale = state.integrator->discrete_gradient ? 0.5 : 1.0; /* d(u_n + u)/2 / du */
+  int64_t own = 0;
   for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) {
     if (m->element_part[e] != m->rank) continue;
-    const int nd = body->group->nen * m->dim;
-    memset(term->K, 0, sizeof(double) * (size_t)(nd * nd));
-    SK_TRY(sk_element_system(m, &state, e, dofs, &n, f, term->K));
+    if (term->K_const) {
+      const double *Kc = term->K_const + nd2 * own++;
+      for (int64_t i = 0; i < nd2; ++i) term->K[i] = scale * Kc[i];
+      n = sk_element_dofs(m, e, dofs, NULL, NULL);
+      memset(f, 0, sizeof(double) * (size_t)n); /* the inertia adds its force too; only K is used here */
+      SK_TRY(sk_element_inertia(m, &state, e, dofs, f, term->K));
+    } else {
+      memset(term->K, 0, sizeof(double) * (size_t)nd2);
+      SK_TRY(sk_element_system(m, &state, e, dofs, &n, f, term->K));
+    }
     const int64_t *pos = sys->elem_pos + sys->elem_pos_offset[e];
     for (int i = 0; i < n * n; ++i) sys->values[pos[i]] += term->K[i];
   }
@@ -132,6 +169,51 @@ static void initial_velocity(const sk_model *m, const sk_body *body, double *v) 
   }
 }
 
+/* The mass: for inertia (a dynamic scheme), a body force (M b), or an initial velocity (the kinetic energy and
+ * momenta of the history rows; a quasi-static scheme sets every later velocity to zero). */
+static void declare_needs(const sk_model *m, const sk_body *body, sk_needs *needs) {
+  const char *material = sk_material_model_names[body->material.model];
+  if (body->material.model == SK_MAT_HOOKE)
+    sk_needs_declare(needs, SK_NEED_STIFFNESS_UPDATE, 0, "material %s: linear, its stiffness is assembled once",
+                     material);
+  else
+    sk_needs_declare(needs, SK_NEED_STIFFNESS_UPDATE, 1, "material %s: the tangent depends on the displacement",
+                     material);
+  const double *b = m->body_force, *v = body->velocity, *w = body->angular_velocity;
+  if (body->integrator->dynamic)
+    sk_needs_declare(needs, SK_NEED_MASS, 1, "time.scheme %s: inertia", body->integrator->name);
+  else if (b[0] != 0.0 || b[1] != 0.0 || b[2] != 0.0)
+    sk_needs_declare(needs, SK_NEED_MASS, 1, "body force (%g, %g, %g) per unit mass", b[0], b[1], b[2]);
+  else if (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0 || w[0] != 0.0 || w[1] != 0.0 || w[2] != 0.0)
+    sk_needs_declare(needs, SK_NEED_MASS, 1, "initial velocity: kinetic energy and momenta of the initial row");
+  else
+    sk_needs_declare(needs, SK_NEED_MASS, 0, "time.scheme %s, no body force, starts at rest",
+                     body->integrator->name);
+}
+
+/* The stiffness of this rank's elements at u = 0 (a linear material's stiffness at every u). */
+static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk_body *body) {
+  int64_t own = 0;
+  for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) own += m->element_part[e] == m->rank;
+  const int64_t nd2 = (int64_t)term->nd * term->nd;
+  term->K_const = calloc((size_t)(own * nd2 > 0 ? own * nd2 : 1), sizeof(double));
+  if (!term->K_const)
+    return sk_error_set(SK_ERR_NOMEM, "body '%s': out of memory for the constant stiffness of %lld elements (%lld "
+                        "values)", body->name, (long long)own, (long long)(own * nd2));
+  const double zero[SK_MAX_NEN * 3] = {0};
+  double X[SK_MAX_NEN * 3];
+  int dofs[SK_MAX_NEN * 3];
+  own = 0;
+  for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) {
+    if (m->element_part[e] != m->rank) continue;
+    const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
+    for (int j = 0; j < nd; ++j) X[j] = m->X[dofs[j]];
+    if (sk_solid_internal(&body->solid, X, zero, NULL, NULL, term->K_const + nd2 * own++) != SK_OK)
+      return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, e - body->first_element);
+  }
+  return SK_OK;
+}
+
 sk_status sk_term_bulk_create(sk_system *sys, int body_index, sk_term **out) {
   const sk_model *m = sys->model;
   const sk_body *body = &m->bodies[body_index];
@@ -165,6 +247,15 @@ sk_status sk_term_bulk_create(sk_system *sys, int body_index, sk_term **out) {
   term->n_dofs = unique * m->dim;
   free(nodes);
   initial_velocity(m, body, sys->v_n);
+  declare_needs(m, body, &term->base.needs);
+  term->nd = g->nen * m->dim;
+  sk_status status = SK_OK;
+  if (!term->base.needs.needed[SK_NEED_STIFFNESS_UPDATE] && !sk_need_forced(SK_NEED_STIFFNESS_UPDATE))
+    status = constant_stiffness(term, m, body);
+  if (status != SK_OK) {
+    bulk_destroy(&term->base);
+    return status;
+  }
   *out = &term->base;
   return SK_OK;
 }

@@ -381,6 +381,48 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
   return SK_OK;
 }
 
+/* The needs the host can tell from the attachment and the capabilities (term.h: sk_need). */
+static void declare_needs(plugin_term *term, const sk_system *sys) {
+  sk_needs *needs = &term->base.needs;
+  const uint64_t caps = term->plugin->caps;
+  if (term->body >= 0)
+    sk_needs_declare(needs, SK_NEED_MASS, 1, "body plugin %s: its body's mass properties and body force",
+                     term->plugin->name);
+  else
+    sk_needs_declare(needs, SK_NEED_MASS, (caps & SK_CAP_NEEDS_MASS) != 0, "plugin %s %s the needs-mass capability",
+                     term->plugin->name, caps & SK_CAP_NEEDS_MASS ? "declares" : "does not declare");
+  if (term->pair < 0) return;
+  const sk_contact_pair *pair = &sys->model->pairs[term->pair];
+  if (pair->has_obstacle)
+    sk_needs_declare(needs, SK_NEED_MASTER_UNKNOWNS, 0, "rigid obstacle '%s': prescribed motion, no unknowns",
+                     pair->obstacle.name);
+  else
+    sk_needs_declare(needs, SK_NEED_MASTER_UNKNOWNS, 1, "%s '%s' (%d nodes)",
+                     pair->self_contact ? "self contact on" : "deformable master", pair->master.name,
+                     pair->master.n_nodes);
+}
+
+/* Friction: a plugin with the friction capability takes its Coulomb coefficient as the parameter `mu` (default 0;
+ * docs/plugin-abi.md, capabilities) and with mu = 0 evaluates no tangential terms, keeps no slip history and reports
+ * no slip. Read after create, so that the plugin validated the value and reading it here hides no unknown key. */
+static void declare_friction(plugin_term *term) {
+  if (term->pair < 0) return;
+  sk_needs *needs = &term->base.needs;
+  if (!(term->plugin->caps & SK_CAP_FRICTION)) {
+    sk_needs_declare(needs, SK_NEED_FRICTION, 0, "plugin %s is frictionless (no friction capability)",
+                     term->plugin->name);
+    return;
+  }
+  const sk_cfg *node = sk_cfg_get(term->host.params, "mu");
+  double mu = 0.0;
+  if (!node)
+    sk_needs_declare(needs, SK_NEED_FRICTION, 0, "mu not given (0: frictionless)");
+  else if (sk_cfg_as_double(node, &mu) == SK_OK)
+    sk_needs_declare(needs, SK_NEED_FRICTION, mu != 0.0, "mu = %g", mu);
+  else /* the plugin accepted a value that is not a number: assume it is used */
+    sk_needs_declare(needs, SK_NEED_FRICTION, 1, "mu = %s", sk_cfg_scalar(node) ? sk_cfg_scalar(node) : "?");
+}
+
 sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **out) {
   plugin_term *term = calloc(1, sizeof *term);
   if (!term) return sk_error_set(SK_ERR_NOMEM, "out of memory for a plugin instance");
@@ -396,10 +438,14 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
                             term->base.name, term->plugin->name, term->plugin->abi_major, term->plugin->abi_minor,
                             term->attach.views[v]->name, sk_elem_name(term->attach.views[v]->cell_type),
                             SK_ABI_MAJOR, SK_ABI_MINOR);
+  if (status == SK_OK) declare_needs(term, sys);
+  /* before create: a body plugin may ask for its mass properties there */
+  if (status == SK_OK && term->base.needs.needed[SK_NEED_MASS]) status = sk_model_build_mass(sys->model);
   if (status == SK_OK) {
     status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
     if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);
   }
+  if (status == SK_OK) declare_friction(term);
   /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */
   if (status == SK_OK && body >= 0 && term->table.integrator && !term->claimed)
     status = sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' supplies an integrator but did not claim the body "

@@ -113,7 +113,8 @@ typedef struct sk_model {
   sk_contact_pair *pairs;
   sk_time_options time;
 
-  /* consistent mass: nodal scalar CSR (n_nodes x n_nodes; its graph is the bulk's node graph) */
+  /* consistent mass: nodal scalar CSR (n_nodes x n_nodes; its graph is the bulk's node graph). The graph is built
+   * always; the values (zero until then) and the element matrices (NULL until then) by sk_model_build_mass. */
   int64_t *mass_row_ptr;
   int *mass_cols;
   double *mass_values;
@@ -121,10 +122,12 @@ typedef struct sk_model {
   double *element_mass;
 } sk_model;
 
-/* The finite-element data of a model whose bodies are read: consistent mass (CSR and per element), the METIS
+/* The finite-element data of a model whose bodies are read: the node graph (the mass matrix's pattern), the METIS
  * partition of the elements over the model's ranks and the node owners (the lowest part among the elements holding
  * a node). */
 sk_status sk_model_build(sk_model *model);
+/* The consistent mass (CSR values and per element), once; only when a term of the system needs it. */
+sk_status sk_model_build_mass(sk_model *model);
 void sk_model_free(sk_model *model);
 /* The body whose elements hold mesh node `node` first (in body order), or -1. */
 int sk_model_body_of_node(const sk_model *model, int node);

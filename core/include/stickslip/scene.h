@@ -3,6 +3,7 @@
 #define STICKSLIP_SCENE_H
 
 #include <mpi.h>
+#include <stdio.h>
 
 #include "stickslip/bridge.h"
 #include "stickslip/config.h"
@@ -43,6 +44,9 @@ typedef struct {
 sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, const char *plugin_override,
                         MPI_Comm comm, sk_scene *scene);
 void sk_scene_free(sk_scene *scene);
+/* What the scene computes and skips, with the reasons: every term's declared needs and the outputs of a run into
+ * `out_dir` (NULL: no result files). For `stickslip run|check --explain`; rank 0 calls it. */
+void sk_scene_explain(const sk_scene *scene, const char *out_dir, FILE *out);
 
 /* A message to the user on rank 0 (rank == 0): level 0 info, 1 warning ("warning: " prefix), 2 debug (shown only
  * with sk_log_verbosity > 0, i.e. --verbose). The one path for the core's and the plugins' messages (host.c). */
