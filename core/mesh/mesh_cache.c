@@ -1,7 +1,7 @@
 /* The cache of generated meshes (mesh_internal.h): a .geo script meshed once with given parameters is read back
  * from a file instead of running gmsh again. The key hashes everything the generated mesh depends on — the script's
  * text (an untrusted script cannot Include or Merge other files, geo_scan.c, so the text is the whole input), the
- * parameters, the dimension asked for, mesh.max_elements, the gmsh API version and this format — so an edited
+ * parameters, the dimension asked for, mesh.max_elements, mesh.order and mesh.serendipity, the gmsh API version and this format — so an edited
  * script or another parameter is a different entry, never a stale one. Trusted scripts (--trust-scripts) may read
  * other files or act on the machine: they are never cached.
  *
@@ -94,7 +94,7 @@ static char *read_whole(const char *path, size_t *length) {
   return data;
 }
 
-void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, long max_elements,
+void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, const sk_mesh_options *options,
                             sk_mesh_cache_key *key) {
   memset(key, 0, sizeof *key);
   if (sk_mesh_scripts_trusted()) {
@@ -110,8 +110,9 @@ void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, l
     return;
   }
   char header[256];
-  const int n = snprintf(header, sizeof header, "format %d gmsh %s dim %d max_elements %ld parameters ", CACHE_FORMAT,
-                         GMSH_API_VERSION, dim, max_elements);
+  const int n = snprintf(header, sizeof header,
+                         "format %d gmsh %s dim %d max_elements %ld order %d serendipity %d parameters ", CACHE_FORMAT,
+                         GMSH_API_VERSION, dim, options->max_elements, options->order, options->serendipity);
   for (int h = 0; h < 2; ++h) {
     uint64_t hash = fnv1a(SEEDS[h], header, (size_t)n);
     hash = fnv1a(hash, parameters, strlen(parameters) + 1);

@@ -56,8 +56,8 @@ sk_status sk_mesh_deserialize(const char *buffer, uint64_t length, sk_mesh *mesh
 
 /* ---- the cache of generated meshes (mesh_cache.c) ------------------------------------------------------------- */
 
-/* What identifies a generated mesh: the .geo text, its parameters, the dimension asked for, mesh.max_elements, the
- * gmsh version and the cache format. */
+/* What identifies a generated mesh: the .geo text, its parameters, the dimension asked for, mesh.max_elements, the element
+ * order asked for (mesh.order, mesh.serendipity), the gmsh version and the cache format. */
 typedef struct {
   uint64_t hash[2];
   char file[1100];      /* the cache file, "" when the mesh is not cached (why says why) */
@@ -66,7 +66,7 @@ typedef struct {
 
 /* Fills the key for a .geo with its parameter text; key->file stays "" (with the reason) when caching is off
  * (STICKSLIP_MESH_CACHE=off, no cache folder, trusted scripts, an unreadable file). */
-void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, long max_elements,
+void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, const sk_mesh_options *options,
                             sk_mesh_cache_key *key);
 /* 1 and the mesh when the cache holds it; 0 otherwise (mesh left empty, source kept). */
 int sk_mesh_cache_load(const sk_mesh_cache_key *key, sk_mesh *mesh);

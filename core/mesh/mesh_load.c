@@ -551,7 +551,7 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
   /* a script meshed before with the same text and parameters comes from the cache (mesh_cache.c) */
   sk_mesh_cache_key key;
   memset(&key, 0, sizeof key);
-  if (is_geo) sk_mesh_cache_key_make(path, parameters, dim, options->max_elements, &key);
+  if (is_geo) sk_mesh_cache_key_make(path, parameters, dim, options, &key);
   if (is_geo && sk_mesh_cache_load(&key, mesh)) return finish_load(path, mesh, SK_OK);
   char wrapper[1024] = "";
   if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
