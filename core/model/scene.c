@@ -526,7 +526,8 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   SK_TRY(sk_cfg_choice(newton, "line_search", 0, line_search_names, line_search, &line_search));
   SK_TRY(sk_cfg_bool(newton, "verbose", 0, solver->newton.verbose, &solver->newton.verbose));
   SK_TRY(sk_cfg_bool(newton, "inexact", 0, solver->newton.forcing, &solver->newton.forcing));
-  SK_TRY(sk_cfg_choice(newton, "predictor", 0, predictor_names, 1, &solver->predictor));
+  SK_TRY(sk_cfg_choice(newton, "predictor", 0, predictor_names, 0, &solver->predictor));
+  SK_TRY(sk_cfg_bool(newton, "predicted_update", 0, 0, &solver->newton.predicted_update));
   SK_TRY(sk_cfg_int(newton, "max_active_set_loops", 0, 10, &solver->max_active_set_loops));
   if (solver->max_active_set_loops < 1)
     return fail_at(sk_cfg_get(newton, "max_active_set_loops"), "%s", "must be at least 1");

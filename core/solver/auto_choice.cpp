@@ -20,6 +20,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "bridge_internal.hpp"
 #include "linear_system.hpp"
 
 namespace stickslip::bridge {
@@ -98,15 +99,6 @@ sk_linear_solver_kind decide(sk_linear_system *sys, sk_linear_solver_kind kind, 
   return kind;
 }
 
-std::string format(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char *fmt, ...) {
-  char text[320];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(text, sizeof text, fmt, args);
-  va_end(args);
-  return text;
-}
 
 }  // namespace
 

@@ -2,7 +2,9 @@
 #ifndef STICKSLIP_BRIDGE_INTERNAL_HPP
 #define STICKSLIP_BRIDGE_INTERNAL_HPP
 
+#include <cstdarg>
 #include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <string>
 
@@ -22,6 +24,17 @@ inline sk_status status_from_exception(sk_status code, const char *operation, st
   } catch (...) {
     return sk_error_set(code, "%s: unknown exception", operation);
   }
+}
+
+// printf-style formatting into a std::string (numbers in %g: a residual of 3e-7 must not print as 0.000000)
+inline std::string format(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+inline std::string format(const char *fmt, ...) {
+  char text[512];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(text, sizeof text, fmt, args);
+  va_end(args);
+  return text;
 }
 
 // A read-only look at a linear system's replicated pattern and this rank's summed rows, for the condensation stage

@@ -34,6 +34,7 @@ namespace {
 
 using Teuchos::RCP;
 using Teuchos::rcp;
+using stickslip::bridge::format;
 using stickslip::bridge::status_from_exception;
 
 // ||F|| reported for a failed residual evaluation. Finite on purpose: +inf turns the polynomial line search's
@@ -321,7 +322,7 @@ class CallbackGroup : public NOX::Abstract::Group {
 // (steps 5-7) ||F|| falls 7e-2 -> 9e-10 in iteration 3 and iteration 4 only confirmed it (||F|| = 8e-10).
 class UpdateNormTest : public NOX::StatusTest::Generic {
  public:
-  explicit UpdateNormTest(double tolerance) : tolerance_(tolerance) {}
+  UpdateNormTest(double tolerance, bool use_prediction) : tolerance_(tolerance), use_prediction_(use_prediction) {}
   NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic &solver, NOX::StatusTest::CheckType) override {
     status_ = NOX::StatusTest::Unconverged;
     if (solver.getNumIterations() == 0) return status_;
@@ -336,7 +337,7 @@ class UpdateNormTest : public NOX::StatusTest::Generic {
     }
     step_ = std::sqrt(ss);
     predicted_ = step_;
-    if (previous.isNewton() && previous.getNormF() > 0)
+    if (use_prediction_ && previous.isNewton() && previous.getNormF() > 0)
       predicted_ = previous.getNewton().norm() * group.getNormF() / previous.getNormF();
     value_ = std::min(step_, predicted_);
     bound_ = tolerance_ * (1.0 + std::sqrt(xx));
@@ -354,6 +355,7 @@ class UpdateNormTest : public NOX::StatusTest::Generic {
 
  private:
   double tolerance_;
+  bool use_prediction_;
   double step_ = 0, predicted_ = 0, value_ = 0, bound_ = 0;
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
@@ -454,16 +456,6 @@ sk_status fail(sk_newton_report *report, sk_newton_outcome outcome, const std::s
   return sk_error_set(status, "Newton (NOX): %s", reason.c_str());
 }
 
-// printf-style formatting into a std::string (numbers in %g: a residual of 3e-7 must not print as 0.000000)
-std::string format(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char *fmt, ...) {
-  char text[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(text, sizeof text, fmt, args);
-  va_end(args);
-  return text;
-}
 
 // The residual callback's own status (SK_ERR_INVERTED, a plugin's SK_ERR_DIVERGED, or a bug's), so the caller
 // tells a reason to cut the step from a reason to stop; a non-finite F without a failed callback is DIVERGED.
@@ -482,6 +474,7 @@ void sk_newton_options_default(sk_newton_options *options) {
   options->forcing = 1;
   options->linear_tolerance = 1e-10;
   options->verbose = 0;
+  options->predicted_update = 0;
 }
 
 sk_status sk_line_search_from_name(const char *name, sk_line_search *ls) {
@@ -544,7 +537,7 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
                                                           NOX::Abstract::Vector::TwoNorm,
                                                           NOX::StatusTest::NormF::Unscaled));
     auto residual_small = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR, norm_f_absolute, norm_f_relative));
-    auto update_small = rcp(new UpdateNormTest(opts.update_tolerance));
+    auto update_small = rcp(new UpdateNormTest(opts.update_tolerance, opts.predicted_update != 0));
     auto converged = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::AND, residual_small, update_small));
     auto finite = rcp(new NOX::StatusTest::FiniteValue);
     auto callbacks_ok = rcp(new CallbackFailureTest(state));

@@ -17,7 +17,7 @@ typedef struct {
   sk_newton_options newton;
   sk_linear_options linear;
   int predictor;            /* solver.newton.predictor: 1 (previous-increment) quasi-static steps start from u_n
-                               plus the previous increment scaled to dt; 0 (last-state) from u_n */
+                               plus the previous increment scaled to dt; 0 (last-state, default) from u_n */
   int max_active_set_loops; /* solver.newton.max_active_set_loops: Newton runs per attempt when terms reject a
                                converged point (plugin.h: converged) */
 } sk_solver_settings;

@@ -129,6 +129,7 @@ static void check_quadratic_convergence(sk_line_search line_search) {
   sk_newton_options options;
   sk_newton_options_default(&options);
   options.line_search = line_search;
+  options.predicted_update = 1; /* the update test without a confirming solve (checked below) */
   double x[N];
   for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
   sk_newton_callbacks cb = callbacks_for(&p);
