@@ -323,20 +323,27 @@ sk_status cp_update_active_set(sk_instance *in, const sk_state *st, int *changed
 sk_status cp_converged(sk_instance *in, const sk_state *st, int *accept) {
   *accept = 1;
   if (!in->master) return SK_OK;
-  int escaped = 0;
+  int escaped = 0, reached = 0;
   for (int k = 0; k < in->n_entities; ++k) escaped += in->entities[k].escaped;
   if (escaped == 0) return SK_OK;
   SK_TRY(find_candidates(in, st, st->x[0]));
   for (int k = 0; k < in->n_entities; ++k) {
     entity *e = &in->entities[k];
+    if (!e->escaped) continue;
+    const int held = e->sel_face;
     e->sel_face = -1;
     SK_TRY(select_face(in, e, st->x[0], st->x[1]));
-    if (e->escaped)
-      return in->api->error(in->host, SK_ERR_DIVERGED, "covariant-penalty: a contact point is closest to master face "
-                            "%d, beyond the search margin of its path in this step", e->sel_face);
+    /* still outside: its closest face lies beyond the search margin of its whole path, so it is not in contact */
+    if (e->escaped) {
+      e->escaped = 0;
+      e->sel_face = held;
+    } else {
+      reached++;
+    }
   }
+  if (reached == 0) return SK_OK;
   in->api->log(in->host, 2, "covariant-penalty: %d contact point(s) slid beyond their candidate faces; searching "
-               "again and repeating Newton with the new faces", escaped);
+               "again and repeating Newton with the new faces", reached);
   *accept = 0;
   return SK_OK;
 }

@@ -826,24 +826,32 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
  * step than the predictor and the search margin reach) was held on its last face's extension: the candidates are
  * searched again over the box swept from x_n to the converged point, the faces selected there, and the point is
  * rejected, so that the host declares the new couplings (layout and pattern again) and Newton runs again from it.
- * Never an entry outside the declared pattern, never a converged step on a face that is not the closest. */
+ * Never an entry outside the declared pattern, never a converged step on a face that is not the closest (within
+ * the search margin). */
 static sk_status pnts_converged(sk_instance *in, const sk_state *st, int *accept) {
   *accept = 1;
   if (!in->master) return SK_OK;
-  int escaped = 0;
+  int escaped = 0, reached = 0;
   for (int k = 0; k < in->n_slave; ++k) escaped += in->escaped[k];
   if (escaped == 0) return SK_OK;
   SK_TRY(find_candidates(in, st->x_n, st->x));
   for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->escaped[k]) continue;
+    const int held = in->sel_face[k];
     in->sel_face[k] = -1;
     SK_TRY(select_face(in, st->x, k));
-    if (in->escaped[k])
-      return in->api->error(in->host, SK_ERR_DIVERGED, "%s: penalty-nts: slave node %lld is closest to master face "
-                            "%d, beyond the search margin of its path in this step", in->name,
-                            (long long)in->slave->node_id[k], in->sel_face[k]);
+    /* still outside: its closest face lies beyond the search margin of its whole path, so it is not in contact
+     * (a node far from the master, whose projection walked far): as without candidates */
+    if (in->escaped[k]) {
+      in->escaped[k] = 0;
+      in->sel_face[k] = held;
+    } else {
+      reached++;
+    }
   }
+  if (reached == 0) return SK_OK;
   in->api->log(in->host, 2, "%s: penalty-nts: %d slave node(s) slid beyond their candidate faces; searching again "
-               "and repeating Newton with the new faces", in->name, escaped);
+               "and repeating Newton with the new faces", in->name, reached);
   *accept = 0;
   return SK_OK;
 }
