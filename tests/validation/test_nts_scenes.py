@@ -216,7 +216,8 @@ def two_elements_newton_quadratic(c):
     results, proc = run(SCENE, "--set", "time.dt=0.05", "--set", "time.end=4.5", "--verbose")
     contact = [r for r in results.rows if r["active_points"] > 0]
     ratios, examples = quadratic_ratios(results, proc.stderr)
-    c.check(len(contact) > 10 and len(ratios) > 10, "%d contact steps, %d ratios measured" % (len(contact), len(ratios)))
+    c.check(len(contact) > 10 and len(ratios) > 10,
+            "%d contact steps, %d ratios measured" % (len(contact), len(ratios)))
     worst = max(ratios) if ratios else float("inf")
     c.check(worst <= RATE_BOUND, "|F_k+1|/|F_k|^2 <= %g in the last iterations of every contact step (max %.2e; %s)"
             % (RATE_BOUND, worst, "; ".join(examples)))
@@ -241,7 +242,8 @@ def two_tori_coarse(c):
         c.check(len(rows) == 9 and results.summary["status"] == "ok", "%s: 8 steps, status ok" % strategy)
         norm = math.sqrt(sum(rows[0]["angular_momentum_" + j] ** 2 for j in "xyz"))
         drift = max(abs(r["angular_momentum_" + k] - rows[0]["angular_momentum_" + k]) for r in rows for k in "xyz")
-        c.check(drift / norm <= 1e-8, "%s: angular momentum constant: drift %.2e <= 1e-8 of |L|" % (strategy, drift / norm))
+        c.check(drift / norm <= 1e-8,
+                "%s: angular momentum constant: drift %.2e <= 1e-8 of |L|" % (strategy, drift / norm))
         drift = vector_drift(rows, "momentum_")
         c.check(drift <= 1e-8, "%s: linear momentum constant: relative drift %.2e" % (strategy, drift))
         energy0 = rows[0]["total_energy"]
@@ -341,7 +343,8 @@ def nts_patch_test_2d(c):
         c.check(results.summary["status"] == "ok" and abs(last["contact_force_y"] - p) <= 1e-12 * p
                 and abs(last["reaction_base_y"] - p) <= 1e-12 * p, "refine %d: contact force %.15g = base reaction "
                 "%.15g = p * width" % (refine, last["contact_force_y"], last["reaction_base_y"]))
-        c.check(last["constraint_violation"] <= 1e-14, "refine %d: max |Phi| %.1e" % (refine, last["constraint_violation"]))
+        c.check(last["constraint_violation"] <= 1e-14,
+                "refine %d: max |Phi| %.1e" % (refine, last["constraint_violation"]))
         pressures = nodal_pressures(results)
         c.check(all(state == 1 for _, _, state in pressures), "refine %d: every slave node in contact" % refine)
         deviation = max(abs(q - p) for _, q, _ in pressures) / p
@@ -380,7 +383,8 @@ def nts_hertz_2d(c):
               % (refine, P, len(active), e["P"], e["a"], e["p0"]))
         c.check(results.summary["status"] == "ok" and abs(2 * last["contact_force_y"] - P) <= 1e-12 * P,
                 "refine %g: contact force = reaction at the top" % refine)
-        c.check(last["constraint_violation"] <= 1e-14, "refine %g: max |Phi| %.1e" % (refine, last["constraint_violation"]))
+        c.check(last["constraint_violation"] <= 1e-14,
+                "refine %g: max |Phi| %.1e" % (refine, last["constraint_violation"]))
         c.check(inside < a_exact < outside, "refine %g: a = %.5f between the nodes at %.5f (in contact) and %.5f"
                 % (refine, a_exact, inside, outside))
     for key, bound in (("P", 5e-4), ("a", 0.01), ("p0", 0.004)):
