@@ -216,7 +216,8 @@ def two_elements_newton_quadratic(c):
     results, proc = run(SCENE, "--set", "time.dt=0.05", "--set", "time.end=4.5", "--verbose")
     contact = [r for r in results.rows if r["active_points"] > 0]
     ratios, examples = quadratic_ratios(results, proc.stderr)
-    c.check(len(contact) > 10 and len(ratios) > 10, "%d contact steps, %d ratios measured" % (len(contact), len(ratios)))
+    c.check(len(contact) > 10 and len(ratios) > 10,
+            "%d contact steps, %d ratios measured" % (len(contact), len(ratios)))
     worst = max(ratios) if ratios else float("inf")
     c.check(worst <= RATE_BOUND, "|F_k+1|/|F_k|^2 <= %g in the last iterations of every contact step (max %.2e; %s)"
             % (RATE_BOUND, worst, "; ".join(examples)))
@@ -241,7 +242,8 @@ def two_tori_coarse(c):
         c.check(len(rows) == 9 and results.summary["status"] == "ok", "%s: 8 steps, status ok" % strategy)
         norm = math.sqrt(sum(rows[0]["angular_momentum_" + j] ** 2 for j in "xyz"))
         drift = max(abs(r["angular_momentum_" + k] - rows[0]["angular_momentum_" + k]) for r in rows for k in "xyz")
-        c.check(drift / norm <= 1e-8, "%s: angular momentum constant: drift %.2e <= 1e-8 of |L|" % (strategy, drift / norm))
+        c.check(drift / norm <= 1e-8,
+                "%s: angular momentum constant: drift %.2e <= 1e-8 of |L|" % (strategy, drift / norm))
         drift = vector_drift(rows, "momentum_")
         c.check(drift <= 1e-8, "%s: linear momentum constant: relative drift %.2e" % (strategy, drift))
         energy0 = rows[0]["total_energy"]
@@ -290,10 +292,12 @@ def two_tori_coarse_full(c):
     switch rule in begin_step, docs/plugins/nts-augmented.md); angular momentum constant; contact; friction."""
     results, _ = run("scenes/two-tori-coarse.yaml", "--set", "solver.linear.solver=direct")
     rows = results.rows
-    # a frozen node that is in tension when in contact and penetrates when released (converged() rejects both) makes
-    # the step cut once or twice (measured: 1 cut at step 129, 502 steps)
-    c.check(abs(rows[-1]["time"] - 5.0) < 1e-9 and results.summary["status"] == "ok" and 501 <= len(rows) <= 505,
-            "t = 5 reached, status ok, in %d steps (500 at dt = 0.01, <= 4 more from step cuts)" % (len(rows) - 1))
+    # step 129: frozen node 532 pulls in contact and penetrates released; converged() cuts the step at its third
+    # correction (docs/plugins/nts-augmented.md, chattering safeguard). Measured: 1 cut, 502 steps.
+    c.check(abs(rows[-1]["time"] - 5.0) < 1e-9 and results.summary["status"] == "ok"
+            and results.summary["steps"] == 502 and results.summary["step_cuts"] == 1,
+            "t = 5 reached, status ok, in %d steps with %d step cut (measured: 502, 1 at step 129)"
+            % (results.summary["steps"], results.summary["step_cuts"]))
     energy0 = rows[0]["total_energy"]
     tol = 1e-10 * energy0
     increase, step = max((b["total_energy"] - a["total_energy"], int(b["step"])) for a, b in zip(rows, rows[1:]))
@@ -339,7 +343,8 @@ def nts_patch_test_2d(c):
         c.check(results.summary["status"] == "ok" and abs(last["contact_force_y"] - p) <= 1e-12 * p
                 and abs(last["reaction_base_y"] - p) <= 1e-12 * p, "refine %d: contact force %.15g = base reaction "
                 "%.15g = p * width" % (refine, last["contact_force_y"], last["reaction_base_y"]))
-        c.check(last["constraint_violation"] <= 1e-14, "refine %d: max |Phi| %.1e" % (refine, last["constraint_violation"]))
+        c.check(last["constraint_violation"] <= 1e-14,
+                "refine %d: max |Phi| %.1e" % (refine, last["constraint_violation"]))
         pressures = nodal_pressures(results)
         c.check(all(state == 1 for _, _, state in pressures), "refine %d: every slave node in contact" % refine)
         deviation = max(abs(q - p) for _, q, _ in pressures) / p
@@ -378,7 +383,8 @@ def nts_hertz_2d(c):
               % (refine, P, len(active), e["P"], e["a"], e["p0"]))
         c.check(results.summary["status"] == "ok" and abs(2 * last["contact_force_y"] - P) <= 1e-12 * P,
                 "refine %g: contact force = reaction at the top" % refine)
-        c.check(last["constraint_violation"] <= 1e-14, "refine %g: max |Phi| %.1e" % (refine, last["constraint_violation"]))
+        c.check(last["constraint_violation"] <= 1e-14,
+                "refine %g: max |Phi| %.1e" % (refine, last["constraint_violation"]))
         c.check(inside < a_exact < outside, "refine %g: a = %.5f between the nodes at %.5f (in contact) and %.5f"
                 % (refine, a_exact, inside, outside))
     for key, bound in (("P", 5e-4), ("a", 0.01), ("p0", 0.004)):

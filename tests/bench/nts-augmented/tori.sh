@@ -1,7 +1,7 @@
 #!/bin/sh
 # Benchmark (c): the two-tori impact, mu = 0.1 and mu = 0.3, both runs at once, then the 4-panel history plots
 # (scripts/plot-history.sh) copied to docs/img/nts-tori-mu01.png and docs/img/nts-tori-mu03.png.
-#   sh tests/bench/nts-augmented/tori.sh coarse 100   # scenes/two-tori-coarse.yaml (270 hex8 per torus), KLU2, ~30 s
+#   sh tests/bench/nts-augmented/tori.sh coarse 100   # scenes/two-tori-coarse.yaml (270 hex8 per torus), MUMPS
 #   sh tests/bench/nts-augmented/tori.sh fine 30      # scenes/two-tori{,-mu03}.yaml (8024 per torus): hours (docs)
 # The full run is 500 steps to t = 5. The script prints wall time, steps, Newton iterations and the time split.
 set -e
