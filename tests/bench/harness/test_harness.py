@@ -1,11 +1,12 @@
 """Checks of the benchmark harness's own arithmetic (no driver runs): active-set change counting, reversals, Pareto
-fronts, expressions and derived variables, YAML flow values. Usage: python3 tests/bench/harness/test_harness.py"""
+fronts, expressions and derived variables, YAML flow values, the patch test's error. Usage: python3 tests/bench/harness/test_harness.py"""
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "validation"))
 import declarations as dec  # noqa: E402
+import errors  # noqa: E402
 import report  # noqa: E402
 import stress_metrics as sm  # noqa: E402
 from stickslip_results import Checks  # noqa: E402
@@ -50,6 +51,21 @@ def main():
     c.check(dec.yaml_flow({"mu": 0.3, "m": None, "v": [1, 2.5], "on": True}) == "{mu: 0.3, m: ~, v: [1, 2.5], on: true}",
             "YAML flow: %s" % dec.yaml_flow({"mu": 0.3, "m": None, "v": [1, 2.5], "on": True}))
     c.check(dec.numeric("1.0e6") == 1.0e6 and dec.numeric("text") == "text", "YAML 1.1 floats without a sign")
+    # the patch test asks for a uniform pressure whatever its measure: Cauchy tractions p L0 / L pass, NTS does not
+    class Points:
+        def __init__(self, pressures):
+            self.pressures = pressures
+
+        def contact_points(self):
+            return [{"pressure": q, "state": 1, "node": k} for k, q in enumerate(self.pressures)] + [
+                {"pressure": 0.0, "state": 0, "node": -1}]  # a point out of contact does not count
+    bench = dec.Benchmark.__new__(dec.Benchmark)
+    bench.variables = {"pressure": 10}
+    cauchy = errors.patch_pressure(Points([10 / 1.0039] * 5), bench, None, None)
+    c.check(cauchy["error"] < 1e-15 and abs(cauchy["mean"] - 9.96115) < 1e-5,
+            "uniform Cauchy tractions 10 / 1.0039 pass: %g" % cauchy["error"])
+    nts = errors.patch_pressure(Points([9.23, 10.21, 10.0, 9.9]), bench, None, None)
+    c.check(abs(nts["error"] - (9.835 - 9.23) / 9.835) < 1e-12, "NTS-like 9.23 ... 10.21: %.4f" % nts["error"])
     sys.exit(c.finish())
 
 
