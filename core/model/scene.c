@@ -610,7 +610,8 @@ void sk_scene_explain(const sk_scene *scene, const char *out_dir, FILE *out) {
   fprintf(out, "  %-16s computed: strain and kinetic energy, momenta, reactions and contact totals per step (the\n"
                "                   progress line shows the energy)\n", "history");
   if (!out_dir) {
-    fprintf(out, "  %-16s skipped: no --out DIR, no result files\n", "stress, vtu");
+    fprintf(out, "  %-16s skipped: no --out DIR, no result files (with --out: output.vtu, output.vtu_every)\n",
+            "stress, vtu");
   } else if (!o->write_vtu) {
     fprintf(out, "  %-16s skipped: output.vtu is false\n", "stress, vtu");
   } else {
