@@ -360,23 +360,28 @@ class UpdateNormTest : public NOX::StatusTest::Generic {
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
 
-// Stagnation: ||F|| sits on its round-off floor above both tolerances. Two iterations in a row take a step at
-// round-off (||s_k|| <= update_tolerance (1 + ||x||)) without lowering ||F|| below kStallRatio of its previous value:
-// Newton is converged as far as double precision allows, and more iterations (or a shorter time step) cannot reach
-// the tolerance. Without this test such a step ran max_iterations (50) seven times over, one per step cut.
+// Stagnation: ||F|| sits on its round-off floor above both tolerances. Two iterations in a row have a full Newton
+// correction at round-off (||d_{k-1}|| <= update_tolerance (1 + ||x||)) that does not lower ||F|| below kStallRatio
+// of its previous value: Newton is converged as far as double precision allows, and more iterations (or a shorter
+// time step) cannot reach the tolerance. Without this test such a step ran max_iterations (50) seven times over, one
+// per step cut. The full correction d, not the step taken s: a line search that backtracks to a tiny s from a large
+// d is stuck far from the solution (large sliding: ||F||/||F0|| = 0.22 with ||s|| = 6e-10), a failure a shorter
+// time step does cure.
 class StagnationTest : public NOX::StatusTest::Generic {
  public:
   // A Newton step at round-off that still converges lowers ||F|| by orders of magnitude; at the floor ||F||
   // fluctuates by tens of percent.
   static constexpr double kStallRatio = 0.5;
-  static constexpr int kStalledIterations = 2;
+  static constexpr int kStalledIterations = 4;
   explicit StagnationTest(const UpdateNormTest &update) : update_(update) {}
   NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic &solver, NOX::StatusTest::CheckType) override {
     status_ = NOX::StatusTest::Unconverged;
     if (solver.getNumIterations() == 0) return status_;
     norm_f_ = solver.getSolutionGroup().getNormF();
     previous_norm_f_ = solver.getPreviousSolutionGroup().getNormF();
-    const bool stalled = update_.step() <= update_.bound() && norm_f_ >= kStallRatio * previous_norm_f_;
+    const auto &previous = solver.getPreviousSolutionGroup();
+    correction_ = previous.isNewton() ? previous.getNewton().norm() : update_.step();
+    const bool stalled = correction_ <= update_.bound() && norm_f_ >= kStallRatio * previous_norm_f_;
     stalled_ = stalled ? stalled_ + 1 : 0;
     if (stalled_ >= kStalledIterations) status_ = NOX::StatusTest::Failed;
     return status_;
@@ -384,6 +389,7 @@ class StagnationTest : public NOX::StatusTest::Generic {
   NOX::StatusTest::StatusType getStatus() const override { return status_; }
   double norm_f() const { return norm_f_; }
   double previous_norm_f() const { return previous_norm_f_; }
+  double correction() const { return correction_; }
   std::ostream &print(std::ostream &stream, int indent) const override {
     stream << std::string(indent, ' ') << status_ << "stalled iterations " << stalled_ << " < " << kStalledIterations
            << "\n";
@@ -393,7 +399,7 @@ class StagnationTest : public NOX::StatusTest::Generic {
  private:
   const UpdateNormTest &update_;
   int stalled_ = 0;
-  double norm_f_ = 0, previous_norm_f_ = 0;
+  double norm_f_ = 0, previous_norm_f_ = 0, correction_ = 0;
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
 
@@ -610,9 +616,9 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     }
     if (stagnation->getStatus() == NOX::StatusTest::Failed)
       return fail(report, SK_NEWTON_STAGNATED,
-                  format("stagnated in iteration %d: ||F|| = %.3g (%.3g before) stalls while the steps are at "
-                         "round-off (||dx|| = %.3g <= %.3g), above ",
-                         report->iterations, norm_f, stagnation->previous_norm_f(), update_small->step(),
+                  format("stagnated in iteration %d: ||F|| = %.3g (%.3g before) stalls while the Newton corrections "
+                         "are at round-off (||dx|| = %.3g <= %.3g), above ",
+                         report->iterations, norm_f, stagnation->previous_norm_f(), stagnation->correction(),
                          update_small->bound()) +
                       tolerances + ": the tolerances lie below this residual's round-off floor");
     if (max_iterations->getStatus() == NOX::StatusTest::Failed)

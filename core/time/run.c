@@ -2,8 +2,8 @@
  * in half (up to time.max_cuts times in a row) and letting dt grow back after three good steps; the sub-steps of a
  * cut step land on the scheduled times t_start + n dt again; a SIGINT/SIGTERM ends the run between two steps. The
  * recorder writes the results. Everything a step is made of lives in the terms. Only failures a shorter step can
- * cure are cut: Newton's divergence and inverted elements, not a residual stalled at its round-off floor (the floor
- * does not drop with dt) nor a failed linear solve (sk_newton_outcome in bridge.h). */
+ * cure are cut: Newton's divergence, a stagnated residual and inverted elements, not a failed linear solve
+ * (sk_newton_outcome in bridge.h). */
 #define _GNU_SOURCE
 #include "stickslip/run.h"
 
@@ -114,8 +114,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
         dt = fmin(time->dt, 2.0 * dt);
         good_steps = 0;
       }
-    } else if ((status == SK_ERR_DIVERGED && sys->newton.outcome != SK_NEWTON_STAGNATED) ||
-               status == SK_ERR_INVERTED) {
+    } else if (status == SK_ERR_DIVERGED || status == SK_ERR_INVERTED) {
       /* cut the step and retry */
       sk_system_reject(sys);
       summary->cuts++;

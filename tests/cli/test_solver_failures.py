@@ -36,10 +36,11 @@ def stagnation(c):
     c.check(re.search(r"stagnated in iteration \d+: \|\|F\|\| = \d\.\d\de-1\d \(\d\.\d\de-1\d before\)", proc.stderr),
             "the stagnation message prints ||F|| and its previous value in %g")
     c.check("0.000000" not in proc.stderr, "no %f-formatted zero")
-    c.check("absolute tolerance 1e-30" in proc.stderr and "not cut" in proc.stderr,
-            "the message names the tolerance and says the step was not cut")
+    c.check("absolute tolerance 1e-30" in proc.stderr and "no convergence after 6 step cuts" in proc.stderr,
+            "the message names the tolerance and the step cuts (a stagnated attempt is cut like a divergence)")
     s = summary(c, c.out)
-    c.check(s["status"] == "failed" and s["step_cuts"] == 0, "summary.json: failed, 0 step cuts (got %s)" % s["step_cuts"])
+    c.check(s["status"] == "failed" and s["step_cuts"] == 7, "summary.json: failed after 6 + 1 cuts (got %s)"
+            % s["step_cuts"])
     c.check("stagnated" in s["message"], "summary.json keeps the reason")
 
 
