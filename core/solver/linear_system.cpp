@@ -331,8 +331,12 @@ sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_l
     } else {
       sk_linear_options_default(&created->options);
     }
-    if (created->options.kind < SK_LINEAR_DIRECT || created->options.kind > SK_LINEAR_GMRES_SGS)
-      return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)created->options.kind);
+    // read as an int: a C caller may pass any value, and loading an out-of-range enum is undefined in C++ (UBSan)
+    static_assert(sizeof(sk_linear_solver_kind) == sizeof(int), "the enum is read as an int");
+    int kind_value;
+    std::memcpy(&kind_value, &created->options.kind, sizeof kind_value);
+    if (kind_value < SK_LINEAR_DIRECT || kind_value > SK_LINEAR_GMRES_SGS)
+      return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", kind_value);
     if (!(created->options.tolerance > 0) || created->options.max_iterations < 1)
       return sk_error_set(SK_ERR_INPUT, "linear system: tolerance (%g) and max_iterations (%d) must be positive",
                           created->options.tolerance, created->options.max_iterations);
