@@ -64,9 +64,9 @@ static sk_status mock_param_double(sk_host *host, const char *key, int required,
 }
 
 static sk_status mock_param_int(sk_host *host, const char *key, int required, int dflt, int *out) {
-  double v;
-  sk_status st = mock_param_double(host, key, required, dflt, &v);
-  *out = (int)v;
+  double v = dflt;
+  const sk_status st = mock_param_double(host, key, required, dflt, &v);
+  if (st == SK_OK) *out = (int)v;
   return st;
 }
 
