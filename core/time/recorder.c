@@ -46,6 +46,8 @@ struct sk_recorder {
   double dissipated;       /* accumulated over the steps */
   double total_energy;     /* of the last row */
   int vtu_count;
+  int64_t last_step;       /* the last converged step recorded */
+  int64_t last_vtu_step;   /* the step of the last picture written */
   /* the linear solvers that ran, by step ranges: "mumps (steps 1-12), gmres-muelu (steps 13-40)" */
   char solvers_used[1024];
   unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
@@ -310,6 +312,7 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
                             cell_fields);
     if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
     rec->vtu_count++;
+    rec->last_vtu_step = step;
   }
   free_vtu_buffers(&b);
   return status;
@@ -401,6 +404,7 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
   sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, substep, sys->newton.iterations, &contact);
   status = sk_system_collective(sys, status);
+  rec->last_step = sys->step;
   /* vtu_every counts scheduled steps: the sub-steps of a cut step do not shift the pictures off the schedule */
   const int every = rec->scene->output.vtu_every;
   const int on_schedule = substep == 0 && every > 0 && scheduled % every == 0;
@@ -457,6 +461,16 @@ sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status
   sk_status points_status = SK_OK;
   char message[1100];
   snprintf(message, sizeof message, "%s", sk_error_message());
+  /* A run stopped by a signal or a failed step between two pictures: its last converged state is the one a user
+   * wants to look at, so it gets a picture too (collective; the original message is kept). Not after a write or
+   * memory error: writing more would fail the same way. */
+  const int stopped_by_the_solution = status == SK_ERR_INTERRUPTED || status == SK_ERR_DIVERGED ||
+                                     status == SK_ERR_INVERTED || status == SK_ERR_LINEAR_SOLVER;
+  if (stopped_by_the_solution && summary->steps > 0 && writes_vtu(rec) && rec->last_vtu_step != rec->last_step) {
+    if (write_vtu(rec, 0, rec->sys->u_n, rec->sys->v_n, rec->sys->t_n, rec->last_step) != SK_OK && m->rank == 0)
+      fprintf(stderr, "warning: the picture of the last converged step was not written: %s\n", sk_error_message());
+    sk_error_set(status, "%s", message);
+  }
   if (rec->options->out_dir && m->n_pairs > 0 && rec->scene->output.write_contact_csv && summary->steps > 0) {
     points_status = gather_points(rec, 0, NULL, &points, &n_points);
     sk_error_set(status, "%s", message);
