@@ -4,14 +4,13 @@ command run on the user's behalf. Usage: python3 test_hostile_input.py CASE. (Th
 test_results_folder.py.)"""
 import os
 import re
-import shutil
 import signal
 import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_bad_input import BIN, BLOCK, CONTACT, MESHES, ROOT, Case, replace, scene_text  # noqa: E402
+from cli_case import BIN, BLOCK, CONTACT, MESHES, ROOT, main, replace, scene_text  # noqa: E402
 
 HERTZ = scene_text("hertz-2d.yaml")
 PLUGINS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(os.environ.get(
@@ -231,10 +230,4 @@ CASES = {f.__name__: f for f in [gmsh_exception, mesh_size_guard, broken_plugin_
                                  interrupt_while_meshing]}
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
-        print("usage: test_hostile_input.py CASE\ncases: " + " ".join(CASES))
-        sys.exit(2)
-    case = Case(sys.argv[1])
-    CASES[sys.argv[1]](case)
-    shutil.rmtree(case.dir, ignore_errors=True)
-    sys.exit(case.finish())
+    main(CASES)

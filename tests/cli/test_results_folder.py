@@ -3,7 +3,6 @@ folder"): a full disk, a failed run after a good one, foreign files in --out, `-
 Each case checks the exit code, the message (where the results are, exactly) and what is on disk afterwards.
 Usage: python3 test_results_folder.py CASE."""
 import glob
-import json
 import os
 import re
 import shutil
@@ -13,14 +12,9 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_bad_input import BIN, BLOCK, ROOT, Case, replace  # noqa: E402
+from cli_case import BIN, BLOCK, ROOT, main, read_summary, replace  # noqa: E402
 
 DISK = os.path.join(ROOT, "scenes", "free-flight-disk.yaml")
-
-
-def status_of(folder):
-    with open(os.path.join(folder, "summary.json")) as f:
-        return json.load(f)["status"]
 
 
 def failing(text):
@@ -42,8 +36,8 @@ def failed_run_keeps_results(c):
     c.expect_failure(r"no convergence", r"results up to t = 0 \(step 0\) are in .*results\.incomplete",
                      r"the results already in .*results were kept", out_created=True)
     c.check(open(os.path.join(c.out, "history.csv")).read() == before, "the good results are untouched")
-    c.check(status_of(c.out) == "ok", "summary.json of DIR still says ok")
-    c.check(status_of(c.out + ".incomplete") == "failed", "DIR.incomplete holds the failed run")
+    c.check(read_summary(c.out)["status"] == "ok", "summary.json of DIR still says ok")
+    c.check(read_summary(c.out + ".incomplete")["status"] == "failed", "DIR.incomplete holds the failed run")
     c.check(not glob.glob(c.out + ".partial-*"), "no staging folder left")
     # the next good run replaces DIR, DIR.incomplete stays for the user
     good_run(c, c.out)
@@ -195,7 +189,7 @@ def interrupted_run(c):
                           stderr) is not None, "the message says where the results are")
         for marker in ["Segmentation", "Aborted", "AddressSanitizer", "MPI_ABORT"]:
             c.check(marker not in stderr, "no '%s'" % marker)
-        summary = json.load(open(os.path.join(out, "summary.json")))
+        summary = read_summary(out)
         rows = open(os.path.join(out, "history.csv")).read().strip().split("\n")[1:]
         c.check(summary["status"] == "interrupted", "summary.json says interrupted")
         c.check(match is not None and summary["steps"] == int(match.group(1)) == len(rows) - 1,
@@ -213,9 +207,4 @@ CASES = {f.__name__: f for f in [failed_run_keeps_results, foreign_files, out_do
                                  interrupted_run]}
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
-        print("usage: test_results_folder.py CASE\ncases: " + " ".join(CASES))
-        sys.exit(2)
-    case = Case(sys.argv[1])
-    CASES[sys.argv[1]](case)
-    sys.exit(case.finish())
+    main(CASES)

@@ -1,6 +1,5 @@
 """What a run writes and says (issues 15 and 16): the columns of contact.csv and what they mean, cut steps back on
 the schedule, a step that cannot be solved naming what failed where. Usage: python3 test_run_results.py CASE."""
-import json
 import math
 import os
 import re
@@ -10,13 +9,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "validation"))
 from stickslip_results import read_vtu  # noqa: E402
-from test_bad_input import BLOCK, ROOT, Case, replace  # noqa: E402
-
-
-def read_csv(path):
-    with open(path) as f:
-        names = f.readline().strip().split(",")
-        return [dict(zip(names, map(float, line.split(",")))) for line in f if line.strip()]
+from cli_case import BLOCK, ROOT, main, read_history, read_summary, read_table, replace  # noqa: E402
 
 
 def schedule_after_cut(c):
@@ -28,8 +21,8 @@ def schedule_after_cut(c):
     c.run_scene(scene, "--set", "time.dt=0.1", "--set", "solver.newton.max_iterations=3", "--set",
                 "output.vtu_every=2")
     c.check(c.proc.returncode == 0, "the run succeeds")
-    summary = json.load(open(os.path.join(c.out, "summary.json")))
-    rows = read_csv(os.path.join(c.out, "history.csv"))
+    summary = read_summary(c.out)
+    rows = read_history(c.out)
     c.check(summary["step_cuts"] > 0, "steps were cut (%d cuts)" % summary["step_cuts"])
     on_schedule = [r["time"] for r in rows if r["substep"] == 0]
     c.check(on_schedule == [n * 0.1 for n in range(11)], "every scheduled time n dt has its row, exactly: %s"
@@ -51,7 +44,7 @@ def schedule_after_cut(c):
 def contact_points(c, scene, *args):
     c.run("run", os.path.join(ROOT, "scenes", scene), "--out", c.out, "--quiet", *args)
     c.check(c.proc.returncode == 0, "%s runs" % scene)
-    points = read_csv(os.path.join(c.out, "contact.csv"))
+    points = read_table(os.path.join(c.out, "contact.csv"))
     c.check(len(points) > 0, "contact.csv has rows")
     return points
 
@@ -138,7 +131,7 @@ def misbehaving_plugin(c):
         c.check(re.search(r"^stickslip: .*scene\.yaml: (contact pair 'floor': )?" + pattern, c.proc.stderr, re.M)
                 is not None, "fault %d: one message naming the pair and the fault" % fault)
         c.check(c.proc.stderr.count("floor") == 1, "fault %d: said once" % fault)
-        summary = json.load(open(os.path.join(out, "summary.json")))
+        summary = read_summary(out)
         c.check(summary["status"] == "failed" and summary["step_cuts"] == 0, "fault %d: failed, not cut" % fault)
         history = open(os.path.join(out, "history.csv")).read()
         c.check("nan" not in history and "inf" not in history, "fault %d: no nan in history.csv" % fault)
@@ -147,9 +140,4 @@ def misbehaving_plugin(c):
 CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin]}
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in CASES:
-        print("usage: test_run_results.py CASE\ncases: " + " ".join(CASES))
-        sys.exit(2)
-    case = Case(sys.argv[1])
-    CASES[sys.argv[1]](case)
-    sys.exit(case.finish())
+    main(CASES)

@@ -7,24 +7,12 @@
   nts-augmented `augmented`, the first 25 midpoint steps: contact in steps 13-21) gives with GMRES + MueLu and GMRES + SGS (multiplier rows through
   their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances.
 Usage: python3 test_solver_failures.py CASE."""
-import csv
-import json
 import os
 import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_bad_input import CONTACT, CRASH_MARKERS, Case  # noqa: E402
-
-
-def summary(case, out):
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
-
-
-def history(out):
-    with open(os.path.join(out, "history.csv")) as f:
-        return list(csv.DictReader(f))
+from cli_case import CONTACT, CRASH_MARKERS, ROOT, main, read_history, read_summary  # noqa: E402
 
 
 def stagnation(c):
@@ -38,7 +26,7 @@ def stagnation(c):
     c.check("0.000000" not in proc.stderr, "no %f-formatted zero")
     c.check("absolute tolerance 1e-30" in proc.stderr and "no convergence after 6 step cuts" in proc.stderr,
             "the message names the tolerance and the step cuts (a stagnated attempt is cut like a divergence)")
-    s = summary(c, c.out)
+    s = read_summary(c.out)
     c.check(s["status"] == "failed" and s["step_cuts"] == 7, "summary.json: failed after 6 + 1 cuts (got %s)"
             % s["step_cuts"])
     c.check("stagnated" in s["message"], "summary.json keeps the reason")
@@ -52,11 +40,11 @@ def iterative_fallback(c):
     c.check(proc.returncode == 0, "exit 0: the run finishes")
     c.check(len(re.findall("replaced by direct", proc.stderr)) == 1 and "gmres-sgs: no convergence" in proc.stderr,
             "one message naming the failed solver and its replacement")
-    s = summary(c, c.out)
+    s = read_summary(c.out)
     c.check(s["step_cuts"] == 0 and s["linear_solver_replaced_by_direct"] == 1,
             "summary.json: 0 step cuts, linear_solver_replaced_by_direct = 1")
     c.run("run", scene, "--quiet", "--out", direct_out, "--set", "solver.linear.solver=direct")
-    a, b = history(c.out), history(direct_out)
+    a, b = read_history(c.out), read_history(direct_out)
     worst = max(abs(float(x[k]) - float(y[k])) for x, y in zip(a, b) for k in ("contact_force_z",))
     scale = max(abs(float(x["contact_force_z"])) for x in b)
     c.check(len(a) == len(b) and worst <= 1e-10 * scale,
@@ -64,8 +52,7 @@ def iterative_fallback(c):
 
 
 def iterative_equals_direct(c):
-    scene = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "scenes",
-                         "two-elements.yaml")
+    scene = os.path.join(ROOT, "scenes", "two-elements.yaml")
     common = ("--quiet", "--steps", "25", "--set", "contact.0.strategy=augmented")
     runs = {}
     # (solver, inexact Newton, bound): exact Krylov solves to linear.tolerance 1e-10 (measured: MueLu 2.2e-14,
@@ -78,7 +65,7 @@ def iterative_equals_direct(c):
         proc = c.run("run", scene, *common, "--out", out, "--set", "solver.linear.solver=" + solver,
                      "--set", "solver.newton.inexact=" + inexact)
         c.check(proc.returncode == 0, "%s (inexact %s): exit 0" % (solver, inexact))
-        runs[(solver, inexact)] = (history(out), summary(c, out))
+        runs[(solver, inexact)] = (read_history(out), read_summary(out))
     ref, ref_summary = runs[("direct", "false")]
     c.check(ref_summary["unknowns"] > ref_summary["dofs"] and ref_summary["linear_system_size"] == ref_summary["unknowns"],
             "the systems keep multiplier rows (%d unknowns, %d displacements)" % (ref_summary["unknowns"], ref_summary["dofs"]))
@@ -94,9 +81,7 @@ def iterative_equals_direct(c):
                 % (solver, inexact, worst / scale, bound))
 
 
+CASES = {f.__name__: f for f in [stagnation, iterative_fallback, iterative_equals_direct]}
+
 if __name__ == "__main__":
-    name = sys.argv[1]
-    c = Case(name)
-    globals()[name](c)
-    print("%s: %d failed" % (name, len(c.failures)))
-    sys.exit(1 if c.failures else 0)
+    main(CASES)
