@@ -9,7 +9,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "validation"))
 from stickslip_results import read_vtu  # noqa: E402
-from cli_case import BLOCK, ROOT, main, read_history, read_summary, read_table, replace  # noqa: E402
+from cli_case import BLOCK, CONTACT, ROOT, main, read_history, read_summary, read_table, replace  # noqa: E402
 
 
 def schedule_after_cut(c):
@@ -92,22 +92,9 @@ def diverging_step(c):
                      r"are in .*results \(status \"failed\"\)", out_created=True)
 
 
-FAULT_SCENE = """\
-mesh:
-  file: %s/block.geo
-  parameters: {nx: 2, ny: 2, nz: 2}
-bodies:
-  - {name: block, group: body, material: {model: hooke, E: 1000, nu: 0.3}}
-boundary:
-  - {name: top, group: zmax, displacement: [0, 0, -0.01]}
-contact:
-  - name: floor
-    plugin: test-misbehaving
-    slave: zmin
-    obstacle: {type: plane, point: [0, 0, 0], normal: [0, 0, 1]}
-    parameters: {fault: 1}
-time: {scheme: quasi-static, dt: 0.5, end: 1}
-""" % os.path.join(ROOT, "meshes")
+# the contact block of cli_case, its plugin replaced by the test plugin that misbehaves as `fault` says
+FAULT_SCENE = replace(replace(CONTACT, "plugin: penalty-nts", "plugin: test-misbehaving"), "penalty: 1.0e4",
+                      "fault: 1")
 
 
 def misbehaving_plugin(c):
