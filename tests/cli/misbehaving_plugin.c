@@ -2,7 +2,8 @@
  * chosen by the parameter `fault`, for the CLI tests of what the host does with a plugin that misbehaves (issue 15,
  * items 4, 11, 15; tests/cli/test_run_results.py):
  *   1 report: a NaN force          2 report: a negative count       3 residual: a row beyond the unknowns
- *   4 residual: an internal error without a message                 5 layout: 2e9 extra unknowns */
+ *   4 residual: an internal error without a message                 5 layout: 2e9 extra unknowns
+ *   6 residual: every other step attempt fails (Newton cannot converge), so cuts alternate with good sub-steps */
 #include <math.h>
 #include <stdlib.h>
 
@@ -13,14 +14,16 @@ struct sk_instance {
   sk_host *host;
   const sk_view *slave;
   int fault;
+  int attempts; /* step attempts begun */
 };
 
-enum { REPORT_NAN = 1, REPORT_NEGATIVE = 2, ROW_BEYOND = 3, SILENT_ERROR = 4, HUGE_LAYOUT = 5 };
+enum { REPORT_NAN = 1, REPORT_NEGATIVE = 2, ROW_BEYOND = 3, SILENT_ERROR = 4, HUGE_LAYOUT = 5, ALTERNATE_FAILURE = 6 };
 static const double stiffness = 1000.0;
 
 static const char *const strategies[] = {"none", NULL};
 static const char *const parameters[] = {"fault: 1 NaN report, 2 negative count, 3 row beyond the unknowns, "
-                                         "4 error without message, 5 2e9 extra unknowns [required]", NULL};
+                                         "4 error without message, 5 2e9 extra unknowns, 6 every other step attempt "
+                                         "fails [required]", NULL};
 
 static void destroy(sk_instance *in) { free(in); }
 
@@ -41,7 +44,8 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
 }
 
 static sk_status begin_step(sk_instance *in, const sk_state *st) {
-  (void)in, (void)st;
+  (void)st;
+  in->attempts++;
   return SK_OK;
 }
 
@@ -53,6 +57,8 @@ static sk_status layout(sk_instance *in, const sk_state *st, sk_layout *layout) 
 
 static sk_status residual(sk_instance *in, const sk_state *st, sk_sink *sink) {
   if (in->fault == SILENT_ERROR) return SK_ERR_INTERNAL;
+  if (in->fault == ALTERNATE_FAILURE && in->attempts % 2 == 1)
+    return in->api->error(in->host, SK_ERR_DIVERGED, "test fault 6: step attempt %d fails", in->attempts);
   const sk_view *v = in->slave;
   for (int k = 0; k < v->n_nodes; ++k) {
     if (!v->owned[k]) continue;
@@ -95,7 +101,7 @@ static sk_status report(sk_instance *in, const sk_state *st, sk_contact_report *
 static const sk_plugin plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "test-misbehaving",
-    .summary = "test: springs with one chosen fault (NaN report, bad row, silent error, huge layout)",
+    .summary = "test: springs with one chosen fault (NaN report, bad row, silent error, huge layout, failing attempts)",
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
             SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS,

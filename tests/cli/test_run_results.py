@@ -95,13 +95,14 @@ def diverging_step(c):
 # the contact block of cli_case, its plugin replaced by the test plugin that misbehaves as `fault` says
 FAULT_SCENE = replace(replace(CONTACT, "plugin: penalty-nts", "plugin: test-misbehaving"), "penalty: 1.0e4",
                       "fault: 1")
+FAULT_ENV = {"STICKSLIP_PLUGIN_PATH": os.environ.get("STICKSLIP_CLI_FAULT_DIR", "")}
 
 
 def misbehaving_plugin(c):
     """Issue 15, items 4, 11, 15: a plugin's NaN or negative report, a residual row beyond the unknowns, an error
     without a message and 2e9 extra unknowns each end the run with one message naming the pair and what is wrong
     (no step cut, no nan in history.csv, no crash, no OOM kill)."""
-    env = {"STICKSLIP_PLUGIN_PATH": os.environ.get("STICKSLIP_CLI_FAULT_DIR", "")}
+    env = FAULT_ENV
     expected = {1: r"report: force\[1\] = nan is not a number",
                 2: r"report: negative point counts \(active -3, stick 0, slip 0\)",
                 3: r"residual entry in row 88, beyond the 81 unknowns",
@@ -124,7 +125,25 @@ def misbehaving_plugin(c):
         c.check("nan" not in history and "inf" not in history, "fault %d: no nan in history.csv" % fault)
 
 
-CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin]}
+def smallest_step(c):
+    """A step that keeps failing after good sub-steps (test fault 6: every other attempt fails) must not halve dt on
+    and on: dt stops at time.dt / 2^max_cuts and a failure there ends the run, with a message that says so. Before,
+    cuts alternating with good sub-steps never counted max_cuts in a row and dt shrank towards zero."""
+    c.run("run", c.write(FAULT_SCENE), "--out", c.out, "--quiet", "--set", "contact.0.parameters.fault=6",
+          "--set", "time.max_cuts=4", env=FAULT_ENV)
+    c.expect_failure(r"no convergence at the smallest step time\.dt / 2\^4 \(dt = 0\.0312\): .*test fault 6",
+                     out_created=True)
+    rows = read_history(c.out)
+    smallest = min(r["dt"] for r in rows[1:]) if len(rows) > 1 else 0.0
+    c.check(len(rows) > 1 and smallest >= 0.5 / 16 * (1 - 1e-12), "no step shorter than dt / 2^4 (smallest %g)"
+            % smallest)
+    summary = read_summary(c.out)
+    c.check(summary["step_cuts"] == 5, "4 halvings, each followed by a good sub-step, and the failure at dt / 2^4 "
+            "(got %d)" % summary["step_cuts"])
+
+
+CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin,
+                                 smallest_step]}
 
 if __name__ == "__main__":
     main(CASES)
