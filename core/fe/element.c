@@ -224,7 +224,9 @@ static void lagrange_1d(int order, double x, double L[3], double dL[3], double d
 }
 
 /* P = prod_k h_k(xi_k) from per-direction factors and their first and second derivatives: value, gradient dP[k],
- * Hessian ddP[k*pdim + l]. */
+ * Hessian ddP[k*pdim + l] (skipped when ddP is NULL: only the surface geometry asks for it, while the solid kernels
+ * call this for every node at every quadrature point — the Hessian loop was 12 % of the full two-tori run's CPU,
+ * docs/linear-solvers.md). */
 static void product_derivatives(int pdim, const double *h, const double *dh, const double *ddh, double *P,
                                 double *dP, double *ddP) {
   *P = 1.0;
@@ -233,7 +235,7 @@ static void product_derivatives(int pdim, const double *h, const double *dh, con
     dP[k] = dh[k];
     for (int m = 0; m < pdim; ++m)
       if (m != k) dP[k] *= h[m];
-    for (int l = 0; l < pdim; ++l) {
+    for (int l = 0; ddP && l < pdim; ++l) {
       double value = 1.0;
       for (int m = 0; m < pdim; ++m) {
         if (m == k && m == l) value *= ddh[m];
@@ -263,7 +265,7 @@ static void tensor_shape(const element_info *info, const double *xi, double *N, 
     const unsigned char *id = info->tensor_index + a * pdim;
     double h[3], dh[3], ddh[3], P, dP[3], ddP[9];
     for (int k = 0; k < pdim; ++k) h[k] = L[k][id[k]], dh[k] = dL[k][id[k]], ddh[k] = ddL[k][id[k]];
-    product_derivatives(pdim, h, dh, ddh, &P, dP, ddP);
+    product_derivatives(pdim, h, dh, ddh, &P, dP, ddN ? ddP : NULL);
     store_node(pdim, a, P, dP, ddP, N, dN, ddN);
   }
 }
@@ -307,7 +309,7 @@ static void serendipity_shape(const element_info *info, const double *xi, double
   const int pdim = info->pdim;
   for (int a = 0; a < info->nen; ++a) {
     const double *c = info->node_xi + a * pdim;
-    double h[3], dh[3], ddh[3], P, dP[3], ddP[9], grad[3], hess[9], value;
+    double h[3], dh[3], ddh[3], P, dP[3], ddP[9] = {0}, grad[3], hess[9], value;
     int mid = -1;
     for (int k = 0; k < pdim; ++k) {
       if (c[k] == 0.0) {
@@ -317,7 +319,7 @@ static void serendipity_shape(const element_info *info, const double *xi, double
         h[k] = 1.0 + c[k] * xi[k], dh[k] = c[k], ddh[k] = 0.0;
       }
     }
-    product_derivatives(pdim, h, dh, ddh, &P, dP, ddP);
+    product_derivatives(pdim, h, dh, ddh, &P, dP, ddN ? ddP : NULL);
     if (mid >= 0) {
       const double scale = pdim == 2 ? 0.5 : 0.25;
       value = scale * P;
