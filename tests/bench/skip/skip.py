@@ -3,7 +3,7 @@
 
   skip.py check CASE     (ctest skip_CASE) the same scene with the skip on and off: `run --explain` says which, and
                          every history.csv column agrees to round-off (scaled difference <= TOLERANCE).
-  skip.py bench [-n N]   the same pairs on larger scenes, N repeats each: the minimum CPU time of the stickslip process
+  skip.py bench [-n N] [CASE...]  the same pairs on larger scenes, N repeats each: the minimum CPU time of the stickslip process
                          (and its children) and the assembly seconds of summary.json; prints the markdown table of
                          docs/performance.md.
 
@@ -33,13 +33,19 @@ CASES = {
     "mass": ("mass", "hertz-2d.yaml", []),
     "stiffness_quasistatic": ("stiffness-update", "hertz-2d.yaml", []),
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS),
+    # the ring has no candidate face for steps 1-31, touches the block from step 32 (--verbose says both)
+    "idle_calls": ("idle-calls", "ring-on-block.yaml", ["--steps", "40", "--verbose"]),
 }
+
+# what --verbose must print when the skip is taken (a static "skipped" in --explain does not prove it happened)
+TAKEN = {"idle-calls": "no candidate: active-set, residual and Jacobian calls skipped"}
 
 # bench: larger variants of the same scenes
 BENCH = {
     "mass": ("mass", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "check"),
     "stiffness_quasistatic": ("stiffness-update", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "run"),
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS, "run"),
+    "idle_calls": ("idle-calls", "ring-on-block.yaml", [], "run"),
 }
 
 
@@ -55,7 +61,7 @@ def run(command, scene, args, out, forced):
     if proc.returncode != 0:
         sys.exit(f"{' '.join(cmd)} (STICKSLIP_NO_SKIP={forced}) failed:\n{proc.stdout}{proc.stderr}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return proc.stdout, cpu
+    return proc.stdout + proc.stderr, cpu
 
 
 def explain_line(stdout, need):
@@ -112,6 +118,10 @@ def check(case):
             sys.exit(f"{scene}: the skip of '{need}' is not taken: {line_on}")
         if "STICKSLIP_NO_SKIP" not in line_off:
             sys.exit(f"{scene}: STICKSLIP_NO_SKIP={need} did not force it: {line_off}")
+        if need in TAKEN and TAKEN[need] not in text_on:
+            sys.exit(f"{scene}: the skip of '{need}' was not taken (--verbose did not say '{TAKEN[need]}')")
+        if need in TAKEN and TAKEN[need] in text_off:
+            sys.exit(f"{scene}: the skip of '{need}' was taken although STICKSLIP_NO_SKIP={need}")
         worst, where, steps = compare(on_out, off_out)
     print(f"{case}: {scene} {' '.join(args)}: {steps} steps, skip on vs off: max scaled difference "
           f"{worst:.2e} ({where or 'all equal'})")
@@ -175,10 +185,12 @@ def mesh_cache():
           "leave one entry")
 
 
-def bench(repeats):
+def bench(repeats, only):
     print("| skip | scene | command | CPU s, skip off | CPU s, skip on | assembly s off → on | max difference |")
     print("|---|---|---|---|---|---|---|")
     for case, (need, scene, args, command) in BENCH.items():
+        if only and case not in only:
+            continue
         cpu = {"off": [], "on": []}
         assembly = {"off": [], "on": []}
         with tempfile.TemporaryDirectory() as tmp:
@@ -194,6 +206,8 @@ def bench(repeats):
         asm = f"{min(assembly['off']):.2f} → {min(assembly['on']):.2f}" if command == "run" else "—"
         print(f"| {need} | {scene} {' '.join(a for a in args if a != '--set')} | {command} | {min(cpu['off']):.2f} | "
               f"{min(cpu['on']):.2f} | {asm} | {diff} |")
+    if only and "mesh_cache" not in only:
+        return
     # the mesh cache: off (gmsh every time) against a warm cache, `check` (set-up only), CPU with gmsh's child
     scene, args = "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"]
     cpu = {"off": [], "on": []}
@@ -218,10 +232,11 @@ def main():
     elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "mesh_cache":
         mesh_cache()
     elif len(sys.argv) >= 2 and sys.argv[1] == "bench":
-        repeats = int(sys.argv[3]) if len(sys.argv) >= 4 and sys.argv[2] == "-n" else 3
-        bench(repeats)
+        with_n = len(sys.argv) >= 4 and sys.argv[2] == "-n"
+        repeats = int(sys.argv[3]) if with_n else 3
+        bench(repeats, sys.argv[4 if with_n else 2:])
     else:
-        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache}} | skip.py bench [-n N]")
+        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache}} | skip.py bench [-n N] [CASE...]")
 
 
 if __name__ == "__main__":
