@@ -604,6 +604,7 @@ void sk_scene_free(sk_scene *scene) {
 }
 
 void sk_scene_explain(const sk_scene *scene, const char *out_dir, FILE *out) {
+  sk_mesh_cache_explain(out);
   sk_system_explain(scene->system, out);
   const sk_output_settings *o = &scene->output;
   fprintf(out, "outputs:\n");

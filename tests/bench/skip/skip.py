@@ -137,11 +137,18 @@ def mesh_cache():
     with tempfile.TemporaryDirectory() as tmp:
         folder = os.path.join(tmp, "cache")
 
+        said = {}
+
         def go(name, cache, extra=()):
             os.environ["STICKSLIP_MESH_CACHE"] = cache
             out = os.path.join(tmp, name)
-            run("run", scene, args + list(extra), out, "")
+            said[name] = run("run", scene, args + list(extra), out, "")[0]
             return out
+
+        def explains(name, words):
+            lines = [line for line in said[name].splitlines() if "hertz-2d.geo:" in line]
+            if len(lines) != 1 or words not in lines[0]:
+                sys.exit(f"--explain of the {name} run does not say '{words}' about the mesh cache: {lines}")
 
         def entries():
             return sorted(f for f in os.listdir(folder)) if os.path.isdir(folder) else []
@@ -157,6 +164,12 @@ def mesh_cache():
         warm = go("warm", folder)
         if os.stat(entry).st_ino != inode:
             sys.exit("the warm run regenerated the mesh instead of reading the cache")
+        explains("off", "not cached (STICKSLIP_MESH_CACHE=off)")
+        explains("cold", "miss: meshed by gmsh")
+        explains("warm", "hit: read from the cache")
+        key = entries()[0][:-len(".mesh")]
+        if f"key {key}" not in said["warm"] or f"entry {entry}" not in said["warm"]:
+            sys.exit(f"--explain of the warm run does not name the key {key} and the entry {entry}")
         for out in (cold, warm):
             worst, where, _ = compare(reference, out)
             if worst != 0.0:
@@ -168,6 +181,7 @@ def mesh_cache():
         with open(entry, "r+b") as f:
             f.truncate(size // 2)
         damaged = go("damaged", folder)
+        explains("damaged", "miss: meshed by gmsh")
         if os.path.getsize(entry) != size or compare(reference, damaged)[0] != 0.0:
             sys.exit("a damaged entry was not replaced by a good one")
         for name in entries():
