@@ -34,11 +34,9 @@ void sk_needs_declare(sk_needs *needs, sk_need need, int needed, const char *fmt
   va_end(args);
 }
 
-int sk_need_forced(sk_need need) {
+int sk_skip_forced(const char *name) {
   const char *list = getenv("STICKSLIP_NO_SKIP");
-  if (need < 0 || need >= SK_NEED_COUNT || !host_skips[need]) return 0;
   if (!list || !*list) return 0;
-  const char *name = sk_need_name(need);
   const size_t len = strlen(name);
   for (const char *p = list; *p;) {
     const size_t word = strcspn(p, ",");
@@ -47,6 +45,11 @@ int sk_need_forced(sk_need need) {
     if (*p == ',') ++p;
   }
   return 0;
+}
+
+int sk_need_forced(sk_need need) {
+  if (need < 0 || need >= SK_NEED_COUNT || !host_skips[need]) return 0;
+  return sk_skip_forced(sk_need_name(need));
 }
 
 int sk_system_needs(const sk_system *sys, sk_need need) {

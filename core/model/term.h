@@ -40,6 +40,8 @@ const char *sk_need_name(sk_need need);
  * even where no term declares it: tests/bench/skip compares the results with and without the skip. Only the needs
  * the host skips itself (mass, stiffness-update, idle-calls) can be forced; the others are skipped inside the plugins. */
 int sk_need_forced(sk_need need);
+/* The same switch for a skip that is not a term's need (the recorder's "invariants"). */
+int sk_skip_forced(const char *name);
 
 typedef struct sk_term_ops {
   const char *kind; /* "bulk", "dirichlet", "traction", "resultant", "plugin" */

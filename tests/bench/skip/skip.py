@@ -240,17 +240,48 @@ def bench(repeats, only):
           f"— | identical (skip_mesh_cache) |")
 
 
+def invariants():
+    """--quiet without --out: nobody reads the energies and momenta, so they are not computed (--explain says so);
+    the run takes the same steps and Newton iterations as with them forced (STICKSLIP_NO_SKIP=invariants), and with
+    --out (where history.csv needs them) they are computed."""
+    scene = os.path.join(SCENES, "two-elements-penalty.yaml")
+    said = {}
+    for mode, forced in (("on", ""), ("off", "invariants")):
+        env = dict(os.environ, STICKSLIP_NO_SKIP=forced)
+        proc = subprocess.run([BIN, "run", scene, "--quiet", "--explain"], env=env, capture_output=True, text=True,
+                              timeout=300)
+        if proc.returncode != 0:
+            sys.exit(f"run failed ({mode}):\n{proc.stdout}{proc.stderr}")
+        said[mode] = proc.stdout
+    if "invariants       skipped" not in said["on"] or "invariants       skipped" in said["off"]:
+        sys.exit(f"--explain does not say the invariants are skipped (only) when not forced:\n{said['on']}")
+    def solve(text):  # "N steps to t = T, I Newton iterations, L linear solves" without the timings
+        return [line.split(" s (")[0].rsplit(",", 1)[0] for line in text.splitlines() if "Newton iterations" in line]
+    if not solve(said["on"]) or solve(said["on"]) != solve(said["off"]):
+        sys.exit(f"the run differs with the invariants skipped: {solve(said['on'])} vs {solve(said['off'])}")
+    with tempfile.TemporaryDirectory() as tmp:
+        text, _ = run("run", "two-elements-penalty.yaml", [], os.path.join(tmp, "out"), "")
+        if "invariants       skipped" in text:
+            sys.exit("with --out the invariants are skipped")
+        head, rows = history(os.path.join(tmp, "out"))
+        if max(abs(r[head.index("total_energy")]) for r in rows) == 0.0:
+            sys.exit("with --out history.csv has no energies")
+    print(f"invariants: skipped without an audience, same solve ({solve(said['on'])[0]}); computed with --out")
+
+
 def main():
     if len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] in CASES:
         check(sys.argv[2])
     elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "mesh_cache":
         mesh_cache()
+    elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "invariants":
+        invariants()
     elif len(sys.argv) >= 2 and sys.argv[1] == "bench":
         with_n = len(sys.argv) >= 4 and sys.argv[2] == "-n"
         repeats = int(sys.argv[3]) if with_n else 3
         bench(repeats, sys.argv[4 if with_n else 2:])
     else:
-        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache}} | skip.py bench [-n N] [CASE...]")
+        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache,invariants}} | skip.py bench [-n N] [CASE...]")
 
 
 if __name__ == "__main__":
