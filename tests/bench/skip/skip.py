@@ -3,7 +3,8 @@
 
   skip.py check CASE     (ctest skip_CASE) the same scene with the skip on and off: `run --explain` says which, and
                          every history.csv column agrees to round-off (scaled difference <= TOLERANCE).
-  skip.py bench [-n N] [CASE...]  the same pairs on larger scenes, N repeats each: the minimum CPU time of the stickslip process
+  skip.py bench [-n N] [CASE...]  the same pairs on larger scenes (all, or the CASEs), N repeats each: the minimum
+                         CPU time of the stickslip process
                          (and its children) and the assembly seconds of summary.json; prints the markdown table of
                          docs/performance.md.
 
