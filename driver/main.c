@@ -231,11 +231,11 @@ static int command_scene(int argc, char **argv, int run) {
         if (m->bodies[b].plugin)
           printf("  body '%s': plugin %s, strategy %s\n", m->bodies[b].name, m->bodies[b].plugin->name,
                  m->bodies[b].plugin->strategies[m->bodies[b].strategy]);
-      if (args.explain) sk_scene_explain(&scene, NULL, stdout);
+      if (args.explain) sk_scene_explain(&scene, NULL, !args.quiet, stdout);
     }
   } else {
     if (args.explain && rank_of_world() == 0) {
-      sk_scene_explain(&scene, args.out, stdout);
+      sk_scene_explain(&scene, args.out, !args.quiet, stdout);
       fflush(stdout);
     }
     sk_run_options options = {.out_dir = args.out,

@@ -170,3 +170,29 @@ void sk_mesh_cache_store(const sk_mesh_cache_key *key, const sk_mesh *mesh) {
   free(payload);
   if (!ok || rename(temporary, key->file) != 0) unlink(temporary);
 }
+
+/* One line per .geo loaded by this process (a scene loads a handful; later ones beyond the table are counted). */
+enum { MAX_NOTES = 16 };
+static char notes[MAX_NOTES][1400];
+static int n_notes;
+
+void sk_mesh_cache_note(const char *path, const sk_mesh_cache_key *key, int hit) {
+  if (n_notes >= MAX_NOTES) {
+    ++n_notes;
+    return;
+  }
+  char *line = notes[n_notes++];
+  if (!key->file[0])
+    snprintf(line, sizeof notes[0], "%s: not cached (%s): meshed by gmsh", path, key->why);
+  else
+    snprintf(line, sizeof notes[0], "%s: %s, key %016llx%016llx\n    entry %s", path,
+             hit ? "hit: read from the cache, gmsh skipped" : "miss: meshed by gmsh, stored for the next run",
+             (unsigned long long)key->hash[0], (unsigned long long)key->hash[1], key->file);
+}
+
+void sk_mesh_cache_explain(FILE *out) {
+  if (n_notes == 0) return;
+  fprintf(out, "mesh cache (generated meshes; docs/performance.md):\n");
+  for (int k = 0; k < n_notes && k < MAX_NOTES; ++k) fprintf(out, "  %s\n", notes[k]);
+  if (n_notes > MAX_NOTES) fprintf(out, "  ... and %d more .geo meshes\n", n_notes - MAX_NOTES);
+}

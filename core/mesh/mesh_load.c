@@ -552,7 +552,10 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
   sk_mesh_cache_key key;
   memset(&key, 0, sizeof key);
   if (is_geo) sk_mesh_cache_key_make(path, parameters, dim, options, &key);
-  if (is_geo && sk_mesh_cache_load(&key, mesh)) return finish_load(path, mesh, SK_OK);
+  if (is_geo && sk_mesh_cache_load(&key, mesh)) {
+    sk_mesh_cache_note(path, &key, 1);
+    return finish_load(path, mesh, SK_OK);
+  }
   char wrapper[1024] = "";
   if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
   load_job job = {.path = path, .open_path = wrapper[0] ? wrapper : path, .is_geo = is_geo, .dim = dim,
@@ -563,7 +566,10 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
                                    .max_elements = options->max_elements};
   sk_status status = sk_mesh_sandbox(load_in_child, &job, &limits, mesh);
   if (wrapper[0]) unlink(wrapper);
-  if (status == SK_OK && is_geo && mesh->n_groups > 0) sk_mesh_cache_store(&key, mesh);
+  if (status == SK_OK && is_geo && mesh->n_groups > 0) {
+    sk_mesh_cache_store(&key, mesh);
+    sk_mesh_cache_note(path, &key, 0);
+  }
   /* gmsh's own errors say what went wrong but not with which values: name the parameters the scene gave */
   if (status == SK_ERR_INPUT && parameters[0] && !strstr(sk_error_message(), "(parameters: ")) {
     char message[2048];

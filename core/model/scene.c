@@ -603,12 +603,16 @@ void sk_scene_free(sk_scene *scene) {
   scene->cfg = NULL;
 }
 
-void sk_scene_explain(const sk_scene *scene, const char *out_dir, FILE *out) {
+void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, FILE *out) {
+  sk_mesh_cache_explain(out);
   sk_system_explain(scene->system, out);
   const sk_output_settings *o = &scene->output;
   fprintf(out, "outputs:\n");
-  fprintf(out, "  %-16s computed: strain and kinetic energy, momenta, reactions and contact totals per step (the\n"
-               "                   progress line shows the energy)\n", "history");
+  if (out_dir || progress || sk_skip_forced("invariants"))
+    fprintf(out, "  %-16s computed: strain and kinetic energy, momenta, reactions and contact totals per step (%s)\n",
+            "history", out_dir ? "history.csv" : progress ? "the progress line shows the energy" : "STICKSLIP_NO_SKIP");
+  else
+    fprintf(out, "  %-16s skipped: energies and momenta (--quiet and no --out: nobody reads them)\n", "invariants");
   if (!out_dir) {
     fprintf(out, "  %-16s skipped: no --out DIR, no result files (with --out: output.vtu, output.vtu_every)\n",
             "stress, vtu");

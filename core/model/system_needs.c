@@ -9,7 +9,8 @@
 
 #include "system.h"
 
-static const char *const need_names[SK_NEED_COUNT] = {"mass", "friction", "master-unknowns", "stiffness-update"};
+static const char *const need_names[SK_NEED_COUNT] = {"mass", "friction", "master-unknowns", "stiffness-update",
+                                                         "idle-calls"};
 
 /* Who acts on a need no term declares: the host skips the mass itself; friction, master unknowns and multipliers
  * are the plugin's own terms, skipped inside the plugin (the host sees the declaration and explains it). */
@@ -17,9 +18,10 @@ static const char *const skipped_by[SK_NEED_COUNT] = {
     "not built: no element mass matrices, no assembled mass",
     "no tangential terms, no slip history, no friction output (skipped inside the plugin)",
     "the pair couples no master dofs (rigid obstacle)",
-    "linear bodies keep the element stiffness of set-up (internal force K u, no Gauss loop per iterate)"};
+    "linear bodies keep the element stiffness of set-up (internal force K u, no Gauss loop per iterate)",
+    "on a step where a pair has no candidate (sk_layout.idle), no active-set, residual or Jacobian call"};
 /* the needs the host skips itself, which the test switch can force */
-static const unsigned char host_skips[SK_NEED_COUNT] = {1, 0, 0, 1};
+static const unsigned char host_skips[SK_NEED_COUNT] = {1, 0, 0, 1, 1};
 
 const char *sk_need_name(sk_need need) { return need >= 0 && need < SK_NEED_COUNT ? need_names[need] : "?"; }
 
@@ -32,11 +34,9 @@ void sk_needs_declare(sk_needs *needs, sk_need need, int needed, const char *fmt
   va_end(args);
 }
 
-int sk_need_forced(sk_need need) {
+int sk_skip_forced(const char *name) {
   const char *list = getenv("STICKSLIP_NO_SKIP");
-  if (need < 0 || need >= SK_NEED_COUNT || !host_skips[need]) return 0;
   if (!list || !*list) return 0;
-  const char *name = sk_need_name(need);
   const size_t len = strlen(name);
   for (const char *p = list; *p;) {
     const size_t word = strcspn(p, ",");
@@ -45,6 +45,11 @@ int sk_need_forced(sk_need need) {
     if (*p == ',') ++p;
   }
   return 0;
+}
+
+int sk_need_forced(sk_need need) {
+  if (need < 0 || need >= SK_NEED_COUNT || !host_skips[need]) return 0;
+  return sk_skip_forced(sk_need_name(need));
 }
 
 int sk_system_needs(const sk_system *sys, sk_need need) {

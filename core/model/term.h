@@ -22,6 +22,7 @@ typedef enum {
   SK_NEED_FRICTION,        /* tangential terms, slip history and friction output of a contact pair */
   SK_NEED_MASTER_UNKNOWNS, /* a deformable master surface: its dofs coupled into the pair's rows */
   SK_NEED_STIFFNESS_UPDATE,/* element stiffness re-evaluated at every iterate (else: assembled once, f = K u) */
+  SK_NEED_IDLE_CALLS,      /* a pair's active-set, residual and Jacobian calls on steps it has no candidate */
   SK_NEED_COUNT
 } sk_need;
 
@@ -37,8 +38,10 @@ void sk_needs_declare(sk_needs *needs, sk_need need, int needed, const char *fmt
 const char *sk_need_name(sk_need need);
 /* 1 when the test switch STICKSLIP_NO_SKIP (a comma list of need names, or "all") forces `need` to be computed
  * even where no term declares it: tests/bench/skip compares the results with and without the skip. Only the needs
- * the host skips itself (mass, stiffness-update) can be forced; the others are skipped inside the plugins. */
+ * the host skips itself (mass, stiffness-update, idle-calls) can be forced; the others are skipped inside the plugins. */
 int sk_need_forced(sk_need need);
+/* The same switch for a skip that is not a term's need (the recorder's "invariants"). */
+int sk_skip_forced(const char *name);
 
 typedef struct sk_term_ops {
   const char *kind; /* "bulk", "dirichlet", "traction", "resultant", "plugin" */

@@ -137,7 +137,15 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   base->initial = layout->initial;
   base->eliminated = layout->eliminated;
   base->recover_needs_jdx = layout->recover_needs_jdx;
-  (void)sys;
+  /* One answer on every rank: a skipped call must not leave a collective call of the plugin (reduce) unmatched. */
+  int idle = (caps & SK_CAP_SAYS_IDLE) && SK_HAS(layout, idle) && layout->idle && layout->n_extra == 0 &&
+             !base->needs.needed[SK_NEED_IDLE_CALLS] && !sk_need_forced(SK_NEED_IDLE_CALLS);
+  MPI_Allreduce(MPI_IN_PLACE, &idle, 1, MPI_INT, MPI_MIN, sys->comm);
+  if (idle != term->idle)
+    sk_log_message(sys->rank, 2, "%s: %s at step %lld", base->name,
+                   idle ? "no candidate: active-set, residual and Jacobian calls skipped" : "candidates: called again",
+                   (long long)sys->step);
+  term->idle = idle;
   return SK_OK;
 }
 
@@ -175,19 +183,21 @@ static sk_status plugin_pattern(sk_term *base, sk_system *sys, unsigned char *ro
 
 static sk_status plugin_update_active_set(sk_term *base, sk_system *sys, int *changed) {
   plugin_term *term = (plugin_term *)base;
-  if (!term->table.update_active_set) return SK_OK;
+  if (!term->table.update_active_set || term->idle) return SK_OK;
   refresh_x(term, sys);
   return PLUGIN_CALL(term, update_active_set, term->instance, &term->state, changed);
 }
 
 static sk_status plugin_residual(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
+  if (term->idle) return SK_OK;
   refresh_x(term, sys);
   return PLUGIN_CALL(term, residual, term->instance, &term->state, &sys->sink.abi);
 }
 
 static sk_status plugin_jacobian(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
+  if (term->idle) return SK_OK;
   refresh_x(term, sys);
   return PLUGIN_CALL(term, jacobian, term->instance, &term->state, &sys->sink.abi);
 }
@@ -392,6 +402,10 @@ static void declare_needs(plugin_term *term, const sk_system *sys) {
     sk_needs_declare(needs, SK_NEED_MASS, (caps & SK_CAP_NEEDS_MASS) != 0, "plugin %s %s the needs-mass capability",
                      term->plugin->name, caps & SK_CAP_NEEDS_MASS ? "declares" : "does not declare");
   if (term->pair < 0) return;
+  sk_needs_declare(needs, SK_NEED_IDLE_CALLS, !(caps & SK_CAP_SAYS_IDLE),
+                   caps & SK_CAP_SAYS_IDLE ? "plugin %s says when it has no candidate (sk_layout.idle)"
+                                           : "plugin %s cannot say when it has no candidate: always called",
+                   term->plugin->name);
   const sk_contact_pair *pair = &sys->model->pairs[term->pair];
   if (pair->has_obstacle)
     sk_needs_declare(needs, SK_NEED_MASTER_UNKNOWNS, 0, "rigid obstacle '%s': prescribed motion, no unknowns",

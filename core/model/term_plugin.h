@@ -24,6 +24,7 @@ typedef struct plugin_term {
   const double *x_list[PLUGIN_MAX_VIEWS], *x_n_list[PLUGIN_MAX_VIEWS], *v_n_list[PLUGIN_MAX_VIEWS];
   uint64_t x_version;
   sk_layout layout;
+  int idle; /* this attempt: the plugin said sk_layout.idle on every rank, so its calls are skipped */
   /* recover: the solve's vectors in the instance's layout */
   double *F_view[PLUGIN_MAX_VIEWS], *dx_view[PLUGIN_MAX_VIEWS], *Jdx_view[PLUGIN_MAX_VIEWS];
   const double *F_list[PLUGIN_MAX_VIEWS], *dx_list[PLUGIN_MAX_VIEWS], *Jdx_list[PLUGIN_MAX_VIEWS];

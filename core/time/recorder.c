@@ -45,6 +45,7 @@ struct sk_recorder {
   int n_obstacles;
   double dissipated;       /* accumulated over the steps */
   double total_energy;     /* of the last row */
+  int wants_invariants;    /* someone reads the energies and momenta: history.csv (--out) or the progress line */
   int vtu_count;
   int64_t last_step;       /* the last converged step recorded */
   int64_t last_vtu_step;   /* the step of the last picture written */
@@ -87,6 +88,10 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
   rec->sys = sys;
   rec->options = options;
   rec->wall_start = wall_start;
+  /* the energies and momenta (a pass over every element) only for an audience; the same answer on every rank, since
+   * sk_bulk_invariants sums over ranks and the progress line is rank 0's; STICKSLIP_NO_SKIP=invariants forces them */
+  rec->wants_invariants = options->out_dir || options->progress || sk_skip_forced("invariants");
+  MPI_Allreduce(MPI_IN_PLACE, &rec->wants_invariants, 1, MPI_INT, MPI_MAX, m->comm);
   for (int k = 0; k < m->n_pairs; ++k) rec->n_obstacles += m->pairs[k].has_obstacle;
   rec->n_columns = N_FIXED_COLUMNS + 3 * (m->n_dirichlet + rec->n_obstacles) + 1;
   rec->names = calloc((size_t)rec->n_columns, sizeof(char *));
@@ -324,8 +329,8 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
 static sk_status history_row(sk_recorder *rec, const double *u, const double *v, double t, int64_t step, int substep,
                              int newton_iterations, const sk_contact_totals *contact) {
   const sk_model *m = &rec->scene->model;
-  sk_invariants inv;
-  SK_TRY(sk_bulk_invariants(m, u, v, &inv));
+  sk_invariants inv = {0};
+  if (rec->wants_invariants) SK_TRY(sk_bulk_invariants(m, u, v, &inv));
   sk_system_reactions(rec->sys, rec->reactions);
   rec->dissipated += contact->dissipated;
   double *row = rec->row;

@@ -252,7 +252,7 @@ static const sk_plugin cp_plugin = {
                "main/rotational/curvature tangent split",
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
-            SK_CAP_DEFORMABLE_MASTER | SK_CAP_NEEDS_CURVATURE,
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_NEEDS_CURVATURE | SK_CAP_SAYS_IDLE,
     .strategies = cp_strategies,
     .parameters = cp_parameters,
     .create = cp_create,

@@ -253,11 +253,12 @@ sk_status cp_begin_step(sk_instance *in, const sk_state *st) {
 }
 
 sk_status cp_layout(sk_instance *in, const sk_state *st, sk_layout *layout) {
-  (void)in;
   (void)st;
   layout->n_extra = 0;
   layout->initial = NULL;
   layout->eliminated = NULL;
+  /* no point has a candidate face: every selection stays -1 (project_global), so no point is evaluated */
+  if (SK_HAS(layout, idle)) layout->idle = in->master && in->cand.used == 0;
   return SK_OK;
 }
 

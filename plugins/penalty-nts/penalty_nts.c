@@ -742,10 +742,12 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
 }
 
 static sk_status pnts_layout(sk_instance *in, const sk_state *st, sk_layout *layout) {
-  (void)in, (void)st;
+  (void)st;
   layout->n_extra = 0;
   layout->initial = NULL;
   layout->eliminated = NULL;
+  /* no slave node has a candidate face: every selection stays -1 (project_global), so no point is evaluated */
+  if (SK_HAS(layout, idle)) layout->idle = in->master && in->cand.used == 0;
   return SK_OK;
 }
 
@@ -959,7 +961,7 @@ static const sk_plugin pnts_plugin = {
     .summary = "node-to-surface penalty contact with penalty-regularised Coulomb friction (baseline)",
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
-            SK_CAP_DEFORMABLE_MASTER,
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_SAYS_IDLE,
     .strategies = pnts_strategies,
     .parameters = pnts_parameters,
     .create = pnts_create,

@@ -6,6 +6,7 @@
 #define STICKSLIP_MESH_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "stickslip/error.h"
 #include "stickslip/plugin_types.h"
@@ -74,6 +75,9 @@ void sk_mesh_free(sk_mesh *mesh);
 /* Process-wide: whether .geo scripts may act outside the mesh (shell commands, file writes; see geo_scan.c). Off by
  * default; the driver turns it on for --trust-scripts. Never read from a scene: the scene is what is not trusted. */
 void sk_mesh_trust_scripts(int trust);
+/* What the cache of generated meshes did for each .geo this process loaded (hit or miss, its key and entry file,
+ * or why it was not cached), for --explain. */
+void sk_mesh_cache_explain(FILE *out);
 
 /* Checks every element of every group: node coordinates finite, no node repeated within an element, and for body
  * elements (dimension = mesh dimension) a positive Jacobian at every corner. Errors name the file (mesh->source),

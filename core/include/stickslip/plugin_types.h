@@ -29,7 +29,8 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 1u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier */
+#define SK_ABI_MINOR 2u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
+                          2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls) */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -100,7 +101,9 @@ typedef enum {
                                          curvature terms vanish */
   SK_CAP_NEEDS_MASS = 1u << 11,       /* checked: the mass calls of stickslip.bulk need it */
   SK_CAP_OWNS_KINEMATICS = 1u << 12,  /* checked: stickslip.bulk claim() and sk_plugin.integrator need it */
-  SK_CAP_SELF_CONTACT = 1u << 13      /* checked: a pair with slave == master needs it */
+  SK_CAP_SELF_CONTACT = 1u << 13,     /* checked: a pair with slave == master needs it */
+  SK_CAP_SAYS_IDLE = 1u << 14         /* ABI 2.2, informational: layout() may set sk_layout.idle (--explain says the
+                                         pair's calls are skipped on such steps) */
 } sk_capability;
 
 /* ---- views: the part of a surface or body this rank sees ------------------------------------------------------- */
@@ -198,6 +201,12 @@ typedef struct sk_layout {
   const unsigned char *eliminated; /* 1 for unknowns the plugin condenses itself (plugin-local condensation), or
                                       NULL; the same on every rank (checked); needs SK_CAP_CONDENSATION */
   int recover_needs_jdx;       /* 1: recover() wants J dx (sk_vectors.Jdx_*), which costs one operator apply */
+  /* ABI 2.2 (write it only when SK_HAS(layout, idle)): 1 promises that during this attempt (until the next layout)
+   * update_active_set, residual and jacobian would add nothing and change nothing the instance reports or commits,
+   * at every x: e.g. no slave point has a candidate face. With n_extra = 0 and the same answer on every rank, the
+   * host then skips those three calls; begin_step, pattern, converged, commit_step, report and points still come.
+   * Needs SK_CAP_SAYS_IDLE (else ignored). */
+  int idle;
 } sk_layout;
 
 /* ---- vectors of one linear solve, in the instance's own layout (recover) ---------------------------------------- */

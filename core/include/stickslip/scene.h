@@ -46,7 +46,7 @@ sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, c
 void sk_scene_free(sk_scene *scene);
 /* What the scene computes and skips, with the reasons: every term's declared needs and the outputs of a run into
  * `out_dir` (NULL: no result files). For `stickslip run|check --explain`; rank 0 calls it. */
-void sk_scene_explain(const sk_scene *scene, const char *out_dir, FILE *out);
+void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, FILE *out);
 
 /* A message to the user on rank 0 (rank == 0): level 0 info, 1 warning ("warning: " prefix), 2 debug (shown only
  * with sk_log_verbosity > 0, i.e. --verbose). The one path for the core's and the plugins' messages (host.c). */

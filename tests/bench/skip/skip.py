@@ -3,7 +3,8 @@
 
   skip.py check CASE     (ctest skip_CASE) the same scene with the skip on and off: `run --explain` says which, and
                          every history.csv column agrees to round-off (scaled difference <= TOLERANCE).
-  skip.py bench [-n N]   the same pairs on larger scenes, N repeats each: the minimum CPU time of the stickslip process
+  skip.py bench [-n N] [CASE...]  the same pairs on larger scenes (all, or the CASEs), N repeats each: the minimum
+                         CPU time of the stickslip process
                          (and its children) and the assembly seconds of summary.json; prints the markdown table of
                          docs/performance.md.
 
@@ -33,13 +34,19 @@ CASES = {
     "mass": ("mass", "hertz-2d.yaml", []),
     "stiffness_quasistatic": ("stiffness-update", "hertz-2d.yaml", []),
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS),
+    # the ring has no candidate face for steps 1-31, touches the block from step 32 (--verbose says both)
+    "idle_calls": ("idle-calls", "ring-on-block.yaml", ["--steps", "40", "--verbose"]),
 }
+
+# what --verbose must print when the skip is taken (a static "skipped" in --explain does not prove it happened)
+TAKEN = {"idle-calls": "no candidate: active-set, residual and Jacobian calls skipped"}
 
 # bench: larger variants of the same scenes
 BENCH = {
     "mass": ("mass", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "check"),
     "stiffness_quasistatic": ("stiffness-update", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "run"),
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS, "run"),
+    "idle_calls": ("idle-calls", "ring-on-block.yaml", [], "run"),
 }
 
 
@@ -55,7 +62,7 @@ def run(command, scene, args, out, forced):
     if proc.returncode != 0:
         sys.exit(f"{' '.join(cmd)} (STICKSLIP_NO_SKIP={forced}) failed:\n{proc.stdout}{proc.stderr}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return proc.stdout, cpu
+    return proc.stdout + proc.stderr, cpu
 
 
 def explain_line(stdout, need):
@@ -112,6 +119,10 @@ def check(case):
             sys.exit(f"{scene}: the skip of '{need}' is not taken: {line_on}")
         if "STICKSLIP_NO_SKIP" not in line_off:
             sys.exit(f"{scene}: STICKSLIP_NO_SKIP={need} did not force it: {line_off}")
+        if need in TAKEN and TAKEN[need] not in text_on:
+            sys.exit(f"{scene}: the skip of '{need}' was not taken (--verbose did not say '{TAKEN[need]}')")
+        if need in TAKEN and TAKEN[need] in text_off:
+            sys.exit(f"{scene}: the skip of '{need}' was taken although STICKSLIP_NO_SKIP={need}")
         worst, where, steps = compare(on_out, off_out)
     print(f"{case}: {scene} {' '.join(args)}: {steps} steps, skip on vs off: max scaled difference "
           f"{worst:.2e} ({where or 'all equal'})")
@@ -127,11 +138,18 @@ def mesh_cache():
     with tempfile.TemporaryDirectory() as tmp:
         folder = os.path.join(tmp, "cache")
 
+        said = {}
+
         def go(name, cache, extra=()):
             os.environ["STICKSLIP_MESH_CACHE"] = cache
             out = os.path.join(tmp, name)
-            run("run", scene, args + list(extra), out, "")
+            said[name] = run("run", scene, args + list(extra), out, "")[0]
             return out
+
+        def explains(name, words):
+            lines = [line for line in said[name].splitlines() if "hertz-2d.geo:" in line]
+            if len(lines) != 1 or words not in lines[0]:
+                sys.exit(f"--explain of the {name} run does not say '{words}' about the mesh cache: {lines}")
 
         def entries():
             return sorted(f for f in os.listdir(folder)) if os.path.isdir(folder) else []
@@ -147,6 +165,12 @@ def mesh_cache():
         warm = go("warm", folder)
         if os.stat(entry).st_ino != inode:
             sys.exit("the warm run regenerated the mesh instead of reading the cache")
+        explains("off", "not cached (STICKSLIP_MESH_CACHE=off)")
+        explains("cold", "miss: meshed by gmsh")
+        explains("warm", "hit: read from the cache")
+        key = entries()[0][:-len(".mesh")]
+        if f"key {key}" not in said["warm"] or f"entry {entry}" not in said["warm"]:
+            sys.exit(f"--explain of the warm run does not name the key {key} and the entry {entry}")
         for out in (cold, warm):
             worst, where, _ = compare(reference, out)
             if worst != 0.0:
@@ -158,6 +182,7 @@ def mesh_cache():
         with open(entry, "r+b") as f:
             f.truncate(size // 2)
         damaged = go("damaged", folder)
+        explains("damaged", "miss: meshed by gmsh")
         if os.path.getsize(entry) != size or compare(reference, damaged)[0] != 0.0:
             sys.exit("a damaged entry was not replaced by a good one")
         for name in entries():
@@ -175,10 +200,12 @@ def mesh_cache():
           "leave one entry")
 
 
-def bench(repeats):
+def bench(repeats, only):
     print("| skip | scene | command | CPU s, skip off | CPU s, skip on | assembly s off → on | max difference |")
     print("|---|---|---|---|---|---|---|")
     for case, (need, scene, args, command) in BENCH.items():
+        if only and case not in only:
+            continue
         cpu = {"off": [], "on": []}
         assembly = {"off": [], "on": []}
         with tempfile.TemporaryDirectory() as tmp:
@@ -194,6 +221,8 @@ def bench(repeats):
         asm = f"{min(assembly['off']):.2f} → {min(assembly['on']):.2f}" if command == "run" else "—"
         print(f"| {need} | {scene} {' '.join(a for a in args if a != '--set')} | {command} | {min(cpu['off']):.2f} | "
               f"{min(cpu['on']):.2f} | {asm} | {diff} |")
+    if only and "mesh_cache" not in only:
+        return
     # the mesh cache: off (gmsh every time) against a warm cache, `check` (set-up only), CPU with gmsh's child
     scene, args = "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"]
     cpu = {"off": [], "on": []}
@@ -212,16 +241,48 @@ def bench(repeats):
           f"— | identical (skip_mesh_cache) |")
 
 
+def invariants():
+    """--quiet without --out: nobody reads the energies and momenta, so they are not computed (--explain says so);
+    the run takes the same steps and Newton iterations as with them forced (STICKSLIP_NO_SKIP=invariants), and with
+    --out (where history.csv needs them) they are computed."""
+    scene = os.path.join(SCENES, "two-elements-penalty.yaml")
+    said = {}
+    for mode, forced in (("on", ""), ("off", "invariants")):
+        env = dict(os.environ, STICKSLIP_NO_SKIP=forced)
+        proc = subprocess.run([BIN, "run", scene, "--quiet", "--explain"], env=env, capture_output=True, text=True,
+                              timeout=300)
+        if proc.returncode != 0:
+            sys.exit(f"run failed ({mode}):\n{proc.stdout}{proc.stderr}")
+        said[mode] = proc.stdout
+    if "invariants       skipped" not in said["on"] or "invariants       skipped" in said["off"]:
+        sys.exit(f"--explain does not say the invariants are skipped (only) when not forced:\n{said['on']}")
+    def solve(text):  # "N steps to t = T, I Newton iterations, L linear solves" without the timings
+        return [line.split(" s (")[0].rsplit(",", 1)[0] for line in text.splitlines() if "Newton iterations" in line]
+    if not solve(said["on"]) or solve(said["on"]) != solve(said["off"]):
+        sys.exit(f"the run differs with the invariants skipped: {solve(said['on'])} vs {solve(said['off'])}")
+    with tempfile.TemporaryDirectory() as tmp:
+        text, _ = run("run", "two-elements-penalty.yaml", [], os.path.join(tmp, "out"), "")
+        if "invariants       skipped" in text:
+            sys.exit("with --out the invariants are skipped")
+        head, rows = history(os.path.join(tmp, "out"))
+        if max(abs(r[head.index("total_energy")]) for r in rows) == 0.0:
+            sys.exit("with --out history.csv has no energies")
+    print(f"invariants: skipped without an audience, same solve ({solve(said['on'])[0]}); computed with --out")
+
+
 def main():
     if len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] in CASES:
         check(sys.argv[2])
     elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "mesh_cache":
         mesh_cache()
+    elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "invariants":
+        invariants()
     elif len(sys.argv) >= 2 and sys.argv[1] == "bench":
-        repeats = int(sys.argv[3]) if len(sys.argv) >= 4 and sys.argv[2] == "-n" else 3
-        bench(repeats)
+        with_n = len(sys.argv) >= 4 and sys.argv[2] == "-n"
+        repeats = int(sys.argv[3]) if with_n else 3
+        bench(repeats, sys.argv[4 if with_n else 2:])
     else:
-        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache}} | skip.py bench [-n N]")
+        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache,invariants}} | skip.py bench [-n N] [CASE...]")
 
 
 if __name__ == "__main__":
