@@ -39,6 +39,7 @@ typedef struct {
   /* this step */
   int facet, active, flips;
   int corrections;             /* converged() set this frozen node's contact state right (this attempt) */
+  int switches;                /* converged() moved the node onto another face (this attempt) */
   double tension, penetration; /* the violations that made it do so last (lambda_n > 0 in contact, -gap released) */
   int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
   int return_map;              /* after max_flips: the return map itself picks the branch at every evaluation */
@@ -131,5 +132,8 @@ void nts_gather(const sk_instance *inst, const slave_point *p, const double *con
  * local Newton fails. */
 double nts_gap_on_facet(const sk_instance *inst, const slave_point *p, const double *const *x, double t,
                         double f[2]);
+/* At a converged point: an active node beyond its facet that penetrates the master face it is over changes to that
+ * face (*switched; Newton must run again). */
+sk_status nts_research_facet(sk_instance *inst, slave_point *p, const sk_state *state, int *switched);
 
 #endif

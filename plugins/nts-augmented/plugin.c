@@ -330,6 +330,12 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
       *accept = 0;
       continue;
     }
+    int switched = 0;
+    SK_TRY(nts_research_facet(inst, p, state, &switched));
+    if (switched) {
+      *accept = 0;
+      continue;
+    }
     if (p->flips < inst->max_flips) continue;
     if (p->active && x[0] > TENSION_FRACTION * lambda_max) {
       SK_TRY(correct_frozen(inst, p, 0, x[0]));

@@ -170,20 +170,28 @@ def two_elements_strategies(c):
 
 def two_elements_direct_vs_reduced(c):
     """dt = 0.005 (Fig. 7): the direct approach with the gap at the end point (direct-endpoint) and the condensed
-    augmentation give the same motion. Up to t = 3.5
-    (sliding contact of three nodes); later one node's release happens one step apart in the two runs and the
-    histories differ by ~1e-4 (see docs/plugins/nts-augmented.md, Benchmarks). Measured: midpoint 1.14e-6
-    (energies, L), 1.22e-6 (final displacements); backward Euler 2.5e-12, 8.7e-14."""
+    augmentation solve the same equations, so they give the same motion up to what the non-smooth events make of
+    round-off. Measured (midpoint, to t = 3.5, sliding contact of three nodes): the energies agree to 4.8e-12 (of E0)
+    up to t = 3.1, the round-off floor of two different algebraic paths (the condensed run with KLU instead of MUMPS
+    differs from it by 2.8e-13); the stick/slip changes and the frozen node 7 at t = 3.14-3.2 amplify either by
+    ~1e5, to 8.05e-7 (energies, L) and 6.38e-6 (final displacements) for direct-endpoint, 2.6e-8 and 1.5e-7 for
+    KLU. Not the Newton tolerance: with 1e-12 / 1e-9 instead of the scene's 1e-10 / 1e-7 the differences are the same
+    to 4 digits (Newton already stops at the residual's round-off floor). The figure changes with any change of
+    round-off (1.2e-6 before the merge of issues 8, 16 and 17). Backward Euler: 2.5e-12, 8.7e-14."""
     args = ("--set", "time.dt=0.005", "--set", "time.end=3.5")
     a, _ = run(SCENE, *args)
     b, _ = run(SCENE, *args, "--set", "contact.0.strategy=direct-endpoint")
+    E0 = a.rows[0]["total_energy"]
+    smooth = max(max(abs(x[k] - y[k]) for k in ("total_energy", "kinetic_energy", "dissipated_energy"))
+                 for x, y in zip(a.rows, b.rows) if x["time"] <= 3.1 + 1e-9) / E0
+    c.check(smooth <= 1e-11, "midpoint dt 0.005 to t = 3.1 (before the events): direct-endpoint vs condensed energies "
+            "equal to %.2e <= 1e-11 of E0" % smooth)
     diff = history_difference(a, b, ("total_energy", "kinetic_energy", "dissipated_energy", "angular_momentum_x"))
     worst = max(diff.values())
-    c.check(worst <= 2e-6, "midpoint dt 0.005 to t = 3.5: direct-endpoint vs condensed energies/L equal to %.2e <= 2e-6"
+    c.check(worst <= 1e-6, "midpoint dt 0.005 to t = 3.5: direct-endpoint vs condensed energies/L equal to %.2e <= 1e-6"
             % worst)
     d = displacement_difference(a, b)
-    # measured 6.4e-6 since the merge of issues 8, 16 and 17 (1.2e-6 before): not yet traced
-    c.check(d <= 1e-5, "direct-endpoint vs condensed final displacements equal to %.2e <= 1e-5 relative" % d)
+    c.check(d <= 7e-6, "direct-endpoint vs condensed final displacements equal to %.2e <= 7e-6 relative" % d)
     a, _ = run(SCENE, *args, "--set", "time.scheme=backward-euler")
     b, _ = run(SCENE, *args, "--set", "time.scheme=backward-euler", "--set", "contact.0.strategy=direct-endpoint")
     diff = history_difference(a, b, ("total_energy", "kinetic_energy", "dissipated_energy", "contact_force_z"))
@@ -425,48 +433,58 @@ def nts_block_on_plane(c):
 SLIDER_FRICTION = "contact.0.parameters={mu: 0.3, epsilon_t: 1.0e+4}"
 
 
-def slider_normal_force(c, dim, normal, bound):
-    """tests/bench/stress/scenes/slider-DIM.yaml to t = 2.5 (dt 0.1: pressed to t = 1, then dragged over 3 master
-    faces per unit time, every slave node sliding from t = 1.2): nts-augmented against penalty-nts on the same scene,
-    step by step. Each step's normal force is the pressing force of the other plugins to within `bound`, the block
-    slides at F_t/F_n = mu, and the contact force is the reaction at the top. Before the facet-switch fix (a contact
-    kept on the extension of a facet it had left, step after step) F_n fell to 9.49 (2D) and 9.34 (3D) by t = 2.5."""
+def slider_normal_force(c, dim, normal, large_dt):
+    """tests/bench/stress/scenes/slider-DIM.yaml to t = 2.5 (dt 0.1: pressed to t = 1, then dragged, every slave node
+    sliding from t = 1.2) against penalty-nts on the same scene, step by step: each step's normal force is penalty-nts's
+    pressing force to 0.3 % (the constraint is exact here, penalty-nts penetrates a little), the block slides at
+    F_t/F_n = mu, and the contact force is the reaction at the top. Then to t = 2.8 (2D) / 3.2 (3D) at `large_dt`
+    (1.6 master faces per step): the normal force stays within 0.3 % of penalty-nts's range at dt 0.1 and slave nodes
+    went beyond their step's facet (converged() moved them onto the face they penetrated).
+    Before the facet fixes F_n fell to 9.49 (2D) and 9.34 (3D) by t = 2.5 at dt 0.1 (contacts kept on a facet's
+    extension step after step), dipped 1.9 % / 2.0 % at dt 0.1 and to 19.03 / 17.94 at the large dt (within a step)."""
     scene = "tests/bench/stress/scenes/slider-%s.yaml" % dim
     args = ("--set", "time.dt=0.1", "--set", "time.end=2.5")
     ours, _ = run(scene, *NTS, "--set", SLIDER_FRICTION, *args)
     theirs, _ = run(scene, *args)
     c.check(ours.summary["status"] == "ok" and len(ours.rows) == len(theirs.rows) == 26, "%s: 25 steps" % dim)
     key = "contact_force_" + normal
-    worst, worst_t, worst_ratio = 0.0, 0.0, 0.0
+    deviations, worst_ratio = [], 0.0
     for a, b in zip(ours.rows, theirs.rows):
         if a["time"] < 1.2 - 1e-9:
             continue
-        deviation = abs(a[key] - b[key]) / abs(b[key])
-        if deviation > worst:
-            worst, worst_t = deviation, a["time"]
+        deviations.append((a[key] - b[key]) / b[key])
         worst_ratio = max(worst_ratio, abs(-a["contact_force_x"] / a[key] - 0.3))
         c.check(a["slip_points"] == a["active_points"] > 0, "%s t = %.1f: every contact node slips" % (dim, a["time"]))
-    print("%s: F_n %.4f ... %.4f (penalty-nts %.4f ... %.4f)" % (
-        dim, min(r[key] for r in ours.rows[12:]), max(r[key] for r in ours.rows[12:]),
-        min(r[key] for r in theirs.rows[12:]), max(r[key] for r in theirs.rows[12:])))
-    c.check(worst <= bound, "%s: F_n within %.1f %% of penalty-nts's at every sliding step (worst %.2f %% at t = %.1f)"
-            % (dim, 100 * bound, 100 * worst, worst_t))
-    c.check(worst_ratio <= 1.5e-3, "%s: F_t/F_n = mu to %.1e" % (dim, worst_ratio))
+    c.check(max(abs(d) for d in deviations) <= 3e-3, "%s: F_n within 0.3 %% of penalty-nts's at every sliding step "
+            "(%+.3f %% ... %+.3f %%)" % (dim, 100 * min(deviations), 100 * max(deviations)))
+    c.check(worst_ratio <= 1e-3, "%s: F_t/F_n = mu to %.1e" % (dim, worst_ratio))
     balance = max(abs(r[key] + r["reaction_press_" + normal]) for r in ours.rows)
     c.check(balance <= 1e-8 * max(abs(r[key]) for r in ours.rows), "%s: contact force = -(reaction at the top) (%.1e)"
             % (dim, balance))
+    sliding = [r[key] for r in theirs.rows if r["time"] >= 1.2 - 1e-9]
+    low, high = min(sliding) * (1 - 3e-3), max(sliding) * (1 + 3e-3)
+    end = 2.8 if dim == "2d" else 3.2
+    large, proc = run(scene, *NTS, "--set", SLIDER_FRICTION, "--set", "time.dt=%g" % large_dt,
+                      "--set", "time.end=%g" % end, "--verbose")
+    c.check(large.summary["status"] == "ok", "%s dt %g: the run reaches t = %g" % (dim, large_dt, end))
+    c.check("slid beyond master face" in proc.stderr, "%s dt %g: nodes slid beyond their step's facet and moved to "
+            "the face they penetrated" % (dim, large_dt))
+    forces = [r[key] for r in large.rows if r["time"] >= 1.2 - 1e-9]
+    c.check(len(forces) >= 2 and all(low <= f <= high for f in forces), "%s dt %g: F_n %.4f ... %.4f within "
+            "penalty-nts's dt 0.1 range %.4f ... %.4f widened by 0.3 %%" % (dim, large_dt, min(forces), max(forces),
+                                                                          min(sliding), max(sliding)))
 
 
 def nts_slider_2d(c):
-    """Measured: F_n 20.905 ... 21.368 against penalty-nts's 21.18 ... 21.32: +0.22 % (penalty-nts penetrates a
-    little) and -1.90 % at the steps whose slave nodes cross a master node; F_t/F_n - mu <= 1.24e-3."""
-    slider_normal_force(c, "2d", "y", 0.025)
+    """Measured: F_n - F_n(penalty-nts) +0.220 % ... +0.254 %, F_t/F_n - mu <= 7.2e-4; dt 0.4: F_n 21.231 ...
+    21.364 (penalty-nts at dt 0.1: 21.183 ... 21.320)."""
+    slider_normal_force(c, "2d", "y", 0.4)
 
 
 def nts_slider_3d(c):
-    """Measured: F_n 20.909 ... 21.513 against penalty-nts's 21.16 ... 21.47: +0.22 %, -2.02 % at the steps whose
-    slave nodes cross a master edge; F_t/F_n - mu <= 0.94e-3."""
-    slider_normal_force(c, "3d", "z", 0.025)
+    """Measured: F_n - F_n(penalty-nts) +0.219 % ... +0.223 %, F_t/F_n - mu <= 6.9e-4; dt 0.8: F_n 21.391 ...
+    21.502 (penalty-nts at dt 0.1: 21.160 ... 21.465)."""
+    slider_normal_force(c, "3d", "z", 0.8)
 
 
 if __name__ == "__main__":
