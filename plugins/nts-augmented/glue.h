@@ -40,6 +40,7 @@ typedef struct {
   int facet, active, flips;
   int corrections;             /* converged() set this frozen node's contact state right (this attempt) */
   int switches;                /* converged() moved the node onto another face (this attempt) */
+  int left_facet;              /* the face converged() moved it off (-1: none); it does not return to it */
   double tension, penetration; /* the violations that made it do so last (lambda_n > 0 in contact, -gap released) */
   int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
   int return_map;              /* after max_flips: the return map itself picks the branch at every evaluation */

@@ -120,6 +120,7 @@ sk_status nts_begin_step(sk_instance *inst, const sk_state *state) {
     p->flips = 0;
     p->corrections = 0;
     p->switches = 0;
+    p->left_facet = -1;
     p->tension = p->penetration = 0.0;
     p->slip = 0;
     p->return_map = 0;
@@ -224,6 +225,15 @@ sk_status nts_research_facet(sk_instance *inst, slave_point *p, const sk_state *
   if (proj.face < 0 || proj.face == p->facet || proj.kind == SK_PROJ_OUTSIDE || proj.gap == HUGE_VAL ||
       proj.gap >= -RESEARCH_PENETRATION * inst->search_margin)
     return SK_OK;
+  if (proj.face == p->left_facet) {
+    /* A node in the valley of a concave kink penetrates whichever of the two faces it is not on (the stress
+     * edge-to-edge case, n = 4: node 134 by 2e-6 between faces 1 and 2, moved back and forth until the step was cut
+     * 6 times). Node-to-surface has one face per node; it stays on the one it moved to. */
+    inst->api->log(inst->host, 2, "%s: nts-augmented: slave node %lld in a concave kink penetrates master face %d "
+                   "(gap %g) it left in this step; it stays on face %d", inst->name, (long long)p->node, proj.face,
+                   proj.gap, p->facet);
+    return SK_OK;
+  }
   if (p->switches >= MAX_SWITCHES)
     return inst->api->error(inst->host, SK_ERR_DIVERGED,
                             "%s: nts-augmented: slave node %lld slid beyond master face %d into face %d (gap %g) "
@@ -232,6 +242,7 @@ sk_status nts_research_facet(sk_instance *inst, slave_point *p, const sk_state *
   ++p->switches;
   inst->api->log(inst->host, 2, "%s: nts-augmented: slave node %lld slid beyond master face %d into face %d (gap %g): "
                  "Newton again on that face", inst->name, (long long)p->node, p->facet, proj.face, proj.gap);
+  p->left_facet = p->facet;
   set_facet(inst, p, proj.face);
   const double f_new[2] = {proj.xi[0], inst->pdim == 2 ? proj.xi[1] : 0.0};
   start_on_new_facet(inst, p, state, f_new);
