@@ -65,6 +65,7 @@ struct sk_instance {
   nts_friction_params friction;
   double c_n, search_margin;
   int max_flips;
+  int slide_search;            /* converged() moves nodes that slid beyond their facet (nts_research_facet) */
   sk_search *search;
   int n_points;
   slave_point *points;

@@ -444,10 +444,16 @@ def slider_normal_force(c, dim, normal, large_dt):
     extension step after step), dipped 1.9 % / 2.0 % at dt 0.1 and to 19.03 / 17.94 at the large dt (within a step)."""
     scene = "tests/bench/stress/scenes/slider-%s.yaml" % dim
     args = ("--set", "time.dt=0.1", "--set", "time.end=2.5")
-    ours, _ = run(scene, *NTS, "--set", SLIDER_FRICTION, *args)
-    theirs, _ = run(scene, *args)
-    c.check(ours.summary["status"] == "ok" and len(ours.rows) == len(theirs.rows) == 26, "%s: 25 steps" % dim)
     key = "contact_force_" + normal
+    theirs, _ = run(scene, *args)
+    # the default (slide_search 0): a node beyond its facet stays on the extension for the step; measured dips of
+    # -1.90 % (2D) / -2.02 % (3D) at the steps whose nodes cross a master edge (9.49 / 9.34 before the one-step limit)
+    plain, _ = run(scene, *NTS, "--set", SLIDER_FRICTION, *args)
+    dips = [(a[key] - b[key]) / b[key] for a, b in zip(plain.rows, theirs.rows) if a["time"] >= 1.2 - 1e-9]
+    c.check(plain.summary["status"] == "ok" and max(abs(d) for d in dips) <= 0.025, "%s slide_search 0: F_n within "
+            "2.5 %% of penalty-nts's (%+.2f %% ... %+.2f %%)" % (dim, 100 * min(dips), 100 * max(dips)))
+    ours, _ = run(scene, *NTS, "--set", SLIDER_FRICTION, "--set", "contact.0.parameters.slide_search=1", *args)
+    c.check(ours.summary["status"] == "ok" and len(ours.rows) == len(theirs.rows) == 26, "%s: 25 steps" % dim)
     deviations, worst_ratio = [], 0.0
     for a, b in zip(ours.rows, theirs.rows):
         if a["time"] < 1.2 - 1e-9:
@@ -464,7 +470,8 @@ def slider_normal_force(c, dim, normal, large_dt):
     sliding = [r[key] for r in theirs.rows if r["time"] >= 1.2 - 1e-9]
     low, high = min(sliding) * (1 - 3e-3), max(sliding) * (1 + 3e-3)
     end = 2.8 if dim == "2d" else 3.2
-    large, proc = run(scene, *NTS, "--set", SLIDER_FRICTION, "--set", "time.dt=%g" % large_dt,
+    large, proc = run(scene, *NTS, "--set", SLIDER_FRICTION, "--set", "contact.0.parameters.slide_search=1",
+                      "--set", "time.dt=%g" % large_dt,
                       "--set", "time.end=%g" % end, "--verbose")
     c.check(large.summary["status"] == "ok", "%s dt %g: the run reaches t = %g" % (dim, large_dt, end))
     c.check("slid beyond master face" in proc.stderr, "%s dt %g: nodes slid beyond their step's facet and moved to "
