@@ -39,6 +39,8 @@ typedef struct {
   /* this step */
   int facet, active, flips;
   int corrections;             /* converged() set this frozen node's contact state right (this attempt) */
+  int switches;                /* converged() moved the node onto another face (this attempt) */
+  int left_facet;              /* the face converged() moved it off (-1: none); it does not return to it */
   double tension, penetration; /* the violations that made it do so last (lambda_n > 0 in contact, -gap released) */
   int slip;                    /* stick/slip branch of the return map used in this iteration (friction only) */
   int return_map;              /* after max_flips: the return map itself picks the branch at every evaluation */
@@ -63,6 +65,7 @@ struct sk_instance {
   nts_friction_params friction;
   double c_n, search_margin;
   int max_flips;
+  int slide_search;            /* converged() moves nodes that slid beyond their facet (nts_research_facet) */
   sk_search *search;
   int n_points;
   slave_point *points;
@@ -131,5 +134,8 @@ void nts_gather(const sk_instance *inst, const slave_point *p, const double *con
  * local Newton fails. */
 double nts_gap_on_facet(const sk_instance *inst, const slave_point *p, const double *const *x, double t,
                         double f[2]);
+/* At a converged point: an active node beyond its facet that penetrates the master face it is over changes to that
+ * face (*switched; Newton must run again). */
+sk_status nts_research_facet(sk_instance *inst, slave_point *p, const sk_state *state, int *switched);
 
 #endif

@@ -21,6 +21,12 @@ int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_
   return 0;
 }
 
+double nts_facet_outside(const nts_facet *facet, const double f[2]) {
+  if (facet->type == SK_TRI3) return fmax(fmax(0.0, -f[0]), fmax(-f[1], f[0] + f[1] - 1.0));
+  const double beyond = fabs(f[0]) - 1.0;
+  return facet->type == SK_LINE2 ? fmax(0.0, beyond) : fmax(fmax(0.0, beyond), fabs(f[1]) - 1.0);
+}
+
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 static void cross3(const double *a, const double *b, double *c) {

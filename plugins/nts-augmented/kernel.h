@@ -46,6 +46,10 @@ typedef struct {
 /* Fills a facet descriptor; returns -1 for a face type the kernel does not handle (curved faces). */
 int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian);
 
+/* How far f lies outside the facet's parametric domain ([-1, 1]^pdim for LINE2/QUAD4, the unit triangle for TRI3),
+ * in parametric units: 0 inside or on the border. */
+double nts_facet_outside(const nts_facet *facet, const double f[2]);
+
 /* Constraint values, gradients and the facet geometry at (q_A, f). */
 typedef struct {
   int nen, nq, nz;

@@ -24,6 +24,8 @@ static const char *const parameters[] = {
     "c_n: weight of the gap in the active-set test -lambda_n - c_n g > 0 [1]",
     "search_margin: inflation of the search boxes (length) [half the mean master edge length]",
     "max_flips: active-set changes of one node per step before its state is frozen [4]",
+    "slide_search: 1 moves a node that slid beyond its facet into the master onto that face at the converged point "
+    "(large sliding per step; docs/plugins/nts-augmented.md) [0]",
     NULL};
 
 /* A frozen node (max_flips) is set right at a converged point when it is in tension or penetrates beyond these
@@ -132,6 +134,7 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   SK_TRY(api->param_double(host, "c_n", 0, 1.0, &inst->c_n));
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_edge(master ? master : slave), &inst->search_margin));
   SK_TRY(api->param_int(host, "max_flips", 0, 4, &inst->max_flips));
+  SK_TRY(api->param_int(host, "slide_search", 0, 0, &inst->slide_search));
   if (inst->friction.mu < 0.0 || (inst->friction.mu > 0.0 && inst->friction.epsilon_t <= 0.0) || inst->c_n <= 0.0 ||
       inst->search_margin < 0.0)
     return api->error(host, SK_ERR_INPUT,
@@ -327,6 +330,12 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
       p->active = 1;
       p->slip = 0;
       p->wants_in = 0;
+      *accept = 0;
+      continue;
+    }
+    int switched = 0;
+    if (inst->slide_search) SK_TRY(nts_research_facet(inst, p, state, &switched));
+    if (switched) {
       *accept = 0;
       continue;
     }

@@ -373,7 +373,25 @@ static void check_table1(void) {
   SK_CHECK(fabs(xi[3][0] - 0.490) < 1e-3 && fabs(xi[3][1] + 0.060) < 1e-3); /* node 8 */
 }
 
+/* The parametric distance beyond a facet's border (the facet-switch rule of begin_step). */
+static void check_facet_outside(void) {
+  nts_facet line, tri, quad;
+  SK_CHECK(nts_facet_init(&line, SK_LINE2, test_shape, test_shape_hessian) == 0);
+  SK_CHECK(nts_facet_init(&tri, SK_TRI3, test_shape, test_shape_hessian) == 0);
+  SK_CHECK(nts_facet_init(&quad, SK_QUAD4, test_shape, test_shape_hessian) == 0);
+  SK_CHECK(nts_facet_outside(&line, (double[]){1.0, 5.0}) == 0.0); /* f2 is no coordinate of a segment */
+  SK_CHECK_CLOSE(nts_facet_outside(&line, (double[]){-1.25, 0.0}), 0.25, 1e-15);
+  SK_CHECK(nts_facet_outside(&quad, (double[]){-1.0, 1.0}) == 0.0);
+  SK_CHECK_CLOSE(nts_facet_outside(&quad, (double[]){0.5, 1.5}), 0.5, 1e-15);
+  SK_CHECK_CLOSE(nts_facet_outside(&quad, (double[]){-1.1, -1.3}), 0.3, 1e-15);
+  SK_CHECK(nts_facet_outside(&tri, (double[]){0.5, 0.5}) == 0.0);
+  SK_CHECK_CLOSE(nts_facet_outside(&tri, (double[]){0.75, 0.5}), 0.25, 1e-15);
+  SK_CHECK_CLOSE(nts_facet_outside(&tri, (double[]){0.2, -0.1}), 0.1, 1e-15);
+}
+
 int main(void) {
+  printf("facet domains\n");
+  check_facet_outside();
   printf("constraint derivatives and frame indifference\n");
   check_constraint_derivatives(SK_QUAD4);
   check_constraint_derivatives(SK_TRI3);
