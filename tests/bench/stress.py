@@ -81,6 +81,8 @@ def _expand(case, declaration, installed, subset, kind, extra_set=None, short=Fa
         r.kind = kind
         if kind:
             r.values = dict(r.values)
+        if r.options.get("scheme_energy"):  # the plugin's energy line per step is a --verbose message
+            r.args = r.args + ["--verbose"]
     return runs
 
 
@@ -97,6 +99,16 @@ def measure(case, run, args):
         revs = dec.sweep_value(revs, env, case.path + ": revolutions") if revs is not None else None
         record.update(stress_metrics.metrics(results, bool(case.data.get("closed")), revs,
                                              float(env.get("length", 1.0))))
+        pattern = run.options.get("scheme_energy")
+        if pattern and case.data.get("closed"):
+            with open(os.path.join(record["folder"], "stderr.txt")) as f:
+                own = stress_metrics.scheme_energy_balance(f.read(), pattern, results.rows[0]["total_energy"], revs)
+            if own is None:  # the declaration's pattern does not fit the plugin's log: a broken declaration
+                record["converged"], record["input_error"] = False, True
+                record["message"] = "scheme_energy: no line of stderr.txt matches %r" % pattern
+            else:
+                record.update(own)
+                record["energy_source"] = "scheme"
     else:  # the driver refused the input (no results): a broken case or declaration, never a finding
         record["converged"], record["input_error"] = False, True
     runner.save(record)

@@ -197,7 +197,7 @@ def load_benchmarks(folder="benchmarks", kind="benchmark"):
 # --- plugin declarations -------------------------------------------------------------------------------------------
 
 ENTRY_KEYS = {"parameters", "set", "sweep", "strategies", "linear_solvers", "scene", "label", "strategy_key", "notes",
-              "pressure_output", "bounds", "expect_failure", "short"}
+              "pressure_output", "bounds", "expect_failure", "short", "scheme_energy"}
 DECLARATION_KEYS = ENTRY_KEYS | {"plugin", "kind", "benchmarks", "stress"}
 
 

@@ -92,6 +92,21 @@ def energy_balance(rows, revolutions=None):
     return out
 
 
+def scheme_energy_balance(log_text, pattern, initial_energy, revolutions=None):
+    """energy_balance of a body plugin's own energy: history.csv's strain energy is the host's material energy of the
+    world displacement, not the scheme's (a co-rotational scheme conserves 1/2 s.M s + 1/2 u.S u, not the SVK energy).
+    `pattern` matches the plugin's line per converged step in the --verbose log, with the named groups E (the scheme's
+    energy after the step) and optionally work (the energy friction dissipated in the step). initial_energy is
+    history.csv's first row (the scene's rigid motion, undeformed: the scheme's energy there as well). None when no
+    line matched."""
+    import re
+    rows, dissipated = [{"total_energy": initial_energy}], 0.0
+    for m in re.finditer(pattern, log_text, re.MULTILINE):
+        dissipated += float(m.group("work")) if "work" in m.groupdict() else 0.0
+        rows.append({"total_energy": float(m.group("E")), "dissipated_energy": dissipated})
+    return energy_balance(rows, revolutions) if len(rows) > 1 else None
+
+
 def reversals(counts):
     """Steps at which the number of active points turns back (grew, then shrank, or the reverse) within two steps:
     chattering in time shows up as many of these."""

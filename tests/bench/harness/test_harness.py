@@ -27,6 +27,15 @@ def main():
     c.check(sm.reversals([0, 2, 0, 2, 2, 2, 0]) == 2, "0 2 0 2 . . 0: two turn-backs within two steps")
     c.check(sm.reversals([0, 1, 2, 3, 3, 3, 2, 1]) == 0, "a rise, two steps at rest, a fall: no reversal")
     c.check(sm.reversals([0, 1, 2, 3, 3, 2, 1]) == 1, "a rise, one step at rest, a fall: one reversal")
+    # a body plugin's own energy line: E after each step plus the friction work so far, against the first row
+    log = ("  step 1 newton 1 |F| = 1e-3\nplug: step 1 E 9.5 friction 0.5\nplug: step 2 E 9.0 friction 0.5\n"
+           "plug: step 3 E 8.0 friction 0.75\n")
+    own = sm.scheme_energy_balance(log, r"plug: step \d+ E (?P<E>\S+) friction (?P<work>\S+)", 10.0)
+    c.check(own["energy_increase"] == 0.0 and own["energy_change"] == -0.025,
+            "scheme energy: balance 10, 10, 10, 9.75 of 10: gain 0, change -0.025 (%s)" % own)
+    own = sm.scheme_energy_balance(log, r"plug: step \d+ E (?P<E>\S+)", 8.0)
+    c.check(abs(own["energy_increase"] - 0.1875) < 1e-15, "without work: 9.5 of 8 is a gain of 0.1875")
+    c.check(sm.scheme_energy_balance(log, r"other: E (?P<E>\S+)", 1.0) is None, "no matching line: None")
     # Pareto front: no point of it is beaten in both time and error
     recs = [{"status": "ok", "cpu_seconds": t, "error": e} for t, e in ((1, 0.1), (2, 0.05), (3, 0.2), (4, 0.01),
                                                                         (5, 0.01))]
