@@ -213,6 +213,7 @@ void mortar_integrals_zero(mortar_integrals *I, const mortar_pair *p) {
     for (int k = 0; k < MORTAR_MAX_NEN; ++k) I->D[j][k] = I->M[j][k] = fwd_const(0.0);
   }
   I->measure = 0.0;
+  I->gap_min = INFINITY;
   I->n_cells = 0;
 }
 
@@ -252,6 +253,7 @@ void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A,
       for (int l = 0; l < nm; ++l) fwd_acc_mul(&I->M[j][l], &wPhi, &N2[l]);
   }
   I->measure += weight->v;
+  I->gap_min = fmin(I->gap_min, g->v);
 }
 
 void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n,

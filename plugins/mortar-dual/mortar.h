@@ -5,6 +5,7 @@
 #ifndef MORTAR_GLUE_H
 #define MORTAR_GLUE_H
 
+#include "candidates.h"
 #include "kernel.h"
 #include "stickslip/plugin.h"
 
@@ -95,8 +96,11 @@ struct sk_instance {
    * frozen face of each Gauss point, Hammer 7.2.3, ip_master[f * n_face_points + q], -1 when dropped) */
   int *cand_ptr, *cand;
   int cand_cap;
+  int *cand_ptr_next, *cand_next;     /* the extended candidates being built at convergence (search.c) */
+  int cand_next_cap;
   int *ip_master;
-  int *query;                         /* search results (master faces) */
+  cand_list hits;                     /* master faces whose boxes meet each slave face's box swept over the step */
+  int *hit_ptr;                       /* face f's hits: hits.faces[hit_ptr[f] .. hit_ptr[f + 1]) */
   int *master_star_ptr, *master_star; /* master faces around each master view node (concentrated selection) */
   unsigned char *master_border;       /* master node on the border of the master surface (out-of-first/-last) */
 
@@ -144,6 +148,18 @@ sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mo
 
 /* Averaged nodal normals [N1] and their derivatives [N3] at every slave view node, at positions xs. */
 void mortar_compute_normals(sk_instance *inst, const double *xs);
+
+/* 1 when slave face f and master face m have a mortar segment at positions xs, xm (the nodal normals at xs must be
+ * current) with a normal gap <= reach at one of its integration points at least. */
+int mortar_pair_reaches(sk_instance *inst, int f, int m, const double *xs, const double *xm, double reach);
+
+/* The step's candidates (begin_step), from the slave faces' boxes swept from x_n to the predictor (search.c). */
+sk_status mortar_step_candidates(sk_instance *inst, const sk_state *state);
+
+/* At a converged point: *added > 0 when the slave surface slid onto master faces that are not candidates (or, with
+ * concentrated integration, a Gauss point left its frozen face): the candidates and columns are extended and the
+ * point must be rejected (search.c). */
+sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int *added);
 
 /* The attempt's columns of every owned node's rows (after the candidates; begin_step). */
 sk_status mortar_build_columns(sk_instance *inst);

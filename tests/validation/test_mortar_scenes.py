@@ -1,7 +1,8 @@
 """Validation of the mortar-dual plugin through the driver: the contact patch test (2D, 3D on hexahedra and
 tetrahedra), Hertz 2D with Hammer's parameters and Hertz 3D against the closed forms, Hammer's simple benchmark
 (frictionless path independence, frictional stick/slip and reversal, Newton's iteration counts), 2D ironing, the
-elastic ring with and without friction, a block on a rigid plane with friction, 1 vs 2 ranks. Usage: python3
+elastic ring with and without friction, a block on a rigid plane with friction, 1 vs 2 ranks, large sliding at
+large steps (the stress scene slider-2d). Usage: python3
 test_mortar_scenes.py CASE; exit code 0 when every check holds. Measured numbers are quoted in each check's
 docstring (docs/plugins/mortar-dual.md has more)."""
 import math
@@ -234,6 +235,39 @@ def mortar_ironing_2d(c):
     c.check(0.52 <= min(ratios) and max(ratios) <= 0.56, "F_x / F_y in [%.4f, %.4f]" % (min(ratios), max(ratios)))
 
 
+SLIDER_2D = "tests/bench/stress/scenes/slider-2d.yaml"
+
+
+def mortar_large_sliding(c):
+    """The stress scene slider-2d (a block pressed by 0.01, then dragged across 0.25-long master faces, mu = 0.3)
+    at large steps, while sliding (t >= 1.2): every slave node in contact and slipping, F_y within 0.05 of 21.2
+    (measured 21.178 .. 21.213 in all three runs; penalty-nts 21.18 .. 21.32 at dt = 0.4), |F_x| / F_y in
+    [0.299, 0.3] (measured 0.29962 .. 0.29986). Before the fixes (2026-11-23): at dt = 0.4 a node whose branch
+    max_flips had frozen was never checked at convergence, so a penetrating trailing corner stayed inactive (t = 2.2
+    with c_n = 1: 4 active, F_y = 20.07; t = 4.8 with c_n = 1000: 3 active, F_y = 15.2; later F_y = -15.3); at
+    dt = 0.8 (3.2 master faces per step) the slave faces slid beyond their candidates and lost contact (t = 2.4: one
+    node, F_y = 2.9). The dt = 0.8 run must search again at convergence (the plugin says so with --verbose)."""
+    for label, params, dt, end in (("c_n 1 (default), dt 0.4", "{mu: 0.3}", 0.4, 2.4),
+                                   ("c_n 1000, dt 0.4", "{mu: 0.3, c_n: 1000}", 0.4, 4.8),
+                                   ("c_n 1000, dt 0.8", "{mu: 0.3, c_n: 1000}", 0.8, 4.0)):
+        results, proc = run(SLIDER_2D, "--plugin", "mortar-dual", "--set", "contact.0.parameters=" + params,
+                            "--set", "time.dt=%g" % dt, "--set", "time.end=%g" % end, "--verbose")
+        sliding = [row for row in results.rows if row["time"] >= 1.2 - 1e-9]
+        c.check(abs(results.rows[-1]["time"] - end) < 1e-9 and len(sliding) >= 3,
+                "%s: reached t = %g with %d sliding steps" % (label, results.rows[-1]["time"], len(sliding)))
+        lost = [(round(row["time"], 4), int(row["active_points"])) for row in sliding
+                if not row["active_points"] == row["slip_points"] == 5]
+        c.check(not lost, "%s: all 5 slave nodes in contact and slipping (not at %s)" % (label, lost[:3]))
+        fy = [row["contact_force_y"] for row in sliding]
+        c.check(max(abs(f - 21.2) for f in fy) <= 0.05,
+                "%s: F_y in [%.4f, %.4f], within 0.05 of 21.2" % (label, min(fy), max(fy)))
+        ratio = [abs(row["contact_force_x"]) / row["contact_force_y"] for row in sliding]
+        c.check(0.299 <= min(ratio) and max(ratio) <= 0.3,
+                "%s: |F_x| / F_y in [%.5f, %.5f]" % (label, min(ratio), max(ratio)))
+        if dt == 0.8:
+            c.check("beyond its candidates" in proc.stderr, "%s: the faces were searched again at convergence" % label)
+
+
 def mortar_condensed(c):
     """Strategy condensed (the host eliminates z on the assembled operator through stickslip.condense) against
     saddle-point: the same histories to round-off on the 2D patch test (refine 1, 2: a roller fixes x at one slave
@@ -289,4 +323,4 @@ def mortar_mpi(c):
 if __name__ == "__main__":
     main([mortar_patch_test_2d, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_hammer_benchmark_friction,
           mortar_block_on_plane, mortar_mpi, mortar_hertz_2d, mortar_hertz_3d, mortar_ring,
-          mortar_ring_friction, mortar_ironing_2d, mortar_condensed])
+          mortar_ring_friction, mortar_ironing_2d, mortar_condensed, mortar_large_sliding])
