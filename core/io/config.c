@@ -591,6 +591,16 @@ static int is_null(const sk_cfg *node) {
          (node->text[0] == '\0' || strcmp(node->text, "~") == 0 || strcmp(node->text, "null") == 0);
 }
 
+static int edit_distance(const char *a, const char *b);
+
+/* A key of `map` within edit distance 2 of `key` (a misspelling of the required key), or NULL. */
+static const sk_cfg *misspelt_key(const sk_cfg *map, const char *key) {
+  for (int i = 0; map && map->kind == SK_CFG_MAP && i < map->n; ++i)
+    if (strcmp(map->keys[i], key) != 0 && edit_distance(map->keys[i], key) <= 2 && strlen(key) > 2)
+      return map->items[i];
+  return NULL;
+}
+
 static sk_status lookup(const sk_cfg *map, const char *key, int required, const sk_cfg **node) {
   *node = NULL;
   const sk_cfg *empty = NULL; /* "section:" with nothing below (or ~, null): an empty section */
@@ -611,8 +621,15 @@ static sk_status lookup(const sk_cfg *map, const char *key, int required, const 
       key_path(empty, key, path, sizeof path);
       return sk_error_set(SK_ERR_INPUT, "%s: '%s' is empty; missing key '%s'", where, empty->path, path);
     }
-    where_line(map, where, sizeof where);
     key_path(map, key, path, sizeof path);
+    const sk_cfg *near = misspelt_key(map, key);
+    if (near) {
+      /* name the line of the misspelt key, where the user will look */
+      where_key(near, where, sizeof where);
+      return sk_error_set(SK_ERR_INPUT, "%s: missing key '%s' ('%s' is there: a misspelling?)", where, path,
+                          near->path);
+    }
+    where_line(map, where, sizeof where);
     return sk_error_set(SK_ERR_INPUT, "%s: missing key '%s'", where, path);
   }
   return SK_OK;

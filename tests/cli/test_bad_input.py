@@ -21,6 +21,12 @@ def unknown_key(c):
     c.expect_failure(r"scene\.yaml:14:\d+", r"unknown key 'bodies\[0\]\.material\.densty'", r"did you mean 'density'")
 
 
+def misspelt_required_key(c):
+    """A required key misspelt is reported as missing at the line of the misspelling, which it names."""
+    c.run_scene(replace(BLOCK, "scheme:", "shceme:"))
+    c.expect_failure(r"scene\.yaml:\d+:\d+: missing key 'time\.scheme' \('time\.shceme' is there: a misspelling\?\)")
+
+
 def missing_mesh_file(c):
     c.run_scene(replace(BLOCK, "block.geo", "no-such-block.geo"))
     c.expect_failure(r"scene\.yaml:\d+", r"no-such-block\.geo", r"(cannot open|No such file)")
@@ -195,10 +201,10 @@ def inverted_element(c):
 
 
 CASES = {f.__name__: f for f in [
-    malformed_yaml, unknown_key, missing_mesh_file, unknown_mesh_parameter, missing_group, material_nu, material_E,
-    negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map, bad_set, unknown_option,
-    missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin, capability_mismatch, unknown_strategy,
-    inverted_element, plugin_without_contact, mesh_order, old_minor_plugin]}
+    malformed_yaml, unknown_key, misspelt_required_key, missing_mesh_file, unknown_mesh_parameter, missing_group,
+    material_nu, material_E, negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map,
+    bad_set, unknown_option, missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin,
+    capability_mismatch, unknown_strategy, inverted_element, plugin_without_contact, mesh_order, old_minor_plugin]}
 
 if __name__ == "__main__":
     main(CASES)
