@@ -49,7 +49,7 @@ struct ConstraintBlock {
   std::vector<int64_t> schur_row_ptr;
   std::vector<int> schur_cols;
   std::vector<double> schur_values;
-  std::vector<LocalOrdinal> schur_local_cols;
+  std::vector<LocalOrdinal> schur_slots;
   RCP<const Map> serial_map;
   RCP<Matrix> schur;
   RCP<DirectSolver> schur_solver;
@@ -229,7 +229,7 @@ void build_constraint_block(sk_linear_system *sys) {
   block->serial_map = rcp(new Map(static_cast<Tpetra::global_size_t>(nl), 0,
                                   rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF))));
   block->schur = build_matrix(block->serial_map, block->serial_map, block->schur_row_ptr, block->schur_cols, 0,
-                              block->schur_local_cols);
+                              block->schur_slots);
 }
 
 void release_constraint_block(sk_linear_system *sys) { sys->constraints.reset(); }
@@ -293,7 +293,7 @@ sk_status update_constraint_block(sk_linear_system *sys, ConstraintBlock &block)
     if (status == SK_OK) {
       try {
         replace_values(*block.schur, block.schur_row_ptr, 0, 0, block.n_constraints, block.schur_values.data(),
-                       block.schur_local_cols);
+                       block.schur_slots);
         if (block.schur_solver.is_null()) {
           block.schur_solver = Amesos2::create<Matrix, MultiVector>("KLU2", block.schur);
           block.schur_solver->symbolicFactorization();

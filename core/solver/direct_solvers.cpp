@@ -123,10 +123,10 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
           sys->serial_map = rcp(new Map(static_cast<Tpetra::global_size_t>(sys->n), 0,
                                         rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF))));
           sys->serial_matrix = build_matrix(sys->serial_map, sys->serial_map, sys->row_ptr, sys->cols, 0,
-                                            sys->serial_local_cols);
+                                            sys->serial_slots);
         }
         replace_values(*sys->serial_matrix, sys->row_ptr, 0, 0, sys->n, sys->gathered_values.data(),
-                       sys->serial_local_cols);
+                       sys->serial_slots);
         a = sys->serial_matrix;
         map = sys->serial_map;
       }

@@ -176,22 +176,23 @@ sk_status agree(MPI_Comm comm, sk_status local, const char *what) {
   return sk_error_set(other, "%s failed on another rank", what);
 }
 
-// Replaces the values of a static-graph matrix row by row (entries addressed by column-map index).
+// Writes the values of a fill-complete static-graph matrix straight into its local CRS value array: entry e of the
+// CSR rows [first_row, first_row + n_rows) goes to slot[e]. The matrix stays fill-complete (no resumeFill /
+// fillComplete, which cost 10 % of a full two-tori contact step with the row-wise replaceLocalValues it replaces).
 void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int64_t value_begin, int first_row,
-                    int n_rows, const double *values, const std::vector<LocalOrdinal> &local_cols) {
-  if (matrix.isFillComplete()) matrix.resumeFill();
-  for (int i = 0; i < n_rows; ++i) {
-    const int64_t b = row_ptr[first_row + i] - value_begin, e = row_ptr[first_row + i + 1] - value_begin;
-    matrix.replaceLocalValues(i, static_cast<LocalOrdinal>(e - b), values + b, local_cols.data() + b);
-  }
-  matrix.fillComplete(matrix.getDomainMap(), matrix.getRangeMap());
+                    int n_rows, const double *values, const std::vector<LocalOrdinal> &slot) {
+  const auto stored = matrix.getLocalValuesView();  // host memory: Kokkos is built for Serial only
+  const int64_t n_entries = row_ptr[first_row + n_rows] - row_ptr[first_row];
+  const int64_t offset = row_ptr[first_row] - value_begin;
+  for (int64_t e = 0; e < n_entries; ++e) stored(slot[static_cast<size_t>(e)]) = values[offset + e];
 }
 
 // A fill-complete static graph from local CSR rows with global column indices (sorted within rows), and the
-// column-map index of each entry. Built from local indices: inserting global indices row by row took 0.27 s for
-// the 76k-unknown two-tori matrix, a cost paid at every contact pattern change.
+// position of each CSR entry in the local CRS arrays (Tpetra keeps a row sorted by column-map index, which is not
+// the global order once remote columns come after the owned ones). Built from local indices: inserting global
+// indices row by row took 0.27 s for the 76k-unknown two-tori matrix, a cost paid at every contact pattern change.
 RCP<Graph> build_graph(const RCP<const Map> &row_map, const RCP<const Map> &domain_map, const RCP<const Map> &range_map,
-                       const int64_t *row_ptr, const GlobalOrdinal *cols, std::vector<LocalOrdinal> &local_cols) {
+                       const int64_t *row_ptr, const GlobalOrdinal *cols, std::vector<LocalOrdinal> &slots) {
   const size_t n_rows = row_map->getNodeNumElements();
   const size_t n_entries = static_cast<size_t>(row_ptr[n_rows] - row_ptr[0]);
   // the column map: the domain's own columns first (in order), then the others by owning rank (Tpetra's layout);
@@ -215,26 +216,35 @@ RCP<Graph> build_graph(const RCP<const Map> &row_map, const RCP<const Map> &doma
   auto col_map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
                              Teuchos::ArrayView<const GlobalOrdinal>(column_gids.data(), column_gids.size()), 0,
                              row_map->getComm()));
-  local_cols.resize(n_entries);
+  slots.resize(n_entries);
   Teuchos::ArrayRCP<size_t> graph_row_ptr(n_rows + 1);
   Teuchos::ArrayRCP<LocalOrdinal> graph_cols(n_entries);
   for (size_t i = 0; i <= n_rows; ++i) graph_row_ptr[i] = static_cast<size_t>(row_ptr[i] - row_ptr[0]);
-  for (size_t e = 0; e < n_entries; ++e) graph_cols[e] = local_cols[e] = local_of[static_cast<size_t>(cols[e])];
-  for (size_t i = 0; i < n_rows; ++i)  // Tpetra keeps rows sorted by local index
-    std::sort(graph_cols.begin() + graph_row_ptr[i], graph_cols.begin() + graph_row_ptr[i + 1]);
+  std::vector<std::pair<LocalOrdinal, LocalOrdinal>> row;  // (column-map index, entry within the row)
+  for (size_t i = 0; i < n_rows; ++i) {
+    const size_t b = graph_row_ptr[i], e = graph_row_ptr[i + 1];
+    row.clear();
+    for (size_t k = b; k < e; ++k)
+      row.emplace_back(local_of[static_cast<size_t>(cols[k])], static_cast<LocalOrdinal>(k - b));
+    std::sort(row.begin(), row.end());
+    for (size_t p = 0; p < row.size(); ++p) {
+      graph_cols[b + p] = row[p].first;
+      slots[b + static_cast<size_t>(row[p].second)] = static_cast<LocalOrdinal>(b + p);
+    }
+  }
   auto graph = rcp(new Graph(row_map, col_map, graph_row_ptr, graph_cols));
   graph->fillComplete(domain_map, range_map);
   return graph;
 }
 
-// The static-graph matrix of rows [first_row, first_row + map's local count) and the CSR -> column-map index table.
+// The static-graph matrix of rows [first_row, first_row + map's local count) and the CSR -> CRS value slot table.
 RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
                          const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,
-                         std::vector<LocalOrdinal> &local_cols) {
+                         std::vector<LocalOrdinal> &slots) {
   const size_t n_rows = row_map->getNodeNumElements();
   const int64_t begin = row_ptr[first_row];
   std::vector<GlobalOrdinal> global_cols(cols.begin() + begin, cols.begin() + row_ptr[first_row + n_rows]);
-  auto graph = build_graph(row_map, domain_map, row_map, row_ptr.data() + first_row, global_cols.data(), local_cols);
+  auto graph = build_graph(row_map, domain_map, row_map, row_ptr.data() + first_row, global_cols.data(), slots);
   auto matrix = rcp(new Matrix(graph));
   matrix->fillComplete(domain_map, row_map);
   return matrix;
@@ -256,17 +266,16 @@ SubMatrix build_submatrix(const sk_linear_system *sys, int row_begin, int row_en
     }
     block.row_ptr[i + 1] = static_cast<int64_t>(block.source.size());
   }
-  auto graph = build_graph(row_map, domain_map, range_map, block.row_ptr.data(), block_cols.data(), block.local_cols);
-  block.values.assign(block.source.size(), 0.0);
+  auto graph = build_graph(row_map, domain_map, range_map, block.row_ptr.data(), block_cols.data(), block.slots);
   block.matrix = rcp(new Matrix(graph));
   block.matrix->fillComplete(domain_map, range_map);
   return block;
 }
 
 void refill_submatrix(const sk_linear_system *sys, SubMatrix &block) {
-  for (size_t e = 0; e < block.source.size(); ++e) block.values[e] = sys->owned_values[block.source[e]];
-  const int n_rows = static_cast<int>(block.row_ptr.size()) - 1;
-  replace_values(*block.matrix, block.row_ptr, 0, 0, n_rows, block.values.data(), block.local_cols);
+  const auto stored = block.matrix->getLocalValuesView();
+  for (size_t e = 0; e < block.source.size(); ++e)
+    stored(block.slots[e]) = sys->owned_values[static_cast<size_t>(block.source[e])];
 }
 
 }  // namespace stickslip::bridge
@@ -443,7 +452,7 @@ sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n, const int64_t *row
     sys->row_map = same_nodal ? sys->nodal_map
                               : RCP<const Map>(rcp(new Map(static_cast<Tpetra::global_size_t>(n),
                                                            static_cast<size_t>(n_owned), 0, sys->tcomm)));
-    sys->matrix = build_matrix(sys->row_map, sys->row_map, sys->row_ptr, sys->cols, first_row, sys->owned_local_cols);
+    sys->matrix = build_matrix(sys->row_map, sys->row_map, sys->row_ptr, sys->cols, first_row, sys->owned_slots);
     status = SK_OK;
   } catch (...) {
     release_pattern(sys);
@@ -479,7 +488,7 @@ sk_status sk_linsys_assemble(sk_linear_system *sys) {
     }
     const int first_row = sys->row_offsets[sys->rank];
     replace_values(*sys->matrix, sys->row_ptr, sys->owned_value_begin, first_row,
-                   sys->row_offsets[sys->rank + 1] - first_row, sys->owned_values.data(), sys->owned_local_cols);
+                   sys->row_offsets[sys->rank + 1] - first_row, sys->owned_values.data(), sys->owned_slots);
     sys->assembled = true;
   } catch (...) {
     status = status_from_exception(SK_ERR_INTERNAL, "sk_linsys_assemble", std::current_exception());

@@ -67,10 +67,9 @@ inline double cpu_seconds() {
 // place from the owned CSR values: entry e of the block takes owned_values[source[e]].
 struct SubMatrix {
   RCP<Matrix> matrix;
-  std::vector<int64_t> row_ptr;              // local rows of the block, into source / local_cols
+  std::vector<int64_t> row_ptr;              // local rows of the block, into source / slots
   std::vector<int64_t> source;               // index into owned_values of each entry
-  std::vector<LocalOrdinal> local_cols;      // Tpetra column-map index of each entry
-  std::vector<double> values;                // gathered values in block order (refill scratch)
+  std::vector<LocalOrdinal> slots;           // position of each entry in the matrix's local CRS value array
 };
 
 struct ConstraintBlock;  // constraint_block.cpp
@@ -143,7 +142,7 @@ struct sk_linear_system {
   std::vector<int> row_offsets;
   int64_t owned_value_begin = 0;  // row_ptr[first owned row]
   std::vector<double> owned_values;
-  std::vector<LocalOrdinal> owned_local_cols;  // Tpetra column-map index of each owned CSR entry
+  std::vector<LocalOrdinal> owned_slots;  // position of each owned CSR entry in the matrix's CRS values
   std::vector<int64_t> owned_diagonal;         // index of each owned row's diagonal in owned_values, -1 if absent
 
   // the once-per-pattern exchange plan of sk_linsys_assemble (counts in values, per rank)
@@ -159,7 +158,7 @@ struct sk_linear_system {
   // direct, KLU2: on one rank the distributed matrix itself; on more, a serial copy on rank 0
   RCP<const Map> serial_map;
   RCP<Matrix> serial_matrix;
-  std::vector<LocalOrdinal> serial_local_cols;
+  std::vector<LocalOrdinal> serial_slots;
   std::vector<int> gather_counts, gather_displs;
   std::vector<double> gathered_values;
   RCP<stickslip::bridge::DirectSolver> direct;
@@ -199,9 +198,9 @@ double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x
 sk_status agree(MPI_Comm comm, sk_status local, const char *what);
 RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
                          const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,
-                         std::vector<LocalOrdinal> &local_cols);
+                         std::vector<LocalOrdinal> &slots);
 void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int64_t value_begin, int first_row,
-                    int n_rows, const double *values, const std::vector<LocalOrdinal> &local_cols);
+                    int n_rows, const double *values, const std::vector<LocalOrdinal> &slots);
 // The block of owned rows [row_begin, row_end) (global, within this rank's rows) and columns [col_begin, col_end),
 // its columns renumbered from col_begin; its matrix has the given row, domain and range maps.
 SubMatrix build_submatrix(const sk_linear_system *sys, int row_begin, int row_end, int col_begin, int col_end,

@@ -21,6 +21,7 @@ typedef struct {
   sk_term base;
   double k, a, f[N_DOFS], c;
   int constrained, condense, reject_once, undeclared;
+  int extra_couplings;      /* declares (0,3), (3,0), (2,4), (4,2) too: the pattern grows by them */
   double fail_above_dt;     /* residual fails (SK_ERR_DIVERGED) when dt exceeds this */
   /* bookkeeping */
   int rejected, commits, rejects, updates;
@@ -50,7 +51,10 @@ static sk_status mock_pattern(sk_term *t, sk_system *sys, unsigned char *rows) {
   for (int i = 0; i < N_DOFS; ++i) rows[i] = 1;
   if (!m->constrained) return SK_OK;
   const int64_t idx[3] = {0, 1, t->extra_offset};
-  return sk_system_declare(sys, 3, idx, 3, idx);
+  SK_TRY(sk_system_declare(sys, 3, idx, 3, idx));
+  const int64_t extra[4][2] = {{0, 3}, {3, 0}, {2, t->extra_offset}, {t->extra_offset, 2}};
+  for (int k = 0; k < 4 * m->extra_couplings; ++k) SK_TRY(sk_system_declare(sys, 1, &extra[k][0], 1, &extra[k][1]));
+  return SK_OK;
 }
 
 static sk_status mock_update(sk_term *t, sk_system *sys, int *changed) {
@@ -286,6 +290,34 @@ static void test_undeclared_entry(void) {
   fixture_free(&fx);
 }
 
+/* New couplings grow the pattern in place (a merge of each row with its new columns, before, between and after the
+ * old ones): the same CSR as a rebuild from scratch, and the solve on it still right. */
+static void test_pattern_growth(void) {
+  fixture fx;
+  mock_term config = linear_constrained();
+  fixture_init(&fx, &config);
+  SK_CHECK(solve_step(&fx) == SK_OK);
+  sk_system *sys = fx.sys;
+  const int64_t n = sys->n_kept, before = sys->row_ptr[n];
+  fx.mock->extra_couplings = 1;
+  SK_CHECK(sk_system_settle_pattern(sys, 0) == SK_OK);
+  SK_CHECK(sys->row_ptr[n] == before + 4);
+  int64_t grown_ptr[N_DOFS + 2];
+  int grown_cols[64];
+  SK_CHECK(n + 1 <= N_DOFS + 2 && sys->row_ptr[n] <= 64);
+  memcpy(grown_ptr, sys->row_ptr, sizeof(int64_t) * (size_t)(n + 1));
+  memcpy(grown_cols, sys->cols, sizeof(int) * (size_t)sys->row_ptr[n]);
+  SK_CHECK(sk_system_settle_pattern(sys, 1) == SK_OK); /* layout changed: built from scratch */
+  SK_CHECK(memcmp(grown_ptr, sys->row_ptr, sizeof(int64_t) * (size_t)(n + 1)) == 0);
+  SK_CHECK(memcmp(grown_cols, sys->cols, sizeof(int) * (size_t)sys->row_ptr[n]) == 0);
+  SK_CHECK(sk_system_position(sys, 0, 3) >= 0 && sk_system_position(sys, N_DOFS, 2) >= 0);
+  printf("pattern growth: %lld -> %lld entries, equal to the rebuilt pattern\n", (long long)before,
+         (long long)sys->row_ptr[n]);
+  SK_CHECK(solve_step(&fx) == SK_OK);
+  check_constrained_solution(&fx, 1e-14);
+  fixture_free(&fx);
+}
+
 /* ---- the stepper ------------------------------------------------------------------------------------------------ */
 
 static sk_status run_scene(fixture *fx, sk_run_summary *summary) {
@@ -332,6 +364,7 @@ int main(int argc, char **argv) {
   test_active_set_points();
   test_converged_reject();
   test_undeclared_entry();
+  test_pattern_growth();
   test_stepper_cuts();
   const int code = sk_test_finish("test_system");
   MPI_Finalize();
