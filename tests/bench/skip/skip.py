@@ -75,6 +75,8 @@ BENCH = {
     "stiffness_quasistatic": ("stiffness-update", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "run"),
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS, "run"),
     "idle_calls": ("idle-calls", "ring-on-block.yaml", [], "run"),
+    "idle_calls_mortar_dual": ("idle-calls", "ring-on-block.yaml",
+                               ["--plugin", "mortar-dual", "--set", "contact.0.parameters={}"], "run"),
 }
 
 
@@ -273,7 +275,8 @@ def bench(repeats, only):
                     if command == "run":
                         with open(os.path.join(out, "summary.json")) as f:
                             assembly[mode].append(json.load(f)["assembly_seconds"])
-            diff = f"{compare(os.path.join(tmp, 'on'), os.path.join(tmp, 'off'))[0]:.1e}" if command == "run" else "—"
+            diff = (f"{compare(os.path.join(tmp, 'on'), os.path.join(tmp, 'off'), SCENE_SIZE.get(case, 0.0))[0]:.1e}"
+                    if command == "run" else "—")
         asm = f"{min(assembly['off']):.2f} → {min(assembly['on']):.2f}" if command == "run" else "—"
         print(f"| {need} | {scene} {' '.join(a for a in args if a != '--set')} | {command} | {min(cpu['off']):.2f} | "
               f"{min(cpu['on']):.2f} | {asm} | {diff} |")
