@@ -53,7 +53,8 @@ static int plugin_dirs(char dirs[MAX_DIRS][PATH_MAX]) {
 
 static const char *const capability_names[] = {"2d", "3d", "friction", "quasi-static", "dynamics", "energy-momentum",
                                                "rigid-obstacle", "deformable-master", "multipliers", "condensation",
-                                               "needs-curvature", "needs-mass", "owns-kinematics", "self-contact"};
+                                               "needs-curvature", "needs-mass", "owns-kinematics", "self-contact",
+                                               "says-idle"};
 
 void sk_kinds_string(uint32_t kinds, char *out, int size) {
   snprintf(out, (size_t)size, "%s%s%s", kinds & SK_KIND_PAIR ? "pair" : "", (kinds & SK_KIND_PAIR) && (kinds & SK_KIND_BODY) ? ", " : "",

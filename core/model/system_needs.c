@@ -19,7 +19,8 @@ static const char *const skipped_by[SK_NEED_COUNT] = {
     "no tangential terms, no slip history, no friction output (skipped inside the plugin)",
     "the pair couples no master dofs (rigid obstacle)",
     "linear bodies keep the element stiffness of set-up (internal force K u, no Gauss loop per iterate)",
-    "on a step where a pair has no candidate (sk_layout.idle), no active-set, residual or Jacobian call"};
+    "on a step where no slave point's swept box meets the master's (no candidate, so no projection either: "
+    "sk_layout.idle), no active-set, residual, Jacobian or recover call; inactive multipliers' rows z = 0 by the host"};
 /* the needs the host skips itself, which the test switch can force */
 static const unsigned char host_skips[SK_NEED_COUNT] = {1, 0, 0, 1, 1};
 

@@ -117,6 +117,36 @@ static sk_status plugin_begin_step(sk_term *base, sk_system *sys) {
   return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
 }
 
+/* An idle instance with extra unknowns (ABI 2.3) promised that each has the trivial equation `extra = 0` with 1 on
+ * the diagonal; the host writes those rows itself. It checks what it can: the extras start at 0 (otherwise their
+ * first Newton correction is not 0 and the plugin's row scaling would matter), and the instance paired none of them
+ * with displacement rows for condensation (the condenser eliminates a multiplier through the plugin's D block,
+ * which an idle call would not add). */
+static int extras_trivial(const sk_layout *layout, int64_t condense_pairs) {
+  if (condense_pairs != 0) return 0;
+  for (int64_t j = 0; layout->initial && j < layout->n_extra; ++j)
+    if (layout->initial[j] != 0.0) return 0;
+  return 1;
+}
+
+/* The rows of an idle instance's extras: F = extra - 0, J = 1 on the diagonal (rows the sink skips, the eliminated
+ * ones, need none: their correction stays 0 without recover). Added once, by rank 0; every rank holds extra rows. */
+enum { IDLE_CHUNK = 256 };
+static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobian) {
+  if (sys->rank != 0) return;
+  int64_t rows[IDLE_CHUNK];
+  double values[IDLE_CHUNK];
+  for (int64_t first = 0; first < term->base.n_extra; first += IDLE_CHUNK) {
+    const int n = (int)(term->base.n_extra - first < IDLE_CHUNK ? term->base.n_extra - first : IDLE_CHUNK);
+    for (int k = 0; k < n; ++k) {
+      rows[k] = term->base.extra_offset + first + k;
+      values[k] = jacobian ? 1.0 : sys->x[rows[k]];
+    }
+    if (!jacobian) sys->sink.abi.add_vector(&sys->sink.abi, n, rows, values);
+    for (int k = 0; jacobian && k < n; ++k) sys->sink.abi.add_matrix(&sys->sink.abi, 1, rows + k, 1, rows + k, values);
+  }
+}
+
 static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
   sk_layout *layout = &term->layout;
@@ -125,6 +155,7 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   term->state.extra_offset = base->extra_offset;
   term->state.extra = NULL;
   term->state.n_extra = 0;
+  const int64_t pairs_before = sys->n_pairs;
   SK_TRY(PLUGIN_CALL(term, layout, term->instance, &term->state, layout));
   const uint64_t caps = term->plugin->caps;
   if (layout->n_extra > 0 && !(caps & SK_CAP_MULTIPLIERS))
@@ -138,7 +169,8 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   base->eliminated = layout->eliminated;
   base->recover_needs_jdx = layout->recover_needs_jdx;
   /* One answer on every rank: a skipped call must not leave a collective call of the plugin (reduce) unmatched. */
-  int idle = (caps & SK_CAP_SAYS_IDLE) && SK_HAS(layout, idle) && layout->idle && layout->n_extra == 0 &&
+  int idle = (caps & SK_CAP_SAYS_IDLE) && SK_HAS(layout, idle) && layout->idle &&
+             (layout->n_extra == 0 || extras_trivial(layout, sys->n_pairs - pairs_before)) &&
              !base->needs.needed[SK_NEED_IDLE_CALLS] && !sk_need_forced(SK_NEED_IDLE_CALLS);
   MPI_Allreduce(MPI_IN_PLACE, &idle, 1, MPI_INT, MPI_MIN, sys->comm);
   if (idle != term->idle)
@@ -190,21 +222,27 @@ static sk_status plugin_update_active_set(sk_term *base, sk_system *sys, int *ch
 
 static sk_status plugin_residual(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
-  if (term->idle) return SK_OK;
+  if (term->idle) {
+    idle_extra_rows(term, sys, 0);
+    return SK_OK;
+  }
   refresh_x(term, sys);
   return PLUGIN_CALL(term, residual, term->instance, &term->state, &sys->sink.abi);
 }
 
 static sk_status plugin_jacobian(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
-  if (term->idle) return SK_OK;
+  if (term->idle) {
+    idle_extra_rows(term, sys, 1);
+    return SK_OK;
+  }
   refresh_x(term, sys);
   return PLUGIN_CALL(term, jacobian, term->instance, &term->state, &sys->sink.abi);
 }
 
 static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, double *dx) {
   plugin_term *term = (plugin_term *)base;
-  if (!term->table.recover) return SK_OK;
+  if (!term->table.recover || term->idle) return SK_OK;
   refresh_x(term, sys);
   for (int v = 0; v < term->n_views; ++v) {
     const sk_view *view = term->view_list[v];

@@ -472,6 +472,8 @@ static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *lay
   layout->initial = inst->z_committed;
   layout->eliminated = NULL;
   layout->recover_needs_jdx = 0;
+  /* ABI 2.3: no slave face has a candidate this step, so every z row is the inactive C = z (ncp.c) */
+  if (SK_HAS(layout, idle)) layout->idle = inst->master && inst->cand_ptr[inst->slave->n_cells] == 0;
   if (inst->strategy != STRATEGY_CONDENSED) return SK_OK;
   /* z_j paired with the slave rows of node j: their D block is D_jj I (dual basis) */
   const int dim = inst->dim;
@@ -651,7 +653,7 @@ static const sk_plugin plugin = {
                "(Hammer 2012; Popp et al.)",
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
-            SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS | SK_CAP_CONDENSATION,
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS | SK_CAP_CONDENSATION | SK_CAP_SAYS_IDLE,
     .strategies = strategies,
     .parameters = parameters,
     .create = create,

@@ -194,6 +194,11 @@ static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *out
   out->n_extra = inst->n_extra;
   out->initial = inst->initial;
   out->eliminated = inst->eliminated;
+  /* ABI 2.3: no point reached a facet at begin_step, so every extra has its trivial row and starts at 0 */
+  if (SK_HAS(out, idle)) {
+    out->idle = 1;
+    for (int k = 0; k < inst->n_points && out->idle; ++k) out->idle = inst->points[k].facet < 0;
+  }
   if (inst->strategy != NTS_AUGMENTED) return SK_OK;
   const int64_t n_nodes = inst->slave->n_nodes_global;
   memset(inst->node_flags, 0, sizeof(double) * (size_t)n_nodes);
@@ -570,7 +575,7 @@ static const sk_plugin plugin = {
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS |
             SK_CAP_ENERGY_MOMENTUM | SK_CAP_RIGID_OBSTACLE | SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS |
-            SK_CAP_CONDENSATION,
+            SK_CAP_CONDENSATION | SK_CAP_SAYS_IDLE,
     .strategies = strategies,
     .parameters = parameters,
     .create = create,

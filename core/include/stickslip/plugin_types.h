@@ -29,8 +29,9 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 2u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
-                          2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls) */
+#define SK_ABI_MINOR 3u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
+                          2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls)
+                          3: sk_layout.idle also with extra unknowns (their trivial rows written by the host) */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -205,7 +206,10 @@ typedef struct sk_layout {
    * update_active_set, residual and jacobian would add nothing and change nothing the instance reports or commits,
    * at every x: e.g. no slave point has a candidate face. With n_extra = 0 and the same answer on every rank, the
    * host then skips those three calls; begin_step, pattern, converged, commit_step, report and points still come.
-   * Needs SK_CAP_SAYS_IDLE (else ignored). */
+   * Needs SK_CAP_SAYS_IDLE (else ignored).
+   * ABI 2.3: also with n_extra > 0, when the extras' own equations have the solution 0 whatever the other unknowns
+   * (trivial rows such as lambda - 0 of inactive multipliers) and `initial` is 0: the host then writes extra = 0
+   * (1 on the diagonal) itself and skips recover too. Not with stickslip.condense pairs declared in this layout. */
   int idle;
 } sk_layout;
 

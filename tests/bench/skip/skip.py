@@ -3,6 +3,7 @@
 
   skip.py check CASE     (ctest skip_CASE) the same scene with the skip on and off: `run --explain` says which, and
                          every history.csv column agrees to round-off (scaled difference <= TOLERANCE).
+                         friction_*: mu = 0 against mu = 1e-300 (the plugins' friction path forced on), FRICTION below.
   skip.py bench [-n N] [CASE...]  the same pairs on larger scenes (all, or the CASEs), N repeats each: the minimum
                          CPU time of the stickslip process
                          (and its children) and the assembly seconds of summary.json; prints the markdown table of
@@ -36,7 +37,34 @@ CASES = {
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS),
     # the ring has no candidate face for steps 1-31, touches the block from step 32 (--verbose says both)
     "idle_calls": ("idle-calls", "ring-on-block.yaml", ["--steps", "40", "--verbose"]),
+    # multiplier plugins (ABI 2.3): the host writes the inactive multipliers' trivial rows itself; nts-augmented has
+    # no candidate in steps 1-31, mortar-dual (swept face boxes) in steps 1-20
+    "idle_calls_nts_augmented": ("idle-calls", "ring-on-block.yaml",
+                                 ["--plugin", "nts-augmented", "--set", "contact.0.parameters={mu: 0}", "--steps", "40",
+                                  "--verbose"]),
+    "idle_calls_mortar_dual": ("idle-calls", "ring-on-block.yaml",
+                               ["--plugin", "mortar-dual", "--set", "contact.0.parameters={}", "--verbose"]),
 }
+
+# The scene's length scale where the skip changes the linear system (not only skips zeros): mortar-dual's idle rows
+# are z = 0 from the host instead of its rotated C = (n.z, t.z) with the D block, so the solver's round-off differs,
+# and columns that vanish by symmetry (the ring's contact moment, 6e-5 of force x radius 2.3e5; the constraint
+# violation, 2e-15) are round-off themselves. They are measured against force x size and size.
+SCENE_SIZE = {"idle_calls_mortar_dual": 100.0}
+
+# The friction skip is the plugins' own branch on mu > 0 (docs/plugin-abi.md, FRICTION), so it has no host switch:
+# mu = 1e-300 forces the friction path (anchors, slip history, the tangential trial and return map, tangential
+# stiffness) where mu = 0 skips it, and the Coulomb cone is then 1e-300 p_n wide, so the mechanics must agree to
+# round-off. Expected to differ: the friction output and, at a new contact, Newton's path (a point starts sticking:
+# one more or fewer iteration). The ring touches the block from step 32 (penalty-nts, nts-augmented) or 21 (mortar).
+# case: (plugin, parameters with mu = 0, the same with mu = 1e-300)
+FRICTION = {
+    "friction_penalty_nts": ("penalty-nts", "{penalty: 1.0e5, penalty_tangential: 1.0e5, mu: 0, area_weighted: 1}",
+                             "{penalty: 1.0e5, penalty_tangential: 1.0e5, mu: 1.0e-300, area_weighted: 1}"),
+    "friction_nts_augmented": ("nts-augmented", "{mu: 0}", "{mu: 1.0e-300, epsilon_t: 1.0e+4}"),
+    "friction_mortar_dual": ("mortar-dual", "{mu: 0}", "{mu: 1.0e-300}"),
+}
+FRICTION_OUTPUT = ("newton_iterations", "stick_points", "slip_points", "dissipated_energy")
 
 # what --verbose must print when the skip is taken (a static "skipped" in --explain does not prove it happened)
 TAKEN = {"idle-calls": "no candidate: active-set, residual and Jacobian calls skipped"}
@@ -47,6 +75,8 @@ BENCH = {
     "stiffness_quasistatic": ("stiffness-update", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "run"),
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS, "run"),
     "idle_calls": ("idle-calls", "ring-on-block.yaml", [], "run"),
+    "idle_calls_mortar_dual": ("idle-calls", "ring-on-block.yaml",
+                               ["--plugin", "mortar-dual", "--set", "contact.0.parameters={}"], "run"),
 }
 
 
@@ -79,7 +109,7 @@ def history(out):
     return rows[0], [[float(v) for v in row] for row in rows[1:]]
 
 
-def compare(out_on, out_off):
+def compare(out_on, out_off, size=0.0, ignore=()):
     head, on = history(out_on)
     head_off, off = history(out_off)
     if head != head_off or len(on) != len(off):
@@ -96,10 +126,14 @@ def compare(out_on, out_off):
     for k, name in enumerate(head):
         largest = max(max(abs(r[k]) for r in on), max(abs(r[k]) for r in off))
         scales[kind(name)] = max(scales.get(kind(name), 0.0), largest)
+    if size > 0.0:
+        forces = max(scales.get("force", 0.0), scales.get("reaction", 0.0))
+        scales["moment"] = max(scales.get("moment", 0.0), forces * size)
+        scales["constraint_violation"] = max(scales.get("constraint_violation", 0.0), size)
     worst, where = 0.0, ""
     for k, name in enumerate(head):
         scale = scales[kind(name)]
-        if name == "wall_seconds" or scale == 0.0:
+        if name == "wall_seconds" or name in ignore or scale == 0.0:
             continue
         for r_on, r_off in zip(on, off):
             d = abs(r_on[k] - r_off[k]) / scale
@@ -123,9 +157,33 @@ def check(case):
             sys.exit(f"{scene}: the skip of '{need}' was not taken (--verbose did not say '{TAKEN[need]}')")
         if need in TAKEN and TAKEN[need] in text_off:
             sys.exit(f"{scene}: the skip of '{need}' was taken although STICKSLIP_NO_SKIP={need}")
-        worst, where, steps = compare(on_out, off_out)
+        worst, where, steps = compare(on_out, off_out, SCENE_SIZE.get(case, 0.0))
     print(f"{case}: {scene} {' '.join(args)}: {steps} steps, skip on vs off: max scaled difference "
           f"{worst:.2e} ({where or 'all equal'})")
+    if worst > TOLERANCE:
+        sys.exit(f"FAIL: {worst:.2e} > {TOLERANCE:g}")
+
+
+def friction(case):
+    plugin, frictionless, forced = FRICTION[case]
+    args = ["--plugin", plugin, "--steps", "50"]
+    with tempfile.TemporaryDirectory() as tmp:
+        on_out, off_out = os.path.join(tmp, "on"), os.path.join(tmp, "off")
+        text_on, _ = run("run", "ring-on-block.yaml", args + ["--set", f"contact.0.parameters={frictionless}"], on_out,
+                         "")
+        text_off, _ = run("run", "ring-on-block.yaml", args + ["--set", f"contact.0.parameters={forced}"], off_out, "")
+        line_on, line_off = explain_line(text_on, "friction"), explain_line(text_off, "friction")
+        if "skipped" not in line_on or "computed" not in line_off:
+            sys.exit(f"--explain does not say friction is skipped at mu = 0 and computed at mu = 1e-300: "
+                     f"{line_on} / {line_off}")
+        head, rows = history(off_out)
+        if max(r[head.index("stick_points")] + r[head.index("slip_points")] for r in rows) == 0 and \
+                max(r[head.index("dissipated_energy")] for r in rows) == 0.0:
+            sys.exit(f"{plugin}: mu = 1e-300 reported no stick, no slip and no dissipation: the friction path did "
+                     f"not run")
+        worst, where, steps = compare(on_out, off_out, 100.0, FRICTION_OUTPUT)
+    print(f"{case}: ring-on-block.yaml, {plugin}, {steps} steps, mu = 0 (skipped) vs 1e-300 (friction path): max "
+          f"scaled difference {worst:.2e} ({where or 'all equal'})")
     if worst > TOLERANCE:
         sys.exit(f"FAIL: {worst:.2e} > {TOLERANCE:g}")
 
@@ -217,7 +275,8 @@ def bench(repeats, only):
                     if command == "run":
                         with open(os.path.join(out, "summary.json")) as f:
                             assembly[mode].append(json.load(f)["assembly_seconds"])
-            diff = f"{compare(os.path.join(tmp, 'on'), os.path.join(tmp, 'off'))[0]:.1e}" if command == "run" else "—"
+            diff = (f"{compare(os.path.join(tmp, 'on'), os.path.join(tmp, 'off'), SCENE_SIZE.get(case, 0.0))[0]:.1e}"
+                    if command == "run" else "—")
         asm = f"{min(assembly['off']):.2f} → {min(assembly['on']):.2f}" if command == "run" else "—"
         print(f"| {need} | {scene} {' '.join(a for a in args if a != '--set')} | {command} | {min(cpu['off']):.2f} | "
               f"{min(cpu['on']):.2f} | {asm} | {diff} |")
@@ -273,6 +332,8 @@ def invariants():
 def main():
     if len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] in CASES:
         check(sys.argv[2])
+    elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] in FRICTION:
+        friction(sys.argv[2])
     elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "mesh_cache":
         mesh_cache()
     elif len(sys.argv) >= 3 and sys.argv[1] == "check" and sys.argv[2] == "invariants":
@@ -282,7 +343,8 @@ def main():
         repeats = int(sys.argv[3]) if with_n else 3
         bench(repeats, sys.argv[4 if with_n else 2:])
     else:
-        sys.exit(f"usage: skip.py check {{{','.join(CASES)},mesh_cache,invariants}} | skip.py bench [-n N] [CASE...]")
+        sys.exit(f"usage: skip.py check {{{','.join(list(CASES) + list(FRICTION))},mesh_cache,invariants}} | "
+                 "skip.py bench [-n N] [CASE...]")
 
 
 if __name__ == "__main__":
