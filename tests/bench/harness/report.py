@@ -27,7 +27,7 @@ def pareto(records, x="cpu_seconds", y="error"):
 def write_csv(path, records, value_names):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     columns = ["label", "plugin", "strategy", "solver", *value_names, "status", "dofs", "linear_system_size", "steps",
-               "newton_iterations", "step_cuts", "cpu_seconds", "wall_seconds", "max_rss_mb", "error", "pareto"]
+               "newton_iterations", "step_cuts", "cpu_seconds", "wall_seconds", "max_rss_mb", "error", "pareto", "commit"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(columns)
