@@ -245,6 +245,7 @@ def document(case, records, notes, ladder):
             "; ".join("%s ×%s" % (k, "%g" % v if v else "none") for k, v in sorted(stable.items()))))
     for n in notes:
         text.append("- skipped: " + n)
+    text += ["", "Measured at %s (CPU times of a loaded machine)." % report.commits(records)]
     report.replace_section("stability.md", "stress-" + case.name, "\n".join(text))
 
 

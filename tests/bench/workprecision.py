@@ -138,19 +138,10 @@ def document(bench, records, notes, args, ref_record):
         text.append("")
         text.append("Measured at %s with the load average between %.1f and %.1f on 2 cores (wall times are those "
                     "of a loaded machine; compare CPU times); data: [docs/data/wp-%s.csv](data/wp-%s.csv)."
-                    % (_commits(records), min(loads), max(loads), bench.name, bench.name))
+                    % (report.commits(records), min(loads), max(loads), bench.name, bench.name))
     if bench.notes:
         text += ["", bench.notes.strip()]
     report.replace_section("benchmarks.md", "wp-" + bench.name, "\n".join(text))
-
-
-def _commits(records):
-    """Which commits the table's runs were measured at (records older than the field say so)."""
-    count = {}
-    for r in records:
-        c = r.get("commit", "a commit before records kept it")
-        count[c] = count.get(c, 0) + 1
-    return ", ".join("%s (%d runs)" % (c, n) for c, n in sorted(count.items()))
 
 
 def _reference_text(bench, ref_record):

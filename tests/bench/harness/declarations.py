@@ -281,7 +281,9 @@ class Run:
 
     @property
     def tag(self):
-        parts = [self.plugin or self.label, self.strategy or "", self.solver or ""]
+        # a labelled variant (penalty-nts/tet10, mortar-dual/standard) has its own folder: the variants of one
+        # plugin share plugin, strategy, solver and values, and would overwrite each other's runs
+        parts = [self.options.get("label") or self.plugin or self.label, self.strategy or "", self.solver or ""]
         parts += ["%s%s" % (k, _short(v)) for k, v in sorted(self.values.items())]
         return re.sub(r"[^A-Za-z0-9.+_-]+", "_", "-".join(p for p in parts if p))
 

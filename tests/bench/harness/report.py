@@ -35,6 +35,15 @@ def write_csv(path, records, value_names):
             w.writerow([_cell(r.get(c) if c not in value_names else r["values"].get(c)) for c in columns])
 
 
+def commits(records):
+    """Which commits the runs were measured at, with their counts (records older than the field say so)."""
+    count = {}
+    for r in records:
+        c = r.get("commit", "a commit before records kept it")
+        count[c] = count.get(c, 0) + 1
+    return ", ".join("%s (%d runs)" % (c, n) for c, n in sorted(count.items()))
+
+
 def _cell(v):
     if v is None:
         return ""

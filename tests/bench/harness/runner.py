@@ -21,15 +21,19 @@ SUMMARY_KEYS = ("status", "message", "steps", "final_time", "newton_iterations",
                 "contact_seconds", "solve_seconds", "linear_solver", "plugin", "strategy")
 
 
+SOURCES = ("core", "plugins", "driver", "scenes", "meshes")
+
+
 def source_commit():
-    """The commit the measured code is at: HEAD, with `+dirty` when the sources (not docs or tests) differ from it."""
+    """The commit the measured code is at: the last commit that changed the sources (not docs or tests, so that a
+    table does not change its commit with its own docs), `+dirty` when the work tree's sources differ from HEAD."""
     def git(*a):
         return subprocess.run(["git", "-C", ROOT, *a], capture_output=True, text=True)
-    head = git("rev-parse", "--short", "HEAD")
-    if head.returncode != 0:
+    last = git("log", "-1", "--format=%h", "HEAD", "--", *SOURCES)
+    if last.returncode != 0 or not last.stdout.strip():
         return "unknown"
-    dirty = git("diff", "--quiet", "HEAD", "--", "core", "plugins", "driver", "scenes", "meshes").returncode != 0
-    return head.stdout.strip() + ("+dirty" if dirty else "")
+    dirty = git("diff", "--quiet", "HEAD", "--", *SOURCES).returncode != 0
+    return last.stdout.strip() + ("+dirty" if dirty else "")
 
 
 COMMIT = None
