@@ -37,7 +37,8 @@ def main():
               "L drift", "CPU s"]
     cpu = {}
     for r in records:
-        cpu[r.get("plugin") or "core"] = cpu.get(r.get("plugin") or "core", 0.0) + r.get("cpu_seconds", 0.0)
+        who = r.get("plugin") if r.get("plugin") not in (None, "none") else "the core alone"
+        cpu[who] = cpu.get(who, 0.0) + r.get("cpu_seconds", 0.0)
     text = ["Command: `(cd build && ctest -L stress) && STICKSLIP_BENCH_OUT=build/stress python3 "
             "tests/bench/stress_summary.py`. Measured at %s; CPU seconds of the short runs: %.0f in all (%s), on a "
             "loaded machine." % (report.commits(records), sum(cpu.values()),
