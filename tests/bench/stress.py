@@ -204,7 +204,7 @@ def largest_stable(case, records):
     return out
 
 
-def document(case, records, notes, ladder):
+def document(case, records, notes, ladder, short=False):
     rows = []
     for r in sorted((r for r in records if not r.get("kind")),
                     key=lambda r: (r["label"], [v for k, v in sorted(r["values"].items())])):
@@ -245,6 +245,10 @@ def document(case, records, notes, ladder):
             "; ".join("%s ×%s" % (k, "%g" % v if v else "none") for k, v in sorted(stable.items()))))
     for n in notes:
         text.append("- skipped: " + n)
+    if short:
+        text += ["", "The short (CI) pass only, the plugins' default strategies (`python3 tests/bench/stress.py --short "
+                 "--docs %s`); the full sweep was not run in this session." % case.name]
+    text += ["", "Measured at %s (CPU times of a loaded machine)." % report.commits(records)]
     report.replace_section("stability.md", "stress-" + case.name, "\n".join(text))
 
 
@@ -310,7 +314,7 @@ def main():
             for f in failures:
                 print("REGRESSION: " + f)
         if not args.short or args.docs:
-            document(case, records, notes, not args.no_ladder)
+            document(case, records, notes, not args.no_ladder, args.short)
     if args.check:
         print("stress: %d regression(s)" % len(all_failures))
         sys.exit(1 if all_failures else 0)

@@ -136,8 +136,9 @@ def document(bench, records, notes, args, ref_record):
         text.append("- skipped: " + n)
     if loads:
         text.append("")
-        text.append("Measured with the load average between %.1f and %.1f on 2 cores; data: "
-                    "[docs/data/wp-%s.csv](data/wp-%s.csv)." % (min(loads), max(loads), bench.name, bench.name))
+        text.append("Measured at %s with the load average between %.1f and %.1f on 2 cores (wall times are those "
+                    "of a loaded machine; compare CPU times); data: [docs/data/wp-%s.csv](data/wp-%s.csv)."
+                    % (report.commits(records), min(loads), max(loads), bench.name, bench.name))
     if bench.notes:
         text += ["", bench.notes.strip()]
     report.replace_section("benchmarks.md", "wp-" + bench.name, "\n".join(text))

@@ -197,7 +197,7 @@ def load_benchmarks(folder="benchmarks", kind="benchmark"):
 # --- plugin declarations -------------------------------------------------------------------------------------------
 
 ENTRY_KEYS = {"parameters", "set", "sweep", "strategies", "linear_solvers", "scene", "label", "strategy_key", "notes",
-              "pressure_output", "bounds", "expect_failure", "short", "scheme_energy"}
+              "pressure_output", "bounds", "expect_failure", "short", "scheme_energy", "only"}
 DECLARATION_KEYS = ENTRY_KEYS | {"plugin", "kind", "benchmarks", "stress"}
 
 
@@ -281,7 +281,9 @@ class Run:
 
     @property
     def tag(self):
-        parts = [self.plugin or self.label, self.strategy or "", self.solver or ""]
+        # a labelled variant (penalty-nts/tet10, mortar-dual/standard) has its own folder: the variants of one
+        # plugin share plugin, strategy, solver and values, and would overwrite each other's runs
+        parts = [self.options.get("label") or self.plugin or self.label, self.strategy or "", self.solver or ""]
         parts += ["%s%s" % (k, _short(v)) for k, v in sorted(self.values.items())]
         return re.sub(r"[^A-Za-z0-9.+_-]+", "_", "-".join(p for p in parts if p))
 
@@ -341,6 +343,13 @@ def _expand_variant(bench, declaration, section, plugins, quick, subset, short, 
         subset = bench.quick if quick else {}
         if quick:  # a quick run keeps the first value of the declaration's own sweeps
             subset = {**subset, **{s.name: s.values[:1] for s in own}}
+    only = entry.get("only") or {}  # a costly variant runs part of the benchmark's sweep: name -> values kept
+    for name, values in only.items():
+        known = {s.name: s.values for s in bench.sweeps}
+        if name not in known or not isinstance(values, list) or any(v not in known[name] for v in values):
+            raise DeclarationError("%s.only.%s: must list values of the benchmark's sweep %r (%s)" % (
+                where, name, name, known.get(name, "no such sweep")))
+        subset = {**subset, name: [v for v in subset.get(name, values) if v in values]}
     runs = []
     pairs = _pair_indices(bench, scene) if declaration.kind == "pair" else []
     for strategy in strategies:

@@ -27,12 +27,21 @@ def pareto(records, x="cpu_seconds", y="error"):
 def write_csv(path, records, value_names):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     columns = ["label", "plugin", "strategy", "solver", *value_names, "status", "dofs", "linear_system_size", "steps",
-               "newton_iterations", "step_cuts", "cpu_seconds", "wall_seconds", "max_rss_mb", "error", "pareto"]
+               "newton_iterations", "step_cuts", "cpu_seconds", "wall_seconds", "max_rss_mb", "error", "pareto", "commit"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(columns)
         for r in records:
             w.writerow([_cell(r.get(c) if c not in value_names else r["values"].get(c)) for c in columns])
+
+
+def commits(records):
+    """Which commits the runs were measured at, with their counts (records older than the field say so)."""
+    count = {}
+    for r in records:
+        c = r.get("commit", "a commit before records kept it")
+        count[c] = count.get(c, 0) + 1
+    return ", ".join("%s (%d runs)" % (c, n) for c, n in sorted(count.items()))
 
 
 def _cell(v):

@@ -21,6 +21,24 @@ SUMMARY_KEYS = ("status", "message", "steps", "final_time", "newton_iterations",
                 "contact_seconds", "solve_seconds", "linear_solver", "plugin", "strategy")
 
 
+SOURCES = ("core", "plugins", "driver", "scenes", "meshes")
+
+
+def source_commit():
+    """The commit the measured code is at: the last commit that changed the sources (not docs or tests, so that a
+    table does not change its commit with its own docs), `+dirty` when the work tree's sources differ from HEAD."""
+    def git(*a):
+        return subprocess.run(["git", "-C", ROOT, *a], capture_output=True, text=True)
+    last = git("log", "-1", "--format=%h", "HEAD", "--", *SOURCES)
+    if last.returncode != 0 or not last.stdout.strip():
+        return "unknown"
+    dirty = git("diff", "--quiet", "HEAD", "--", *SOURCES).returncode != 0
+    return last.stdout.strip() + ("+dirty" if dirty else "")
+
+
+COMMIT = None
+
+
 def command(run, folder, binary=BIN):
     return [binary, "run", os.path.join(ROOT, run.scene), "--out", folder, "--quiet", *run.args]
 
@@ -51,12 +69,15 @@ def execute(run, group, timeout, fresh=False, binary=BIN, log=print):
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
         status, usage, timed_out = _wait(proc, timeout)
     wall = time.monotonic() - start
+    global COMMIT
+    if COMMIT is None:
+        COMMIT = source_commit()
     record = {
         "bench": run.bench, "plugin": run.plugin, "strategy": run.strategy, "solver": run.solver,
         "label": run.label, "values": run.values, "tag": run.tag, "command": cmd[1:],
         "exit": status, "timed_out": timed_out, "cpu_seconds": usage.ru_utime + usage.ru_stime,
         "max_rss_mb": usage.ru_maxrss / 1024.0, "wall_seconds_outside": wall,
-        "load_average": [load, os.getloadavg()[0]], "folder": folder,
+        "load_average": [load, os.getloadavg()[0]], "folder": folder, "commit": COMMIT,
     }
     results = _results(results_dir)
     if results is not None:

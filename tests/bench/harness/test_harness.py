@@ -75,6 +75,30 @@ def main():
             "uniform Cauchy tractions 10 / 1.0039 pass: %g" % cauchy["error"])
     nts = errors.patch_pressure(Points([9.23, 10.21, 10.0, 9.9]), bench, None, None)
     c.check(abs(nts["error"] - (9.835 - 9.23) / 9.835) < 1e-12, "NTS-like 9.23 ... 10.21: %.4f" % nts["error"])
+    # every run of a benchmark has its own folder: labelled variants of one plugin (tet4/tet10) share plugin,
+    # strategy, solver and values, and overwrote each other's records before the label joined the tag
+    def run(label, options):
+        return dec.Run("b", "penalty-nts", None, "direct", {"refine": 1}, [], label, "s.yaml", options)
+    tet4, tet10 = run("penalty-nts/tet4", {"label": "penalty-nts/tet4"}), run("penalty-nts/tet10",
+                                                                            {"label": "penalty-nts/tet10"})
+    c.check(tet4.tag != tet10.tag, "labelled variants, distinct folders: %s, %s" % (tet4.tag, tet10.tag))
+    c.check(run("penalty-nts", {}).tag == "penalty-nts-direct-refine1", "an unlabelled run keeps its folder name")
+    # `only`: a variant keeps part of the benchmark's sweep
+    bench = dec.Benchmark.__new__(dec.Benchmark)
+    bench.name, bench.path, bench.scene, bench.set, bench.quick = "b", "b.yaml", "s.yaml", {}, {}
+    bench.variables, bench.linear_solvers, bench.pairs = {"E": 1.0}, ["direct"], []
+    bench.sweeps = [dec.Sweep("b.yaml", "refine", {"key": "mesh.parameters.refine", "values": [1, 2, 4]})]
+    decl = dec.Declaration.__new__(dec.Declaration)
+    decl.path, decl.plugin, decl.kind = "p.yaml", "p", "body"
+    decl.entries = {("benchmarks", "b"): [{"only": {"refine": [1, 2]}}]}
+    kept = [r.values["refine"] for r in dec.expand(bench, decl, "benchmarks", {"p": {}})]
+    c.check(kept == [1, 2], "only: {refine: [1, 2]} keeps 1, 2 of 1, 2, 4: %s" % kept)
+    decl.entries = {("benchmarks", "b"): [{"only": {"refine": [3]}}]}
+    try:
+        dec.expand(bench, decl, "benchmarks", {"p": {}})
+        c.check(False, "only with a value the sweep lacks is refused")
+    except dec.DeclarationError as e:
+        c.check(True, "only with a value the sweep lacks is refused (%s)" % str(e)[:70])
     sys.exit(c.finish())
 
 
