@@ -11,6 +11,7 @@ from stickslip_results import Checks, run, main
 
 PATCH_2D = "scenes/mortar-patch-test-2d.yaml"
 PATCH_3D = "scenes/mortar-patch-test-3d.yaml"
+OBSTACLE_3D = "scenes/mortar-block-on-plane-3d.yaml"
 HAMMER = "scenes/mortar-hammer-benchmark.yaml"
 COARSE = ("--set", "mesh.0.parameters.refine=0.5", "--set", "mesh.1.parameters.refine=0.5")  # CI: 20 x 6 and 12 x 8
 
@@ -344,7 +345,32 @@ def mortar_condensed_krylov(c):
     c.check(diff <= 1e-11, "contact forces equal to %.1e relative" % diff)
 
 
+def mortar_obstacle_3d(c):
+    """A rigid plane as the master in 3D (scenes/mortar-block-on-plane-3d.yaml: a block with nu = 0 pressed by 0.01,
+    then pushed obliquely, mu = 0.3, condensed): at the end of the press every slave node sticks with the nominal
+    pressure E 0.01 / 0.5 = 20 (measured 20 to 1.8e-15 relative); from t = 1.5 every node slips and the reaction's
+    tangential part is mu times the normal one (measured 0.2999964 at t = 1.5, 0.29999999996 at t = 3), opposite
+    to the push (atan2(0.02, 0.05); measured 3.4e-5 rad off at t = 3)."""
+    pressed, _ = run(OBSTACLE_3D, "--set", "time.end=1", "--set", "output.contact_csv=true")
+    points = pressed.contact_points()
+    p = [q["pressure"] for q in points]
+    c.check(len(points) == 20 and all(q["state"] == 1 for q in points), "pressed: all 20 slave nodes stick")
+    c.check(max(abs(v - 20.0) for v in p) <= 1e-12 * 20.0, "pressed: pressure 20 at every node (%.15g .. %.15g)"
+            % (min(p), max(p)))
+    pushed, _ = run(OBSTACLE_3D)
+    sliding = [r for r in pushed.rows if r["time"] >= 1.5 - 1e-9]
+    c.check(abs(pushed.rows[-1]["time"] - 3.0) < 1e-9 and all(r["slip_points"] == 20 for r in sliding),
+            "every node slips from t = 1.5 to 3")
+    ratio = [math.hypot(r["contact_force_x"], r["contact_force_y"]) / r["contact_force_z"] for r in sliding]
+    c.check(all(0.29999 <= v <= 0.3 for v in ratio) and abs(ratio[-1] - 0.3) <= 1e-9,
+            "|F_t| / F_n in [%.8f, %.11f], %.11f at t = 3" % (min(ratio), max(ratio), ratio[-1]))
+    last = pushed.rows[-1]
+    angle = math.atan2(last["contact_force_y"], last["contact_force_x"])
+    c.check(abs(angle - (math.atan2(0.02, 0.05) - math.pi)) <= 1e-4, "F_t opposite to the push (%.6f rad)" % angle)
+
+
 if __name__ == "__main__":
     main([mortar_patch_test_2d, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_hammer_benchmark_friction,
           mortar_block_on_plane, mortar_mpi, mortar_hertz_2d, mortar_hertz_3d, mortar_ring,
-          mortar_ring_friction, mortar_ironing_2d, mortar_condensed, mortar_condensed_krylov, mortar_large_sliding])
+          mortar_ring_friction, mortar_ironing_2d, mortar_condensed, mortar_condensed_krylov, mortar_large_sliding,
+          mortar_obstacle_3d])
