@@ -12,7 +12,10 @@ CPU time per Newton iteration against dofs (least squares on the log-log points 
 CPU time per Newton iteration = the child's CPU seconds x (assembly + contact + solve wall seconds) / (wall seconds
 of the run) / Newton iterations: the CPU share of the Newton phases, without mesh generation and set-up.
 
-  python3 tests/bench/mortar-dual/scaling.py [--fresh] [--quick] [hertz-3d] [ironing-3d]
+  python3 tests/bench/mortar-dual/scaling.py [--fresh] [--quick] [--solver=NAME] [hertz-3d] [ironing-3d]
+
+--solver=NAME runs only that linear solver's configurations; the others' finished runs are reported, the missing
+ones left out of the table.
   gnuplot tests/bench/mortar-dual/scaling.gp      # -> docs/img/mortar-dual-scaling.png"""
 import csv
 import json
@@ -90,11 +93,16 @@ def exponent(points):
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     fresh, quick = "--fresh" in sys.argv, "--quick" in sys.argv
+    only = [a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--solver=")]
     studies = args or list(STUDIES)
     rows = []
     for study in studies:
         for run in runs(study, quick):
-            record, _ = runner.execute(run, os.path.join(GROUP, study), TIMEOUT, fresh=fresh)
+            group = os.path.join(GROUP, study)
+            if only and run.solver not in only and \
+                    not os.path.exists(os.path.join(runner.OUT, group, run.tag, "record.json")):
+                continue
+            record, _ = runner.execute(run, group, TIMEOUT, fresh=fresh and (not only or run.solver in only))
             rows.append(row_of(run, record))
             r = rows[-1]
             print("%s %s/%s refine %g: %s, %s dofs, %s Newton, %.1f CPU s, %s CPU s/iteration, %.0f MB %s"
