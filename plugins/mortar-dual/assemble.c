@@ -441,7 +441,7 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
    * of the slave's displacement row i, so C_N takes the row of the normal's dominant axis and each C_T that of its
    * tangent's: the condensed operator keeps a nonzero diagonal (in the Cartesian order, C_N of a node with normal
    * -e_z sat in the x row, whose d_x entry is n_x c_n D_jj = 0, and MueLu's smoother divided by it: NaN in GMRES,
-   * docs/plugins/mortar-dual.md section 9.1). The roots are the same. Saddle-point keeps the Cartesian order: there
+   * docs/plugins/mortar-dual.md section 7). The roots are the same. Saddle-point keeps the Cartesian order: there
    * the order changes only the round-off of the solve, and slider-2d at dt 0.8 (validation_mortar_large_sliding)
    * showed that its 31-iteration step 7 then lands on another converged state (2 nodes active, F_y 34.2). */
   int place[3] = {0, 1, 2};
