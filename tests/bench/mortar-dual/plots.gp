@@ -16,10 +16,10 @@ plot dir.'hertz-2d-refine1.dat' u 1:3 w l lc rgb 'black' t 'Hertz, p0 sqrt(1 - x
      dir.'hertz-2d-refine2.dat' u 1:2 w p pt 6 lc rgb '#d62728' t 'refine 2'
 
 set output 'docs/img/mortar-dual-ironing-2d.png'
-set title '2D ironing (Yang, Laursen & Meng; mu = 0.5), mortar-dual: reactions at the die top'
+set title '2D ironing (Yang, Laursen and Meng; mu = 0.5), mortar-dual: reactions at the die top'
 set xlabel 't'
-set ylabel 'reaction'
+set ylabel '|reaction|'
 set key top left
 set autoscale
-plot for [r in '0.5 1 2'] dir.'ironing-2d-refine'.r.'.dat' u 1:3 w l lw 1.5 t 'F_y (press), refine '.r, \
-     for [r in '0.5 1 2'] dir.'ironing-2d-refine'.r.'.dat' u 1:2 w l dt 2 lw 1.5 t 'F_x (drag), refine '.r
+plot for [r in '1 2'] dir.'ironing-2d-refine'.r.'.dat' u 1:(abs($3)) w l lw 1.5 t '|F_y| (press), refine '.r, \
+     for [r in '1 2'] dir.'ironing-2d-refine'.r.'.dat' u 1:(abs($2)) w l dt 2 lw 1.5 t '|F_x| (drag), refine '.r
