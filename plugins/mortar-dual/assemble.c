@@ -437,8 +437,20 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
     }
     return SK_OK;
   }
-  int64_t rows[3];
-  for (int c = 0; c < dim; ++c) rows[c] = mortar_z_index(inst, ec->state, o->extra, c);
+  /* NCP c goes to the node's constraint row place[c]. Under `condensed` the host puts constraint row i in the place
+   * of the slave's displacement row i, so C_N takes the row of the normal's dominant axis and each C_T that of its
+   * tangent's: the condensed operator keeps a nonzero diagonal (in the Cartesian order, C_N of a node with normal
+   * -e_z sat in the x row, whose d_x entry is n_x c_n D_jj = 0, and MueLu's smoother divided by it: NaN in GMRES,
+   * docs/plugins/mortar-dual.md section 7). The roots are the same. Saddle-point keeps the Cartesian order: there
+   * the order changes only the round-off of the solve, and slider-2d at dt 0.8 (validation_mortar_large_sliding)
+   * showed that its 31-iteration step 7 then lands on another converged state (2 nodes active, F_y 34.2). */
+  int place[3] = {0, 1, 2};
+  if (inst->strategy == STRATEGY_CONDENSED) mortar_ncp_places(dim, n, tau, place);
+  int64_t rows[3], zcols[3];
+  for (int c = 0; c < dim; ++c) {
+    rows[c] = mortar_z_index(inst, ec->state, o->extra, place[c]);
+    zcols[c] = mortar_z_index(inst, ec->state, o->extra, c);
+  }
   /* the rows in force units, A_j C [U1] (with the columns z~ = A_j z, d(A_j C)/dz~ = dC/dz) */
   if (ec->mode == EVAL_RESIDUAL) {
     double scaled[3];
@@ -449,9 +461,7 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
   if (ec->mode != EVAL_JACOBIAN) return SK_OK;
   /* z columns: dC/dz = dC/dz_n n + sum_a dC/dz_ta tau_a */
   double zblk[9];
-  int64_t zcols[3];
   for (int c = 0; c < dim; ++c) {
-    zcols[c] = rows[c];
     for (int i = 0; i < dim; ++i) {
       double v = r.dC[c][0] * n[i];
       for (int a = 0; a < nt; ++a) v += r.dC[c][1 + a] * tau[a][i];

@@ -223,6 +223,21 @@ int mortar_tangents(int dim, const double n[3], const double ref[3], double tau[
   return 0;
 }
 
+void mortar_ncp_places(int dim, const double n[3], const double tau[2][3], int place[3]) {
+  int axis = 0;
+  for (int i = 1; i < dim; ++i)
+    if (fabs(n[i]) > fabs(n[axis])) axis = i;
+  place[0] = axis;
+  const int p = (axis + 1) % dim, q = (axis + 2) % dim; /* the other axes (dim 3; dim 2: p only) */
+  if (dim == 2) {
+    place[1] = p;
+    return;
+  }
+  const int keep = fabs(tau[0][p]) * fabs(tau[1][q]) >= fabs(tau[0][q]) * fabs(tau[1][p]);
+  place[1] = keep ? p : q;
+  place[2] = keep ? q : p;
+}
+
 /* ---- quadrature ------------------------------------------------------------------------------------------------ */
 void mortar_gauss_legendre(int n, double *x, double *w) {
   /* Newton on the Legendre polynomial P_n from the Chebyshev-like initial guesses (Golub-Welsch would need an

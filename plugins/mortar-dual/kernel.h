@@ -165,6 +165,11 @@ int mortar_normalize(const double c[3], double n[3], double dn_dc[3][3]);
 /* Tangents of a nodal normal: 2D tau = e_z x n; 3D tau_1 = (r - (r.n) n)/|...| for a reference direction r fixed
  * during the step, tau_2 = n x tau_1. dtau_dn[a][i][j] = d tau_a,i / d n_j. Returns -1 if r is parallel to n. */
 int mortar_tangents(int dim, const double n[3], const double ref[3], double tau[2][3], double dtau_dn[2][3][3]);
+/* The Cartesian place of each NCP row of a node (place[0] for C_N, place[1 + a] for C_T along tau_a), a permutation
+ * of 0 .. dim-1: C_N at the normal's dominant axis, the tangents' rows at the remaining axes where their components
+ * are largest. The condensed operator puts constraint row i in the slave's displacement row i; this keeps its
+ * diagonal nonzero. */
+void mortar_ncp_places(int dim, const double n[3], const double tau[2][3], int place[3]);
 
 /* ---- nonlinear complementarity functions [C1-C2] ---------------------------------------------------------------
  * With g = gap_j / A_j and s = tangential weighted slip / A_j (A_j the node's reference tributary measure):
