@@ -87,6 +87,7 @@ sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk
   sys->solver = solver;
   sys->integrator = model->time.integrator;
   sys->pattern_n = -1;
+  sys->forget_setup = sk_skip_forced("symbolic-setup");
   sys->t_n = model->time.t_start;
   sk_system_sink_init(sys);
   const size_t nd = (size_t)(model->n_dofs > 0 ? model->n_dofs : 1);
@@ -506,6 +507,10 @@ static sk_linear_system *solving_system(sk_system *sys) {
 }
 
 static sk_status solve_once(sk_system *sys, const double *b, double *y, sk_linear_report *report) {
+  if (sys->forget_setup) {
+    sk_linsys_forget_setup(sys->linsys);
+    if (sys->condenser) sk_linsys_forget_setup(sk_condenser_reduced(sys->condenser));
+  }
   return sys->condensing ? sk_condenser_solve(sys->condenser, sys->linsys, b, y, report)
                          : sk_linsys_solve(sys->linsys, b, y, report);
 }

@@ -92,4 +92,10 @@ void sk_system_explain(const sk_system *sys, FILE *out) {
     else
       fprintf(out, "  %-16s skipped: %s\n", need_names[n], skipped_by[n]);
   }
+  /* not a term's need: the linear solver's set-up depends only on the pattern (core/solver) */
+  if (sys->forget_setup)
+    fprintf(out, "  %-16s computed for every linear solve (test switch STICKSLIP_NO_SKIP)\n", "symbolic-setup");
+  else
+    fprintf(out, "  %-16s skipped: while the pattern holds (same active couplings), a solve reuses the symbolic "
+            "factorisation and the preconditioner hierarchy; set up again on a new pattern\n", "symbolic-setup");
 }

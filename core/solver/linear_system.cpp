@@ -374,6 +374,16 @@ void sk_linsys_destroy(sk_linear_system *sys) {
   delete sys;
 }
 
+void sk_linsys_forget_setup(sk_linear_system *sys) {
+  if (!sys) return;
+  try {
+    release_direct(sys);
+    release_iterative(sys);
+  } catch (...) {
+    // releasing references does not throw; nothing to report into C
+  }
+}
+
 sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind) {
   if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_GMRES_SGS)
     return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)kind);

@@ -109,6 +109,10 @@ sk_status sk_linsys_assemble(sk_linear_system *sys);
  * is unchanged, and the AMG hierarchy of the nodal block as long as it keeps GMRES fast (also across pattern
  * changes). SK_ERR_LINEAR_SOLVER if the solve fails, with report->failure saying how. */
 sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
+/* Drops what a solve keeps while the pattern holds (symbolic factorisation, the solver's matrix copy, preconditioner
+ * hierarchy), so that the next solve sets it up as on a new pattern: the test switch
+ * STICKSLIP_NO_SKIP=symbolic-setup (docs/performance.md). */
+void sk_linsys_forget_setup(sk_linear_system *sys);
 /* y = A x with the assembled matrix (replicated vectors), for tests and residual checks. */
 sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y);
 

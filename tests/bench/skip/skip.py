@@ -37,6 +37,8 @@ CASES = {
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS),
     # the ring has no candidate face for steps 1-31, touches the block from step 32 (--verbose says both)
     "idle_calls": ("idle-calls", "ring-on-block.yaml", ["--steps", "40", "--verbose"]),
+    # the linear solver's set-up (core/solver): forced, every solve sets up as on a new pattern; direct: bitwise
+    "symbolic_setup": ("symbolic-setup", "ring-on-block.yaml", ["--steps", "40"]),
     # multiplier plugins (ABI 2.3): the host writes the inactive multipliers' trivial rows itself; nts-augmented has
     # no candidate in steps 1-31, mortar-dual (swept face boxes) in steps 1-20
     "idle_calls_nts_augmented": ("idle-calls", "ring-on-block.yaml",
@@ -77,6 +79,9 @@ BENCH = {
     "idle_calls": ("idle-calls", "ring-on-block.yaml", [], "run"),
     "idle_calls_mortar_dual": ("idle-calls", "ring-on-block.yaml",
                                ["--plugin", "mortar-dual", "--set", "contact.0.parameters={}"], "run"),
+    "symbolic_setup": ("symbolic-setup", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "run"),
+    "symbolic_setup_muelu": ("symbolic-setup", "hertz-3d.yaml",
+                             ["--set", "mesh.parameters.refine=2", "--set", "solver.linear.solver=gmres-muelu"], "run"),
 }
 
 
