@@ -15,8 +15,10 @@ static const int voigt3_i[6] = {0, 1, 2, 0, 1, 0}, voigt3_j[6] = {0, 1, 2, 1, 2,
 static const int voigt2_i[3] = {0, 1, 0}, voigt2_j[3] = {0, 1, 1};
 static const int voigt2_of3[3] = {0, 1, 3}; /* position of the plane-strain components in the 3D Voigt order */
 
+/* X: the coordinates or the reference geometry. */
 static sk_status check_solid(const sk_solid *el, const double *X, const char *what) {
-  if (!el || !el->mat || !X) return sk_error_set(SK_ERR_INPUT, "%s: NULL element, material or coordinates", what);
+  if (!el || !el->mat || !X)
+    return sk_error_set(SK_ERR_INPUT, "%s: NULL element, material, coordinates or geometry", what);
   if (el->dim != 2 && el->dim != 3)
     return sk_error_set(SK_ERR_INPUT, "%s: dimension %d is not 2 or 3", what, el->dim);
   if (sk_elem_pdim(el->type) != el->dim)
@@ -93,6 +95,14 @@ static sk_status kinematics(const sk_solid *el, const double H[9], double Fb[9],
 /* Kernels below are inlined with dim as a literal so the Voigt loops unroll and the dof loops vectorise. */
 #define FE_HOT static inline __attribute__((always_inline))
 
+/* The hot kernels are also compiled for x86-64-v3 (AVX2 + FMA) and picked at load time (GNU ifunc), so a portable
+ * build still runs them with 256-bit FMA where the CPU has it. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define FE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define FE_CLONES
+#endif
+
 /* Bt[v*MAX_DOF + a*dim + i] = (sym(F^T (e_i (x) dN_a)))_v in engineering Voigt form, so S_v . B = S : dE.
  * Stored transposed (Voigt-major) so loops over dofs are contiguous. */
 FE_HOT void build_bt(const int dim, int nen, const double *restrict dNdX, const double *restrict F,
@@ -127,8 +137,6 @@ static void compress_voigt(int dim, const double S[9], const double D[36], doubl
 }
 
 typedef struct {
-  double dNdX[SK_MAX_QP][SK_MAX_NEN * 3];
-  double wdet[SK_MAX_QP];
   double F[SK_MAX_QP][9];  /* gradient of the B matrices (F, F_mid for the midpoint force, I for Hooke) */
   double F1[SK_MAX_QP][9]; /* midpoint only: gradient of the end state, for dE1/du1 */
   double S[SK_MAX_QP][9];  /* (algorithmic) second Piola-Kirchhoff stress */
@@ -199,7 +207,7 @@ FE_HOT void assemble_qp(const int dim, int nen, double w, const double *dNdX, co
 }
 
 /* The dimension as a literal for the inlined kernels. */
-static void assemble_qp_any(int dim, int nen, double w, const double *dNdX, const double *F, const double *F1,
+FE_CLONES static void assemble_qp_any(int dim, int nen, double w, const double *dNdX, const double *F, const double *F1,
                             const double *S, const double *D, double geometric_scale, int symmetric, double *f,
                             double *K) {
   if (dim == 3)
@@ -208,31 +216,67 @@ static void assemble_qp_any(int dim, int nen, double w, const double *dNdX, cons
     assemble_qp(2, nen, w, dNdX, F, F1, S, D, geometric_scale, symmetric, f, K);
 }
 
+/* Reference geometry layout: per quadrature point q, dN/dX (nen * dim) then w det J. */
+static int geometry_stride(const sk_solid *el) { return sk_elem_nen(el->type) * el->dim + 1; }
+
+int sk_solid_geometry_size(const sk_solid *el) {
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  return nq * geometry_stride(el);
+}
+
+sk_status sk_solid_geometry(const sk_solid *el, const double *X, double *geometry) {
+  SK_TRY(check_solid(el, X, "sk_solid_geometry"));
+  const int dim = el->dim, nen = sk_elem_nen(el->type), stride = geometry_stride(el);
+  int nq;
+  const double *qxi, *qw;
+  sk_elem_quadrature(el->type, &nq, &qxi, &qw);
+  for (int q = 0; q < nq; ++q) {
+    double *g = geometry + q * stride;
+    SK_TRY(reference_gradients(el->type, dim, nen, X, qxi + q * dim, qw[q], NULL, g, g + stride - 1, q));
+  }
+  return SK_OK;
+}
+
+/* Geometry buffer of the coordinate-taking kernels (the largest element's). */
+typedef double geometry_buffer[SK_MAX_QP * (SK_MAX_NEN * 3 + 1)];
+
 sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u, double *W, double *f, double *K) {
   SK_TRY(check_solid(el, X, "sk_solid_internal"));
+  geometry_buffer geometry;
+  SK_TRY(sk_solid_geometry(el, X, geometry));
+  return sk_solid_internal_at(el, geometry, u, W, f, K);
+}
+
+sk_status sk_solid_internal_at(const sk_solid *el, const double *geometry, const double *u, double *W, double *f,
+                               double *K) {
+  SK_TRY(check_solid(el, geometry, "sk_solid_internal"));
   if (!u) return sk_error_set(SK_ERR_INPUT, "sk_solid_internal: NULL displacement");
-  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim;
+  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim, stride = geometry_stride(el);
   int nq;
   const double *qxi, *qw;
   sk_elem_quadrature(el->type, &nq, &qxi, &qw);
   qp_cache cache;
   double energy = 0.0;
   for (int q = 0; q < nq; ++q) {
+    const double *dNdX = geometry + q * stride, wdet = dNdX[stride - 1];
     double H[9], C[9], Wq;
-    SK_TRY(reference_gradients(el->type, dim, nen, X, qxi + q * dim, qw[q], NULL, cache.dNdX[q], &cache.wdet[q], q));
-    displacement_gradient(dim, nen, cache.dNdX[q], u, H);
+    displacement_gradient(dim, nen, dNdX, u, H);
     SK_TRY(kinematics(el, H, cache.F[q], C, q));
     SK_TRY(sk_fe_material_eval(el->mat, C, &Wq, cache.S[q], K ? cache.D[q] : NULL));
-    energy += cache.wdet[q] * Wq;
+    energy += wdet * Wq;
   }
   if (W) *W = energy;
   if (!f && !K) return SK_OK;
   if (f) memset(f, 0, (size_t)ndof * sizeof *f);
   if (K) memset(K, 0, (size_t)ndof * ndof * sizeof *K);
   const double geometric = el->mat->model == SK_MAT_HOOKE ? 0.0 : 1.0;
-  for (int q = 0; q < nq; ++q)
-    assemble_qp_any(dim, nen, cache.wdet[q], cache.dNdX[q], cache.F[q], cache.F[q], cache.S[q], cache.D[q],
-                    geometric, 1, f, K);
+  for (int q = 0; q < nq; ++q) {
+    const double *dNdX = geometry + q * stride;
+    assemble_qp_any(dim, nen, dNdX[stride - 1], dNdX, cache.F[q], cache.F[q], cache.S[q], cache.D[q], geometric, 1,
+                    f, K);
+  }
   if (K)
     for (int r = 0; r < ndof; ++r)
       for (int c = 0; c < r; ++c) K[r * ndof + c] = K[c * ndof + r];
@@ -285,17 +329,25 @@ static sk_status midpoint_stress(const sk_material *mat, const double C0[9], con
 sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const double *u0, const double *u1,
                                      double *f, double *K) {
   SK_TRY(check_solid(el, X, "sk_solid_internal_midpoint"));
+  geometry_buffer geometry;
+  SK_TRY(sk_solid_geometry(el, X, geometry));
+  return sk_solid_internal_midpoint_at(el, geometry, u0, u1, f, K);
+}
+
+sk_status sk_solid_internal_midpoint_at(const sk_solid *el, const double *geometry, const double *u0,
+                                        const double *u1, double *f, double *K) {
+  SK_TRY(check_solid(el, geometry, "sk_solid_internal_midpoint"));
   if (!u0 || !u1) return sk_error_set(SK_ERR_INPUT, "sk_solid_internal_midpoint: NULL displacement");
-  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim;
+  const int dim = el->dim, nen = sk_elem_nen(el->type), ndof = nen * dim, stride = geometry_stride(el);
   int nq;
   const double *qxi, *qw;
   sk_elem_quadrature(el->type, &nq, &qxi, &qw);
   qp_cache cache;
   for (int q = 0; q < nq; ++q) {
+    const double *dNdX = geometry + q * stride;
     double H0[9], H1[9], F0[9], C0[9], C1[9];
-    SK_TRY(reference_gradients(el->type, dim, nen, X, qxi + q * dim, qw[q], NULL, cache.dNdX[q], &cache.wdet[q], q));
-    displacement_gradient(dim, nen, cache.dNdX[q], u0, H0);
-    displacement_gradient(dim, nen, cache.dNdX[q], u1, H1);
+    displacement_gradient(dim, nen, dNdX, u0, H0);
+    displacement_gradient(dim, nen, dNdX, u1, H1);
     SK_TRY(kinematics(el, H0, F0, C0, q));
     SK_TRY(kinematics(el, H1, cache.F1[q], C1, q));
     for (int i = 0; i < 9; ++i) cache.F[q][i] = 0.5 * (F0[i] + cache.F1[q][i]);
@@ -305,9 +357,11 @@ sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const 
   if (K) memset(K, 0, (size_t)ndof * ndof * sizeof *K);
   /* dF_mid/du1 = 1/2 dF1/du1: the geometric term carries a factor 1/2. */
   const double geometric = el->mat->model == SK_MAT_HOOKE ? 0.0 : 0.5;
-  for (int q = 0; q < nq; ++q)
-    assemble_qp_any(dim, nen, cache.wdet[q], cache.dNdX[q], cache.F[q], cache.F1[q], cache.S[q], cache.D[q],
-                    geometric, 0, f, K);
+  for (int q = 0; q < nq; ++q) {
+    const double *dNdX = geometry + q * stride;
+    assemble_qp_any(dim, nen, dNdX[stride - 1], dNdX, cache.F[q], cache.F1[q], cache.S[q], cache.D[q], geometric, 0,
+                    f, K);
+  }
   return SK_OK;
 }
 

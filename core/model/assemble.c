@@ -27,19 +27,28 @@ static sk_status inverted(const sk_body *body, int element) {
   return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, element - body->first_element);
 }
 
-sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n_out,
-                            double *f, double *K) {
+sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, const double *geometry,
+                            int *dofs, int *n_out, double *f, double *K) {
   const sk_body *body;
   int n = sk_element_dofs(model, element, dofs, &body, NULL);
   double X[SK_MAX_NEN * 3], u[SK_MAX_NEN * 3], u0[SK_MAX_NEN * 3];
-  gather(n, dofs, model->X, X);
   gather(n, dofs, state->u, u);
+  sk_status status;
   if (state->integrator->discrete_gradient) {
     gather(n, dofs, state->u_n, u0);
-    if (sk_solid_internal_midpoint(&body->solid, X, u0, u, f, K) != SK_OK) return inverted(body, element);
+    if (geometry) {
+      status = sk_solid_internal_midpoint_at(&body->solid, geometry, u0, u, f, K);
+    } else {
+      gather(n, dofs, model->X, X);
+      status = sk_solid_internal_midpoint(&body->solid, X, u0, u, f, K);
+    }
+  } else if (geometry) {
+    status = sk_solid_internal_at(&body->solid, geometry, u, NULL, f, K);
   } else {
-    if (sk_solid_internal(&body->solid, X, u, NULL, f, K) != SK_OK) return inverted(body, element);
+    gather(n, dofs, model->X, X);
+    status = sk_solid_internal(&body->solid, X, u, NULL, f, K);
   }
+  if (status != SK_OK) return inverted(body, element);
   *n_out = n;
   return sk_element_inertia(model, state, element, dofs, f, K);
 }

@@ -20,9 +20,10 @@ int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body
 
 /* Element e's residual f = c M (u - u_n - dt v_n) + f_int - M b (b the body force per unit mass) and, when K is not
  * NULL, its Jacobian (row-major, zeroed by the caller); n = nen*dim, dofs its global dof ids. SK_ERR_INVERTED (with
- * a message naming the body and element) when the element is inverted. */
-sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, int *dofs, int *n,
-                            double *f, double *K);
+ * a message naming the body and element) when the element is inverted. `geometry`: the element's reference
+ * geometry (sk_solid_geometry), or NULL to compute it from the coordinates. */
+sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, const double *geometry,
+                            int *dofs, int *n, double *f, double *K);
 
 /* The inertia and body-force part of sk_element_system alone, added to f (and K when not NULL): for a bulk term that
  * keeps the internal part's constant stiffness (hooke). dofs from sk_element_dofs. */

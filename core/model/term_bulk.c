@@ -16,8 +16,15 @@ typedef struct {
   double *K;        /* one element Jacobian (too large for the stack of deep call chains) */
   double *K_const;  /* linear material (no stiffness-update need): the stiffness of this rank's elements, in loop
                        order, nd x nd each, computed at set-up; NULL otherwise */
-  int nd;           /* dofs per element */
+  double *geometry; /* the reference geometry (sk_solid_geometry) of this rank's elements, in loop order; NULL when
+                       the stiffness is constant or the cache would exceed GEOMETRY_CACHE_LIMIT */
+  int geometry_size; /* doubles per element */
+  int nd;            /* dofs per element */
 } bulk_term;
+
+/* Bytes per rank up to which the reference geometry is cached: 26 MB for the paper-size tori (2 x 8024 hex8), where
+ * recomputing it was 10 % of the run's CPU (docs/linear-solvers.md); a larger body recomputes it per evaluation. */
+static const double GEOMETRY_CACHE_LIMIT = 512.0 * 1024 * 1024;
 
 static sk_bulk_state bulk_state(const sk_system *sys, const sk_body *body) {
   const sk_time_integrator *integrator = body->integrator;
@@ -38,6 +45,7 @@ static void bulk_destroy(sk_term *base) {
   free(term->dofs);
   free(term->K);
   free(term->K_const);
+  free(term->geometry);
   free(term);
 }
 
@@ -63,6 +71,11 @@ static sk_status bulk_pattern(sk_term *base, sk_system *sys, unsigned char *rows
     for (int j = 0; j < nd; ++j) rows[dofs[j]] = 1;
   }
   return SK_OK;
+}
+
+/* The cached reference geometry of the own-th element of this rank's loop, or NULL (computed from coordinates). */
+static const double *element_geometry(const bulk_term *term, int64_t own) {
+  return term->geometry ? term->geometry + own * term->geometry_size : NULL;
 }
 
 /* The internal force of a linear element from its constant stiffness: f = K u, or K (u_n + u)/2 for the midpoint
@@ -97,7 +110,7 @@ static sk_status bulk_residual(sk_term *base, sk_system *sys) {
       SK_TRY(constant_element(sys, &state, e, term->K_const + nd2 * own++, dofs, f));
       n = term->nd;
     } else {
-      SK_TRY(sk_element_system(m, &state, e, dofs, &n, f, NULL));
+      SK_TRY(sk_element_system(m, &state, e, element_geometry(term, own++), dofs, &n, f, NULL));
     }
     for (int k = 0; k < n; ++k) sys->F_local[dofs[k]] += f[k];
   }
@@ -125,7 +138,7 @@ static sk_status bulk_jacobian(sk_term *base, sk_system *sys) {
       SK_TRY(sk_element_inertia(m, &state, e, dofs, f, term->K));
     } else {
       memset(term->K, 0, sizeof(double) * (size_t)nd2);
-      SK_TRY(sk_element_system(m, &state, e, dofs, &n, f, term->K));
+      SK_TRY(sk_element_system(m, &state, e, element_geometry(term, own++), dofs, &n, f, term->K));
     }
     const int64_t *pos = sys->elem_pos + sys->elem_pos_offset[e];
     for (int i = 0; i < n * n; ++i) sys->values[pos[i]] += term->K[i];
@@ -191,10 +204,15 @@ static void declare_needs(const sk_model *m, const sk_body *body, sk_needs *need
                      body->integrator->name);
 }
 
-/* The stiffness of this rank's elements at u = 0 (a linear material's stiffness at every u). */
-static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk_body *body) {
+static int64_t owned_elements(const sk_model *m, const sk_body *body) {
   int64_t own = 0;
   for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) own += m->element_part[e] == m->rank;
+  return own;
+}
+
+/* The stiffness of this rank's elements at u = 0 (a linear material's stiffness at every u). */
+static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk_body *body) {
+  int64_t own = owned_elements(m, body);
   const int64_t nd2 = (int64_t)term->nd * term->nd;
   term->K_const = calloc((size_t)(own * nd2 > 0 ? own * nd2 : 1), sizeof(double));
   if (!term->K_const)
@@ -212,6 +230,31 @@ static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk
       return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, e - body->first_element);
   }
   return SK_OK;
+}
+
+/* The reference geometry of this rank's elements, when it fits GEOMETRY_CACHE_LIMIT. Without it (no memory, or a
+ * degenerate element, which the first evaluation then reports by name) the elements compute it themselves. */
+static void cache_geometry(bulk_term *term, const sk_model *m, const sk_body *body) {
+  int64_t own = owned_elements(m, body);
+  term->geometry_size = sk_solid_geometry_size(&body->solid);
+  const double bytes = (double)own * term->geometry_size * sizeof(double);
+  if (own == 0 || bytes > GEOMETRY_CACHE_LIMIT) return;
+  term->geometry = malloc((size_t)bytes);
+  if (!term->geometry) return;
+  double X[SK_MAX_NEN * 3];
+  int dofs[SK_MAX_NEN * 3];
+  own = 0;
+  for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) {
+    if (m->element_part[e] != m->rank) continue;
+    const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
+    for (int j = 0; j < nd; ++j) X[j] = m->X[dofs[j]];
+    if (sk_solid_geometry(&body->solid, X, term->geometry + own++ * term->geometry_size) != SK_OK) {
+      sk_error_clear();
+      free(term->geometry);
+      term->geometry = NULL;
+      return;
+    }
+  }
 }
 
 sk_status sk_term_bulk_create(sk_system *sys, int body_index, sk_term **out) {
@@ -252,6 +295,8 @@ sk_status sk_term_bulk_create(sk_system *sys, int body_index, sk_term **out) {
   sk_status status = SK_OK;
   if (!term->base.needs.needed[SK_NEED_STIFFNESS_UPDATE] && !sk_need_forced(SK_NEED_STIFFNESS_UPDATE))
     status = constant_stiffness(term, m, body);
+  else
+    cache_geometry(term, m, body);
   if (status != SK_OK) {
     bulk_destroy(&term->base);
     return status;

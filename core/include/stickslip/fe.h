@@ -100,6 +100,17 @@ sk_status sk_solid_internal(const sk_solid *el, const double *X, const double *u
 sk_status sk_solid_internal_midpoint(const sk_solid *el, const double *X, const double *u0, const double *u1,
                                      double *f, double *K);
 
+/* The reference geometry of a solid element: dN/dX and weight * det J at its stiffness quadrature points, which
+ * depend on the reference coordinates only. A body computes it once (sk_solid_geometry_size doubles per element)
+ * and evaluates its elements with the _at kernels instead of recomputing it in every Newton iteration; the results
+ * are bitwise those of the coordinate-taking kernels. SK_ERR_INPUT when det J <= 0 (degenerate element). */
+int sk_solid_geometry_size(const sk_solid *el);
+sk_status sk_solid_geometry(const sk_solid *el, const double *X, double *geometry);
+sk_status sk_solid_internal_at(const sk_solid *el, const double *geometry, const double *u, double *W, double *f,
+                               double *K);
+sk_status sk_solid_internal_midpoint_at(const sk_solid *el, const double *geometry, const double *u0,
+                                        const double *u1, double *f, double *K);
+
 /* Consistent mass matrix, scalar form M[a*nen + b] = integral rho0 N_a N_b (expand per component). Integrated
  * exactly also on distorted quads/hexes (3 or 5 Gauss points per direction), so sum_ab M_ab X_a X_b^T is the exact
  * inertia integral rho0 X X^T. */

@@ -1,11 +1,33 @@
 /* Energy-momentum midpoint force (Gonzalez discrete gradient): f.(u1 - u0) = W(u1) - W(u0) to round-off at large
  * strain, K = df/du1 against central differences, zero total force and zero total moment about the midpoint
  * configuration, the limit u1 -> u0 (force of the midpoint state, half the stiffness), and accuracy for tiny
- * steps (no cancellation blow-up of the correction). */
+ * steps (no cancellation blow-up of the correction); the kernels on a cached reference geometry equal the
+ * coordinate-taking ones bitwise. */
+#include <string.h>
+
 #include "fe_test_util.h"
 #include "sk_test.h"
 
 static sk_material materials[SK_MAT_MODEL_COUNT];
+
+/* The kernels on a precomputed reference geometry (what a body caches) give bitwise the results of the
+ * coordinate-taking kernels, f and K of the midpoint force and W, f, K of the state. */
+static void check_cached_geometry(const sk_solid *el, const double *X, const double *u0, const double *u1,
+                                  const double *f, const double *K) {
+  const int ndof = sk_elem_nen(el->type) * el->dim;
+  static double geometry[SK_MAX_QP * (SK_MAX_NEN * 3 + 1)], Kc[SK_MAX_NEN * 3 * SK_MAX_NEN * 3],
+      Kx[SK_MAX_NEN * 3 * SK_MAX_NEN * 3];
+  double fc[SK_MAX_NEN * 3], fx[SK_MAX_NEN * 3], Wc = 0.0, Wx = 0.0;
+  SK_CHECK(sk_solid_geometry_size(el) <= (int)(sizeof geometry / sizeof *geometry));
+  SK_CHECK(sk_solid_geometry(el, X, geometry) == SK_OK);
+  SK_CHECK(sk_solid_internal_midpoint_at(el, geometry, u0, u1, fc, Kc) == SK_OK);
+  SK_CHECK(memcmp(fc, f, sizeof(double) * (size_t)ndof) == 0);
+  SK_CHECK(memcmp(Kc, K, sizeof(double) * (size_t)ndof * (size_t)ndof) == 0);
+  SK_CHECK(sk_solid_internal_at(el, geometry, u1, &Wc, fc, Kc) == SK_OK);
+  SK_CHECK(sk_solid_internal(el, X, u1, &Wx, fx, Kx) == SK_OK);
+  SK_CHECK(Wc == Wx && memcmp(fc, fx, sizeof(double) * (size_t)ndof) == 0);
+  SK_CHECK(memcmp(Kc, Kx, sizeof(double) * (size_t)ndof * (size_t)ndof) == 0);
+}
 
 static void check_midpoint(sk_elem_type type, int dim, const sk_material *mat) {
   const int nen = sk_elem_nen(type), ndof = nen * dim;
@@ -28,6 +50,7 @@ static void check_midpoint(sk_elem_type type, int dim, const sk_material *mat) {
     if (fabs(W1 - W0) > 1e-2 * (fabs(W0) + fabs(W1))) break;
   }
   SK_CHECK(sk_solid_internal_midpoint(&el, X, u0, u1, f, K) == SK_OK);
+  check_cached_geometry(&el, X, u0, u1, f, K);
   double work = 0.0;
   for (int i = 0; i < ndof; ++i) work += f[i] * (u1[i] - u0[i]);
   const double energy_error = fabs(work - (W1 - W0)) / (fabs(W0) + fabs(W1));
