@@ -111,7 +111,10 @@ void prepare_blocks(sk_linear_system *sys) {
 RCP<Matrix> nodal_matrix(sk_linear_system *sys) { return sys->n_nodal < sys->n ? sys->nodal.matrix : sys->matrix; }
 
 NodalPreconditioner &preconditioner_of(sk_linear_system *sys, sk_linear_solver_kind kind) {
-  return sys->preconditioners[kind == SK_LINEAR_GMRES_MUELU ? 0 : kind == SK_LINEAR_GMRES_ILU ? 1 : 2];
+  return sys->preconditioners[kind == SK_LINEAR_GMRES_MUELU ? 0
+                              : kind == SK_LINEAR_GMRES_ILU ? 1
+                              : kind == SK_LINEAR_GMRES_SGS ? 2
+                                                            : 3];
 }
 
 // (Re)computes the preconditioner of the nodal block for the current values. `full`: from scratch (aggregates
@@ -142,7 +145,7 @@ void compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind k
       params.set("fact: iluk level-of-fill", 1);
     } else {
       p.ifpack = Ifpack2::Factory::create<RowMatrix>("RELAXATION", k);
-      params.set("relaxation: type", "Symmetric Gauss-Seidel");
+      params.set("relaxation: type", kind == SK_LINEAR_GMRES_SGS ? "Symmetric Gauss-Seidel" : "Jacobi");
     }
     p.ifpack->setParameters(params);
     p.ifpack->initialize();
@@ -203,7 +206,7 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   NodalPreconditioner &p = preconditioner_of(sys, kind);
   const bool have = !p.op().is_null();
   bool fresh = false;
-  if (!have || p.refresh || kind == SK_LINEAR_GMRES_SGS) {
+  if (!have || p.refresh || kind == SK_LINEAR_GMRES_SGS || kind == SK_LINEAR_GMRES_JACOBI) {
     compute_nodal_preconditioner(sys, kind, !have);
     report->refactored_symbolic = !have;
     fresh = true;

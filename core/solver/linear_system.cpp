@@ -301,6 +301,7 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
                {"gmres-muelu", SK_LINEAR_GMRES_MUELU},
                {"gmres-ilu", SK_LINEAR_GMRES_ILU},
                {"gmres-sgs", SK_LINEAR_GMRES_SGS},
+               {"gmres-jacobi", SK_LINEAR_GMRES_JACOBI},
                {"auto", SK_LINEAR_AUTO},
                {"mumps", SK_LINEAR_DIRECT_MUMPS},
                {"klu2", SK_LINEAR_DIRECT_KLU2},
@@ -311,7 +312,7 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
       return SK_OK;
     }
   }
-  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, gmres-sgs, auto, mumps, "
+  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, gmres-sgs, gmres-jacobi, auto, mumps, "
                       "klu2 or klu)",
                       name ? name : "(null)");
 }
@@ -322,6 +323,7 @@ const char *sk_linear_solver_name(sk_linear_solver_kind kind) {
     case SK_LINEAR_GMRES_MUELU: return "gmres-muelu";
     case SK_LINEAR_GMRES_ILU: return "gmres-ilu";
     case SK_LINEAR_GMRES_SGS: return "gmres-sgs";
+    case SK_LINEAR_GMRES_JACOBI: return "gmres-jacobi";
     case SK_LINEAR_AUTO: return "auto";
     case SK_LINEAR_DIRECT_MUMPS: return "mumps";
     case SK_LINEAR_DIRECT_KLU2: return "klu2";
@@ -344,7 +346,7 @@ sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_l
     static_assert(sizeof(sk_linear_solver_kind) == sizeof(int), "the enum is read as an int");
     int kind_value;
     std::memcpy(&kind_value, &created->options.kind, sizeof kind_value);
-    if (kind_value < SK_LINEAR_DIRECT || kind_value > SK_LINEAR_GMRES_SGS)
+    if (kind_value < SK_LINEAR_DIRECT || kind_value > SK_LINEAR_GMRES_JACOBI)
       return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", kind_value);
     if (!(created->options.tolerance > 0) || created->options.max_iterations < 1)
       return sk_error_set(SK_ERR_INPUT, "linear system: tolerance (%g) and max_iterations (%d) must be positive",
@@ -385,7 +387,7 @@ void sk_linsys_forget_setup(sk_linear_system *sys) {
 }
 
 sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind) {
-  if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_GMRES_SGS)
+  if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_GMRES_JACOBI)
     return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)kind);
   sys->options.kind = kind;
   return SK_OK;

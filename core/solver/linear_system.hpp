@@ -76,8 +76,8 @@ struct ConstraintBlock;  // constraint_block.cpp
 struct AutoChoice;       // auto_choice.cpp
 
 // The solvers `auto` chooses among (auto_choice.cpp), and what it remembers of each, across pattern changes.
-enum { kAutoCandidates = 3 };
-extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];  // mumps, gmres-muelu, gmres-sgs
+enum { kAutoCandidates = 4 };
+extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];  // mumps, gmres-muelu, gmres-sgs, gmres-jacobi
 
 struct AutoMemory {
   struct Candidate {
@@ -102,7 +102,7 @@ struct AutoMemory {
 // A preconditioner of the nodal block, kept across solves and pattern changes (iterative_solvers.cpp).
 struct NodalPreconditioner {
   RCP<MueLuOperator> muelu;           // GMRES_MUELU
-  RCP<Ifpack2Preconditioner> ifpack;  // GMRES_ILU, GMRES_SGS
+  RCP<Ifpack2Preconditioner> ifpack;  // GMRES_ILU, GMRES_SGS, GMRES_JACOBI
   RCP<const Matrix> matrix;           // the K object it was initialised on
   int iterations = 0;                 // GMRES iterations of the first solve after its last computation
   bool refresh = false;               // a later solve needed clearly more iterations: recompute next time
@@ -180,7 +180,7 @@ struct sk_linear_system {
   // refreshed); the constraint rows' Schur complement (constraint_block.cpp)
   RCP<const Map> nodal_map;
   stickslip::bridge::SubMatrix nodal;        // K when there are constraint rows (else unused: K is `matrix`)
-  stickslip::bridge::NodalPreconditioner preconditioners[3];  // by kind: GMRES_MUELU, GMRES_ILU, GMRES_SGS
+  stickslip::bridge::NodalPreconditioner preconditioners[4];  // by kind: GMRES_MUELU, GMRES_ILU, GMRES_SGS, GMRES_JACOBI
   std::unique_ptr<stickslip::bridge::ConstraintBlock> constraints;
 
   stickslip::bridge::AutoMemory auto_memory;

@@ -148,8 +148,8 @@ static void check_contact_system(void) {
   sk_linsys_destroy(serial);
   double largest = 0;
   for (int i = 0; i < n; ++i) largest = fmax(largest, fabs(x_serial[i]));
-  const sk_linear_solver_kind kinds[] = {SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU, SK_LINEAR_GMRES_SGS,
-                                         SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_AUTO};
+  const sk_linear_solver_kind kinds[] = {SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU,    SK_LINEAR_GMRES_SGS,
+                                         SK_LINEAR_GMRES_JACOBI, SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_AUTO};
   for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
     sk_linear_system *sys = create_split_with(MPI_COMM_WORLD, kinds[k], 1, coordinates, m * m * m, &a);
     SK_CHECK(sys != NULL);

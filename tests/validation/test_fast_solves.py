@@ -25,7 +25,7 @@ def two_tori_coarse_iterative_vs_direct(c):
     angular = max(norm3(r, "angular_momentum_") for r in rows)
     force = max(norm3(r, "contact_force_") for r in rows)
     moment = max(norm3(r, "contact_moment_") for r in rows)
-    for solver in ("gmres-muelu", "gmres-sgs"):
+    for solver in ("gmres-muelu", "gmres-sgs", "gmres-jacobi"):
         other, _ = run(SCENE, "--steps", STEPS, "--set", "solver.linear.solver=" + solver)
         used = other.summary["linear_solvers_used"]
         c.check(used == "%s (steps 1-%s)" % (solver, STEPS), "%s ran every step: %s" % (solver, used))

@@ -24,13 +24,15 @@ typedef enum {
   SK_LINEAR_GMRES_MUELU,  /* Belos GMRES preconditioned by MueLu smoothed-aggregation AMG on the nodal block, the
                              constraint rows (if any) through their Schur complement (docs/linear-solvers.md) */
   SK_LINEAR_GMRES_ILU,    /* the same with Ifpack2 ILU(k) in place of AMG */
-  SK_LINEAR_AUTO,         /* the default: MUMPS, GMRES + MueLu or GMRES + SGS from measurements (docs/linear-solvers.md) */
+  SK_LINEAR_AUTO,         /* the default: MUMPS, GMRES + MueLu, + SGS or + Jacobi from measurements (docs/linear-solvers.md) */
   SK_LINEAR_DIRECT_MUMPS, /* Amesos (v1, Epetra) MUMPS: multifrontal LU, factorised in parallel on the distributed matrix */
   SK_LINEAR_DIRECT_KLU2,  /* Amesos2 KLU2; on more than one rank the matrix is gathered and factorised on rank 0
                              (Debian's Trilinos 13.2 KLU2 gives wrong answers on distributed matrices) */
   SK_LINEAR_DIRECT_KLU,   /* Amesos (v1, Epetra) KLU (gathers to rank 0 itself) */
-  SK_LINEAR_GMRES_SGS     /* the same with one symmetric Gauss-Seidel sweep in place of AMG: no set-up, cheapest
-                             per iteration; its iterations grow under refinement unless inertia dominates */
+  SK_LINEAR_GMRES_SGS,    /* the same with one symmetric Gauss-Seidel sweep in place of AMG: no set-up, cheap per
+                             iteration; its iterations grow under refinement unless inertia dominates */
+  SK_LINEAR_GMRES_JACOBI  /* the same with point Jacobi (diagonal scaling): the cheapest per iteration, for systems
+                             whose mass term dominates (explicit-like time steps) */
 } sk_linear_solver_kind;
 
 typedef struct {
@@ -71,7 +73,7 @@ typedef struct {
 typedef struct sk_linear_system sk_linear_system;
 
 void sk_linear_options_default(sk_linear_options *options);
-/* direct | gmres-muelu | gmres-ilu | gmres-sgs | auto | mumps | klu2 | klu */
+/* direct | gmres-muelu | gmres-ilu | gmres-sgs | gmres-jacobi | auto | mumps | klu2 | klu */
 sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *kind);
 const char *sk_linear_solver_name(sk_linear_solver_kind kind);
 
