@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Details_initializeKokkos.hpp>
@@ -157,8 +158,10 @@ void gather_from(const sk_linear_system *sys, const Vector &v, double *replicate
                  MPI_DOUBLE, sys->comm);
 }
 
-double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x) {
-  Vector r(sys->row_map);
+double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual) {
+  std::optional<Vector> scratch;
+  if (!residual) residual = &scratch.emplace(sys->row_map);
+  Vector &r = *residual;
   sys->matrix->apply(x, r);
   r.update(1.0, b, -1.0);
   const double norm_b = b.norm2();
@@ -563,9 +566,9 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
   report->solved = 1;
   report->seconds = now_seconds() - start;
   if (sys->options.verbose && sys->rank == 0)
-    std::printf("linear solve (%s): n = %d, %d iterations, relative residual %.3g, %.3f s\n",
-                sk_linear_solver_name(report->solver), sys->n, report->iterations, report->relative_residual,
-                report->seconds);
+    std::printf("linear solve (%s): n = %d, %d iterations, %d refinements, relative residual %.3g, %.3f s\n",
+                sk_linear_solver_name(report->solver), sys->n, report->iterations, report->refinements,
+                report->relative_residual, report->seconds);
   return status;
 }
 

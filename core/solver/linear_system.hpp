@@ -194,7 +194,8 @@ namespace stickslip::bridge {
 // linear_system.cpp
 void scatter_to(const sk_linear_system *sys, const double *replicated, Vector &v);
 void gather_from(const sk_linear_system *sys, const Vector &v, double *replicated);
-double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x);
+// ||b - A x|| / ||b|| (||b - A x|| when b = 0); the residual b - A x into *residual when given
+double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual = nullptr);
 sk_status agree(MPI_Comm comm, sk_status local, const char *what);
 RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
                          const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,

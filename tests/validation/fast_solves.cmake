@@ -1,3 +1,5 @@
 # The iterative linear path on a contact run (issue 8): GMRES + MueLu / SGS against MUMPS on the coarse two-tori,
 # 12 steps (~10 s).
 stickslip_scene_tests(test_fast_solves.py two_tori_coarse_iterative_vs_direct)
+# MUMPS's iterative refinement on a saddle point with changed contact rows: two elements to t = 6 (~5 s).
+stickslip_scene_tests(test_fast_solves.py direct_solve_refinement)

@@ -68,6 +68,7 @@ typedef struct {
   int refactored_symbolic;       /* 1 when a symbolic factorisation / preconditioner set-up had to be redone */
   const char *decision;          /* `auto` decided in this solve: what and why (valid until the next solve); or NULL */
   int solved;                    /* 1 when a solver ran (0: b = 0 gave x = 0 without one) */
+  int refinements;               /* iterative-refinement corrections a direct solve needed (0: at round-off at once) */
 } sk_linear_report;
 
 typedef struct sk_linear_system sk_linear_system;
