@@ -8,7 +8,8 @@ and the plot in docs/benchmarks.md. Formats and design: docs/benchmarks.md.
   python3 tests/bench/workprecision.py --list                        # benchmarks, declarations, runs they expand to
   python3 tests/bench/workprecision.py --check [--strict]            # + `stickslip check` of one run per curve
   options: --quick (the benchmarks' quick subsets; docs untouched unless --docs), --fresh (rerun finished runs),
-           --plugin NAME (only these plugins), --jobs N (runs at once, default 1), --binary PATH"""
+           --plugin NAME (only these plugins; docs untouched unless --docs: the table would lose the others),
+           --jobs N (runs at once, default 1), --binary PATH"""
 import argparse
 import os
 import subprocess
@@ -203,7 +204,7 @@ def main():
             sys.exit("workprecision: %s" % e)
         if records is None:
             continue
-        if not args.quick or args.docs:
+        if not (args.quick or args.plugin) or args.docs:
             ref = dec.reference_run(bench)
             ref_record = runner.execute(ref, bench.name, bench.timeout, False, args.binary)[0] if ref else None
             document(bench, records, notes, args, ref_record)
