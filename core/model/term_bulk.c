@@ -210,6 +210,12 @@ static int64_t owned_elements(const sk_model *m, const sk_body *body) {
   return own;
 }
 
+/* Element e's dofs and their reference coordinates. */
+static void reference_coordinates(const sk_model *m, int e, int *dofs, double *X) {
+  const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
+  for (int j = 0; j < nd; ++j) X[j] = m->X[dofs[j]];
+}
+
 /* The stiffness of this rank's elements at u = 0 (a linear material's stiffness at every u). */
 static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk_body *body) {
   int64_t own = owned_elements(m, body);
@@ -224,8 +230,7 @@ static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk
   own = 0;
   for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) {
     if (m->element_part[e] != m->rank) continue;
-    const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
-    for (int j = 0; j < nd; ++j) X[j] = m->X[dofs[j]];
+    reference_coordinates(m, e, dofs, X);
     if (sk_solid_internal(&body->solid, X, zero, NULL, NULL, term->K_const + nd2 * own++) != SK_OK)
       return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, e - body->first_element);
   }
@@ -246,8 +251,7 @@ static void cache_geometry(bulk_term *term, const sk_model *m, const sk_body *bo
   own = 0;
   for (int e = body->first_element; e < body->first_element + body->group->n_elems; ++e) {
     if (m->element_part[e] != m->rank) continue;
-    const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
-    for (int j = 0; j < nd; ++j) X[j] = m->X[dofs[j]];
+    reference_coordinates(m, e, dofs, X);
     if (sk_solid_geometry(&body->solid, X, term->geometry + own++ * term->geometry_size) != SK_OK) {
       sk_error_clear();
       free(term->geometry);
