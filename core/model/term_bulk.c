@@ -136,8 +136,7 @@ static sk_status bulk_jacobian(sk_term *base, sk_system *sys) {
       n = sk_element_dofs(m, e, dofs, NULL, NULL);
       memset(f, 0, sizeof(double) * (size_t)n); /* the inertia adds its force too; only K is used here */
       SK_TRY(sk_element_inertia(m, &state, e, dofs, f, term->K));
-    } else {
-      memset(term->K, 0, sizeof(double) * (size_t)nd2);
+    } else { /* the solid kernel zeroes K itself */
       SK_TRY(sk_element_system(m, &state, e, element_geometry(term, own++), dofs, &n, f, term->K));
     }
     const int64_t *pos = sys->elem_pos + sys->elem_pos_offset[e];
