@@ -531,6 +531,9 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   SK_TRY(sk_cfg_int(newton, "max_active_set_loops", 0, 10, &solver->max_active_set_loops));
   if (solver->max_active_set_loops < 1)
     return fail_at(sk_cfg_get(newton, "max_active_set_loops"), "%s", "must be at least 1");
+  SK_TRY(sk_cfg_int(node, "pattern_margin", 0, 0, &solver->pattern_margin));
+  if (solver->pattern_margin < 0 || solver->pattern_margin > 3)
+    return fail_at(sk_cfg_get(node, "pattern_margin"), "%s", "must be 0..3");
   solver->newton.line_search = (sk_line_search)line_search;
   SK_TRY(sk_cfg_choice(linear, "solver", 0, linear_names, kind, &kind));
   solver->linear.kind = (sk_linear_solver_kind)kind;

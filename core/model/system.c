@@ -227,6 +227,7 @@ static sk_status layout_unknowns(sk_system *sys, int again, int *changed) {
     term->n_extra = 0;
     term->initial = NULL;
     term->eliminated = NULL;
+    term->anchor = NULL;
     term->recover_needs_jdx = 0;
     if (!term->ops->layout) continue;
     sk_status status = term->ops->layout(term, sys);

@@ -89,6 +89,7 @@ struct sk_system {
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
   int64_t unknowns_max, linear_size_max;
+  int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
   int verbose;
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
   int forget_setup;    /* test switch STICKSLIP_NO_SKIP=symbolic-setup: every solve sets up as on a new pattern */

@@ -123,6 +123,7 @@ static sk_status hand_to_solver(sk_system *sys) {
   SK_TRY(sk_linsys_set_pattern(sys->linsys, (int)sys->n_kept, sys->row_ptr, sys->cols, sys->n_local_rows,
                                sys->local_rows));
   sys->values = sk_linsys_values(sys->linsys);
+  sys->pattern_builds++;
   return SK_OK;
 }
 
@@ -247,6 +248,203 @@ static sk_status grow_pattern(sk_system *sys, const int64_t *added, int64_t n_ad
   return hand_to_solver(sys);
 }
 
+static void sort_unique(int64_t *keys, int64_t *n) {
+  qsort(keys, (size_t)*n, sizeof(int64_t), compare_i64);
+  int64_t unique = 0;
+  for (int64_t k = 0; k < *n; ++k)
+    if (k == 0 || keys[k] != keys[unique - 1]) keys[unique++] = keys[k];
+  *n = unique;
+}
+
+/* The neighbourhoods the pattern widens over. Unknowns are grouped by "points": the mesh nodes (0 .. n_nodes-1,
+ * dim unknowns each), then one point per kept plugin unknown. A mesh node's neighbours are itself and the nodes of
+ * contact surfaces among its element graph's (the mass graph: interior nodes never enter a contact coupling, and
+ * widening through them filled the condensed operator for nothing); a plugin unknown's are the plugin unknowns
+ * anchored at the neighbours of its anchor node (sk_layout.extra_anchor), or itself without an anchor. */
+typedef struct {
+  const sk_model *m;
+  int64_t n_points;
+  int64_t *anchor_node;   /* per plugin unknown (kept numbering - n_dofs): its anchor node, or -1 */
+  int64_t *anchored_ptr;  /* n_nodes + 1: CSR of the plugin unknowns anchored at each node */
+  int64_t *anchored;
+  unsigned char *on_surface; /* n_nodes: 1 on a contact pair's slave or master surface */
+} widening;
+
+static void widening_free(widening *w) {
+  free(w->anchor_node);
+  free(w->anchored_ptr);
+  free(w->anchored);
+  free(w->on_surface);
+}
+
+static int widening_init(widening *w, const sk_system *sys) {
+  const sk_model *m = sys->model;
+  const int64_t n_plugin = sys->n_kept - m->n_dofs;
+  memset(w, 0, sizeof *w);
+  w->m = m;
+  w->n_points = m->n_nodes + n_plugin;
+  w->anchor_node = malloc(sizeof(int64_t) * (size_t)(n_plugin > 0 ? n_plugin : 1));
+  w->anchored_ptr = calloc((size_t)m->n_nodes + 1, sizeof(int64_t));
+  w->anchored = malloc(sizeof(int64_t) * (size_t)(n_plugin > 0 ? n_plugin : 1));
+  w->on_surface = calloc((size_t)m->n_nodes + 1, 1);
+  if (!w->anchor_node || !w->anchored_ptr || !w->anchored || !w->on_surface) {
+    widening_free(w);
+    return 0;
+  }
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const sk_contact_pair *pair = &m->pairs[k];
+    for (int j = 0; j < pair->slave.n_nodes; ++j) w->on_surface[pair->slave.nodes[j]] = 1;
+    for (int j = 0; !pair->has_obstacle && j < pair->master.n_nodes; ++j) w->on_surface[pair->master.nodes[j]] = 1;
+  }
+  for (int64_t e = 0; e < n_plugin; ++e) {
+    const int64_t full = sys->full_of_kept[m->n_dofs + e];
+    w->anchor_node[e] = -1;
+    for (int k = 0; k < sys->n_terms; ++k) {
+      const sk_term *term = sys->terms[k];
+      if (full < term->extra_offset || full >= term->extra_offset + term->n_extra) continue;
+      if (term->anchor && term->anchor[full - term->extra_offset] >= 0)
+        w->anchor_node[e] = term->anchor[full - term->extra_offset] / m->dim;
+      break;
+    }
+    if (w->anchor_node[e] >= 0) w->anchored_ptr[w->anchor_node[e] + 1]++;
+  }
+  for (int64_t a = 0; a < m->n_nodes; ++a) w->anchored_ptr[a + 1] += w->anchored_ptr[a];
+  int64_t *fill = calloc((size_t)m->n_nodes + 1, sizeof(int64_t));
+  if (!fill) {
+    widening_free(w);
+    return 0;
+  }
+  for (int64_t e = 0; e < n_plugin; ++e)
+    if (w->anchor_node[e] >= 0) {
+      const int64_t a = w->anchor_node[e];
+      w->anchored[w->anchored_ptr[a] + fill[a]++] = m->n_nodes + e;
+    }
+  free(fill);
+  return 1;
+}
+
+/* The neighbour points of `point` into out (when not NULL); returns how many. */
+static int64_t neighbours(const widening *w, int64_t point, int64_t *out) {
+  const sk_model *m = w->m;
+  int64_t n = 0;
+  if (point < m->n_nodes) {
+    for (int64_t j = m->mass_row_ptr[point]; j < m->mass_row_ptr[point + 1]; ++j) {
+      if (m->mass_cols[j] != point && !w->on_surface[m->mass_cols[j]]) continue;
+      if (out) out[n] = m->mass_cols[j];
+      ++n;
+    }
+    return n;
+  }
+  const int64_t a = w->anchor_node[point - m->n_nodes];
+  if (a < 0) {
+    if (out) out[0] = point;
+    return 1;
+  }
+  for (int64_t j = m->mass_row_ptr[a]; j < m->mass_row_ptr[a + 1]; ++j) {
+    const int64_t b = m->mass_cols[j];
+    for (int64_t k = w->anchored_ptr[b]; k < w->anchored_ptr[b + 1]; ++k) {
+      if (out) out[n] = w->anchored[k];
+      ++n;
+    }
+  }
+  return n;
+}
+
+/* Point pairs (a, b) -> (a', b) for every neighbour a' of a (side 0), or (a, b') (side 1); sorted, unique. */
+static int64_t *widen_pairs(const widening *w, const int64_t *pairs, int64_t n, int side, int64_t *n_out) {
+  const int64_t np = w->n_points;
+  int64_t count = 0;
+  for (int64_t k = 0; k < n; ++k) count += neighbours(w, side == 0 ? pairs[k] / np : pairs[k] % np, NULL);
+  int64_t *out = malloc(sizeof(int64_t) * (size_t)(count > 0 ? count : 1));
+  if (!out) return NULL;
+  int64_t used = 0;
+  for (int64_t k = 0; k < n; ++k) {
+    const int64_t a = pairs[k] / np, b = pairs[k] % np;
+    const int64_t first = used;
+    used += neighbours(w, side == 0 ? a : b, out + used);
+    for (int64_t j = first; j < used; ++j) out[j] = side == 0 ? out[j] * np + b : a * np + out[j];
+  }
+  sort_unique(out, &used);
+  *n_out = used;
+  return out;
+}
+
+/* The keys widened by `rings` rings of neighbours on both sides (see widening): the couplings a contact declares
+ * move with sliding to the neighbouring faces' nodes, and each growth of the pattern rebuilds the solver's matrix
+ * and the condensed operator (0.3 s per step on the full two-tori, where every contact step grew it by a few hundred
+ * keys). The added entries stay zero. Keys already in the pattern are dropped when `filter`. On failure (memory)
+ * the keys stay as they are: widening only saves work. */
+static void widen_keys(const sk_system *sys, int rings, int filter, int64_t **keys, int64_t *n_keys) {
+  const sk_model *m = sys->model;
+  const int64_t nk = sys->n_kept;
+  widening w;
+  if (rings <= 0 || *n_keys == 0 || !m->mass_row_ptr || !widening_init(&w, sys)) return;
+  const int64_t np = w.n_points;
+  int64_t n = *n_keys;
+  int64_t *pairs = malloc(sizeof(int64_t) * (size_t)n);
+  if (!pairs) {
+    widening_free(&w);
+    return;
+  }
+  for (int64_t k = 0; k < n; ++k) {
+    const int64_t r = (*keys)[k] / nk, c = (*keys)[k] % nk;
+    pairs[k] = (r < m->n_dofs ? r / m->dim : m->n_nodes + (r - m->n_dofs)) * np +
+               (c < m->n_dofs ? c / m->dim : m->n_nodes + (c - m->n_dofs));
+  }
+  sort_unique(pairs, &n);
+  /* plugin unknowns are coupled among themselves only as declared: a multiplier's block with its neighbours' would
+   * break the block-diagonal D that condensation eliminates through (and fill the condensed operator) */
+  const int64_t n_declared_pairs = n;
+  int64_t *declared_pairs = malloc(sizeof(int64_t) * (size_t)n);
+  if (!declared_pairs) {
+    free(pairs);
+    widening_free(&w);
+    return;
+  }
+  memcpy(declared_pairs, pairs, sizeof(int64_t) * (size_t)n);
+  for (int ring = 0; ring < 2 * rings && pairs; ++ring) {
+    int64_t *wider = widen_pairs(&w, pairs, n, ring % 2, &n);
+    free(pairs);
+    pairs = wider;
+  }
+  widening_free(&w);
+  if (pairs) {
+    int64_t kept = 0;
+    for (int64_t k = 0; k < n; ++k) {
+      const int both_plugin = pairs[k] / np >= m->n_nodes && pairs[k] % np >= m->n_nodes;
+      if (!both_plugin ||
+          bsearch(&pairs[k], declared_pairs, (size_t)n_declared_pairs, sizeof(int64_t), compare_i64))
+        pairs[kept++] = pairs[k];
+    }
+    n = kept;
+  }
+  free(declared_pairs);
+  if (!pairs) return;
+  /* the unknowns of each point pair (dim x dim, or fewer for plugin unknowns) */
+  int64_t count = 0;
+  for (int64_t k = 0; k < n; ++k)
+    count += (int64_t)(pairs[k] / np < m->n_nodes ? m->dim : 1) * (pairs[k] % np < m->n_nodes ? m->dim : 1);
+  int64_t *wide = malloc(sizeof(int64_t) * (size_t)(count > 0 ? count : 1));
+  if (!wide) {
+    free(pairs);
+    return;
+  }
+  int64_t used = 0;
+  for (int64_t k = 0; k < n; ++k) {
+    const int64_t a = pairs[k] / np, b = pairs[k] % np;
+    const int64_t r0 = a < m->n_nodes ? a * m->dim : m->n_dofs + (a - m->n_nodes), nr = a < m->n_nodes ? m->dim : 1;
+    const int64_t c0 = b < m->n_nodes ? b * m->dim : m->n_dofs + (b - m->n_nodes), nc = b < m->n_nodes ? m->dim : 1;
+    for (int64_t r = r0; r < r0 + nr; ++r)
+      for (int64_t c = c0; c < c0 + nc; ++c)
+        if (!filter || sk_system_position(sys, (int)r, (int)c) < 0) wide[used++] = r * nk + c;
+  }
+  free(pairs);
+  sort_unique(wide, &used);
+  free(*keys);
+  *keys = wide;
+  *n_keys = used;
+}
+
 /* Merges keys of all ranks into extra_keys (collective; sorted, unique); *added (malloc'd, when asked for) gets
  * the keys of all ranks, sorted and unique. */
 static sk_status merge_keys(sk_system *sys, const int64_t *mine, int64_t n_mine, int64_t **added, int64_t *n_added) {
@@ -275,22 +473,17 @@ static sk_status merge_keys(sk_system *sys, const int64_t *mine, int64_t n_mine,
   free(counts);
   free(displs);
   if (added) {
-    int64_t *tail = merged + sys->n_extra_keys, unique_tail = 0;
-    qsort(tail, (size_t)total, sizeof(int64_t), compare_i64);
-    for (int64_t k = 0; k < total; ++k)
-      if (k == 0 || tail[k] != tail[unique_tail - 1]) tail[unique_tail++] = tail[k];
+    int64_t *tail = merged + sys->n_extra_keys, unique_tail = total;
+    sort_unique(tail, &unique_tail);
     *added = malloc(sizeof(int64_t) * (size_t)(unique_tail > 0 ? unique_tail : 1));
     if (!*added) return out_of_memory("the pattern exchange", unique_tail);
     memcpy(*added, tail, sizeof(int64_t) * (size_t)unique_tail);
     *n_added = unique_tail;
     total = unique_tail;
   }
-  const int64_t n = sys->n_extra_keys + total;
-  qsort(merged, (size_t)n, sizeof(int64_t), compare_i64);
-  int64_t unique = 0;
-  for (int64_t k = 0; k < n; ++k)
-    if (k == 0 || merged[k] != merged[unique - 1]) merged[unique++] = merged[k];
-  sys->n_extra_keys = unique;
+  int64_t n = sys->n_extra_keys + total;
+  sort_unique(merged, &n);
+  sys->n_extra_keys = n;
   return SK_OK;
 }
 
@@ -342,12 +535,18 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   int any = unique > 0 || rows_changed || renumbered, anywhere = 0;
   MPI_Allreduce(&any, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
   if (!anywhere) return SK_OK;
+  const int rings = sys->solver ? sys->solver->pattern_margin : 0;
+  int64_t *added = NULL, n_added = 0;
   if (renumbered) {
-    SK_TRY(merge_keys(sys, sys->declared, unique, NULL, NULL));
+    SK_TRY(merge_keys(sys, sys->declared, unique, &added, &n_added));
+    widen_keys(sys, rings, 0, &added, &n_added);
+    free(sys->extra_keys); /* all ranks' keys, widened alike on every rank */
+    sys->extra_keys = added;
+    sys->n_extra_keys = n_added;
     return build_pattern(sys);
   }
-  int64_t *added = NULL, n_added = 0;
   sk_status grown = merge_keys(sys, sys->declared, unique, &added, &n_added);
+  if (grown == SK_OK) widen_keys(sys, rings, 1, &added, &n_added);
   if (grown == SK_OK) grown = grow_pattern(sys, added, n_added);
   free(added);
   return grown;

@@ -82,6 +82,8 @@ struct sk_term {
   int64_t extra_offset, n_extra;
   const double *initial;
   const unsigned char *eliminated;
+  const int64_t *anchor;           /* n_extra: an unknown of the mesh node each extra belongs to, or -1; NULL: none
+                                      (the same on every rank; widens the pattern's growth, system_pattern.c) */
   int recover_needs_jdx;
   double seconds;                  /* time spent in residual/jacobian (summary.json) */
   sk_needs needs;                  /* declared at create (see sk_need) */

@@ -1,6 +1,7 @@
 /* A plugin instance as a term (term_plugin.h): creates the views and the instance, keeps the state the instance
  * sees (positions per view, refreshed when the iterate changes) and runs the ABI calls at the system's stages. The
  * capability checks that depend on what an instance does (extra unknowns, eliminations) are made here. */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -77,6 +78,7 @@ static void plugin_destroy(sk_term *base) {
   free(term->pending_v);
   free(term->body_buffer);
   free(term->scratch_K);
+  free(term->anchor);
   free(term->again_b);
   free(term->again_y);
   free(term);
@@ -147,6 +149,33 @@ static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobia
   }
 }
 
+/* sk_layout.extra_anchor (ABI 2.4) of every rank combined (a rank gives -1 for nodes it does not see), so that the
+ * pattern's widening is the same on every rank. */
+static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
+  const sk_layout *layout = &term->layout;
+  const int64_t n = layout->n_extra;
+  int given = SK_HAS(layout, extra_anchor) && layout->extra_anchor && n > 0, everywhere = 0;
+  MPI_Allreduce(&given, &everywhere, 1, MPI_INT, MPI_MIN, sys->comm);
+  term->base.anchor = NULL;
+  if (!everywhere) return SK_OK;
+  if (n > term->anchor_size) {
+    int64_t *grown = realloc(term->anchor, sizeof(int64_t) * (size_t)n);
+    if (!grown) return sk_error_set(SK_ERR_NOMEM, "out of memory for the anchors of %lld extra unknowns", (long long)n);
+    term->anchor = grown;
+    term->anchor_size = n;
+  }
+  for (int64_t k = 0; k < n; ++k) {
+    const int64_t a = layout->extra_anchor[k];
+    term->anchor[k] = a >= 0 && a < sys->model->n_dofs ? a : -1;
+  }
+  for (int64_t first = 0; first < n; first += INT_MAX / 2) {
+    const int chunk = (int)(n - first < INT_MAX / 2 ? n - first : INT_MAX / 2);
+    MPI_Allreduce(MPI_IN_PLACE, term->anchor + first, chunk, MPI_INT64_T, MPI_MAX, sys->comm);
+  }
+  term->base.anchor = term->anchor;
+  return SK_OK;
+}
+
 static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
   sk_layout *layout = &term->layout;
@@ -168,6 +197,7 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   base->initial = layout->initial;
   base->eliminated = layout->eliminated;
   base->recover_needs_jdx = layout->recover_needs_jdx;
+  SK_TRY(combine_anchors(term, sys));
   /* One answer on every rank: a skipped call must not leave a collective call of the plugin (reduce) unmatched. */
   int idle = (caps & SK_CAP_SAYS_IDLE) && SK_HAS(layout, idle) && layout->idle &&
              (layout->n_extra == 0 || extras_trivial(layout, sys->n_pairs - pairs_before)) &&

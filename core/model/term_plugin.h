@@ -25,6 +25,8 @@ typedef struct plugin_term {
   uint64_t x_version;
   sk_layout layout;
   int idle; /* this attempt: the plugin said sk_layout.idle on every rank, so its calls are skipped */
+  int64_t *anchor;                 /* sk_layout.extra_anchor combined over ranks (n_extra), or NULL */
+  int64_t anchor_size;
   /* recover: the solve's vectors in the instance's layout */
   double *F_view[PLUGIN_MAX_VIEWS], *dx_view[PLUGIN_MAX_VIEWS], *Jdx_view[PLUGIN_MAX_VIEWS];
   const double *F_list[PLUGIN_MAX_VIEWS], *dx_list[PLUGIN_MAX_VIEWS], *Jdx_list[PLUGIN_MAX_VIEWS];

@@ -33,6 +33,7 @@ static void fill_summary(const sk_system *sys, double wall_start, sk_status stat
   summary->final_time = sys->t_n;
   summary->linear_solves = sys->linear_solves;
   summary->active_set_loops = sys->active_set_loops;
+  summary->pattern_builds = sys->pattern_builds;
   summary->unknowns_max = sys->unknowns_max;
   summary->linear_size_max = sys->linear_size_max;
   summary->assembly_seconds = sys->t_assembly;

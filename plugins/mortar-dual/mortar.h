@@ -126,6 +126,7 @@ struct sk_instance {
 
   /* condensation pairs (owned nodes) */
   int64_t *pair_extra, *pair_row;
+  int64_t *anchor; /* n_extra: a dof of each multiplier's slave node (sk_layout.extra_anchor), -1 if not viewed */
 
   /* scratch (sized in create): the pair chain, a block of rows x chain columns, column indices, a position map */
   pair_chain chain;

@@ -39,7 +39,7 @@ static void destroy(sk_instance *inst) {
                   inst->owned_of_node, inst->cand_ptr, inst->cand, inst->cand_ptr_next, inst->cand_next, inst->hit_ptr,
                   inst->hits.faces, inst->ip_master, inst->col, inst->col_side,
                   inst->col_node, inst->col_comp, inst->acc_gap, inst->acc_W, inst->z_committed, inst->hist_side,
-                  inst->hist_node, inst->hist_value, inst->pair_extra, inst->pair_row, inst->chain.side,
+                  inst->hist_node, inst->hist_value, inst->pair_extra, inst->pair_row, inst->anchor, inst->chain.side,
                   inst->chain.node, inst->chain.entry, inst->block, inst->block_cols, inst->pos_map,
                   inst->commit_rows, inst->tmp_entries, inst->master_star_ptr, inst->master_star,
                   inst->master_border};
@@ -328,6 +328,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   inst->z_committed = alloc_zero((size_t)inst->n_extra, sizeof(double));
   inst->pair_extra = alloc_zero((size_t)nn * dim, sizeof(int64_t));
   inst->pair_row = alloc_zero((size_t)nn * dim, sizeof(int64_t));
+  inst->anchor = alloc_zero((size_t)inst->n_extra, sizeof(int64_t));
   if (inst->master) {
     inst->master_border = alloc_zero((size_t)inst->master->n_nodes, 1);
     if (!inst->master_border) {
@@ -339,7 +340,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
       !inst->cvec ||
       !inst->dnormal || !inst->dc ||
       !inst->owned_of_node || !inst->owned || !inst->cand_ptr || !inst->cand_ptr_next || !inst->hit_ptr || !inst->ip_master || !inst->z_committed ||
-      !inst->pair_extra || !inst->pair_row) {
+      !inst->pair_extra || !inst->pair_row || !inst->anchor) {
     st = nomem(inst);
     destroy(inst);
     return st;
@@ -355,6 +356,9 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
       }
       inst->max_star = fwd_imax(inst->max_star, inst->star_node_ptr[j + 1] - inst->star_node_ptr[j]);
     }
+  for (int64_t e = 0; e < inst->n_extra; ++e) inst->anchor[e] = -1;
+  for (int k = 0; k < nn; ++k)
+    for (int i = 0; i < dim; ++i) inst->anchor[(int64_t)dim * sv->node_index[k] + i] = sv->dofs[(int64_t)dim * k];
   for (int k = 0; k < nn; ++k) {
     inst->owned_of_node[k] = -1;
     if (!sv->owned[k]) continue;
@@ -472,6 +476,7 @@ static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *lay
   layout->initial = inst->z_committed;
   layout->eliminated = NULL;
   layout->recover_needs_jdx = 0;
+  if (SK_HAS(layout, extra_anchor)) layout->extra_anchor = inst->anchor;
   /* ABI 2.3: no slave face has a candidate this step, so every z row is the inactive C = z (ncp.c) */
   if (SK_HAS(layout, idle)) layout->idle = inst->master && inst->cand_ptr[inst->slave->n_cells] == 0;
   if (inst->strategy != STRATEGY_CONDENSED) return SK_OK;

@@ -72,6 +72,7 @@ struct sk_instance {
   int64_t n_extra;             /* stride per node of the whole slave surface */
   double *initial;             /* for the owned points (zero elsewhere: the host sums over ranks) */
   unsigned char *eliminated;
+  int64_t *anchor; /* n_extra: a dof of each extra's slave node (sk_layout.extra_anchor), -1 for nodes not viewed */
   double *node_flags;          /* per node of the whole slave surface: the augmented layout's set, summed over ranks */
   int *candidates;
   double alpha;                /* 1: backward Euler / quasi-static, 1/2: midpoint */

@@ -39,6 +39,7 @@ static void destroy(sk_instance *inst) {
   free(inst->points);
   free(inst->initial);
   free(inst->eliminated);
+  free(inst->anchor);
   free(inst->node_flags);
   free(inst->candidates);
   free(inst);
@@ -146,9 +147,10 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   inst->points = calloc((size_t)(slave->n_nodes > 0 ? slave->n_nodes : 1), sizeof *inst->points);
   inst->initial = calloc((size_t)inst->n_extra + 1, sizeof *inst->initial);
   inst->eliminated = calloc((size_t)inst->n_extra + 1, 1);
+  inst->anchor = malloc(sizeof(int64_t) * ((size_t)inst->n_extra + 1));
   inst->node_flags = calloc((size_t)slave->n_nodes_global + 1, sizeof *inst->node_flags);
   inst->candidates = malloc(sizeof(int) * (size_t)(master && master->n_cells > 0 ? master->n_cells : 1));
-  if (!inst->points || !inst->initial || !inst->eliminated || !inst->node_flags || !inst->candidates)
+  if (!inst->points || !inst->initial || !inst->eliminated || !inst->anchor || !inst->node_flags || !inst->candidates)
     return api->error(host, SK_ERR_NOMEM, "%s: out of memory", inst->name);
   for (int k = 0; k < slave->n_nodes; ++k) {
     slave_point *p = &inst->points[k];
@@ -159,6 +161,9 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   }
   /* the layout is the same on every rank: every node of the whole surface; `augmented` chooses per attempt */
   for (int64_t i = 0; i < inst->n_extra; ++i) inst->eliminated[i] = i % inst->stride != 0;
+  for (int64_t i = 0; i < inst->n_extra; ++i) inst->anchor[i] = -1;
+  for (int k = 0; k < slave->n_nodes; ++k)
+    for (int j = 0; j < inst->stride; ++j) inst->anchor[inst->stride * slave->node_index[k] + j] = slave->dofs[inst->dim * k];
   if (attach->obstacle) {
     inst->obstacle = attach->obstacle;
     return plane_setup(inst);
@@ -194,6 +199,7 @@ static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *out
   out->n_extra = inst->n_extra;
   out->initial = inst->initial;
   out->eliminated = inst->eliminated;
+  if (SK_HAS(out, extra_anchor)) out->extra_anchor = inst->anchor;
   /* ABI 2.3: no point reached a facet at begin_step, so every extra has its trivial row and starts at 0 */
   if (SK_HAS(out, idle)) {
     out->idle = 1;

@@ -85,7 +85,7 @@ def old_minor_plugin(c):
     scene = replace(replace(CONTACT, "plugin: penalty-nts", "plugin: old-minor"), "  file: ",
                     "  order: 2\n  serendipity: true\n  file: ")  # hex20: QUAD8 faces (quad9 is an ABI 2.0 type)
     c.run_scene(scene, command="check", env=env)
-    c.expect_failure(r"old-minor", r"ABI 2\.0", r"'zmin' \(quad8 cells\)", r"rebuild it against ABI 2\.3")
+    c.expect_failure(r"old-minor", r"ABI 2\.0", r"'zmin' \(quad8 cells\)", r"rebuild it against ABI 2\.\d+")
     c.run_scene(replace(CONTACT, "plugin: penalty-nts", "plugin: old-minor"), command="check", env=env)
     c.check(c.proc.returncode != 0 and "predates" not in c.proc.stderr, "first-order faces pass the ABI check")
 

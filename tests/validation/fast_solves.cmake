@@ -3,3 +3,5 @@
 stickslip_scene_tests(test_fast_solves.py two_tori_coarse_iterative_vs_direct)
 # MUMPS's iterative refinement on a saddle point with changed contact rows: two elements to t = 6 (~5 s).
 stickslip_scene_tests(test_fast_solves.py direct_solve_refinement)
+# solver.pattern_margin: fewer pattern rebuilds, the same history (coarse two-tori, 60 steps twice, ~10 s).
+stickslip_scene_tests(test_fast_solves.py pattern_margin_same_history)

@@ -29,9 +29,10 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 3u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
+#define SK_ABI_MINOR 4u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
                           2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls)
-                          3: sk_layout.idle also with extra unknowns (their trivial rows written by the host) */
+                          3: sk_layout.idle also with extra unknowns (their trivial rows written by the host)
+                          4: sk_layout.extra_anchor (the mesh node of each extra unknown, for the pattern margin) */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -211,6 +212,14 @@ typedef struct sk_layout {
    * (trivial rows such as lambda - 0 of inactive multipliers) and `initial` is 0: the host then writes extra = 0
    * (1 on the diagonal) itself and skips recover too. Not with stickslip.condense pairs declared in this layout. */
   int idle;
+  /* ABI 2.4 (write it only when SK_HAS(layout, extra_anchor)): per extra unknown (n_extra), the global unknown index
+   * of one displacement component of the mesh node the unknown belongs to (a slave node's multiplier or augmented
+   * coordinates), or -1 (none, or a node this rank does not see: the host combines the ranks' answers); NULL for
+   * none. A hint: when a coupling the plugin declares is missing from the sparsity pattern, the host grows the
+   * pattern by the couplings of the mesh neighbours too (solver.pattern_margin), the extras' side included through
+   * their nodes, so that contact moving on to the next nodes does not rebuild the solver's matrix every step. The
+   * array stays valid until the next layout call. */
+  const int64_t *extra_anchor;
 } sk_layout;
 
 /* ---- vectors of one linear solve, in the instance's own layout (recover) ---------------------------------------- */

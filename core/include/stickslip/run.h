@@ -22,6 +22,7 @@ typedef struct {
   int cuts;                /* step halvings */
   int64_t unknowns_max;    /* largest size of the nonlinear system over the run */
   int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */
+  int pattern_builds;      /* sparsity patterns built or grown (each rebuilds the solver's matrix; solver.pattern_margin) */
   int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;

@@ -20,6 +20,8 @@ typedef struct {
                                plus the previous increment scaled to dt; 0 (last-state, default) from u_n */
   int max_active_set_loops; /* solver.newton.max_active_set_loops: Newton runs per attempt when terms reject a
                                converged point (plugin.h: converged) */
+  int pattern_margin;       /* solver.pattern_margin: rings of mesh neighbours by which couplings the terms declare
+                               widen the sparsity pattern when it grows (system_pattern.c) */
 } sk_solver_settings;
 
 typedef struct {
