@@ -92,7 +92,9 @@ static sk_status kinematics(const sk_solid *el, const double H[9], double Fb[9],
   return SK_OK;
 }
 
-/* Kernels below are inlined with dim as a literal so the Voigt loops unroll and the dof loops vectorise. */
+/* Kernels below are inlined with dim as a literal so the Voigt loops unroll and the dof loops vectorise. They do not
+ * contract to FMA (ISO C mode's default): contraction made the full tori's assembly 8 % faster but moved three
+ * round-off-sensitive cases of the suite (docs/fast-solves-tori.md), as OpenBLAS did. */
 #define FE_HOT static inline __attribute__((always_inline))
 
 /* The hot kernels are also compiled for x86-64-v3 (AVX2 + FMA) and picked at load time (GNU ifunc), so a portable
