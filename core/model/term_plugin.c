@@ -150,13 +150,14 @@ static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobia
 }
 
 /* sk_layout.extra_anchor (ABI 2.4) of every rank combined (a rank gives -1 for nodes it does not see), so that the
- * pattern's widening is the same on every rank. */
+ * pattern's widening is the same on every rank; only read when the scene widens (solver.pattern_margin > 0). */
 static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
   const sk_layout *layout = &term->layout;
   const int64_t n = layout->n_extra;
+  term->base.anchor = NULL;
+  if (!sys->solver || sys->solver->pattern_margin <= 0) return SK_OK; /* the same on every rank */
   int given = SK_HAS(layout, extra_anchor) && layout->extra_anchor && n > 0, everywhere = 0;
   MPI_Allreduce(&given, &everywhere, 1, MPI_INT, MPI_MIN, sys->comm);
-  term->base.anchor = NULL;
   if (!everywhere) return SK_OK;
   if (n > term->anchor_size) {
     int64_t *grown = realloc(term->anchor, sizeof(int64_t) * (size_t)n);
