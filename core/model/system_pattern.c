@@ -204,39 +204,75 @@ static sk_status build_pattern(sk_system *sys) {
   return SK_OK;
 }
 
-/* The pattern grown by keys it lacks (sorted, unique; the same on every rank) within the same unknowns: each row
- * is merged with its new columns and every element position shifted by the entries inserted before it, instead of
- * build_pattern's sort of every row and binary search of every element entry (6.6 % of a full two-tori contact
- * step, where each new contact coupling grew the pattern). */
-static sk_status grow_pattern(sk_system *sys, const int64_t *added, int64_t n_added) {
+/* The bulk columns of row r, the diagonal among them, sorted (the node graph expanded per dof); returns how many. */
+static int64_t bulk_row(const sk_system *sys, int64_t r, int *out) {
+  const sk_model *m = sys->model;
+  int64_t len = 0;
+  int diagonal_done = 0;
+  if (r < m->n_dofs) {
+    const int64_t a = r / m->dim;
+    for (int64_t j = m->mass_row_ptr[a]; j < m->mass_row_ptr[a + 1]; ++j)
+      for (int i = 0; i < m->dim; ++i) {
+        const int c = m->mass_cols[j] * m->dim + i;
+        if (!diagonal_done && c >= r) {
+          if (c > r) out[len++] = (int)r;
+          diagonal_done = 1;
+        }
+        out[len++] = c;
+      }
+  }
+  if (!diagonal_done) out[len++] = (int)r;
+  return len;
+}
+
+/* The rows rebuilt from the bulk graph, the diagonal and extra_keys within the same unknowns (a pattern grown, or
+ * with pattern_margin re-widened around the current couplings): each row is a merge of sorted lists, and every
+ * element position follows its bulk entry (always kept) to where it moved, instead of build_pattern's sort of every
+ * row and binary search of every element entry (6.6 % of a full two-tori contact step, where each new contact
+ * coupling grew the pattern). */
+static sk_status rebuild_rows(sk_system *sys) {
+  const sk_model *m = sys->model;
   const int64_t nk = sys->n_kept, old_entries = sys->row_ptr[nk];
-  if (n_added == 0) return hand_to_solver(sys); /* only the rows of this rank changed */
+  const int64_t *key = sys->extra_keys, n_keys = sys->n_extra_keys;
+  int64_t bound = nk + n_keys, longest = 1;
+  for (int64_t a = 0; a < m->n_nodes; ++a) {
+    const int64_t len = (m->mass_row_ptr[a + 1] - m->mass_row_ptr[a]) * m->dim;
+    bound += len * m->dim;
+    if (len + 1 > longest) longest = len + 1;
+  }
   int64_t *row_ptr = malloc(sizeof(int64_t) * (size_t)(nk + 1));
-  int *cols = malloc(sizeof(int) * (size_t)(old_entries + n_added));
+  int *cols = malloc(sizeof(int) * (size_t)bound);
+  int *bulk = malloc(sizeof(int) * (size_t)longest);
   int64_t *moved_to = malloc(sizeof(int64_t) * (size_t)(old_entries > 0 ? old_entries : 1));
-  if (!row_ptr || !cols || !moved_to) {
+  if (!row_ptr || !cols || !bulk || !moved_to) {
     free(row_ptr);
     free(cols);
+    free(bulk);
     free(moved_to);
-    return out_of_memory("the grown sparsity pattern", old_entries + n_added);
+    return out_of_memory("the rebuilt sparsity pattern", bound);
   }
   int64_t used = 0, k = 0;
   row_ptr[0] = 0;
   for (int64_t r = 0; r < nk; ++r) {
-    for (int64_t p = sys->row_ptr[r]; p < sys->row_ptr[r + 1]; ++p) {
-      for (; k < n_added && added[k] / nk == r && added[k] % nk < sys->cols[p]; ++k)
-        cols[used++] = (int)(added[k] % nk);
-      moved_to[p] = used;
-      cols[used++] = sys->cols[p];
+    const int64_t n_bulk = bulk_row(sys, r, bulk);
+    int64_t b = 0;
+    while (b < n_bulk || (k < n_keys && key[k] / nk == r)) {
+      const int from_key = b >= n_bulk || (k < n_keys && key[k] / nk == r && key[k] % nk < bulk[b]);
+      const int c = from_key ? (int)(key[k++] % nk) : bulk[b++];
+      if (used == row_ptr[r] || cols[used - 1] != c) cols[used++] = c;
     }
-    for (; k < n_added && added[k] / nk == r; ++k) cols[used++] = (int)(added[k] % nk);
     row_ptr[r + 1] = used;
+    int64_t q = row_ptr[r];
+    for (int64_t p = sys->row_ptr[r]; p < sys->row_ptr[r + 1]; ++p) {
+      while (q < used && cols[q] < sys->cols[p]) ++q;
+      moved_to[p] = q < used && cols[q] == sys->cols[p] ? q : -1;
+    }
   }
+  free(bulk);
   free(sys->row_ptr);
   free(sys->cols);
   sys->row_ptr = row_ptr;
   sys->cols = cols;
-  const sk_model *m = sys->model;
   int dofs[SK_MAX_NEN * 3];
   for (int e = 0; e < m->n_elements; ++e) {
     if (m->element_part[e] != m->rank) continue;
@@ -328,8 +364,10 @@ static int64_t neighbours(const widening *w, int64_t point, int64_t *out) {
   const sk_model *m = w->m;
   int64_t n = 0;
   if (point < m->n_nodes) {
+    if (out) out[n] = point; /* itself, also when no element holds it */
+    ++n;
     for (int64_t j = m->mass_row_ptr[point]; j < m->mass_row_ptr[point + 1]; ++j) {
-      if (m->mass_cols[j] != point && !w->on_surface[m->mass_cols[j]]) continue;
+      if (m->mass_cols[j] == point || !w->on_surface[m->mass_cols[j]]) continue;
       if (out) out[n] = m->mass_cols[j];
       ++n;
     }
@@ -372,9 +410,8 @@ static int64_t *widen_pairs(const widening *w, const int64_t *pairs, int64_t n, 
 /* The keys widened by `rings` rings of neighbours on both sides (see widening): the couplings a contact declares
  * move with sliding to the neighbouring faces' nodes, and each growth of the pattern rebuilds the solver's matrix
  * and the condensed operator (0.3 s per step on the full two-tori, where every contact step grew it by a few hundred
- * keys). The added entries stay zero. Keys already in the pattern are dropped when `filter`. On failure (memory)
- * the keys stay as they are: widening only saves work. */
-static void widen_keys(const sk_system *sys, int rings, int filter, int64_t **keys, int64_t *n_keys) {
+ * keys). The added entries stay zero. On failure (memory) the keys stay as they are: widening only saves work. */
+static void widen_keys(const sk_system *sys, int rings, int64_t **keys, int64_t *n_keys) {
   const sk_model *m = sys->model;
   const int64_t nk = sys->n_kept;
   widening w;
@@ -436,7 +473,7 @@ static void widen_keys(const sk_system *sys, int rings, int filter, int64_t **ke
     const int64_t c0 = b < m->n_nodes ? b * m->dim : m->n_dofs + (b - m->n_nodes), nc = b < m->n_nodes ? m->dim : 1;
     for (int64_t r = r0; r < r0 + nr; ++r)
       for (int64_t c = c0; c < c0 + nc; ++c)
-        if (!filter || sk_system_position(sys, (int)r, (int)c) < 0) wide[used++] = r * nk + c;
+        wide[used++] = r * nk + c;
   }
   free(pairs);
   sort_unique(wide, &used);
@@ -445,9 +482,8 @@ static void widen_keys(const sk_system *sys, int rings, int filter, int64_t **ke
   *n_keys = used;
 }
 
-/* Merges keys of all ranks into extra_keys (collective; sorted, unique); *added (malloc'd, when asked for) gets
- * the keys of all ranks, sorted and unique. */
-static sk_status merge_keys(sk_system *sys, const int64_t *mine, int64_t n_mine, int64_t **added, int64_t *n_added) {
+/* Merges keys of all ranks into extra_keys (collective; sorted, unique). */
+static sk_status merge_keys(sk_system *sys, const int64_t *mine, int64_t n_mine) {
   if (n_mine > INT_MAX) return sk_error_set(SK_ERR_INPUT, "%lld declared pattern entries on one rank", (long long)n_mine);
   int count = (int)n_mine;
   int *counts = calloc((size_t)sys->n_ranks, sizeof(int)), *displs = calloc((size_t)sys->n_ranks, sizeof(int));
@@ -472,15 +508,6 @@ static sk_status merge_keys(sk_system *sys, const int64_t *mine, int64_t n_mine,
   MPI_Allgatherv(mine, count, MPI_INT64_T, merged + sys->n_extra_keys, counts, displs, MPI_INT64_T, sys->comm);
   free(counts);
   free(displs);
-  if (added) {
-    int64_t *tail = merged + sys->n_extra_keys, unique_tail = total;
-    sort_unique(tail, &unique_tail);
-    *added = malloc(sizeof(int64_t) * (size_t)(unique_tail > 0 ? unique_tail : 1));
-    if (!*added) return out_of_memory("the pattern exchange", unique_tail);
-    memcpy(*added, tail, sizeof(int64_t) * (size_t)unique_tail);
-    *n_added = unique_tail;
-    total = unique_tail;
-  }
   int64_t n = sys->n_extra_keys + total;
   sort_unique(merged, &n);
   sys->n_extra_keys = n;
@@ -516,39 +543,24 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   sys->local_rows = rows;
   sys->n_local_rows = n_rows;
 
-  /* declared keys the pattern lacks */
-  int64_t n_missing = 0;
-  if (layout_changed || sys->pattern_n != nk) {
-    sys->n_extra_keys = 0; /* the keys were in the old numbering */
-    n_missing = sys->n_declared;
-  } else {
-    for (int64_t k = 0; k < sys->n_declared; ++k) {
-      const int64_t key = sys->declared[k];
-      if (sk_system_position(sys, (int)(key / nk), (int)(key % nk)) < 0) sys->declared[n_missing++] = key;
-    }
-  }
-  if (n_missing > 0) qsort(sys->declared, (size_t)n_missing, sizeof(int64_t), compare_i64);
-  int64_t unique = 0;
-  for (int64_t k = 0; k < n_missing; ++k)
-    if (k == 0 || sys->declared[k] != sys->declared[unique - 1]) sys->declared[unique++] = sys->declared[k];
+  /* declared keys the pattern lacks; with pattern_margin all declarations go on, since the widened pattern is
+   * rebuilt around all of them (entries the contact has left behind are dropped, not accumulated) */
   const int renumbered = layout_changed || sys->pattern_n != nk;
-  int any = unique > 0 || rows_changed || renumbered, anywhere = 0;
-  MPI_Allreduce(&any, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
-  if (!anywhere) return SK_OK;
   const int rings = sys->solver ? sys->solver->pattern_margin : 0;
-  int64_t *added = NULL, n_added = 0;
-  if (renumbered) {
-    SK_TRY(merge_keys(sys, sys->declared, unique, &added, &n_added));
-    widen_keys(sys, rings, 0, &added, &n_added);
-    free(sys->extra_keys); /* all ranks' keys, widened alike on every rank */
-    sys->extra_keys = added;
-    sys->n_extra_keys = n_added;
-    return build_pattern(sys);
+  int64_t n_send = 0;
+  int flags[2] = {renumbered, rows_changed || renumbered}, anywhere[2]; /* {keys missing, rows changed} */
+  for (int64_t k = 0; k < sys->n_declared; ++k) {
+    const int64_t key = sys->declared[k];
+    const int missing = renumbered || sk_system_position(sys, (int)(key / nk), (int)(key % nk)) < 0;
+    flags[0] |= missing;
+    if (missing || rings > 0) sys->declared[n_send++] = key;
   }
-  sk_status grown = merge_keys(sys, sys->declared, unique, &added, &n_added);
-  if (grown == SK_OK) widen_keys(sys, rings, 1, &added, &n_added);
-  if (grown == SK_OK) grown = grow_pattern(sys, added, n_added);
-  free(added);
-  return grown;
+  sort_unique(sys->declared, &n_send);
+  MPI_Allreduce(flags, anywhere, 2, MPI_INT, MPI_MAX, sys->comm);
+  if (!anywhere[0] && !anywhere[1]) return SK_OK;
+  if (!anywhere[0]) return hand_to_solver(sys); /* only the rows of this rank changed */
+  if (renumbered || rings > 0) sys->n_extra_keys = 0; /* renumbered: the keys were in the old numbering */
+  SK_TRY(merge_keys(sys, sys->declared, n_send));
+  widen_keys(sys, rings, &sys->extra_keys, &sys->n_extra_keys); /* all ranks' keys, widened alike on every rank */
+  return renumbered ? build_pattern(sys) : rebuild_rows(sys);
 }
-

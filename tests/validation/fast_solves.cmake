@@ -3,5 +3,7 @@
 stickslip_scene_tests(test_fast_solves.py two_tori_coarse_iterative_vs_direct)
 # MUMPS's iterative refinement on a saddle point with changed contact rows: two elements to t = 6 (~5 s).
 stickslip_scene_tests(test_fast_solves.py direct_solve_refinement)
-# solver.pattern_margin: fewer pattern rebuilds, the same history (coarse two-tori, 60 steps twice, ~10 s).
+# solver.pattern_margin: fewer pattern rebuilds, the same history (coarse two-tori, 60 steps: margin 0 and 1 on one
+# rank, margin 1 on two; ~15 s).
 stickslip_scene_tests(test_fast_solves.py pattern_margin_same_history)
+set_tests_properties(validation_pattern_margin_same_history PROPERTIES LABELS "validation;mpi" PROCESSORS 2)

@@ -21,7 +21,7 @@ typedef struct {
   sk_term base;
   double k, a, f[N_DOFS], c;
   int constrained, condense, reject_once, undeclared;
-  int extra_couplings;      /* declares (0,3), (3,0), (2,4), (4,2) too: the pattern grows by them */
+  int extra_couplings;      /* bit 0: declares (0,3), (3,0) too, bit 1: (2,4), (4,2): the pattern grows by them */
   double fail_above_dt;     /* residual fails (SK_ERR_DIVERGED) when dt exceeds this */
   /* bookkeeping */
   int rejected, commits, rejects, updates;
@@ -53,7 +53,8 @@ static sk_status mock_pattern(sk_term *t, sk_system *sys, unsigned char *rows) {
   const int64_t idx[3] = {0, 1, t->extra_offset};
   SK_TRY(sk_system_declare(sys, 3, idx, 3, idx));
   const int64_t extra[4][2] = {{0, 3}, {3, 0}, {2, t->extra_offset}, {t->extra_offset, 2}};
-  for (int k = 0; k < 4 * m->extra_couplings; ++k) SK_TRY(sk_system_declare(sys, 1, &extra[k][0], 1, &extra[k][1]));
+  for (int k = 0; k < 4; ++k)
+    if (m->extra_couplings & (1 << (k / 2))) SK_TRY(sk_system_declare(sys, 1, &extra[k][0], 1, &extra[k][1]));
   return SK_OK;
 }
 
@@ -299,7 +300,7 @@ static void test_pattern_growth(void) {
   SK_CHECK(solve_step(&fx) == SK_OK);
   sk_system *sys = fx.sys;
   const int64_t n = sys->n_kept, before = sys->row_ptr[n];
-  fx.mock->extra_couplings = 1;
+  fx.mock->extra_couplings = 3;
   SK_CHECK(sk_system_settle_pattern(sys, 0) == SK_OK);
   SK_CHECK(sys->row_ptr[n] == before + 4);
   int64_t grown_ptr[N_DOFS + 2];
@@ -316,6 +317,36 @@ static void test_pattern_growth(void) {
   SK_CHECK(solve_step(&fx) == SK_OK);
   check_constrained_solution(&fx, 1e-14);
   fixture_free(&fx);
+}
+
+/* With solver.pattern_margin the pattern is rebuilt around the couplings declared now whenever one is missing:
+ * couplings the terms no longer declare are dropped then (margin 0 keeps every coupling ever declared). */
+static void test_pattern_follows_couplings(void) {
+  for (int margin = 0; margin <= 1; ++margin) {
+    fixture fx;
+    mock_term config = linear_constrained();
+    fixture_init(&fx, &config);
+    fx.solver.pattern_margin = margin;
+    SK_CHECK(solve_step(&fx) == SK_OK);
+    sk_system *sys = fx.sys;
+    const int builds = sys->pattern_builds;
+    fx.mock->extra_couplings = 1;
+    SK_CHECK(sk_system_settle_pattern(sys, 0) == SK_OK);
+    SK_CHECK(sk_system_position(sys, 0, 3) >= 0 && sk_system_position(sys, N_DOFS, 2) < 0);
+    fx.mock->extra_couplings = 2; /* the coupling moved on */
+    SK_CHECK(sk_system_settle_pattern(sys, 0) == SK_OK);
+    SK_CHECK(sys->pattern_builds == builds + 2);
+    SK_CHECK(sk_system_position(sys, N_DOFS, 2) >= 0 && sk_system_position(sys, 2, N_DOFS) >= 0);
+    SK_CHECK((sk_system_position(sys, 0, 3) >= 0) == (margin == 0));
+    SK_CHECK((sk_system_position(sys, 3, 0) >= 0) == (margin == 0));
+    fx.mock->extra_couplings = 0; /* nothing missing: the pattern stays as it is */
+    SK_CHECK(sk_system_settle_pattern(sys, 0) == SK_OK);
+    SK_CHECK(sys->pattern_builds == builds + 2 && sk_system_position(sys, N_DOFS, 2) >= 0);
+    printf("pattern margin %d: %lld entries after the coupling moved\n", margin, (long long)sys->row_ptr[sys->n_kept]);
+    SK_CHECK(solve_step(&fx) == SK_OK);
+    check_constrained_solution(&fx, 1e-14);
+    fixture_free(&fx);
+  }
 }
 
 /* ---- the stepper ------------------------------------------------------------------------------------------------ */
@@ -365,6 +396,7 @@ int main(int argc, char **argv) {
   test_converged_reject();
   test_undeclared_entry();
   test_pattern_growth();
+  test_pattern_follows_couplings();
   test_stepper_cuts();
   const int code = sk_test_finish("test_system");
   MPI_Finalize();
