@@ -285,6 +285,7 @@ static sk_status rebuild_rows(sk_system *sys) {
 }
 
 static void sort_unique(int64_t *keys, int64_t *n) {
+  if (*n < 2) return; /* also keys == NULL with none */
   qsort(keys, (size_t)*n, sizeof(int64_t), compare_i64);
   int64_t unique = 0;
   for (int64_t k = 0; k < *n; ++k)
