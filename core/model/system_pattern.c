@@ -556,10 +556,10 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
     flags[0] |= missing;
     if (missing || rings > 0) sys->declared[n_send++] = key;
   }
-  sort_unique(sys->declared, &n_send);
   MPI_Allreduce(flags, anywhere, 2, MPI_INT, MPI_MAX, sys->comm);
   if (!anywhere[0] && !anywhere[1]) return SK_OK;
   if (!anywhere[0]) return hand_to_solver(sys); /* only the rows of this rank changed */
+  sort_unique(sys->declared, &n_send); /* only now: with a margin, n_send is every declaration of the step */
   if (renumbered || rings > 0) sys->n_extra_keys = 0; /* renumbered: the keys were in the old numbering */
   SK_TRY(merge_keys(sys, sys->declared, n_send));
   widen_keys(sys, rings, &sys->extra_keys, &sys->n_extra_keys); /* all ranks' keys, widened alike on every rank */
