@@ -6,15 +6,23 @@
 
 #include "kernel.h"
 
+/* Gaussian elimination with partial pivoting. A pivot is tested against the largest entry of the row it came from:
+ * the element's (f, lambda_aug) block is a saddle point whose rows differ by eps_t times the facet metric (1e7 against
+ * 0.25 on the coarse ring), so a test against the largest entry of A called regular blocks singular. */
 int nts_solve_dense(int n, double *A, double *b, int nrhs) {
-  double scale = 0.0;
-  for (int i = 0; i < n * n; ++i) scale = fmax(scale, fabs(A[i]));
-  if (scale == 0.0) return -1;
+  enum { MAX_N = 128 }; /* the plugin solves n = 4; the tests solve whole systems up to 68 */
+  if (n > MAX_N) return -1;
+  double row_scale[MAX_N];
+  for (int i = 0; i < n; ++i) {
+    row_scale[i] = 0.0;
+    for (int j = 0; j < n; ++j) row_scale[i] = fmax(row_scale[i], fabs(A[i * n + j]));
+    if (!(row_scale[i] > 0.0)) return -1; /* a zero row, or nan */
+  }
   for (int col = 0; col < n; ++col) {
     int piv = col;
     for (int i = col + 1; i < n; ++i)
       if (fabs(A[i * n + col]) > fabs(A[piv * n + col])) piv = i;
-    if (fabs(A[piv * n + col]) <= 1e-14 * scale) return -1;
+    if (!(fabs(A[piv * n + col]) > 1e-14 * row_scale[piv])) return -1;
     if (piv != col) {
       for (int j = 0; j < n; ++j) {
         double t = A[col * n + j];
@@ -26,6 +34,9 @@ int nts_solve_dense(int n, double *A, double *b, int nrhs) {
         b[col * nrhs + j] = b[piv * nrhs + j];
         b[piv * nrhs + j] = t;
       }
+      const double t = row_scale[col];
+      row_scale[col] = row_scale[piv];
+      row_scale[piv] = t;
     }
     for (int i = col + 1; i < n; ++i) {
       const double l = A[i * n + col] / A[col * n + col];

@@ -389,6 +389,28 @@ static void check_facet_outside(void) {
   SK_CHECK_CLOSE(nts_facet_outside(&tri, (double[]){0.2, -0.1}), 0.1, 1e-15);
 }
 
+/* The (f, lambda_aug) block of the coarse frictional ring (stability.md finding 20): eps_t = 1e6 times the facet
+ * metric (0.25, 25) against the metric itself. Regular (det = 0.25^2 25^2), its rows 1e8 apart; the solver called it
+ * singular while it tested pivots against the largest entry of the whole block. A block with two dependent rows stays
+ * singular. */
+static void check_dense_solve_scaled_saddle(void) {
+  const double K[2] = {2.5e5, 2.50004e7}, B[2] = {0.25, 25.0001};
+  double A[16] = {0}, b[4] = {1.0, -2.0, 3.0, -4.0}, x_exact[4];
+  for (int a = 0; a < 2; ++a) {
+    A[a * 4 + a] = K[a];
+    A[a * 4 + 2 + a] = A[(2 + a) * 4 + a] = -B[a];
+  }
+  /* -B f = b_lambda gives f; K f - B lambda = b_f gives lambda */
+  for (int a = 0; a < 2; ++a) {
+    x_exact[a] = -b[2 + a] / B[a];
+    x_exact[2 + a] = (K[a] * x_exact[a] - b[a]) / B[a];
+  }
+  SK_CHECK(nts_solve_dense(4, A, b, 1) == 0);
+  for (int i = 0; i < 4; ++i) SK_CHECK_CLOSE(b[i], x_exact[i], 1e-14 * fabs(x_exact[i]));
+  double singular[9] = {1e6, 2.0, 3.0, 1.0, 2e-6, 3e-6, 0.5, 1.0, 1.0}, c[3] = {1.0, 1.0, 1.0};
+  SK_CHECK(nts_solve_dense(3, singular, c, 1) != 0);
+}
+
 int main(void) {
   printf("facet domains\n");
   check_facet_outside();
@@ -406,6 +428,7 @@ int main(void) {
   check_condensation(SK_QUAD4, 0.5, 0.5, 0.1);
   check_condensation(SK_QUAD4, 1.0, 0.5, 10.0);
   check_condensation(SK_TRI3, 0.5, 0.5, 10.0);
+  check_dense_solve_scaled_saddle();
   printf("direct strategy\n");
   check_direct(SK_QUAD4, 0.5, 10.0);
   check_direct(SK_QUAD4, 0.5, 0.1);
