@@ -11,7 +11,10 @@
 
 static inline void test_shape(sk_elem_type type, const double *xi, double *N, double *dN) {
   const double s = xi[0], t = xi[1];
-  if (type == SK_QUAD4) {
+  if (type == SK_LINE2) { /* xi in [-1, 1]; one parametric direction */
+    if (N) N[0] = 0.5 * (1 - s), N[1] = 0.5 * (1 + s);
+    if (dN) dN[0] = -0.5, dN[1] = 0.5;
+  } else if (type == SK_QUAD4) {
     static const double c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int a = 0; a < 4; ++a) {
       if (N) N[a] = 0.25 * (1 + c[a][0] * s) * (1 + c[a][1] * t);
@@ -35,7 +38,9 @@ static inline void test_shape(sk_elem_type type, const double *xi, double *N, do
 
 static inline void test_shape_hessian(sk_elem_type type, const double *xi, double *ddN) {
   (void)xi;
-  if (type == SK_QUAD4) {
+  if (type == SK_LINE2) {
+    ddN[0] = ddN[1] = 0.0;
+  } else if (type == SK_QUAD4) {
     static const double c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int a = 0; a < 4; ++a) {
       ddN[(a * 2 + 0) * 2 + 0] = 0.0;

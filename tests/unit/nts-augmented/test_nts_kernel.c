@@ -1,6 +1,7 @@
 /* nts-augmented element kernel: constraint gradients and Hessians, momentum identities, the paper's identities
  * (Gf = -A, P tT = (44)), friction return map, full element tangent (finite differences), exact condensation and
  * recovery, the direct strategy's tangent and the Table I projections. */
+#include <float.h>
 #include <stdio.h>
 
 #include "nts_test_support.h"
@@ -389,6 +390,39 @@ static void check_facet_outside(void) {
   SK_CHECK_CLOSE(nts_facet_outside(&tri, (double[]){0.2, -0.1}), 0.1, 1e-15);
 }
 
+/* The closest point on a face 3e-4 long far from the origin (stability.md finding 21): its step in f is round-off
+ * at eps |x| / |a| = 1.5e-9 here, far above LOCAL_NEWTON_TOL, and it converged only once the iteration accepted steps
+ * at that floor. The point found is the closest one to the floor: (x - x(f)) . a_1 at round-off of |x| |a|. */
+static void check_closest_point_tiny_face_far_out(void) {
+  nts_facet line;
+  SK_CHECK(nts_facet_init(&line, SK_LINE2, test_shape, test_shape_hessian) == 0);
+  const double x1[3] = {1000.0, 0.2, 0.0}, x2[3] = {1000.0 + 2.9e-4, 0.2 + 7.0e-5, 0.0};
+  int converged = 0, trials = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 40; ++k, ++trials) {
+    double q_A[NTS_MAX_NQ] = {0};
+    const double s = -0.9 + 1.8 * k / 39.0, height = 1e-5 * (1 + k % 5);
+    for (int i = 0; i < 3; ++i) {
+      q_A[3 + i] = x1[i];
+      q_A[6 + i] = x2[i];
+      q_A[i] = 0.5 * (1 - s) * x1[i] + 0.5 * (1 + s) * x2[i];
+    }
+    q_A[0] -= height * 7.0e-5 / 3e-4; /* off the face along its normal (-dy, dx) */
+    q_A[1] += height * 2.9e-4 / 3e-4;
+    double f[2] = {0.0, 0.0};
+    if (nts_closest_point(&line, q_A, f, 1e-13, 30) < 0) continue;
+    ++converged;
+    nts_geometry geo;
+    nts_geometry_eval(&line, q_A, f, &geo);
+    worst = fmax(worst, fabs(geo.phi[0]) / (1000.0 * sqrt(geo.m[0][0]) * DBL_EPSILON));
+    SK_CHECK_CLOSE(f[0], s, 1e-6);
+  }
+  printf("  tiny face at x = 1000: %d of %d closest points converged, |Phi_1| <= %.1f eps |x| |a|\n", converged, trials,
+         worst);
+  SK_CHECK(converged == trials);
+  SK_CHECK(worst < 64.0);
+}
+
 /* The (f, lambda_aug) block of the coarse frictional ring (stability.md finding 20): eps_t = 1e6 times the facet
  * metric (0.25, 25) against the metric itself. Regular (det = 0.25^2 25^2), its rows 1e8 apart; the solver called it
  * singular while it tested pivots against the largest entry of the whole block. A block with two dependent rows stays
@@ -414,6 +448,7 @@ static void check_dense_solve_scaled_saddle(void) {
 int main(void) {
   printf("facet domains\n");
   check_facet_outside();
+  check_closest_point_tiny_face_far_out();
   printf("constraint derivatives and frame indifference\n");
   check_constraint_derivatives(SK_QUAD4);
   check_constraint_derivatives(SK_TRI3);
