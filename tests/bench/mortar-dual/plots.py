@@ -2,10 +2,13 @@
 """mortar-dual's plotted checks (issue 9): the Hertz 2D pressure profile (Hammer's parameters) at refine 1 and 2
 against Hertz's p0 sqrt(1 - x^2/b^2) for the load each run carries, plotted against the slave nodes' reference x;
 the 2D ironing's reaction history (Yang-Laursen-Meng, mu = 0.5) at refine 0.5, 1 and 2 (its oscillation under
-refinement). Writes results/bench/mortar-plots/*.dat and prints the numbers; then
-  gnuplot tests/bench/mortar-dual/plots.gp   -> docs/img/mortar-dual-hertz-2d.png, docs/img/mortar-dual-ironing-2d.png
+refinement); with --ironing-3d only, the 3D shallow ironing's reaction history at refine 0.75 and 1 (dt = 0.01, five
+times the scene's, condensed + GMRES/MueLu: about 10 and 25 minutes). Writes results/bench/mortar-plots/*.dat and
+prints the numbers; then
+  gnuplot tests/bench/mortar-dual/plots.gp   -> docs/img/mortar-dual-hertz-2d.png, docs/img/mortar-dual-ironing-2d.png,
+                                                docs/img/mortar-dual-ironing-3d.png
 
-  python3 tests/bench/mortar-dual/plots.py [--ironing]   (--ironing: the ironing runs only)"""
+  python3 tests/bench/mortar-dual/plots.py [--ironing | --ironing-3d]   (the 2D ironing runs only, the 3D ones only)"""
 import math
 import os
 import statistics
@@ -58,7 +61,40 @@ def ironing():
                                                          100 * (max(sliding) - min(sliding)) / abs(mean)))
 
 
+IRONING_3D_ARGS = ("--set", "time.dt=0.01", "--set", "output.vtu_every=0", "--set", "solver.linear.solver=gmres-muelu")
+IRONING_3D_LEVELS = (0.75, 1)  # refine 0.5 has the block's cells along y under the indenter's: the conforming stall
+
+
+def ironing_3d_record(results, refine):
+    """Writes the reaction history of one 3D ironing run and prints its drag's mean and oscillation while sliding."""
+    rows = results.rows
+    with open(os.path.join(OUT, "ironing-3d-refine%g.dat" % refine), "w") as f:
+        for r in rows:
+            f.write("%.6g %.8g %.8g\n" % (r["time"], -r["reaction_shear_x"], -r["reaction_press_z"]))
+    sliding = [-r["reaction_shear_x"] for r in rows if 1.2 <= r["time"] <= 1.9]
+    if sliding:
+        mean = statistics.fmean(sliding)
+        print("ironing-3d refine %g: %d steps, %d Newton; sliding (t in [1.2, 1.9]) F_x mean %.4g, oscillation "
+              "(max - min) %.4g = %.2f %% of the mean; press F_z at t = 1: %.4g"
+              % (refine, len(rows) - 1, results.summary["newton_iterations"], mean, max(sliding) - min(sliding),
+                 100 * (max(sliding) - min(sliding)) / abs(mean),
+                 next(-r["reaction_press_z"] for r in rows if r["time"] >= 1.0 - 1e-9)))
+
+
+def ironing_3d():
+    for refine in IRONING_3D_LEVELS:
+        results, proc = run("scenes/mortar-ironing-3d.yaml", "--set", "mesh.0.parameters.refine=%g" % refine,
+                            "--set", "mesh.1.parameters.refine=%g" % refine, *IRONING_3D_ARGS, expect_ok=False)
+        if proc.returncode != 0:
+            print("ironing-3d refine %g: FAILED: %s" % (refine, proc.stderr.strip().splitlines()[0][:300]))
+        if results is not None:
+            ironing_3d_record(results, refine)
+
+
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
-    hertz()
-    ironing()
+    if "--ironing-3d" in sys.argv:
+        ironing_3d()
+    else:
+        hertz()
+        ironing()
