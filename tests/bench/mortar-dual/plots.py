@@ -76,8 +76,8 @@ def ironing_3d_record(results, refine):
     press = [-r["reaction_press_z"] for r in rows if 1.2 <= r["time"] <= 1.7]
     if press:
         mean = statistics.fmean(press)
-        print("ironing-3d refine %g: %d steps, %d Newton; sliding (t in [1.2, 1.7], before the block's end): press F_z mean %.5g, its "
-              "oscillation (max - min) %.3f %% of the mean; drag F_x from %.4g to %.4g (%.3f %% of F_z)"
+        print("ironing-3d refine %g: %d steps, %d Newton; sliding (t in [1.2, 1.7], before the block's end): "
+              "press F_z mean %.5g, its oscillation (max - min) %.3f %% of the mean; drag F_x from %.4g to %.4g (%.3f %% of F_z)"
               % (refine, len(rows) - 1, results.summary["newton_iterations"], mean,
                  100 * (max(press) - min(press)) / mean, min(drag), max(drag),
                  100 * (max(drag) - min(drag)) / mean))
