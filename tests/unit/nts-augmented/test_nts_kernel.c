@@ -1,6 +1,7 @@
 /* nts-augmented element kernel: constraint gradients and Hessians, momentum identities, the paper's identities
  * (Gf = -A, P tT = (44)), friction return map, full element tangent (finite differences), exact condensation and
- * recovery, the direct strategy's tangent and the Table I projections. */
+ * recovery, the direct strategy's tangent, the Table I projections, the closest point on a tiny face far out and the
+ * dense solve of a badly scaled saddle block. */
 #include <float.h>
 #include <stdio.h>
 
