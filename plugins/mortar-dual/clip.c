@@ -211,12 +211,25 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
   }
   n = m;
   if (n < 3 || !(polygon_area(cell, n).v > 1e-12 * area_s)) return 0;
-  /* triangles about the centroid */
+  /* triangles about the centre of the polygon's perimeter (its edges' midpoints weighted by their lengths). Not the
+   * mean of its vertices: a vertex appears or vanishes where a master edge crosses a slave corner, and the mean then
+   * jumps; the rule is not exact for the integrand, so the integrals jumped by the quadrature error (Newton cycled at
+   * 1e-9 of the first residual where slave edges lie on master edges). A vertex on its neighbours' line or on a
+   * neighbour does not move the perimeter's centre, so the fan changes only by a triangle of zero area. Not the area
+   * centroid either, which does the same but divides by the area: on the slivers of faces that share an edge its
+   * derivative is 1/area large, and the tangent lost its digits (measured: Newton linear on slider-3d). */
   vertex c;
-  c.x[0] = c.x[1] = fwd_const(0.0);
-  for (int i = 0; i < n; ++i)
-    for (int al = 0; al < 2; ++al) c.x[al] = fwd_add(c.x[al], cell[i].x[al]);
-  for (int al = 0; al < 2; ++al) c.x[al] = fwd_scale(1.0 / n, c.x[al]);
+  {
+    fwd perimeter = fwd_const(0.0), moment[2] = {fwd_const(0.0), fwd_const(0.0)};
+    for (int i = 0; i < n; ++i) {
+      const vertex *a = &cell[i], *b = &cell[(i + 1) % n];
+      const fwd edge[2] = {fwd_sub(b->x[0], a->x[0]), fwd_sub(b->x[1], a->x[1])};
+      const fwd len = fwd_norm(2, edge); /* > 0: coincident vertices were merged above */
+      perimeter = fwd_add(perimeter, len);
+      for (int al = 0; al < 2; ++al) moment[al] = fwd_add(moment[al], fwd_mul(len, fwd_add(a->x[al], b->x[al])));
+    }
+    for (int al = 0; al < 2; ++al) c.x[al] = fwd_div(moment[al], fwd_scale(2.0, perimeter));
+  }
   const double *rxi, *rw;
   const int nq = mortar_triangle_rule(rule, &rxi, &rw);
   for (int tri = 0; tri < n; ++tri) {

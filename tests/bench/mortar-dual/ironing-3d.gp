@@ -9,5 +9,5 @@ set xlabel 't  (pressed over [0, 1], moved 10 along x over [1, 2])'
 set ylabel '|reaction|'
 set key top left
 set autoscale
-plot for [r in '0.75 1'] dir.'ironing-3d-refine'.r.'.dat' u 1:(abs($3)) w l lw 1.5 t '|F_z| (press), refine '.r, \
-     for [r in '0.75 1'] dir.'ironing-3d-refine'.r.'.dat' u 1:(abs($2)) w l dt 2 lw 1.5 t '|F_x| (drag), refine '.r
+plot for [r in '0.5 0.75 1'] dir.'ironing-3d-refine'.r.'.dat' u 1:(abs($3)) w l lw 1.5 t '|F_z| (press), refine '.r, \
+     for [r in '0.5 0.75 1'] dir.'ironing-3d-refine'.r.'.dat' u 1:(abs($2)) w l dt 2 lw 1.5 t '|F_x| (drag), refine '.r

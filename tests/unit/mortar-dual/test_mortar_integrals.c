@@ -401,6 +401,90 @@ static void check_rigid_motion(pair_case c) {
   SK_CHECK(err < 1e-13);
 }
 
+/* ---- continuity where a clip-polygon vertex appears: a master edge crossing a slave corner ---------------------
+ * The slave face (a planar trapezoid, so the inverse map and the integrand are not polynomial) has its corner
+ * Q = (1, 1, 0) at the end of the edge from P = (1.2, 0, 0); the master quad's right edge crosses the line of PQ at
+ * Q + s nu (nu: the edge's outward normal) at 0.2 rad to it. For s < 0 the edge runs inside the slave face and the
+ * clip polygon has 4 vertices, for s > 0 it cuts PQ near Q and the polygon has a 5th vertex next to Q. Exact
+ * integrals are continuous in s; the rule's over a fan about the mean of the vertices jumped by the quadrature
+ * error, which stalled Newton on conforming 3D meshes (docs/plugins/mortar-dual.md, section 10). */
+static void vertex_event_outputs(double s, int rule, mortar_basis basis, double *out) {
+  const pair_case c = {3, &ft_quad4, &ft_quad4, basis, MODE_SEGMENTS, rule};
+  const double xs[12] = {0, 0, 0, 0, 1, 0, 1, 1, 0, 1.2, 0, 0};
+  double ns[12] = {0};
+  for (int a = 0; a < 4; ++a) ns[3 * a + 2] = -1.0;
+  const double P[2] = {1.2, 0.0}, Q[2] = {1.0, 1.0}, theta = 0.2;
+  const double len = hypot(Q[0] - P[0], Q[1] - P[1]), d[2] = {(Q[0] - P[0]) / len, (Q[1] - P[1]) / len};
+  const double nu[2] = {d[1], -d[0]}; /* outward: to the right of P -> Q */
+  const double e[2] = {cos(theta) * d[0] - sin(theta) * d[1], sin(theta) * d[0] + cos(theta) * d[1]};
+  const double X[2] = {Q[0] + s * nu[0], Q[1] + s * nu[1]};
+  /* the master's right edge X - 1.5 e ... X + 0.5 e, its left edge at x = -0.4; counter-clockwise from above */
+  const double xm[12] = {-0.4, X[1] - 1.5 * e[1], -0.05, X[0] - 1.5 * e[0], X[1] - 1.5 * e[1], -0.04,
+                         X[0] + 0.5 * e[0], X[1] + 0.5 * e[1], -0.07, -0.4, X[1] + 0.5 * e[1], -0.05};
+  mortar_pair p;
+  mortar_integrals I;
+  SK_CHECK(integrate_case(&c, xs, xm, ns, 0, &p, &I) == 0);
+  int m = 0;
+  for (int j = 0; j < 4; ++j) {
+    for (int l = 0; l < 4; ++l) out[m++] = I.M[j][l].v;
+    out[m++] = I.gap[j].v;
+  }
+}
+
+static void check_vertex_event_continuity(void) {
+  for (int basis = 0; basis < 2; ++basis)
+    for (int r = 0; r < 2; ++r) {
+      const int rule = r ? 6 : 3;
+      double lo[20], hi[20], lo2[20], hi2[20];
+      const double delta = 1e-10;
+      vertex_event_outputs(-delta, rule, (mortar_basis)basis, lo);
+      vertex_event_outputs(delta, rule, (mortar_basis)basis, hi);
+      vertex_event_outputs(-1e-3, rule, (mortar_basis)basis, lo2);
+      vertex_event_outputs(1e-3, rule, (mortar_basis)basis, hi2);
+      double jump = 0.0, slope = 0.0;
+      for (int i = 0; i < 20; ++i) {
+        jump = fmax(jump, fabs(hi[i] - lo[i]));
+        slope = fmax(slope, fabs(hi2[i] - lo2[i]) / 2e-3);
+      }
+      printf("  vertex event, %s basis, cell rule %d: |change| over s = +-1e-10: %.2e (slope %.2e)\n",
+             basis ? "dual" : "standard", rule, jump, slope);
+      SK_CHECK(jump < 1.5 * 2.0 * delta * slope + 1e-15); /* measured: 1.01 ... 1.03 times 2 delta slope */
+    }
+}
+
+/* ---- sliver overlaps: the master face beside the slave face, over its edge by 1e-10 or less ----------------------
+ * Faces that share an edge (a block on a base with matching nodes) overlap in slivers while Newton moves them. The
+ * sliver's integrals are of the order of its area, and their derivatives of the order of its edges. A fan centre
+ * that divides by the area (the area centroid) had derivatives of 1/area on the triangular slivers (measured: 8e2
+ * and 6e4), and slider-3d's Newton turned linear. Checked: every derivative of M and the gap is bounded by the
+ * faces' size (measured 0.83), the values by the sliver's area. */
+static void check_sliver_derivatives(void) {
+  const pair_case c = {3, &ft_quad4, &ft_quad4, MORTAR_DUAL, MODE_SEGMENTS, 6};
+  const double xs[12] = {0, 0, 0, 0, 1, 0, 1, 1, 0, 1, 0, 0};
+  double ns[12] = {0};
+  for (int a = 0; a < 4; ++a) ns[3 * a + 2] = -1.0;
+  /* the master's left edge from (1 - w0, 0) to (1 - w1, 1), beside the slave's right edge x = 1 */
+  static const double w[3][2] = {{1e-11, 1e-11}, {1e-10, -1e-12}, {-1e-13, 1e-11}};
+  for (int k = 0; k < 3; ++k) {
+    const double xm[12] = {1 - w[k][0], 0, -0.01, 2, 0, -0.01, 2, 1, -0.01, 1 - w[k][1], 1, -0.01};
+    mortar_pair p;
+    mortar_integrals I;
+    SK_CHECK(integrate_case(&c, xs, xm, ns, 1, &p, &I) == 0);
+    double largest = 0.0, value = 0.0;
+    for (int j = 0; j < 4; ++j) {
+      for (int l = 0; l < 4; ++l) {
+        value = fmax(value, fabs(I.M[j][l].v));
+        for (int i = 0; i < I.M[j][l].n; ++i) largest = fmax(largest, fabs(I.M[j][l].d[i]));
+      }
+      for (int i = 0; i < I.gap[j].n; ++i) largest = fmax(largest, fabs(I.gap[j].d[i]));
+    }
+    printf("  sliver %g .. %g wide: |M| <= %.2e, largest derivative of M and the gap %.2e\n", w[k][0], w[k][1],
+           value, largest);
+    SK_CHECK(value > 0.0 && value <= 1.01 * fmax(fabs(w[k][0]), fabs(w[k][1]))); /* measured 1.0, 0.83, 0.83 times */
+    SK_CHECK(largest < 1.0);
+  }
+}
+
 int main(void) {
   test_face_types();
   check_quadrature();
@@ -413,6 +497,8 @@ int main(void) {
   check_biorthogonality(&ft_quad4, quad, 1e-15);
   check_biorthogonality(&ft_quad4, warped, 3e-6); /* measured 2.1e-6 (face area 1.4) */
   check_patch();
+  check_vertex_event_continuity();
+  check_sliver_derivatives();
 
   const mortar_face_type *st3[] = {&ft_tri3, &ft_quad4, &ft_quad4, &ft_tri3};
   const mortar_face_type *mt3[] = {&ft_tri3, &ft_quad4, &ft_tri3, &ft_quad4};
