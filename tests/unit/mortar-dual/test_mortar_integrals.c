@@ -3,7 +3,7 @@
  * segment-based integration and only approximate with concentrated integration (deviation printed); invariance
  * under a rigid motion; and a finite-difference check of every derivative of D, M and the weighted gap for 2D
  * segments, 3D segments (tri3/quad4 in all combinations), concentrated points (normal variants A and M) and rigid
- * obstacles. */
+ * obstacles; the 3D segments' continuity where a clip-polygon vertex appears and their derivatives on slivers. */
 #include "mortar_test_support.h"
 
 static const double FD_STEP = 1e-6;
