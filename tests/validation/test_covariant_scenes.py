@@ -79,7 +79,7 @@ def ks_block_b(c):
             "main-only %d above full %d and no-curvature %d" % (totals["main-only"], totals["full"],
                                                              totals["no-curvature"]))
     near(c, "6.1 run B, full against no-curvature (flat faces)", totals["full"], totals["no-curvature"], 0.05)
-    for tangent, measured in (("full", 131), ("no-curvature", 127), ("main-only", 156)):
+    for tangent, measured in (("full", 68), ("no-curvature", 68), ("main-only", 96)):
         near(c, "6.1 run B, %s" % tangent, totals[tangent], measured, 0.05)
 
 
@@ -116,7 +116,7 @@ def ks_parabolic(c):
         c.check(sum(its[:7]) == 27, "%s: the 7 pressing steps take 27 iterations (%d)" % (tangent, sum(its[:7])))
     ordering(c, "6.2, 8 sliding steps", totals, {"full": "86 (20 steps)", "no-curvature": "~88 (20 steps)",
                                                  "main-only": "156 (20 steps)"})
-    for tangent, measured in (("full", 49), ("no-curvature", 56), ("main-only", 107)):
+    for tangent, measured in (("full", 40), ("no-curvature", 43), ("main-only", 96)):
         near(c, "6.2, %s" % tangent, totals[tangent], measured, 0.05)
 
 
@@ -133,7 +133,7 @@ def ks_spiral(c):
     c.check(totals["full"] == totals["no-curvature"], "stas: full = no-curvature (%d, %d)" % (totals["full"],
                                                                                             totals["no-curvature"]))
     ordering(c, "6.3, 20 spiral steps", totals, {"no-curvature": 90, "main-only": 254})
-    for tangent, measured in (("full", 153), ("main-only", 165)):
+    for tangent, measured in (("full", 76), ("main-only", 90)):
         near(c, "6.3, %s" % tangent, totals[tangent], measured, 0.05)
 
 
