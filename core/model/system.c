@@ -551,6 +551,9 @@ static sk_status cb_solve(void *ctx, const double *x, const double *F, double *d
   SK_TRY(linear_solve(sys, sys->b, sys->y));
   int any_eliminated = sys->n_kept < sys->n, any_jdx = 0;
   for (int64_t i = 0; i < sys->n; ++i) dx[i] = sys->kept[i] >= 0 ? sys->y[sys->kept[i]] : 0.0;
+  double energy = 0.0;
+  for (int64_t i = 0; i < sys->n; ++i) energy += dx[i] * F[i];
+  sys->newton_energy = fabs(energy);
   for (int k = 0; k < sys->n_terms; ++k) any_jdx |= sys->terms[k]->recover_needs_jdx;
   if (any_jdx) {
     /* J dx with the assembled (uncondensed) operator, on the kept unknowns */
@@ -604,7 +607,8 @@ static sk_status cb_after_iteration(void *ctx, int iteration, const double *x, d
   sk_system *sys = ctx;
   (void)x;
   if (sys->verbose && sys->rank == 0)
-    fprintf(stderr, "  step %lld newton %d |F| = %.3e\n", (long long)sys->step, iteration, residual_norm);
+    fprintf(stderr, "  step %lld newton %d |F| = %.3e |dx.F| = %.3e\n", (long long)sys->step, iteration, residual_norm,
+            sys->newton_energy);
   return SK_OK;
 }
 

@@ -91,6 +91,7 @@ struct sk_system {
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
   int verbose;
+  double newton_energy;     /* |dx . F| of the last Newton direction (FEAP's energy norm), printed with --verbose */
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
   int forget_setup;    /* test switch STICKSLIP_NO_SKIP=symbolic-setup: every solve sets up as on a new pattern */
   /* the largest residual entry of the attempt's last evaluation (-1: none yet), for the message of a failed step */

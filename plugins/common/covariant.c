@@ -129,13 +129,24 @@ int cov_return_map(int n, const double *trial, const double *Dtrial, const doubl
   double norm2 = 0.0;
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b) norm2 += trial[a] * metric_inv[a][b] * trial[b];
-  double norm = sqrt(norm2), limit = mu * p;
-  if (norm <= limit) {
+  const int state = sqrt(norm2) <= mu * p ? COV_STICK : COV_SLIP;
+  cov_return_map_branch(state, n, trial, Dtrial, metric_inv, mu, p, Dp, nd, eps_t, t, Dt, dissipation);
+  return state;
+}
+
+void cov_return_map_branch(int state, int n, const double *trial, const double *Dtrial, const double metric_inv[3][3],
+                           double mu, double p, const double *Dp, int nd, double eps_t, double *t, double *Dt,
+                           double *dissipation) {
+  if (state == COV_STICK) {
     for (int a = 0; a < n; ++a) t[a] = trial[a];
     memcpy(Dt, Dtrial, (size_t)(n * nd) * sizeof(double));
     *dissipation = 0.0;
-    return COV_STICK;
+    return;
   }
+  double norm2 = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) norm2 += trial[a] * metric_inv[a][b] * trial[b];
+  const double norm = sqrt(norm2), limit = mu * p;
   /* Slip: t = mu p trial/|trial|. dissipation = slip increment . t = mu p (|trial| - mu p) / eps_t >= 0. */
   for (int a = 0; a < n; ++a) t[a] = limit * trial[a] / norm;
   for (int c = 0; c < nd; ++c) {
@@ -146,8 +157,7 @@ int cov_return_map(int n, const double *trial, const double *Dtrial, const doubl
       Dt[a * nd + c] = mu * Dp[c] * trial[a] / norm + limit * Dtrial[a * nd + c] / norm -
                        limit * trial[a] * dnorm2 / (2.0 * norm2 * norm);
   }
-  *dissipation = limit * (norm - limit) / eps_t;
-  return COV_SLIP;
+  *dissipation = fmax(limit * (norm - limit) / eps_t, 0.0);
 }
 
 int cov_friction(const sk_surface_point *pt, const cov_kinematics *k, const cov_metric_derivatives *d,

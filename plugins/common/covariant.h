@@ -69,6 +69,12 @@ void cov_metric_derivatives_eval(const sk_surface_point *pt, const cov_kinematic
 int cov_return_map(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
                    double p, const double *Dp, int nd, double eps_t, double *t, double *Dt, double *dissipation);
 
+/* The branch `state` (COV_STICK or COV_SLIP) of the return map, for a caller that decides stick or slip itself (a
+ * tie-break on the cone): the outputs of cov_return_map for that branch. Slip needs |trial| > 0. */
+void cov_return_map_branch(int state, int n, const double *trial, const double *Dtrial, const double metric_inv[3][3],
+                           double mu, double p, const double *Dp, int nd, double eps_t, double *t, double *Dt,
+                           double *dissipation);
+
 /* The covariant friction of a slave point on a deformable master: the trial from the history traction t_n (covariant
  * on the current face) and the parameter increment dxi (xi - xi_n), the return map with the normal force p (and its
  * derivative Dp), and the spatial traction T = t_a a^a with its derivative DT (3 x nd). Fills t_cov (covariant

@@ -222,7 +222,13 @@ sk_status cp_begin_step(sk_instance *in, const sk_state *st) {
     entity *e = &in->entities[k];
     e->anchor = e->committed;
     e->last_state = CP_INACTIVE;
-    e->sel_face = -1;
+    /* The contact point of the last step starts the selection, so that its face's hysteresis (select_face) carries
+     * over: a point held on a face's extension stays there, and the step starts where the last one ended, at
+     * Delta rho = 0 (47) up to round-off, instead of on a neighbouring face's polynomial, a different point. */
+    e->sel_face = in->master && e->committed.valid ? e->committed.face : -1;
+    e->sel_xi[0] = e->committed.xi[0];
+    e->sel_xi[1] = e->committed.xi[1];
+    e->sel_beyond = 0;
     if (in->mu == 0.0 || e->anchor.valid) continue;
     history *a = &e->anchor;
     memset(a, 0, sizeof *a);
