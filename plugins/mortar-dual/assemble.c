@@ -430,6 +430,12 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
     return SK_OK;
   }
   if (ec->mode == EVAL_SET) {
+    /* at a converged point a node on the border of two branches keeps its own (mortar_ncp_branch_holds): the
+     * decision on the sign of round-off cycled Hammer's nested loop when the block of his benchmark touched the
+     * slab at the end of step 1 (g = z_n = 0 at 25 nodes; 10 outer loops, then step cuts) */
+    if (inst->deciding && !uncovered && r.state != o->state &&
+        mortar_ncp_branch_holds(nt, zn, zt, g, s, &inst->ncp, o->state, inst->branch_tol))
+      return SK_OK;
     if (r.state != o->state) {
       ++*changed;
       ++o->flips;

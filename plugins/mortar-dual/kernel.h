@@ -190,6 +190,13 @@ typedef struct {
 } mortar_ncp;
 void mortar_ncp_eval(int n_t, double z_n, const double *z_t, double g, const double *s, const mortar_ncp_params *prm,
                      int force_state, mortar_ncp *out);
+/* Whether branch `state` holds at (z_n, z_t, g, s) up to tol (a traction): its defining inequality relaxed by tol —
+ * inactive z_n - c_n g < tol; active z_n - c_n g >= -tol, and with friction |z_t + c_t s| <= r + tol (stick) or
+ * >= r - tol (slip). A converged point on the border of two branches (touching without pressure, g = z_n = 0 up to
+ * round-off; sticking at the slip limit) satisfies both: the set decided there keeps such a node in its branch
+ * instead of flipping it on the sign of round-off. */
+int mortar_ncp_branch_holds(int n_t, double z_n, const double *z_t, double g, const double *s,
+                            const mortar_ncp_params *prm, int state, double tol);
 
 /* ---- quadrature ------------------------------------------------------------------------------------------------ */
 /* Gauss-Legendre on [-1, 1], 1 <= n <= MORTAR_MAX_RULE. */

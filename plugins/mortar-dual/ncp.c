@@ -66,3 +66,19 @@ void mortar_ncp_eval(int n_t, double z_n, const double *z_t, double g, const dou
     }
   }
 }
+
+int mortar_ncp_branch_holds(int n_t, double z_n, const double *z_t, double g, const double *s,
+                            const mortar_ncp_params *prm, int state, double tol) {
+  const double zeta = z_n - prm->c_n * g;
+  if (state == MORTAR_INACTIVE) return zeta < tol;
+  if (zeta < -tol) return 0;
+  if (prm->mu <= 0.0) return 1; /* frictionless contact: any active branch */
+  double vlen = 0.0;
+  for (int a = 0; a < n_t; ++a) {
+    const double v = z_t[a] + prm->c_t * s[a];
+    vlen += v * v;
+  }
+  vlen = sqrt(vlen);
+  const double radius = prm->mu * (zeta > 0.0 ? zeta : 0.0);
+  return state == MORTAR_STICK ? vlen <= radius + tol : vlen >= radius - tol;
+}

@@ -220,6 +220,9 @@ static sk_status read_parameters(sk_instance *inst) {
                       MORTAR_MAX_RULE, inst->ncp.mu, inst->ncp.c_n, inst->ncp.c_t, inst->search_margin,
                       inst->segment_gauss, inst->face_gauss, inst->cell_rule, inst->max_flips, inst->min_cover);
   inst->friction = inst->ncp.mu > 0.0;
+  /* c_n h is about the modulus (c_n ~ E / h): 1e-8 of it lies far below any pressure the run resolves and above the
+   * round-off of z_n and c_n g at a converged point */
+  inst->branch_tol = 1e-8 * inst->ncp.c_n * mean_edge(inst->slave);
   if (inst->strategy == STRATEGY_CONDENSED && inst->basis != MORTAR_DUAL)
     return api->error(host, SK_ERR_INPUT,
                       "mortar-dual: strategy 'condensed' eliminates z with a diagonal D: it needs basis: dual");

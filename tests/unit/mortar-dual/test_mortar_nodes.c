@@ -297,8 +297,37 @@ static void check_ncp(void) {
   SK_CHECK(fabs(r.C[1]) > 0.1);
 }
 
+/* The border of two branches at a converged point: touching without pressure (g = z_n = 0 up to round-off) satisfies
+ * inactive and active, sticking at the slip limit satisfies stick and slip; a clear state holds in its own branch
+ * only. */
+static void check_branch_holds(void) {
+  const mortar_ncp_params fr = {0.3, 10.0, 5.0}, fl = {0.0, 10.0, 5.0};
+  const double tol = 1e-8, z0[2] = {0.0, 0.0}, s0[2] = {0.0, 0.0};
+  /* touching: z_n = 1e-13, g = -1e-15 (zeta = 1.1e-13 > 0: the sign alone says active) */
+  mortar_ncp r;
+  mortar_ncp_eval(1, 1e-13, z0, -1e-15, s0, &fl, -1, &r);
+  SK_CHECK(r.state == MORTAR_SLIP);
+  SK_CHECK(mortar_ncp_branch_holds(1, 1e-13, z0, -1e-15, s0, &fl, MORTAR_INACTIVE, tol));
+  SK_CHECK(mortar_ncp_branch_holds(1, 1e-13, z0, -1e-15, s0, &fl, MORTAR_SLIP, tol));
+  SK_CHECK(mortar_ncp_branch_holds(1, -1e-13, z0, 1e-15, s0, &fr, MORTAR_STICK, tol));
+  /* the band is tol wide, no wider: tension of 2 tol is inactive, penetration of 2 tol / c_n active */
+  SK_CHECK(!mortar_ncp_branch_holds(1, -2 * tol, z0, 0.0, s0, &fl, MORTAR_SLIP, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 0.0, z0, -2 * tol / fl.c_n, s0, &fl, MORTAR_INACTIVE, tol));
+  /* clear states: open gap, pressed */
+  SK_CHECK(!mortar_ncp_branch_holds(1, 0.0, z0, 0.1, s0, &fr, MORTAR_STICK, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, z0, 0.0, s0, &fr, MORTAR_INACTIVE, tol));
+  /* at the slip limit: |z_t| = mu z_n, no slip: stick and slip both hold; below it only stick, with slip only slip */
+  const double zt_limit[2] = {0.3 * 2.0, 0.0}, zt_below[2] = {0.3, 0.0}, s_fwd[2] = {0.1, 0.0};
+  SK_CHECK(mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s0, &fr, MORTAR_STICK, tol));
+  SK_CHECK(mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s0, &fr, MORTAR_SLIP, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, zt_below, 0.0, s0, &fr, MORTAR_SLIP, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s_fwd, &fr, MORTAR_STICK, tol));
+  SK_CHECK(mortar_ncp_branch_holds(2, 2.0, zt_limit, 0.0, s_fwd, &fr, MORTAR_SLIP, tol));
+}
+
 int main(void) {
   test_face_types();
+  check_branch_holds();
   check_face_normals();
   check_tangents();
   check_forces();
