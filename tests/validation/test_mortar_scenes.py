@@ -149,7 +149,12 @@ def mortar_block_on_plane(c):
         c.check(rows[t]["slip_points"] == 9 and abs(ratio - 0.3) <= 1e-9, "t = %g: full slip, F_t/F_n = %.12f" % (t, ratio))
 
 
-def hertz_2d_profile(results, E=96000.0, nu=0.35, R=70.0):
+HERTZ_2D = "scenes/mortar-hertz-2d.yaml"
+HERTZ_2D_R = 69.565  # the scene's R: reconstructed from the thesis's F and b (the scene's header)
+HERTZ_2D_F, HERTZ_2D_B = 206.44549, 0.5781716  # Hammer 2012, 8.3: the reaction at the approach 0.015 mm, and b(F)
+
+
+def hertz_2d_profile(results, E=96000.0, nu=0.35, R=HERTZ_2D_R):
     """F (both halves), the Hertz half-width b and peak p0 for that load (thesis 8.1-8.4), the relative l2 error of
     the slave pressures against p0 sqrt(1 - x^2/b^2) over |x| < 1.25 b, and the active points."""
     F = 2 * abs(results.rows[-1]["reaction_top_y"])
@@ -163,24 +168,75 @@ def hertz_2d_profile(results, E=96000.0, nu=0.35, R=70.0):
     return F, b, p0, l2, active
 
 
+def ellipse_fit(points):
+    """Least-squares fit of p^2 = p0^2 (1 - x^2 / b^2) (linear in x^2) to the active nodes but the outermost (whose
+    support straddles the contact edge): (p0, b) measured from the pressures alone."""
+    active = [p for p in points if p["state"] > 0]
+    edge = max(abs(p["x"]) for p in active)
+    inner = [(p["x"] ** 2, p["pressure"] ** 2) for p in active if abs(p["x"]) < edge - 1e-12]
+    n, sx, sy = len(inner), sum(x for x, _ in inner), sum(y for _, y in inner)
+    sxx, sxy = sum(x * x for x, _ in inner), sum(x * y for x, y in inner)
+    slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)
+    intercept = (sy - slope * sx) / n
+    return math.sqrt(intercept), math.sqrt(-intercept / slope)
+
+
 def mortar_hertz_2d(c):
-    """Hammer's Hertz line contact (E = 96 GPa, nu = 0.35, top lowered 0.015 mm), h = 0.05 mm at the contact: the
-    pressure profile against Hertz for the load the run carries. Measured (refine 1): F = 237.01 N/mm (the thesis's
-    206.45 is for its own, unstated cylinder and block sizes: F at a given approach depends on them, b(F) does not),
-    b = 0.6214 mm, l2 error 3.67e-3, peak (nominal) pressure 242.05 against p0 = 242.81 (0.31 %), the last active
-    node at x = 0.5947 (the next, 0.6443, beyond b is free). Refinement: docs/plugins/mortar-dual.md, section 8."""
-    results, _ = run("scenes/mortar-hertz-2d.yaml", "--set", "output.vtu_every=0")
+    """Hammer's Hertz line contact (E = 96 GPa, nu = 0.35, R = 69.565 mm reconstructed from the thesis's F and b),
+    h = 0.05 mm at the contact.
+    1. The thesis's set-up, the top lowered by 0.015 mm: the pressure profile against Hertz for the load the run
+    carries (the thesis's Fig. 8.14 check). Measured (refine 1): F = 236.95 N/mm, b = 0.6194, l2 error 5.0e-3 (3.7e-3
+    at R = 70: the error is dominated by the node whose support straddles the contact edge, x = 0.5941, and moves
+    with b against the nodes), peak (nominal) pressure 243.38 against p0 = 243.53 (0.06 %), the contact edge between
+    two nodes around b. The thesis's F = 206.45 at this
+    approach is not asserted: it depends on the block's size, which the thesis does not state (block height
+    35/70/140/280 mm: F = 254.8/236.9/220.3/202.3; docs/plugins/mortar-dual.md, "Against the paper").
+    2. The thesis's load F = 206.44549 N/mm as a resultant on the top: the Hertz ellipse fitted to the nodal
+    pressures gives the thesis's half-width and peak, b = 0.5781716 mm and p0 = 2F/(pi b) = 227.315 N/mm^2.
+    Measured b = 0.57855 (+0.065 %), the centre node's pressure 227.295 (-0.009 %), the fit's p0 226.97 (-0.15 %).
+    Tolerances: b to 0.2 % (a twentieth of the node spacing 0.0495 mm), the centre pressure to 0.05 % and the
+    edge between the last active and the first free node (the discretisation: 11 nodes across b)."""
+    results, _ = run(HERTZ_2D, "--set", "output.vtu_every=0")
     F, b, p0, l2, active = hertz_2d_profile(results)
     peak = max(p["pressure"] for p in active)
     edge = max(abs(p["x"]) for p in active)
     free = min(abs(p["x"]) for p in results.contact_points() if p["state"] == 0)
-    print("Hertz 2D: F = %.4f, b = %.5f, p0 = %.3f, peak %.3f, l2 error %.3e, active to x = %.4f"
-          % (F, b, p0, peak, l2, edge))
-    c.check(l2 <= 4e-3, "pressure profile: relative l2 error %.2e <= 4e-3" % l2)
-    c.check(abs(peak - p0) <= 4e-3 * p0, "peak pressure %.3f against p0 = %.3f" % (peak, p0))
+    print("Hertz 2D, approach 0.015 mm: F = %.4f (thesis %.4f for its own block), b = %.5f, p0 = %.3f, peak %.3f, "
+          "l2 error %.3e, active to x = %.4f" % (F, HERTZ_2D_F, b, p0, peak, l2, edge))
+    c.check(l2 <= 6e-3, "pressure profile: relative l2 error %.2e <= 6e-3" % l2)
+    c.check(abs(peak - p0) <= 2e-3 * p0, "peak pressure %.3f against p0 = %.3f" % (peak, p0))
     c.check(b - 0.05 < edge < b < free, "contact edge between the nodes %.4f and %.4f around b = %.4f"
             % (edge, free, b))
-    c.check(230 < F < 245, "load F = %.2f N/mm" % F)
+    loaded, _ = run(HERTZ_2D, "--set", "output.vtu_every=0",
+                    "--set", "boundary.0={name: top, group: cylinder-top, resultant: [0, %.10g], history: [[0, 0], "
+                    "[1, 1]]}" % (-HERTZ_2D_F / 2))
+    F = 2 * abs(loaded.rows[-1]["contact_force_y"])  # a prescribed load has no reaction column
+    points = loaded.contact_points()
+    p0_fit, b_fit = ellipse_fit(points)
+    p0_thesis = 2 * HERTZ_2D_F / (math.pi * HERTZ_2D_B)
+    centre = min(points, key=lambda p: abs(p["x"]))["pressure"]
+    edge = max(abs(p["x"]) for p in points if p["state"] > 0)
+    free = min(abs(p["x"]) for p in points if p["state"] == 0)
+    print("Hertz 2D, the thesis's load F = %.5f: fitted b = %.5f (thesis %.7f), p0 %.3f, centre %.3f (thesis p0 "
+          "%.3f), active to %.4f, free from %.4f" % (F, b_fit, HERTZ_2D_B, p0_fit, centre, p0_thesis, edge, free))
+    c.check(abs(F - HERTZ_2D_F) <= 1e-9 * HERTZ_2D_F, "the contact carries the thesis's load (%.8f)" % F)
+    c.check(abs(b_fit - HERTZ_2D_B) <= 2e-3 * HERTZ_2D_B, "half-width %.5f against the thesis's %.5f" % (b_fit, HERTZ_2D_B))
+    c.check(abs(centre - p0_thesis) <= 5e-4 * p0_thesis, "centre pressure %.3f against the thesis's p0 = %.3f"
+            % (centre, p0_thesis))
+    c.check(edge < HERTZ_2D_B < free, "the thesis's b = %.4f between the last active node %.4f and the first free %.4f"
+            % (HERTZ_2D_B, edge, free))
+    # 3. The thesis's normal fields M and A (concentrated integration) cannot be told apart in Fig. 8.14: here the
+    # master is flat, so they coincide; measured: nodal pressures equal to 1.6e-8 of the peak, both within 0.19 % of
+    # the segment-based ones.
+    fields = {}
+    for normal in ("A", "M"):
+        fields[normal], _ = run(HERTZ_2D, "--set", "output.vtu_every=0", "--set", "output.contact_csv=true",
+                                "--set", "contact.0.parameters.integration=concentrated",
+                                "--set", "contact.0.parameters.normal=" + normal)
+    pa, pm = (sorted(fields[n].contact_points(), key=lambda p: p["x"]) for n in ("A", "M"))
+    top = max(p["pressure"] for p in pa)
+    diff = max(abs(p["pressure"] - q["pressure"]) for p, q in zip(pa, pm)) / top
+    c.check(len(pa) == len(pm) and diff <= 1e-7, "normal fields M and A: nodal pressures equal to %.1e of the peak" % diff)
 
 
 def mortar_hertz_3d(c):
