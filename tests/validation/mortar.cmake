@@ -4,7 +4,7 @@
 # (tests/bench/stress/scenes/slider-2d.yaml, shortened).
 stickslip_scene_tests(test_mortar_scenes.py mortar_patch_test_2d mortar_patch_test_3d mortar_hammer_benchmark
                       mortar_hammer_benchmark_friction mortar_block_on_plane mortar_mpi
-                      mortar_hertz_2d mortar_hertz_3d mortar_ring mortar_ring_friction mortar_ironing_2d
+                      mortar_hertz_2d mortar_hertz_3d mortar_ring mortar_ironing_2d
                       mortar_condensed mortar_condensed_krylov mortar_large_sliding mortar_obstacle_3d
                       mortar_ironing_3d_conforming)
 set_tests_properties(validation_mortar_mpi PROPERTIES LABELS "validation;mpi" PROCESSORS 2)

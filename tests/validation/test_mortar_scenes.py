@@ -261,34 +261,38 @@ def mortar_hertz_3d(c):
     c.check(a - 0.05 < edge < a, "active nodes to r = %.4f, a = %.4f" % (edge, a))
 
 
+RING = "scenes/mortar-ring.yaml"
+
+
 def mortar_ring(c):
-    """Hammer 8.4-type elastic ring, frictionless: the ring snaps through (measured: the slab's reaction peaks at
-    604.9 at t = 0.867, step 26 of 30 with cuts, thesis: step 23, and falls to 217.7 by t = 1)."""
-    results, _ = run("scenes/mortar-ring.yaml", "--set", "output.vtu_every=0")
+    """Hammer 8.4, the elastic ring, 30 steps. Frictionless: the ring snaps through at step 23 (t = 0.767) in the
+    thesis, the reaction falls sharply after it. The scene's gap is reconstructed from that time (the scene's header:
+    the snap comes 43.1 below first contact whatever the wall), so the step checks the snap deflection against the
+    one measured at a 17.5 gap; one step's tolerance (the peak is resolved to the step; measured t = 0.7583 after a
+    cut, step 22.75). Measured: peak 604.7, falling to 149.4 (25 %) by t = 1.
+    mu = 0.5 (backtracking line search: without it the stick/slip set cycled at t = 0.59 and the step was cut to
+    1e-6): the thesis's "no decrease in stiffness": the reaction rises in every step, 30 steps without a cut,
+    measured to 1582.4 at t = 1, above the frictionless peak (compared with this run's, not a number)."""
+    results, _ = run(RING, "--set", "output.vtu_every=0")
     reaction = results.column("reaction_base_y")
     peak = max(range(len(reaction)), key=lambda i: reaction[i])
     t_peak = results.rows[peak]["time"]
-    print("frictionless: peak %.1f at t = %.4f, final %.1f" % (reaction[peak], t_peak, reaction[-1]))
-    c.check(0.8 < t_peak < 0.9, "the reaction peaks at t = %.4f (snap-through)" % t_peak)
-    c.check(reaction[-1] < 0.45 * reaction[peak],
-            "the reaction falls from %.1f to %.1f" % (reaction[peak], reaction[-1]))
-
-
-def mortar_ring_friction(c):
-    """The elastic ring with mu = 0.5 (and a backtracking line search: without it the stick/slip set cycled at
-    t = 0.5926 and the step was cut to 1e-6): the sticking contact holds the ring, the reaction rises in every step
-    (measured to 1088.4 at t = 1), 30 steps without a cut."""
-    results, _ = run("scenes/mortar-ring.yaml", "--set", "output.vtu_every=0", "--set", "contact.0.parameters.mu=0.5",
-                     "--set", "solver.newton.line_search=backtrack")
-    reaction = results.column("reaction_base_y")
-    noise = 1e-9 * max(reaction)  # before contact the reaction is round-off of either sign
-    falls = [(results.rows[i + 1]["time"], a, b)
-             for i, (a, b) in enumerate(zip(reaction, reaction[1:])) if b < a - noise]
-    print("mu = 0.5: %d steps, final reaction %.1f, %d stick / %d slip" % (len(reaction) - 1, reaction[-1],
-          results.rows[-1]["stick_points"], results.rows[-1]["slip_points"]))
-    c.check(not falls, "the reaction never falls (no snap-through): %s" % falls[:3])
-    c.check(len(reaction) == 31, "30 steps without a cut (%d)" % (len(reaction) - 1))
-    c.check(reaction[-1] > 1.5 * 604.9, "final reaction %.1f above the frictionless peak" % reaction[-1])
+    print("frictionless: peak %.1f at t = %.4f (step %.2f of 30; thesis 23), final %.1f"
+          % (reaction[peak], t_peak, 30 * t_peak, reaction[-1]))
+    c.check(abs(30 * t_peak - 23) <= 1 + 1e-9, "the reaction peaks at step %.2f of 30 (thesis: 23)" % (30 * t_peak))
+    c.check(reaction[-1] < 0.5 * reaction[peak],
+            "the reaction falls from %.1f to %.1f after the snap" % (reaction[peak], reaction[-1]))
+    friction, _ = run(RING, "--set", "output.vtu_every=0", "--set", "contact.0.parameters.mu=0.5",
+                      "--set", "solver.newton.line_search=backtrack")
+    held = friction.column("reaction_base_y")
+    noise = 1e-9 * max(held)  # before contact the reaction is round-off of either sign
+    falls = [(friction.rows[i + 1]["time"], a, b) for i, (a, b) in enumerate(zip(held, held[1:])) if b < a - noise]
+    print("mu = 0.5: %d steps, final reaction %.1f, %d stick / %d slip" % (len(held) - 1, held[-1],
+          friction.rows[-1]["stick_points"], friction.rows[-1]["slip_points"]))
+    c.check(not falls, "mu = 0.5: the reaction never falls (no snap-through): %s" % falls[:3])
+    c.check(len(held) == 31, "mu = 0.5: 30 steps without a cut (%d)" % (len(held) - 1))
+    c.check(held[-1] > reaction[peak], "mu = 0.5: final reaction %.1f above the frictionless peak %.1f"
+            % (held[-1], reaction[peak]))
 
 
 def mortar_ironing_2d(c):
@@ -460,5 +464,5 @@ def mortar_obstacle_3d(c):
 if __name__ == "__main__":
     main([mortar_patch_test_2d, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_hammer_benchmark_friction,
           mortar_block_on_plane, mortar_mpi, mortar_hertz_2d, mortar_hertz_3d, mortar_ring,
-          mortar_ring_friction, mortar_ironing_2d, mortar_condensed, mortar_condensed_krylov, mortar_large_sliding,
+          mortar_ironing_2d, mortar_condensed, mortar_condensed_krylov, mortar_large_sliding,
           mortar_obstacle_3d, mortar_ironing_3d_conforming])
