@@ -143,7 +143,37 @@ static void check_frozen_face(void) {
   s.plugin->destroy(s.inst);
 }
 
+/* The kernel's projection far from the origin: a slave point about 110 mm out projected onto a master face of
+ * 1.4 mm whose line it meets 6 to 8 faces beyond the face (parameter -12 to -15), with either normal field. The parameter's
+ * Newton step stalls at the coordinates' round-off over the face length (about 1e-14 here); an absolute tolerance
+ * of 1e-14 failed it ("a Gauss point ... does not project onto its master face any more": the deep ironing at
+ * refine 2 cut its press to dt / 64). */
+static void check_far_projection(void) {
+  mortar_face_type line;
+  mortar_face_type_init(&line, SK_LINE2, sk_elem_shape, sk_elem_shape_hessian);
+  const double xs[6] = {108.3, -27.2, 0, 109.9, -28.9, 0}; /* slave face, normal towards the master */
+  const double ns[6] = {-0.7071067811865476, -0.7071067811865476, 0, -0.7071067811865476, -0.7071067811865476, 0};
+  const double xm[6] = {101.0, -21.0, 0, 100.0, -20.0, 0}; /* master face, 45 degrees */
+  mortar_pair p;
+  mortar_pair_set(&p, 2, &line, &line, xs, xm, ns, 0);
+  for (int variant = 0; variant < 2; ++variant) {
+    const mortar_normal normal = variant ? MORTAR_NORMAL_M : MORTAR_NORMAL_A;
+    for (int q = 0; q < 7; ++q) {
+      const double xi1 = -0.9 + 0.3 * q;
+      mortar_point_projection pr;
+      const int status = mortar_project_point(&p, normal, &xi1, 0.0, &pr);
+      /* the exact answer: both faces lie on lines of slope -1 (the master through (100, -20)), so the
+       * point's distance along the master line from its centre, over the half-length */
+      const double x1[2] = {xs[0] + 0.5 * (1 + xi1) * (xs[3] - xs[0]), xs[1] + 0.5 * (1 + xi1) * (xs[4] - xs[1])};
+      const double along = ((x1[0] - 100.5) - (x1[1] + 20.5)) / sqrt(2.0), exact = -along / (sqrt(2.0) / 2);
+      SK_CHECK(status == 0 && !pr.inside && fabs(pr.xi[0] - exact) < 1e-9);
+      if (q == 0) printf("  far projection (%s): xi %.12g, exact %.12g\n", variant ? "M" : "A", pr.xi[0], exact);
+    }
+  }
+}
+
 int main(void) {
+  check_far_projection();
   check_special_cases();
   check_frozen_face();
   return sk_test_finish("test_mortar_projection");
