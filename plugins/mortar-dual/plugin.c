@@ -451,6 +451,7 @@ static sk_status begin_step(sk_instance *inst, const sk_state *state) {
   for (int oi = 0; oi < inst->n_owned; ++oi) {
     owned_node *o = &inst->owned[oi];
     o->state = o->c_state;
+    memcpy(o->slip_dir, o->c_slip_dir, sizeof o->slip_dir);
     o->flips = 0;
     const double *n = inst->normal + 3 * o->node;
     int axis = 0;
@@ -593,7 +594,11 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].c_state = inst->owned[oi].state;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->c_state = o->state;
+    memcpy(o->c_slip_dir, o->slip_dir, sizeof o->slip_dir);
+  }
   if (state->extra)
     for (int oi = 0; oi < inst->n_owned; ++oi)
       for (int i = 0; i < inst->dim; ++i)
@@ -602,7 +607,11 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
 }
 
 static void reject_step(sk_instance *inst) {
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].state = inst->owned[oi].c_state;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->state = o->c_state;
+    memcpy(o->slip_dir, o->c_slip_dir, sizeof o->slip_dir);
+  }
 }
 
 /* ---- results ---------------------------------------------------------------------------------------------------- */
