@@ -238,13 +238,14 @@ static void check_slip_objectivity(void) {
 typedef struct {
   mortar_ncp_params prm;
   int n_t, force_state;
+  const double *slip_dir; /* a frozen slip direction (the nested loop), or NULL */
 } ncp_case;
 
 /* u = [z_n, z_t (2), g, s (2)] */
 static int eval_ncp(void *ctx, const double *u, int derivatives, fwd *out) {
   const ncp_case *c = ctx;
   mortar_ncp r;
-  mortar_ncp_eval(c->n_t, u[0], u + 1, u[3], u + 4, &c->prm, c->force_state, &r);
+  mortar_ncp_eval_dir(c->n_t, u[0], u + 1, u[3], u + 4, &c->prm, c->force_state, c->slip_dir, &r);
   for (int i = 0; i < 1 + c->n_t; ++i) {
     out[i] = fwd_const(r.C[i]);
     if (derivatives) {
@@ -262,7 +263,7 @@ static int ncp_state(const ncp_case *c, const double *u) {
 }
 
 static void check_ncp(void) {
-  ncp_case fr = {{0.3, 10.0, 5.0}, 2, -1}, fl = {{0.0, 10.0, 5.0}, 2, -1};
+  ncp_case fr = {{0.3, 10.0, 5.0}, 2, -1, NULL}, fl = {{0.0, 10.0, 5.0}, 2, -1, NULL};
   const double inactive[6] = {0.2, 0.1, -0.2, 0.05, 0.3, 0.1};   /* z_n - c_n g = -0.3 */
   const double stick[6] = {2.0, 0.1, -0.2, 0.01, 0.02, 0.01};    /* |v| = 0.2 < 0.3 * 1.9 */
   const double slip[6] = {2.0, 0.4, -0.2, 0.01, 0.3, 0.1};       /* |v| = 2.1 > 0.57 */
@@ -332,33 +333,14 @@ static void check_branch_holds(void) {
 /* The slip branch with a frozen direction d (Hammer's nested loop): C_T = z_t - mu (z_n - c_n g) d, exact
  * derivatives, no dependence on the slip s; its root is z_t = mu z_n d whatever the slip, which the outer update then
  * checks. */
-typedef struct {
-  mortar_ncp_params prm;
-  int n_t;
-  double dir[2];
-} dir_case;
-
-static int eval_ncp_dir(void *ctx, const double *u, int derivatives, fwd *out) {
-  const dir_case *c = ctx;
-  mortar_ncp r;
-  mortar_ncp_eval_dir(c->n_t, u[0], u + 1, u[3], u + 4, &c->prm, MORTAR_SLIP, c->dir, &r);
-  for (int i = 0; i < 1 + c->n_t; ++i) {
-    out[i] = fwd_const(r.C[i]);
-    if (derivatives) {
-      out[i].n = 6;
-      for (int k = 0; k < 6; ++k) out[i].d[k] = r.dC[i][k];
-    }
-  }
-  return 0;
-}
-
 static void check_frozen_slip(void) {
-  dir_case c = {{0.3, 10.0, 5.0}, 2, {0.6, -0.8}};
+  static const double dir[2] = {0.6, -0.8};
+  ncp_case c = {{0.3, 10.0, 5.0}, 2, MORTAR_SLIP, dir};
   const double u[6] = {2.0, 0.4, -0.2, 0.01, -0.3, 0.1}; /* v = (-1.1, 0.3): against d */
-  SK_CHECK(test_fd_check("NCP slip, frozen direction", eval_ncp_dir, &c, u, 6, 3, FD_STEP) < FD_TOL);
+  SK_CHECK(test_fd_check("NCP slip, frozen direction", eval_ncp, &c, u, 6, 3, FD_STEP) < FD_TOL);
   mortar_ncp r;
   const double zt[2] = {0.3 * 1.9 * 0.6, -0.3 * 1.9 * 0.8}, s[2] = {-0.3, 0.1};
-  mortar_ncp_eval_dir(2, 1.9, zt, 0.0, s, &c.prm, MORTAR_SLIP, c.dir, &r);
+  mortar_ncp_eval_dir(2, 1.9, zt, 0.0, s, &c.prm, MORTAR_SLIP, dir, &r);
   SK_CHECK(r.state == MORTAR_SLIP && fabs(r.C[1]) < 1e-15 && fabs(r.C[2]) < 1e-15);
   SK_CHECK(r.dC[1][4] == 0.0 && r.dC[2][5] == 0.0); /* no slip column */
 }
