@@ -204,7 +204,8 @@ def mortar_hertz_2d(c):
     print("Hertz 2D, the thesis's load F = %.5f: fitted b = %.5f (thesis %.7f), p0 %.3f, centre %.3f (thesis p0 "
           "%.3f), active to %.4f, free from %.4f" % (F, b_fit, HERTZ_2D_B, p0_fit, centre, p0_thesis, edge, free))
     c.check(abs(F - HERTZ_2D_F) <= 1e-9 * HERTZ_2D_F, "the contact carries the thesis's load (%.8f)" % F)
-    c.check(abs(b_fit - HERTZ_2D_B) <= 2e-3 * HERTZ_2D_B, "half-width %.5f against the thesis's %.5f" % (b_fit, HERTZ_2D_B))
+    c.check(abs(b_fit - HERTZ_2D_B) <= 2e-3 * HERTZ_2D_B,
+            "half-width %.5f against the thesis's %.5f" % (b_fit, HERTZ_2D_B))
     c.check(abs(centre - p0_thesis) <= 5e-4 * p0_thesis, "centre pressure %.3f against the thesis's p0 = %.3f"
             % (centre, p0_thesis))
     c.check(edge < HERTZ_2D_B < free, "the thesis's b = %.4f between the last active node %.4f and the first free %.4f"
@@ -220,7 +221,8 @@ def mortar_hertz_2d(c):
     pa, pm = (sorted(fields[n].contact_points(), key=lambda p: p["x"]) for n in ("A", "M"))
     top = max(p["pressure"] for p in pa)
     diff = max(abs(p["pressure"] - q["pressure"]) for p, q in zip(pa, pm)) / top
-    c.check(len(pa) == len(pm) and diff <= 1e-7, "normal fields M and A: nodal pressures equal to %.1e of the peak" % diff)
+    c.check(len(pa) == len(pm) and diff <= 1e-7,
+            "normal fields M and A: nodal pressures equal to %.1e of the peak" % diff)
 
 
 RING = "scenes/mortar-ring.yaml"

@@ -5,7 +5,7 @@ dir = 'results/bench/mortar-thesis/'
 set terminal pngcairo size 900,900 font ',10'
 set grid
 set output 'docs/img/mortar-dual-deep-ironing.png'
-set multiplot layout 2,1 title "Deep ironing (Hammer 8.2), mortar-dual, concentrated integration: reactions at the block's top"
+set multiplot layout 2,1 title "Deep ironing (Hammer 8.2), mortar-dual, concentrated integration: block-top reactions"
 set xlabel 't  (pressed 30 mm over [0, 1]; 220 mm right to t = 8.33, 110 mm back to t = 12)'
 set ylabel '-F_y (press) [N]'
 set key bottom right

@@ -70,7 +70,8 @@ def friction_summary(name, results):
     rows = by_time(results)
     fx = [(t, row["reaction_shear_x"], row["reaction_press_y"]) for t, row in sorted(rows.items())]
     right, left = max(fx, key=lambda v: v[1]), min(fx, key=lambda v: v[1])
-    full = [t for t, row in sorted(rows.items()) if row["active_points"] > 0 and row["slip_points"] == row["active_points"]]
+    full = [t for t, row in sorted(rows.items())
+            if row["active_points"] > 0 and row["slip_points"] == row["active_points"]]
     ratio = lambda v: abs(v[1] / v[2]) if v[2] else math.nan  # noqa: E731
     print("  %s: %s; max F_x %.1f at t = %.2f (F_y %.0f, ratio %.4f), min %.1f at t = %.2f (F_y %.0f, ratio %.4f); "
           "full slip first at t = %s moving right, %s moving left"
@@ -105,8 +106,9 @@ def hammer():
     print("8.1 mu = 0.3, thesis set-up:")
     for name, args in (("coarse-dual-M", COARSE + ["--set", "contact.0.parameters.normal=M"]),
                        ("coarse-dual-A", COARSE + ["--set", "contact.0.parameters.normal=A"]),
-                       ("coarse-dual-M-slab140", COARSE + ["--set", "contact.0.parameters.normal=M", "--set",
-                                                           "mesh.0.parameters.lx=140", "--set", "mesh.0.parameters.nx=28"]),
+                       ("coarse-dual-M-slab140", COARSE + ["--set", "contact.0.parameters.normal=M",
+                                                           "--set", "mesh.0.parameters.lx=140",
+                                                           "--set", "mesh.0.parameters.nx=28"]),
                        ("full-dual-M", ["--set", "contact.0.parameters.normal=M"]),
                        ("full-standard-M", ["--set", "contact.0.parameters.normal=M", "--set",
                                             "contact.0.parameters.basis=standard"])):

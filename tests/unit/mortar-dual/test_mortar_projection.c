@@ -144,10 +144,10 @@ static void check_frozen_face(void) {
 }
 
 /* The kernel's projection far from the origin: a slave point about 110 mm out projected onto a master face of
- * 1.4 mm whose line it meets 6 to 8 faces beyond the face (parameter -12 to -15), with either normal field. The parameter's
- * Newton step stalls at the coordinates' round-off over the face length (about 1e-14 here); an absolute tolerance
- * of 1e-14 failed it ("a Gauss point ... does not project onto its master face any more": the deep ironing at
- * refine 2 cut its press to dt / 64). */
+ * 1.4 mm whose line it meets 6 to 8 faces beyond the face (parameter -12 to -15), with either normal field. The
+ * parameter's Newton step stalls at the coordinates' round-off over the face length (about 1e-14 here); an absolute
+ * tolerance of 1e-14 failed it ("a Gauss point ... does not project onto its master face any more": the deep ironing
+ * at refine 2 cut its press to dt / 64). */
 static void check_far_projection(void) {
   mortar_face_type line;
   mortar_face_type_init(&line, SK_LINE2, sk_elem_shape, sk_elem_shape_hessian);
