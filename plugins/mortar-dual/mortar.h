@@ -22,6 +22,8 @@ typedef struct {
   double ref[3];            /* tangent reference direction for the attempt (3D) */
   int state, c_state;       /* NCP branch (mortar_state) now / committed */
   int flips;                /* branch changes within the attempt (semismooth) */
+  double slip_dir[3], c_slip_dir[3]; /* nested loop: the slip branch's direction (Cartesian unit vector, tangential)
+                                        frozen for a Newton run, now / committed (mortar_ncp_eval_dir) */
   int cols, n_cols;         /* its columns: inst->col[cols .. cols + n_cols), sorted */
   int hist, n_hist;         /* committed D^n (+) and M^n (-) coefficients: inst->hist_* [hist .. hist + n_hist) */
   /* values at the last evaluation */
@@ -61,6 +63,8 @@ struct sk_instance {
   mortar_ncp_params ncp;
   int segment_gauss, cell_rule, face_gauss, max_flips;
   double search_margin, min_cover;
+  double branch_tol;        /* a traction: 1e-8 c_n h (h the slave's mean edge), the round-off band of a branch at a
+                               converged point (mortar_ncp_branch_holds) */
 
   mortar_face_type st, mt;
   sk_search *search;

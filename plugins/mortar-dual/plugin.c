@@ -220,6 +220,9 @@ static sk_status read_parameters(sk_instance *inst) {
                       MORTAR_MAX_RULE, inst->ncp.mu, inst->ncp.c_n, inst->ncp.c_t, inst->search_margin,
                       inst->segment_gauss, inst->face_gauss, inst->cell_rule, inst->max_flips, inst->min_cover);
   inst->friction = inst->ncp.mu > 0.0;
+  /* c_n h is about the modulus (c_n ~ E / h): 1e-8 of it lies far below any pressure the run resolves and above the
+   * round-off of z_n and c_n g at a converged point */
+  inst->branch_tol = 1e-8 * inst->ncp.c_n * mean_edge(inst->slave);
   if (inst->strategy == STRATEGY_CONDENSED && inst->basis != MORTAR_DUAL)
     return api->error(host, SK_ERR_INPUT,
                       "mortar-dual: strategy 'condensed' eliminates z with a diagonal D: it needs basis: dual");
@@ -448,6 +451,7 @@ static sk_status begin_step(sk_instance *inst, const sk_state *state) {
   for (int oi = 0; oi < inst->n_owned; ++oi) {
     owned_node *o = &inst->owned[oi];
     o->state = o->c_state;
+    memcpy(o->slip_dir, o->c_slip_dir, sizeof o->slip_dir);
     o->flips = 0;
     const double *n = inst->normal + 3 * o->node;
     int axis = 0;
@@ -590,7 +594,11 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].c_state = inst->owned[oi].state;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->c_state = o->state;
+    memcpy(o->c_slip_dir, o->slip_dir, sizeof o->slip_dir);
+  }
   if (state->extra)
     for (int oi = 0; oi < inst->n_owned; ++oi)
       for (int i = 0; i < inst->dim; ++i)
@@ -599,7 +607,11 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
 }
 
 static void reject_step(sk_instance *inst) {
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].state = inst->owned[oi].c_state;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->state = o->c_state;
+    memcpy(o->slip_dir, o->c_slip_dir, sizeof o->slip_dir);
+  }
 }
 
 /* ---- results ---------------------------------------------------------------------------------------------------- */
