@@ -142,6 +142,7 @@ static const sk_integrator integrator = {
     .dynamic = 1,
     .predict = glue_predict,
     .velocity = glue_velocity,
+    .energy = glue_energy,
 };
 
 static const sk_plugin plugin = {
