@@ -203,18 +203,23 @@ def corot_ball_two_planes(c):
             "falls: %.3f, %.3f, %.3f at dt 0.001, 0.0005, 0.00025" % tuple(e))
 
 
+def both_models(c, scene, end):
+    """Models 1 and 2 on a frictional scene to t = end, each with its energy and J balances: [(res, rows)] * 2."""
+    runs = [simulate(c, scene, "--set", "time.end=%r" % end, "--set", "bodies.0.parameters.model=%d" % m)
+            for m in (1, 2)]
+    for m, (res, rows) in zip((1, 2), runs):
+        energy_balance(c, res, rows, True)
+        momentum_balance(c, rows, m)
+    return runs
+
+
 def corot_ball_two_planes_models(c):
     """Figs. 6.11, 6.12: Models 1 and 2 on the ball between two planes, both energy-consistent (balances), identical
     while the ball spins freely (both keep the steady spin exactly), and close after the first impact. At dt 0.001 they
     part at the second contact (theta' 1.4 against 7.9 at t = 0.028); at dt 0.0005 they agree through the third
     (measured in docs/plugins/corotational.md, Against the paper): the difference of the lever arms is the co-rotated
     vibration u - T(u), which the impact's resolution sets."""
-    runs = {m: simulate(c, "scenes/corot-ball-two-planes.yaml", "--set", "time.end=0.024",
-                        "--set", "bodies.0.parameters.model=%d" % m) for m in (1, 2)}
-    for m, (res, rows) in runs.items():
-        energy_balance(c, res, rows, True)
-        momentum_balance(c, rows, m)
-    (_, one), (_, two) = runs[1], runs[2]
+    (_, one), (_, two) = both_models(c, "scenes/corot-ball-two-planes.yaml", 0.024)
     free = [k for k, r in enumerate(one) if r["t"] <= 0.003 + 1e-12]
     d_free = max(max(abs(one[k][q] - two[k][q]) for q in ("theta", "x", "y")) for k in free)
     c.check(d_free <= 1e-12, "before the first contact Models 1 and 2 coincide (steady spin): %.1e" % d_free)
@@ -230,12 +235,7 @@ def corot_ellipse_two_planes(c):
     part for good, the paper's 'a small difference amplifies and a completely different behaviour occurs' (the paper
     sees it after the third and fourth contacts, we after the second: docs/plugins/corotational.md, Against the
     paper); both keep their energy balance."""
-    runs = {m: simulate(c, "scenes/corot-ellipse-two-planes.yaml", "--set", "time.end=0.1",
-                        "--set", "bodies.0.parameters.model=%d" % m) for m in (1, 2)}
-    for m, (res, rows) in runs.items():
-        energy_balance(c, res, rows, True)
-        momentum_balance(c, rows, m)
-    (res1, one), (_, two) = runs[1], runs[2]
+    (res1, one), (_, two) = both_models(c, "scenes/corot-ellipse-two-planes.yaml", 0.1)
     touches = episodes(res1)
     print("  Model 1 contact episodes: %s" % touches)
     c.check(touches and touches[0][0] == 4, "the first contact acts from step 4 (the ball's gap 0.1)")
