@@ -3,7 +3,7 @@
  * and 2, frictionless and with Coulomb friction 0.2. The paper's claims as checks: one Newton iteration per step
  * before contact; energy exact through frictionless contact (Model 1 within its rotation tolerance, Model 2 to
  * round-off); the Model 1 angular-momentum balance; friction only takes energy and reverses the spin. The iteration
- * counts during and after contact are printed (docs/plugins/corotational.md §10 sets them beside the paper's). */
+ * counts during and after contact are printed (docs/plugins/corotational.md §11 sets them beside the paper's). */
 #include "corot_test_impact.h"
 
 static const double tol = 1e-12;
