@@ -99,5 +99,9 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **te
 /* 1 for a plugin term of a pair with a rigid obstacle; the pair index of a plugin term (-1 for a body). */
 int sk_term_plugin_has_obstacle(const sk_term *term);
 int sk_term_plugin_pair(const sk_term *term);
+/* A plugin term that claimed its body and whose integrator reports the energy its scheme conserves (ABI 2.5): *body
+ * is that body and energy[0], energy[1] its kinetic and strain energy, this rank's part (initial: of the initial
+ * state); *body = -1 and zeros for any other term. */
+sk_status sk_term_plugin_scheme_energy(sk_term *term, sk_system *sys, int initial, int *body, double energy[2]);
 
 #endif

@@ -2,6 +2,7 @@
  * sees (positions per view, refreshed when the iterate changes) and runs the ABI calls at the system's stages. The
  * capability checks that depend on what an instance does (extra unknowns, eliminations) are made here. */
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -366,6 +367,24 @@ int sk_term_plugin_has_obstacle(const sk_term *base) {
 int sk_term_plugin_pair(const sk_term *base) {
   if (base->ops != &plugin_ops) return -1;
   return ((const plugin_term *)base)->pair;
+}
+
+sk_status sk_term_plugin_scheme_energy(sk_term *base, sk_system *sys, int initial, int *body, double energy[2]) {
+  *body = -1;
+  energy[0] = energy[1] = 0.0;
+  if (base->ops != &plugin_ops) return SK_OK;
+  plugin_term *term = (plugin_term *)base;
+  if (!term->integrator || !SK_HAS(term->integrator, energy) || !term->integrator->energy) return SK_OK;
+  sk_plugin_term_refresh(term, sys, initial);
+  sk_error_clear();
+  sk_status status = said(term, "energy", term->integrator->energy(term->instance, &term->state, &energy[0],
+                                                                    &energy[1]));
+  if (status == SK_OK && !(isfinite(energy[0]) && isfinite(energy[1])))
+    status = sk_error_set(SK_ERR_PLUGIN, "its integrator's energy is not a number (kinetic %g, strain %g)",
+                          energy[0], energy[1]);
+  if (status != SK_OK) return sk_error_prefix(status, "%s: energy: ", base->name);
+  *body = term->body;
+  return SK_OK;
 }
 
 /* ---- creation --------------------------------------------------------------------------------------------------- */

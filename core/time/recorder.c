@@ -17,14 +17,15 @@
 typedef enum {
   COL_TIME, COL_STEP, COL_SUBSTEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
   COL_MOMENTUM_Z, COL_ANGULAR_X, COL_ANGULAR_Y, COL_ANGULAR_Z, COL_FORCE_X, COL_FORCE_Y, COL_FORCE_Z, COL_ACTIVE,
-  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, N_FIXED_COLUMNS
+  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, COL_MATERIAL,
+  N_FIXED_COLUMNS
 } history_column;
 
 static const char *const fixed_columns[N_FIXED_COLUMNS] = {
     "time", "step", "substep", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
     "momentum_y", "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z", "contact_force_x",
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
-    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z"};
+    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z", "material_total_energy"};
 
 enum { POINT_FIELDS = 18 };
 
@@ -330,7 +331,13 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
                              int newton_iterations, const sk_contact_totals *contact) {
   const sk_model *m = &rec->scene->model;
   sk_invariants inv = {0};
-  if (rec->wants_invariants) SK_TRY(sk_bulk_invariants(m, u, v, &inv));
+  /* a body whose plugin scheme conserves another energy than its material's (ABI 2.5) counts with that energy; the
+   * material's of every body stays in material_total_energy */
+  double scheme[2] = {0, 0}, host[2] = {0, 0};
+  if (rec->wants_invariants) {
+    SK_TRY(sk_bulk_invariants(m, u, v, &inv));
+    SK_TRY(sk_system_scheme_energy(rec->sys, u, v, step == 0, scheme, host));
+  }
   sk_system_reactions(rec->sys, rec->reactions);
   rec->dissipated += contact->dissipated;
   double *row = rec->row;
@@ -339,9 +346,10 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   row[COL_SUBSTEP] = substep;
   row[COL_DT] = rec->sys->dt;
   row[COL_NEWTON] = newton_iterations;
-  row[COL_KINETIC] = inv.kinetic;
-  row[COL_STRAIN] = inv.strain;
-  row[COL_TOTAL] = inv.kinetic + inv.strain;
+  row[COL_KINETIC] = inv.kinetic - host[0] + scheme[0];
+  row[COL_STRAIN] = inv.strain - host[1] + scheme[1];
+  row[COL_TOTAL] = row[COL_KINETIC] + row[COL_STRAIN];
+  row[COL_MATERIAL] = inv.kinetic + inv.strain;
   for (int i = 0; i < 3; ++i) {
     row[COL_MOMENTUM_X + i] = inv.momentum[i];
     row[COL_ANGULAR_X + i] = inv.angular_momentum[i];

@@ -255,6 +255,17 @@ sk_status glue_velocity(sk_instance *inst, const sk_state *state, double *v) {
   return SK_OK;
 }
 
+/* The energy the scheme conserves (Lemma 2.1): 1/2 s.Ms + 1/2 u.Su of the committed state, or of the initial state
+ * (which the first row of history.csv asks for before any step). The host's SVK energy of the world displacement is
+ * another number: not the linear co-rotated strain energy (docs/plugins/corotational.md §8.3). */
+sk_status glue_energy(sk_instance *inst, const sk_state *state, double *kinetic, double *strain) {
+  const glue_body *b = inst->body;
+  if (state->step == 0) SK_TRY(glue_ensure_started(inst, state));
+  *kinetic = b->energy[0];
+  *strain = b->energy[1];
+  return SK_OK;
+}
+
 sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   glue_body *b = inst->body;
   load_iterate(b, state);
@@ -266,18 +277,28 @@ sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   for (int p = 0; p < b->contact.n; ++p)
     b->work_node[p] = cw->dt * b->contact.weight[p] * corot_dot(dim, cw->s + b->contact.node[p] * dim, lambda + p * dim);
   memcpy(b->Rm, cw->Rm, sizeof b->Rm);
+  double impulse, defect;
+  corot_world_momentum_balance(cw, b->y, &impulse, &defect);
   const double work = corot_world_commit(cw, b->y, &b->next);
   corot_state t = b->state;
   b->state = b->next;
   b->next = t;
-  const double E = corot_energy(&b->body, b->state.u, b->state.s, b->F);
+  SK_TRY(glue_publish_state(inst));
+  /* the scheme's record of the step (--verbose): its energy and angular momentum with the terms of their discrete
+   * balances (Lemmas 2.1, 2.2: E^{n+1} - E^n = -friction, J^{n+1} - J^n = impulse + defect), and the world centre
+   * of mass X_c + R_theta T(u) */
   const double J = corot_angular_momentum(&b->body, b->model, b->state.u, b->state.s, b->F);
+  double T[3] = {0, 0, 0}, centre[3] = {0, 0, 0}, R[9];
+  corot_mean(&b->body, b->state.u, T);
+  corot_rotation(b->body.dim, b->body.e, b->state.theta, R);
+  corot_mul(b->body.dim, R, T, centre);
+  for (int i = 0; i < 3; ++i) centre[i] += b->body.centre[i];
   inst->api->log(inst->host, 2,
                  "corotational: step %lld t %.9g theta %.17g w %.17g E %.17e J %.17e friction %.17e g/g_ref %.2e "
-                 "w-updates %d",
-                 (long long)state->step, state->t, b->state.theta, b->state.w, E, J, work,
-                 g / corot_world_g_ref(cw), b->rotation_updates);
-  return glue_publish_state(inst);
+                 "w-updates %d impulse %.17e defect %.17e centre %.17g %.17g %.17g",
+                 (long long)state->step, state->t, b->state.theta, b->state.w, b->energy[0] + b->energy[1], J, work,
+                 g / corot_world_g_ref(cw), b->rotation_updates, impulse, defect, centre[0], centre[1], centre[2]);
+  return SK_OK;
 }
 
 /* ---- results -------------------------------------------------------------------------------------------------------- */

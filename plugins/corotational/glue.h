@@ -62,6 +62,7 @@ typedef struct {
   double *work_node;             /* per contact node: dt D_pp s_p . lambda_p of the last step */
   int rotation_updates;          /* Newton updates of w in the last step */
   int rejections;                /* converged() rejections in this attempt */
+  double energy[2];              /* kinetic and strain energy of the scheme (Lemma 2.1) at the published state */
 } glue_body;
 
 struct sk_instance {
@@ -97,5 +98,6 @@ sk_status glue_report(sk_instance *inst, const sk_state *state, sk_contact_repor
 sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx);
 sk_status glue_predict(sk_instance *inst, const sk_state *state, double *u);
 sk_status glue_velocity(sk_instance *inst, const sk_state *state, double *v);
+sk_status glue_energy(sk_instance *inst, const sk_state *state, double *kinetic, double *strain);
 
 #endif

@@ -360,6 +360,7 @@ sk_status glue_build_contact(sk_instance *inst) {
 /* World displacements and velocities of the committed state, to the host (history, VTU, the next v_n). */
 sk_status glue_publish_state(sk_instance *inst) {
   glue_body *b = inst->body;
+  corot_energy_parts(&b->body, b->state.u, b->state.s, b->v, &b->energy[0], &b->energy[1]); /* b->v: scratch here */
   corot_world_state(&b->body, b->state.theta, b->state.u, b->state.s, b->q, b->v);
   for (int i = 0; i < b->body.n; ++i) b->q[i] -= b->view->X[i];
   return b->bulk->set_state(inst->host, b->q, b->v);

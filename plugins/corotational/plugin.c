@@ -18,7 +18,7 @@
 /* monolithic (default): w kept, NOX drives it with the rest (one dense row and column); nested: w eliminated, its
  * Newton step in recover() from a second solve with the same factorisation, the paper's outer Newton (Sec. 5.3);
  * dual: nested, with lambda condensed on the assembled operator by the host (stickslip.condense). Through this host
- * monolithic takes 3 iterations per contact step of the 6.3 ball where nested takes 4, and half the linear solves
+ * monolithic takes 2-3 iterations per contact step of the 6.3 ball where nested takes 4-5, and half the linear solves
  * (docs/plugins/corotational.md §8.1). */
 static const char *const strategies[] = {"monolithic", "nested", "dual", NULL};
 static const char *const parameters[] = {
@@ -142,6 +142,7 @@ static const sk_integrator integrator = {
     .dynamic = 1,
     .predict = glue_predict,
     .velocity = glue_velocity,
+    .energy = glue_energy,
 };
 
 static const sk_plugin plugin = {

@@ -211,6 +211,13 @@ typedef struct sk_integrator {
   /* Converged step: the body's velocities at t (view numbering), for output and the next v_n (set_state of
    * stickslip.bulk overrides them). */
   sk_status (*velocity)(sk_instance *instance, const sk_state *state, double *v);
+  /* ABI 2.5 (the host reads it only when SK_HAS(integrator, energy); NULL: none): the kinetic and strain energy that
+   * the integrator's scheme conserves, or balances against its contact work, for the body at the state's time (the
+   * last committed step; for the initial output, state->step == 0, the initial state), this rank's part (the host
+   * sums over ranks). history.csv's kinetic_energy, strain_energy and total_energy carry these for the body instead
+   * of the host's (from the world state and the body's material, which stay in material_total_energy): a scheme whose
+   * energy is not the material's (a co-rotational linear energy) reports the one it conserves. */
+  sk_status (*energy)(sk_instance *instance, const sk_state *state, double *kinetic, double *strain);
 } sk_integrator;
 
 /* ---- the plugin table ------------------------------------------------------------------------------------------- */
