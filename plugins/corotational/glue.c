@@ -265,6 +265,17 @@ sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   const double *lambda = b->y + n + cw->n_border;
   for (int p = 0; p < b->contact.n; ++p)
     b->work_node[p] = cw->dt * b->contact.weight[p] * corot_dot(dim, cw->s + b->contact.node[p] * dim, lambda + p * dim);
+  /* the slip of the step: dt times the tangential part of the midpoint velocity s_p against the plane, in the world */
+  for (int p = 0; p < b->contact.n; ++p) {
+    double *slip = b->slip_increment + 3 * p, sT[3] = {0, 0, 0};
+    memset(slip, 0, 3 * sizeof *slip);
+    if (b->contact.set[p] == COROT_INACTIVE || corot_contact_mu(&b->contact, p) <= 0.0) continue;
+    const double *sp = cw->s + b->contact.node[p] * dim, *nu = b->contact.frame + 9 * p;
+    const double sn = corot_dot(dim, nu, sp);
+    for (int i = 0; i < dim; ++i) sT[i] = cw->dt * (sp[i] - sn * nu[i]);
+    corot_mul(dim, cw->Rm, sT, slip);
+    b->slip_length[p] += sqrt(corot_dot(dim, slip, slip));
+  }
   memcpy(b->Rm, cw->Rm, sizeof b->Rm);
   const double work = corot_world_commit(cw, b->y, &b->next);
   corot_state t = b->state;
@@ -330,6 +341,14 @@ sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callbac
       pt.normal[i] = pl->normal[i];
       pt.gap += (pt.x[i] - pl->point[i]) * pl->normal[i];
     }
+    if (p >= 0) { /* D_pp: the node's reference measure; its slip (friction against this plane) */
+      pt.area = c->weight[p];
+      pt.has_slip = pl->mu > 0.0;
+      if (pt.has_slip && mine) {
+        memcpy(pt.slip_increment, b->slip_increment + 3 * p, sizeof pt.slip_increment);
+        pt.slip = b->slip_length[p];
+      }
+    }
     if (mine && c->set[p] != COROT_INACTIVE) {
       const double *l = c->lambda + 3 * p, *nu = c->frame + 9 * p;
       const double ln = corot_dot(dim, nu, l);
@@ -337,6 +356,11 @@ sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callbac
       for (int i = 0; i < dim; ++i) lt[i] = -(l[i] - ln * nu[i]);
       pt.pressure = ln;
       corot_mul(dim, b->Rm, lt, pt.traction);
+      /* the force on the body is -R_m D_pp lambda_p: its normal part acts along -R_m nu (the co-rotated frame of the
+       * step), which differs from the plane's normal by the rotation within the step */
+      double nu_world[3] = {0, 0, 0};
+      corot_mul(dim, b->Rm, nu, nu_world);
+      for (int i = 0; i < dim; ++i) pt.normal[i] = -nu_world[i];
       pt.state = c->set[p] == COROT_STICK && corot_contact_mu(c, p) > 0.0 ? 1 : (corot_contact_mu(c, p) > 0.0 ? 2 : 1);
     }
     callback(ctx, &pt);

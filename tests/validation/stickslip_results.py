@@ -21,13 +21,20 @@ class Results:
     def column(self, name):
         return [row[name] for row in self.rows]
 
-    def contact_points(self):
+    def contact_table(self):
+        """Every row of contact.csv: the contact points of every output step (columns step and time)."""
         path = os.path.join(self.folder, "contact.csv")
         with open(path) as f:
             return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
+    def contact_points(self, step=None):
+        """The contact points of one output step of contact.csv: `step`, or the last one."""
+        rows = self.contact_table()
+        step = max(r["step"] for r in rows) if step is None and rows else step
+        return [r for r in rows if r["step"] == step]
+
     def last_vtu(self):
-        files = sorted(p for p in os.listdir(self.folder) if p.endswith(".vtu"))
+        files = sorted(p for p in os.listdir(self.folder) if p.startswith("step-") and p.endswith(".vtu"))
         return read_vtu(os.path.join(self.folder, files[-1]))
 
 
