@@ -74,6 +74,8 @@ struct sk_contact_output {
   sk_elem_type *face_type;
   int *face_offsets, *face_conn; /* the faces as cells over contact nodes */
   double *face_pair;         /* the pair of each face (the first one on a shared surface) */
+  double *face_index;        /* its index in its slave surface (contact.csv's `face`) */
+  double *cnode_id;          /* the mesh node id of each contact node */
   double *node_local, *node_sum; /* n_cnodes x N_FIELD */
   double *face_local, *face_sum; /* n_faces x N_FIELD */
   double *records;           /* this rank's points of the step, N_RECORD each */
@@ -96,7 +98,7 @@ void sk_contact_output_free(sk_contact_output *co) {
   sk_obstacle_output_free(co->obstacles);
   for (int k = 0; co->pairs && k < co->model->n_pairs; ++k) free(co->pairs[k].tributary);
   void *all[] = {co->pairs, co->cnode_of_node, co->node_of_cnode, co->face_type, co->face_offsets, co->face_conn,
-                 co->face_pair, co->node_local, co->node_sum, co->face_local, co->face_sum, co->records,
+                 co->face_pair, co->face_index, co->cnode_id, co->node_local, co->node_sum, co->face_local, co->face_sum, co->records,
                  co->node_fields};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
   free(co);
@@ -144,8 +146,11 @@ static sk_status build_surfaces(sk_contact_output *co) {
   co->face_offsets = malloc(sizeof(int) * ((size_t)co->n_faces + 1));
   co->face_conn = malloc(sizeof(int) * (n_conn + 1));
   co->face_pair = malloc(sizeof(double) * ((size_t)co->n_faces + 1));
-  if (!co->face_type || !co->face_offsets || !co->face_conn || !co->face_pair)
+  co->face_index = malloc(sizeof(double) * ((size_t)co->n_faces + 1));
+  co->cnode_id = malloc(sizeof(double) * ((size_t)co->n_cnodes + 1));
+  if (!co->face_type || !co->face_offsets || !co->face_conn || !co->face_pair || !co->face_index || !co->cnode_id)
     return no_memory("the contact output");
+  for (int a = 0; a < co->n_cnodes; ++a) co->cnode_id[a] = co->node_of_cnode[a];
   co->face_offsets[0] = 0;
   for (int k = 0; k < m->n_pairs; ++k) {
     const sk_surface *s = co->pairs[k].surface;
@@ -155,6 +160,7 @@ static sk_status build_surfaces(sk_contact_output *co) {
       const int c = first + f;
       co->face_type[c] = s->face_type;
       co->face_pair[c] = k;
+      co->face_index[c] = f;
       co->face_offsets[c + 1] = co->face_offsets[c] + s->nen;
       for (int a = 0; a < s->nen; ++a)
         co->face_conn[co->face_offsets[c] + a] = co->cnode_of_node[s->conn[(size_t)f * s->nen + a]];
@@ -430,7 +436,7 @@ static sk_status write_surfaces(sk_contact_output *co, const double *u, double t
   double *point_values = malloc(sizeof(double) * VTU_COMPONENTS * ((size_t)n_points + 1));
   double *cell_values = malloc(sizeof(double) * VTU_COMPONENTS * ((size_t)n_cells + 1));
   sk_status status = points && point_values && cell_values ? SK_OK : no_memory("the contact VTU");
-  sk_vtu_field point_list[N_VTU_FIELDS], cell_list[N_VTU_FIELDS + 1];
+  sk_vtu_field point_list[N_VTU_FIELDS + 1], cell_list[N_VTU_FIELDS + 2];
   int n_point_fields = 0, n_cell_fields = 0;
   if (status == SK_OK) {
     for (int a = 0; a < n_points; ++a)
@@ -454,7 +460,9 @@ static sk_status write_surfaces(sk_contact_output *co, const double *u, double t
       cell_list[n_cell_fields++] = (sk_vtu_field){f->name, f->components, cv};
       cv += (size_t)f->components * n_cells;
     }
+    point_list[n_point_fields++] = (sk_vtu_field){"node", 1, co->cnode_id};
     cell_list[n_cell_fields++] = (sk_vtu_field){"pair", 1, co->face_pair};
+    cell_list[n_cell_fields++] = (sk_vtu_field){"face", 1, co->face_index};
     char file[64], path[1400];
     snprintf(file, sizeof file, "contact-%06lld.vtu", (long long)step);
     snprintf(path, sizeof path, "%s/%s", co->dir, file);

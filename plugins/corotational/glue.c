@@ -325,15 +325,15 @@ sk_status glue_report(sk_instance *inst, const sk_state *state, sk_contact_repor
 
 sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
   const glue_body *b = inst->body;
-  if (!b->contact_ready) return SK_OK;
   const glue_pair *pair = &b->pairs[inst->pair_index];
   const sk_view *slave = pair->slave;
   const corot_contact *c = &b->contact;
-  const corot_plane *pl = &c->planes[inst->pair_index];
+  /* before the first step (the initial output) the contact is not built yet: the slave nodes against the plane */
+  const corot_plane *pl = b->contact_ready ? &c->planes[inst->pair_index] : &pair->plane;
   const int dim = slave->dim;
   for (int k = 0; k < slave->n_nodes; ++k) {
     if (!slave->owned[k]) continue;
-    const int p = b->contact_of_node[pair->body_node[k]];
+    const int p = b->contact_ready ? b->contact_of_node[pair->body_node[k]] : -1;
     const int mine = p >= 0 && c->plane[p] == inst->pair_index && state->step > 0;
     sk_contact_point pt = {.struct_size = sizeof pt, .slave_node = slave->node_id[k]};
     for (int i = 0; i < dim; ++i) {

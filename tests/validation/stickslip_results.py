@@ -39,7 +39,8 @@ class Results:
 
 
 def read_vtu(path):
-    """Point and cell data arrays of a stickslip .vtu (raw appended or inline base64) as lists of tuples."""
+    """Point and cell data arrays of a stickslip .vtu (raw appended or inline base64) as lists of tuples, by name; a
+    cell array whose name a point array has too (the contact fields of contact-NNNNNN.vtu) is under "cell:NAME"."""
     data = open(path, "rb").read()
     header_end = data.find(b"<AppendedData")
     text = data[: header_end if header_end >= 0 else len(data)].decode("latin-1")
@@ -47,9 +48,12 @@ def read_vtu(path):
     base = None
     if header_end >= 0:
         base = data.find(b"_", header_end) + 1
+    cell_data = (text.find("<CellData"), text.find("</CellData>"))
     for match in re.finditer(r'<DataArray([^>]*)>', text):
         attrs = dict(re.findall(r'(\w+)="([^"]*)"', match.group(1)))
         name = attrs.get("Name", "")
+        if cell_data[0] <= match.start() < cell_data[1] and name in arrays:
+            name = "cell:" + name
         kind = attrs["type"]
         ncomp = int(attrs.get("NumberOfComponents", "1"))
         fmt = {"Float64": "d", "Int32": "i", "Int64": "q", "UInt8": "B"}[kind]
