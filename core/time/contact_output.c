@@ -97,9 +97,9 @@ void sk_contact_output_free(sk_contact_output *co) {
   sk_pvd_close(co->obstacle_pvd);
   sk_obstacle_output_free(co->obstacles);
   for (int k = 0; co->pairs && k < co->model->n_pairs; ++k) free(co->pairs[k].tributary);
-  void *all[] = {co->pairs, co->cnode_of_node, co->node_of_cnode, co->face_type, co->face_offsets, co->face_conn,
-                 co->face_pair, co->face_index, co->cnode_id, co->node_local, co->node_sum, co->face_local, co->face_sum, co->records,
-                 co->node_fields};
+  void *all[] = {co->pairs,     co->cnode_of_node, co->node_of_cnode, co->face_type,  co->face_offsets,
+                 co->face_conn, co->face_pair,     co->face_index,    co->cnode_id,   co->node_local,
+                 co->node_sum,  co->face_local,    co->face_sum,      co->records,    co->node_fields};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
   free(co);
 }

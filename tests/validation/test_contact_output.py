@@ -1,16 +1,17 @@
 """The contact output means the same for every plugin and follows the run (issue 35, items 3 and 12).
 
-- `contact_output_slide_<plugin>`: a 3D block pressed onto a rigid plane and pushed obliquely (scenes/mortar-block-on-plane-3d.yaml,
-  Coulomb mu = 0.3; corotational: its ball on a plane, mu = 0.2): contact.csv has the points of every output step
-  (the instants of the .vtu files); at each of them the points' normal_force x normal + traction x area sum to
-  history.csv's contact_force, normal_force = pressure x area, |traction| <= mu pressure, the friction traction of a
-  slipping point opposes its slip increment, the accumulated slip grows by at least the last increment while the
-  point slides and never decreases, and points flip from stick to slip; the contact fields of the VTU files are
-  contact.csv's (at the nodes of the bodies, and on the faces of the slave surfaces for Gauss points).
-- `contact_output_hertz_2d_<plugin>`, `contact_output_hertz_3d_<plugin>`: the Hertz pressure profile read from contact.csv's `pressure` against
-  Hertz's closed form, with the error metric of hertz_profile.py (the L2 profile error over r < 1.25 a), for every
-  plugin that runs the Hertz scenes. nts-augmented wrote its nodal multiplier (a force) there before: L2 0.98 on
-  hertz-2d (0a8b594).
+- `contact_output_slide_<plugin>`: a 3D block pressed onto a rigid plane and pushed obliquely
+  (scenes/mortar-block-on-plane-3d.yaml, Coulomb mu = 0.3; corotational: its ball on a plane, mu = 0.2): contact.csv
+  has the points of every output step (the instants of the .vtu files); at each of them the points' normal_force x
+  normal + traction x area sum to history.csv's contact_force, normal_force = pressure x area, |traction| <= mu
+  pressure (= when slipping), the friction traction of a slipping point opposes its slip increment, the accumulated
+  slip grows by at least the last increment while the point slides and never decreases, and points flip from stick
+  to slip; the contact fields of the VTU files are contact.csv's (at the nodes of the bodies, and on the faces of the
+  slave surfaces for Gauss points).
+- `contact_output_hertz_2d_<plugin>`, `contact_output_hertz_3d_<plugin>`: the Hertz pressure profile read from
+  contact.csv's `pressure` against Hertz's closed form, with the error metric of hertz_profile.py (the L2 profile
+  error over r < 1.25 a), for every plugin that runs the Hertz scenes. nts-augmented wrote its nodal multiplier (a
+  force) there before: L2 0.98 on hertz-2d (0a8b594).
 - `contact_output_mpi`: the contact output on 2 ranks equals that on 1 rank.
 Usage: python3 test_contact_output.py CASE; exit code 0 when every check holds."""
 import math
