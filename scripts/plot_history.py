@@ -4,8 +4,9 @@
 The kind of run decides the panels (printed with the file name):
   quasi-static           load-displacement (each support's reaction against its prescribed displacement, a moving
                          obstacle's against its motion; the reactions against the prescribed force of a force-driven
-                         run), contact forces, energy (strain, and with friction the dissipation, against the work of
-                         the supports and obstacles where it is known), Newton iterations per step
+                         run), energy (strain, and with friction the dissipation, against the work of the supports
+                         and obstacles where it is known), contact forces, and with friction the ratio of tangential
+                         to normal contact force against mu, else Newton iterations per step
   dynamic, free bodies   energies, their conservation (E - E0, with friction E + D - E0, and the angular momentum
                          without obstacles, relative to the run's energy and momentum scales), linear momentum,
                          contact forces
@@ -315,8 +316,7 @@ def friction_coefficient(scene):
 
 
 def main():
-    parser = argparse.ArgumentParser(prog="plot-history.sh", description=__doc__.split("\n")[0],
-                                     epilog="\n".join(__doc__.split("\n")[2:-1]),
+    parser = argparse.ArgumentParser(prog="plot-history.sh", description="\n".join(__doc__.split("\n")[:-1]),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("results", help="a results folder written by `stickslip run --out`")
     parser.add_argument("title", nargs="?", help="title of the picture (default: the folder name)")
