@@ -125,6 +125,15 @@ def write_segments(f, points, pairs):
         last = b
 
 
+def colour_limits(vmin, vmax):
+    """The colour scale of values in [vmin, vmax]: around the value when they are all (nearly) equal."""
+    scale = max(abs(vmin), abs(vmax))
+    if vmax - vmin > 1e-6 * scale and vmax > vmin:
+        return vmin, vmax
+    half = 0.05 * scale if scale > 0 else 0.5
+    return vmin - half, vmax + half
+
+
 def field_label(field):
     return "|%s|" % field if field in ("displacement", "velocity") or "traction" in field or "increment" in field \
         else field.replace("_", " ")
@@ -355,7 +364,7 @@ def snapshot_frames(args, chosen, obstacles, tmp):
     edges = sorted(math.dist(points[p[i]], points[p[i - 1]]) for p in polygons for i in range(len(p)))
     for frame in frames if obstacles else []:
         add_obstacles(frame, obstacles, tmp, max(0.5 * edges[len(edges) // 2], 1e-12), args.view)
-    return frames, (vmin, vmax if vmax > vmin else vmin + 1.0), len(polygons)
+    return frames, colour_limits(vmin, vmax), len(polygons)
 
 
 def overall_bounds(frames, obstacles_too):
@@ -380,7 +389,8 @@ def bodies(args):
         if re.fullmatch(r"step-\d+\.png", old):
             os.remove(os.path.join(out_dir, old))
     with tempfile.TemporaryDirectory(prefix="stickslip-snapshots-") as tmp:
-        args.zoom = args.zoom or 1.8
+        zoom = args.zoom
+        args.zoom = zoom or 1.8
         frames, limits, n_polygons = snapshot_frames(args, chosen, obstacles, tmp)
         bounds = overall_bounds(frames, bool(obstacles))
         whole = [[(frame, list(frame.parts), None)] for frame in frames]
@@ -389,6 +399,7 @@ def bodies(args):
         layout = args.layout if args.layout != "auto" else ("overlay" if apart(frames) else "panels")
         overview = os.path.join(args.results, "snapshots.png")
         if layout == "overlay":
+            args.zoom = zoom or 1.4  # the bodies of every instant in one frame: the box is larger
             render([overlay(frames)], bounds, limits, args, overview, 1, "%s: t = %s" % (
                 args.title, ", ".join("%.4g" % f.time for f in frames)))
         else:
@@ -466,7 +477,7 @@ def contact_view_3d(args, chosen, png):
         size = max(b - a for a, b in zip(lo, hi)) or 1.0
         lo, hi = [a - 0.2 * size for a in lo], [b + 0.2 * size for b in hi]
         args.zoom = args.zoom or 1.4
-        render([[(f, [0], None)] for f in frames], (lo, hi), (vmin, vmax if vmax > vmin else vmin + 1.0), args, png,
+        render([[(f, [0], None)] for f in frames], (lo, hi), colour_limits(vmin, vmax), args, png,
                min(len(frames), 2), "%s: %s on the contact surfaces" % (args.title, field_label(args.field)))
 
 
@@ -510,7 +521,8 @@ def main():
                         help="gnuplot view angles ROT_X,ROT_Z in degrees (default 62,20; 0,0 for 2D models; with "
                              "--contact along the contact normal)")
     parser.add_argument("--zoom", type=float,
-                        help="gnuplot view scale: larger draws the bodies larger (default 1.8; 1.4 with --contact)")
+                        help="gnuplot view scale: larger draws the bodies larger (default 1.8; 1.4 for an overlay and "
+                             "with --contact)")
     parser.add_argument("--size", type=lambda s: [int(v) for v in s.split("x")], default=[900, 560],
                         help="pixels of one picture, WxH (default 900x560)")
     parser.add_argument("--title", default=None, help="title of the overview (default: the folder name)")
