@@ -180,6 +180,7 @@ def write_data(run, path):
     l_scale = max(max(l_norm), 1e-300)
     work = run.external_work()
     vertical = "z" if any(abs(q["contact_force_z"]) > 0 for q in rows) else "y"
+    run.friction_ratio = []
     names = list(rows[0]) + DERIVED + [n for k in range(len(run.drivers)) for n in ("driver%d_x" % k, "driver%d_y" % k)]
     with open(path, "w") as f:
         f.write(",".join(names) + "\n")
@@ -187,10 +188,11 @@ def write_data(run, path):
             e, d = r["total_energy"], r["dissipated_energy"]
             normal = abs(r["contact_force_" + vertical])
             tangential = math.sqrt(max(sum(r["contact_force_" + k] ** 2 for k in "xyz") - normal * normal, 0.0))
+            run.friction_ratio.append(tangential / normal if normal > 0 else float("nan"))
             values = list(r.values()) + [(e - e0) / e_scale, (e + d - e0) / e_scale] + \
                 [(r["angular_momentum_" + k] - rows[0]["angular_momentum_" + k]) / l_scale for k in "xyz"] + \
                 [work[i] if work else float("nan"), r["strain_energy"] + r["kinetic_energy"] + d, e + d,
-                 tangential / normal if normal > 0 else float("nan")]
+                 run.friction_ratio[-1]]
             for label, x, column in run.drivers:
                 values += [x[i], r[column]]
             f.write(",".join("%.10g" % v for v in values) + "\n")
@@ -238,9 +240,9 @@ def gnuplot_panel(panel, run, data, e_scale, l_scale):
         if friction:
             curves += [curve("dissipated_energy", "dissipated D"),
                        curve("E_plus_D" if run.dynamic else "strain_plus_dissipated",
-                             "E + D" if run.dynamic else "strain + D", "with lines lw 2 dt 2")]
+                             "E + D" if run.dynamic else "strain + D", 'with lines lw 2 dt 2 lc rgb "black"')]
         if work:
-            curves.append(curve("work", "work of supports and obstacles", 'with lines lw 2 dt 3 lc rgb "black"'))
+            curves.append(curve("work", "work of supports and obstacles", 'with lines lw 2 dt 3 lc rgb "#a00000"'))
         lines.append('set title "%s"' % title)
         plot(curves)
     elif panel == "conservation":
@@ -280,8 +282,9 @@ def gnuplot_panel(panel, run, data, e_scale, l_scale):
         counts = ["stick_points", "slip_points"] if friction else ["active_points"]
         most = max(max(r[col] for r in run.rows) for col in counts)
         lines.append("set y2range [0:%g]" % max(1.0, 1.15 * most))  # the largest count below the frame
-        curves += [curve(col, "%s (right)" % col.replace("_points", ""), "with steps lw 1", axes="axes x1y2 ")
-                   for col in counts]
+        colours = {"stick_points": "#606060", "active_points": "#606060", "slip_points": "#d62728"}
+        curves += [curve(col, "%s (right)" % col.replace("_points", ""), 'with steps lw 1 lc rgb "%s"' % colours[col],
+                         axes="axes x1y2 ") for col in counts]
         plot(curves)
         lines.append("unset y2tics\nset ytics mirror\nset autoscale y2")
     elif panel == "friction":
@@ -290,7 +293,8 @@ def gnuplot_panel(panel, run, data, e_scale, l_scale):
         curves = [curve("friction_ratio", "|F_t| / F_n")]
         if mu:
             curves.append("%g with lines dt 2 lc rgb 'black' title 'mu = %g'" % (mu, mu))
-        lines.append("set yrange [0:*]")
+        top = max([mu or 0.0] + [v for v in run.friction_ratio if v == v])  # the line of mu below the frame
+        lines.append("set yrange [0:%g]" % (1.15 * top) if top > 0 else "set yrange [0:*]")
         plot(curves)
         lines.append("set autoscale y")
     elif panel == "newton":
@@ -339,6 +343,7 @@ def main():
         script = ['set datafile separator ","',
                   'set terminal pngcairo size %d,%d noenhanced font ",10"' % tuple(size),
                   'set output "%s"' % png.replace('"', '\\"'), "set key below horizontal", "set grid",
+                  "set offsets 0, 0, graph 0.05, graph 0.05",
                   'set multiplot layout %d,%d title "%s (%s)"' % (rows, columns, title.replace('"', "'"), kind),
                   'set xlabel "time"']
         for panel in panels:

@@ -262,7 +262,8 @@ def render(panels, bounds, limits, args, png, columns, title):
     pad = 0.02 * max(hi[i] - lo[i] for i in range(3)) or 1.0
     ranges = "\n".join("set %srange [%.9g:%.9g]" % (axis, lo[i] - pad, hi[i] + pad) for i, axis in enumerate("xyz"))
     script = [
-        'set terminal pngcairo size %d,%d noenhanced rounded font ",11"' % (args.size[0] * columns, args.size[1] * rows),
+        'set terminal pngcairo size %d,%d noenhanced rounded font ",11"' % (args.size[0] * columns,
+                                                                            args.size[1] * rows),
         'set output "%s"' % png,
         "set view %g,%g,%g" % (args.view[0], args.view[1], args.zoom), "set view equal xyz", ranges,
         "unset border", "unset tics", "set cbtics", "unset key", "unset xlabel", "unset ylabel", "unset zlabel",

@@ -134,7 +134,8 @@ def plot_snapshots_motion(c):
     instant in one picture (the block moves by more than a third of its size)."""
     results, _ = run("scenes/two-elements.yaml")
     proc = script("plot-snapshots.sh", results.folder, "--size", "600x400")
-    c.check(proc.returncode == 0 and "; overlay" in proc.stdout, "one picture of every instant (%s)" % proc.stdout.strip())
+    c.check(proc.returncode == 0 and "; overlay" in proc.stdout,
+            "one picture of every instant (%s)" % proc.stdout.strip())
     width, height, _ = read_png(os.path.join(results.folder, "snapshots.png"))
     c.check((width, height) == (600, 400), "the overview is one picture of 600 x 400 (%d x %d)" % (width, height))
     pictures = sorted(os.listdir(os.path.join(results.folder, "snapshots")))
@@ -170,7 +171,8 @@ def plot_snapshots_obstacles(c):
     proc = script("plot-snapshots.sh", three.folder, "--size", "300x200", "--count", "1")
     picture = os.path.join(three.folder, "snapshots.png")
     floor = len(pixels(picture, grey))
-    c.check(proc.returncode == 0 and floor > 3000, "3D: %d grey pixels of the floor (%s)" % (floor, proc.stdout.strip()))
+    c.check(proc.returncode == 0 and floor > 3000,
+            "3D: %d grey pixels of the floor (%s)" % (floor, proc.stdout.strip()))
     script("plot-snapshots.sh", three.folder, "--size", "300x200", "--count", "1", "--no-obstacles")
     rest = len(pixels(picture, grey))
     c.check(rest < floor / 5, "3D: --no-obstacles leaves the floor out (%d grey pixels left)" % rest)
