@@ -130,8 +130,9 @@ def colour_limits(vmin, vmax):
     scale = max(abs(vmin), abs(vmax))
     if vmax - vmin > 1e-6 * scale and vmax > vmin:
         return vmin, vmax
-    half = 0.05 * scale if scale > 0 else 0.5
-    return vmin - half, vmax + half
+    if scale == 0:  # all zero (a magnitude at rest, no contact): the scale from 0
+        return 0.0, 1.0
+    return vmin - 0.05 * scale, vmax + 0.05 * scale
 
 
 def field_label(field):

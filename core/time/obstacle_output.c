@@ -24,32 +24,6 @@ struct sk_obstacle_output {
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-static void cross3(const double *a, const double *b, double *c) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static int unit(const double *v, double *u) {
-  const double length = sqrt(dot3(v, v));
-  if (!(length > 0.0)) return 0;
-  for (int i = 0; i < 3; ++i) u[i] = v[i] / length;
-  return 1;
-}
-
-/* Two unit vectors orthogonal to n and to each other. */
-static void frame_of(const double *n, double t1[3], double t2[3]) {
-  double e[3] = {0, 0, 0};
-  int k = 0;
-  for (int i = 1; i < 3; ++i)
-    if (fabs(n[i]) < fabs(n[k])) k = i;
-  e[k] = 1.0;
-  double t[3];
-  cross3(e, n, t);
-  unit(t, t1);
-  cross3(n, t1, t2);
-}
-
 /* The range of (corner - origin) . direction over the 8 corners of the box [lo, hi]. */
 static void box_range(const double lo[3], const double hi[3], const double *origin, const double *direction,
                       double range[2]) {
@@ -142,67 +116,63 @@ static sk_status add_patch(sk_obstacle_output *o, int index, const patch *p) {
   return SK_OK;
 }
 
-/* The patch of one obstacle over the box [lo, hi] (the mesh's region). */
+/* The patch of one obstacle over the box [lo, hi] (the mesh's region). Its frame is the one the contact sees: the
+ * obstacle's closest point to its own `point` (a plane's tangents and normal; a cylinder's radial normal, tangent and
+ * axis, the point lying on the axis; a parabolic cylinder's x, generator and "up" directions at its vertex). */
 static sk_status tessellate(sk_obstacle_output *o, int index, const sk_obstacle *ob, const double lo[3],
                             const double hi[3]) {
   const int dim = o->dim;
   patch p = {.nu = 24, .nv = dim == 3 ? 12 : 0};
   memcpy(p.origin, ob->point, sizeof p.origin);
   if (dim == 2) p.origin[2] = 0.0;
-  const double ez[3] = {0, 0, 1};
+  const double t0 = ob->n_motion > 0 ? ob->motion_t[0] : 0.0;
+  double d[3], at[3], gap;
+  sk_obstacle_displacement(ob, t0, d);
+  for (int i = 0; i < 3; ++i) at[i] = p.origin[i] + d[i];
+  sk_surface_point frame;
+  SK_TRY(sk_obstacle_project(ob, t0, at, dim, &frame, &gap));
   switch (ob->kind) {
-  case SK_OBSTACLE_PLANE: {
-    double n[3] = {ob->normal[0], ob->normal[1], dim == 2 ? 0.0 : ob->normal[2]};
-    if (!unit(n, n)) return SK_OK;
-    if (dim == 2) {
-      const double t[3] = {-n[1], n[0], 0.0};
-      memcpy(p.e_u, t, sizeof t);
-    } else {
-      frame_of(n, p.e_u, p.e_v);
+  case SK_OBSTACLE_PLANE:
+    memcpy(p.e_u, frame.a[0], sizeof p.e_u);
+    box_range(lo, hi, p.origin, p.e_u, p.u);
+    if (dim == 3) {
+      memcpy(p.e_v, frame.a[1], sizeof p.e_v);
       box_range(lo, hi, p.origin, p.e_v, p.v);
     }
-    box_range(lo, hi, p.origin, p.e_u, p.u);
     p.nu = dim == 2 ? 24 : 12;
     break;
-  }
   case SK_OBSTACLE_SPHERE:
   case SK_OBSTACLE_CYLINDER: {
-    double axis[3] = {0, 0, 1};
+    const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, ez[3] = {0, 0, 1};
     p.radius = ob->radius;
     p.u[1] = 2.0 * M_PI;
     p.nu = 48;
-    if (ob->kind == SK_OBSTACLE_CYLINDER && dim == 3 && unit(ob->axis, axis)) {
-      memcpy(p.e_v, axis, sizeof axis);
-      frame_of(axis, p.e_u, p.e_w);
-      box_range(lo, hi, p.origin, axis, p.v);
+    if (ob->kind == SK_OBSTACLE_CYLINDER && dim == 3) { /* around the axis a[1] */
+      memcpy(p.e_u, frame.n, sizeof p.e_u);
+      memcpy(p.e_w, frame.a[0], sizeof p.e_w);
+      memcpy(p.e_v, frame.a[1], sizeof p.e_v);
+      box_range(lo, hi, p.origin, p.e_v, p.v);
       p.nv = 8;
-    } else if (dim == 3) { /* a sphere: longitude u, polar angle v */
-      frame_of(ez, p.e_u, p.e_w);
-      memcpy(p.e_v, ez, sizeof ez);
-      p.sphere = 1;
-      p.v[1] = M_PI;
-      p.nv = 24;
-    } else { /* 2D: the circle in z = 0 */
-      const double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0};
+    } else { /* a sphere (longitude u about e_z, polar angle v), or the circle of 2D in z = 0 */
       memcpy(p.e_u, ex, sizeof ex);
       memcpy(p.e_w, ey, sizeof ey);
+      memcpy(p.e_v, ez, sizeof ez);
+      p.sphere = dim == 3;
+      p.v[1] = dim == 3 ? M_PI : 0.0;
+      p.nv = dim == 3 ? 24 : 0;
     }
     break;
   }
-  case SK_OBSTACLE_PARABOLIC_CYLINDER: { /* the frame of core/contact/obstacle.c: e_w "up", e_v generators */
-    double g[3];
-    if (!unit(ob->normal, p.e_w)) return SK_OK;
-    const double along = dot3(ob->axis, p.e_w);
-    for (int i = 0; i < 3; ++i) g[i] = ob->axis[i] - along * p.e_w[i];
-    if (!unit(g, p.e_v)) return SK_OK;
-    cross3(p.e_v, p.e_w, p.e_u);
+  case SK_OBSTACLE_PARABOLIC_CYLINDER:
+    memcpy(p.e_u, frame.a[0], sizeof p.e_u);
+    memcpy(p.e_v, frame.a[1], sizeof p.e_v);
+    memcpy(p.e_w, frame.n, sizeof p.e_w);
     p.c = ob->c;
     box_range(lo, hi, p.origin, p.e_u, p.u);
     if (dim == 3) box_range(lo, hi, p.origin, p.e_v, p.v);
     p.nu = 32;
     p.nv = dim == 3 ? 8 : 0;
     break;
-  }
   default: return SK_OK;
   }
   return add_patch(o, index, &p);
