@@ -652,7 +652,7 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     pt.slip = o->slip_length;
     pt.has_multiplier = state->extra != NULL; /* z_n, the normal part of the node's dual multiplier */
     pt.multiplier = state->extra ? zn : 0.0;
-    pt.gap = o->gap / o->A_ref;
+    pt.gap = o->cover > 0.0 ? o->gap / o->A_ref : NAN; /* NaN: no master face (or obstacle) over the node */
     pt.state = o->state == MORTAR_INACTIVE ? 0 : (o->state == MORTAR_SLIP && inst->friction ? 2 : 1);
     pt.slave_node = inst->slave->node_id[o->node];
     callback(ctx, &pt);

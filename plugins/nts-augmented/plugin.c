@@ -561,7 +561,8 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     memcpy(cp.slip_increment, p->slip_increment, sizeof cp.slip_increment);
     cp.slip = p->slip_length;
     for (int i = 0; i < inst->dim; ++i) cp.x[i] = state->x[0][inst->dim * p->k + i];
-    cp.gap = p->gap_estimate;
+    /* NaN when no facet is within reach (or none searched yet: the initial output), as every plugin reports it */
+    cp.gap = p->facet >= 0 ? p->gap_estimate : NAN;
     if (p->facet >= 0 && state->extra) {
       nts_element e;
       SK_TRY(nts_element_eval(inst, k, state, &e));
