@@ -307,7 +307,7 @@ static void accumulate(sk_contact_output *co) {
       if (!replaces) continue;
       memcpy(to, f, sizeof(double) * F_WEIGHT);
       to[F_WEIGHT] = 1.0;
-    } else if (face >= 0 && pair >= 0 && face < co->pairs[pair].surface->n_faces) {
+    } else if (face >= 0 && pair >= 0 && pair < co->model->n_pairs && face < co->pairs[pair].surface->n_faces) {
       double *to = co->face_local + N_FIELD * (size_t)(co->pairs[pair].first_face + face);
       const double w = isfinite(r[R_AREA]) && r[R_AREA] > 0.0 ? r[R_AREA] : 1.0;
       for (int i = 0; i < F_WEIGHT; ++i)
