@@ -627,8 +627,13 @@ void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, 
     else
       fprintf(out, "  %-16s computed at the last step only (output.vtu_every: 0)\n", "stress, vtu");
   }
-  if (!out_dir || !o->write_contact_csv)
-    fprintf(out, "  %-16s skipped: %s\n", "contact.csv", !out_dir ? "no --out DIR" : "output.contact_csv is false");
+  if (!out_dir || !o->write_contact_csv || scene->model.n_pairs == 0)
+    fprintf(out, "  %-16s skipped: %s\n", "contact.csv",
+            !out_dir ? "no --out DIR" : !o->write_contact_csv ? "output.contact_csv is false" : "no contact pairs");
+  else if (o->vtu_every > 0)
+    fprintf(out, "  %-16s computed: the contact points every %d steps and at the last (output.vtu_every)\n",
+            "contact.csv", o->vtu_every);
   else
-    fprintf(out, "  %-16s computed: the contact points of the last step\n", "contact.csv");
+    fprintf(out, "  %-16s computed: the contact points of the initial state and the last step (output.vtu_every: "
+            "0)\n", "contact.csv");
 }

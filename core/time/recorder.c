@@ -1,5 +1,5 @@
-/* The recorder: the result files of a run (history.csv, contact.csv, results.pvd + .vtu, summary.json, scene.yaml) in
- * a staging folder that is swapped in at the end. It reads the system after a commit, while the state still spans
+/* The recorder: the result files of a run (history.csv, results.pvd + .vtu, summary.json, scene.yaml, and the contact
+ * files of contact_output.c) in a staging folder that is swapped in at the end. It reads the system after a commit, while the state still spans
  * the step (x, v at t); it never feeds anything back into the stepping. */
 #define _GNU_SOURCE
 #include "recorder.h"
@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "../model/assemble.h"
+#include "contact_output.h"
 #include "stickslip/output.h"
 
 /* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
@@ -27,8 +28,6 @@ static const char *const fixed_columns[N_FIXED_COLUMNS] = {
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
     "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z", "material_total_energy"};
 
-enum { POINT_FIELDS = 18 };
-
 struct sk_recorder {
   sk_scene *scene;
   sk_system *sys;
@@ -36,6 +35,7 @@ struct sk_recorder {
   double wall_start;
   sk_csv *history;
   sk_pvd *pvd;
+  sk_contact_output *contact; /* with contact pairs and --out: contact.csv and the contact fields and files */
   char dir[1100];          /* staging folder ("" when nothing is written) */
   int n_columns;
   const char **names;
@@ -49,7 +49,7 @@ struct sk_recorder {
   int wants_invariants;    /* someone reads the energies and momenta: history.csv (--out) or the progress line */
   int vtu_count;
   int64_t last_step;       /* the last converged step recorded */
-  int64_t last_vtu_step;   /* the step of the last picture written */
+  int64_t last_output_step; /* the step of the last output (pictures, contact points) */
   /* the linear solvers that ran, by step ranges: "mumps (steps 1-12), gmres-muelu (steps 13-40)" */
   char solvers_used[1024];
   unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
@@ -70,6 +70,7 @@ void sk_recorder_free(sk_recorder *rec) {
   if (!rec) return;
   sk_csv_close(rec->history);
   sk_pvd_close(rec->pvd);
+  sk_contact_output_free(rec->contact);
   if (rec->dir[0]) sk_outdir_abort(rec->dir);
   free(rec->names);
   free(rec->name_storage);
@@ -121,163 +122,62 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
         ++c;
       }
   rec->names[c] = "wall_seconds";
-  if (!options->out_dir || m->rank != 0) return SK_OK;
-  SK_TRY(sk_outdir_begin(options->out_dir, rec->dir, sizeof rec->dir));
-  char path[1300];
-  snprintf(path, sizeof path, "%s/history.csv", rec->dir);
-  SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
-  snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
-  SK_TRY(sk_cfg_write_file(scene->cfg, path));
-  if (scene->output.write_vtu) {
-    snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
-    SK_TRY(sk_pvd_open(path, &rec->pvd));
-  }
-  return SK_OK;
-}
-
-/* ---- contact points -------------------------------------------------------------------------------------------- */
-
-typedef struct {
-  const sk_model *model;
-  double *buffer;
-  int n, cap;
-  int failed;
-  double *pressure, *gap, *state; /* per node, for the VTU */
-} point_collector;
-
-/* The reference position of a contact point: a node's from the mesh, a Gauss point's from the plugin (ABI 2.1), NaN
- * when a plugin built against 2.0 cannot say. */
-static void reference_position(const sk_model *m, const sk_contact_point *p, int64_t node, double X[3]) {
-  for (int i = 0; i < 3; ++i)
-    X[i] = node >= 0 && node < m->n_nodes ? (i < m->dim ? m->X[node * m->dim + i] : 0.0)
-           : SK_HAS(p, X)                 ? p->X[i]
-                                          : NAN;
-}
-
-static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
-  point_collector *c = ctx;
-  if (c->failed) return;
-  if (c->n == c->cap) {
-    const int cap = 2 * c->cap + 256;
-    double *grown = realloc(c->buffer, sizeof(double) * POINT_FIELDS * (size_t)cap);
-    if (!grown) {
-      c->failed = 1;
-      return;
+  if (!options->out_dir) return SK_OK;
+  if (m->rank == 0) {
+    SK_TRY(sk_outdir_begin(options->out_dir, rec->dir, sizeof rec->dir));
+    char path[1300];
+    snprintf(path, sizeof path, "%s/history.csv", rec->dir);
+    SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
+    snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
+    SK_TRY(sk_cfg_write_file(scene->cfg, path));
+    if (scene->output.write_vtu) {
+      snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
+      SK_TRY(sk_pvd_open(path, &rec->pvd));
     }
-    c->buffer = grown;
-    c->cap = cap;
   }
-  const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1;
-  double X[3];
-  reference_position(c->model, p, node, X);
-  const double multiplier = SK_HAS(p, multiplier) && p->has_multiplier ? p->multiplier : NAN;
-  double *r = c->buffer + POINT_FIELDS * (size_t)c->n++;
-  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], X[0], X[1], X[2], p->normal[0], p->normal[1],
-                                       p->normal[2], p->pressure, p->traction[0], p->traction[1], p->traction[2],
-                                       p->gap, (double)p->state, multiplier, (double)node, (double)pair};
-  memcpy(r, values, sizeof values);
-  if (node >= 0 && c->pressure) {
-    c->pressure[node] = p->pressure;
-    c->gap[node] = p->gap;
-    c->state[node] = p->state;
-  }
-}
-
-/* Gathers the contact points of every pair to rank 0. Caller frees *all. */
-static sk_status gather_points(sk_recorder *rec, int initial, double *node_fields, double **all, int *n_all) {
-  const sk_model *m = &rec->scene->model;
-  point_collector c = {.model = m};
-  if (node_fields) {
-    c.pressure = node_fields;
-    c.gap = node_fields + m->n_nodes;
-    c.state = node_fields + 2 * m->n_nodes;
-  }
-  sk_status status = sk_system_points(rec->sys, initial, collect_point, &c);
-  if (status == SK_OK && c.failed) status = no_memory("the contact points");
-  status = sk_system_collective(rec->sys, status);
-  if (status != SK_OK) {
-    free(c.buffer);
-    return status;
-  }
-  int count = c.n * POINT_FIELDS;
-  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
-  if (!counts || !displs) {
-    free(counts);
-    free(displs);
-    free(c.buffer);
-    return no_memory("the contact points");
-  }
-  MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
-  int total = 0;
-  for (int r = 0; r < m->n_ranks; ++r) {
-    displs[r] = total;
-    total += counts[r];
-  }
-  *all = calloc((size_t)total + 1, sizeof(double));
-  if (*all) MPI_Gatherv(c.buffer, count, MPI_DOUBLE, *all, counts, displs, MPI_DOUBLE, 0, m->comm);
-  *n_all = total / POINT_FIELDS;
-  free(counts);
-  free(displs);
-  free(c.buffer);
-  return *all ? SK_OK : no_memory("the contact points");
-}
-
-static sk_status write_contact_csv(sk_recorder *rec, const double *points, int n_points) {
-  static const char *const names[POINT_FIELDS] = {
-      "x",          "y",          "z",          "reference_x", "reference_y", "reference_z",
-      "normal_x",   "normal_y",   "normal_z",   "pressure",    "traction_x",  "traction_y",
-      "traction_z", "gap",        "state",      "multiplier",  "node",        "pair"};
-  char path[1300];
-  snprintf(path, sizeof path, "%s/contact.csv", rec->dir);
-  sk_csv *csv;
-  SK_TRY(sk_csv_open(path, POINT_FIELDS, names, &csv));
-  for (int k = 0; k < n_points; ++k) SK_TRY(sk_csv_row(csv, points + POINT_FIELDS * (size_t)k));
-  return sk_csv_close(csv);
+  const sk_output_settings *o = &scene->output;
+  if (m->n_pairs > 0 && (o->write_contact_csv || o->write_vtu))
+    SK_TRY(sk_contact_output_open(m, rec->dir, o->write_contact_csv, o->write_vtu, &rec->contact));
+  return SK_OK;
 }
 
 /* ---- VTU -------------------------------------------------------------------------------------------------------- */
 
 typedef struct {
-  double *points, *displacement, *velocity, *node_fields, *node_fields_sum, *stress, *stress_sum;
+  double *points, *displacement, *velocity, *stress, *stress_sum;
   sk_elem_type *types;
   int *offsets, *conn;
   double *body_id, *rank_id;
 } vtu_buffers;
 
 static void free_vtu_buffers(vtu_buffers *b) {
-  void *all[] = {b->points, b->displacement, b->velocity, b->node_fields, b->node_fields_sum, b->stress,
-                 b->stress_sum, b->types, b->offsets, b->conn, b->body_id, b->rank_id};
+  void *all[] = {b->points, b->displacement, b->velocity, b->stress, b->stress_sum, b->types, b->offsets, b->conn,
+                 b->body_id, b->rank_id};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
 }
 
-/* The mesh at displacement u and velocity v (time t, step), with stresses and contact point fields. */
-static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const double *v, double t, int64_t step) {
+enum { MAX_CONTACT_FIELDS = 16 };
+
+/* The mesh at displacement u and velocity v (time t, step), with stresses and the contact fields of the output step
+ * (sk_contact_output_step before). Collective. */
+static sk_status write_vtu(sk_recorder *rec, const double *u, const double *v, double t, int64_t step) {
   const sk_model *m = &rec->scene->model;
   const int dim = m->dim, nn = m->n_nodes;
   vtu_buffers b = {0};
   b.points = calloc(3 * (size_t)nn, sizeof(double));
   b.displacement = calloc(3 * (size_t)nn, sizeof(double));
   b.velocity = calloc(3 * (size_t)nn, sizeof(double));
-  b.node_fields = calloc(3 * (size_t)nn, sizeof(double));
-  b.node_fields_sum = calloc(3 * (size_t)nn, sizeof(double));
   b.stress = calloc(9 * (size_t)m->n_elements, sizeof(double));
   b.stress_sum = calloc(9 * (size_t)m->n_elements, sizeof(double));
-  sk_status status = b.points && b.displacement && b.velocity && b.node_fields && b.node_fields_sum && b.stress &&
-                             b.stress_sum
-                         ? SK_OK
-                         : no_memory("the VTU output");
+  sk_status status =
+      b.points && b.displacement && b.velocity && b.stress && b.stress_sum ? SK_OK : no_memory("the VTU output");
   if (status == SK_OK) status = sk_bulk_stress(m, u, b.stress);
   status = sk_system_collective(rec->sys, status);
-  double *all_points = NULL;
-  int n_points = 0;
-  if (status == SK_OK) status = gather_points(rec, initial, b.node_fields, &all_points, &n_points);
-  free(all_points);
   if (status != SK_OK) {
     free_vtu_buffers(&b);
     return status;
   }
   MPI_Reduce(b.stress, b.stress_sum, 9 * m->n_elements, MPI_DOUBLE, MPI_SUM, 0, m->comm);
-  MPI_Reduce(b.node_fields, b.node_fields_sum, 3 * nn, MPI_DOUBLE, MPI_SUM, 0, m->comm);
   if (m->rank == 0) {
     for (int a = 0; a < nn; ++a)
       for (int i = 0; i < dim; ++i) {
@@ -303,13 +203,11 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
       b.body_id[e] = (double)(body - m->bodies);
       b.rank_id[e] = m->element_part[e];
     }
-    sk_vtu_field point_fields[] = {{"displacement", 3, b.displacement},
-                                   {"velocity", 3, b.velocity},
-                                   {"contact_pressure", 1, b.node_fields_sum},
-                                   {"contact_gap", 1, b.node_fields_sum + nn},
-                                   {"contact_state", 1, b.node_fields_sum + 2 * nn}};
+    sk_vtu_field point_fields[2 + MAX_CONTACT_FIELDS] = {{"displacement", 3, b.displacement},
+                                                         {"velocity", 3, b.velocity}};
+    const int n_point_fields =
+        2 + sk_contact_output_node_fields(rec->contact, point_fields + 2, MAX_CONTACT_FIELDS);
     sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress_sum}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
-    const int n_point_fields = m->n_pairs > 0 ? 5 : 2;
     char file[64], path[1400];
     snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
     snprintf(path, sizeof path, "%s/%s", rec->dir, file);
@@ -318,10 +216,19 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
                             cell_fields);
     if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
     rec->vtu_count++;
-    rec->last_vtu_step = step;
   }
   free_vtu_buffers(&b);
   return status;
+}
+
+/* The output of a step (or of the initial state): the contact points and, with output.vtu, the pictures. Nothing
+ * without --out. Collective. */
+static sk_status write_output_step(sk_recorder *rec, int initial, const double *u, const double *v, double t,
+                                   int64_t step) {
+  if (!rec->options->out_dir) return SK_OK;
+  rec->last_output_step = step;
+  if (rec->contact) SK_TRY(sk_contact_output_step(rec->contact, rec->sys, initial, u, t, step));
+  return rec->scene->output.write_vtu ? write_vtu(rec, u, v, t, step) : SK_OK;
 }
 
 /* ---- history ---------------------------------------------------------------------------------------------------- */
@@ -370,15 +277,13 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   return SK_OK;
 }
 
-static int writes_vtu(const sk_recorder *rec) { return rec->scene->output.write_vtu && rec->options->out_dir; }
-
 sk_status sk_recorder_initial(sk_recorder *rec) {
   sk_system *sys = rec->sys;
   /* the initial row reports no contact: the pairs have not stepped yet (report() is not called for it) */
   const sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, 0, &contact);
   status = sk_system_collective(sys, status);
-  if (status == SK_OK && writes_vtu(rec)) status = write_vtu(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
+  if (status == SK_OK) status = write_output_step(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
   return status;
 }
 
@@ -421,8 +326,7 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   /* vtu_every counts scheduled steps: the sub-steps of a cut step do not shift the pictures off the schedule */
   const int every = rec->scene->output.vtu_every;
   const int on_schedule = substep == 0 && every > 0 && scheduled % every == 0;
-  if (status == SK_OK && writes_vtu(rec) && (on_schedule || last))
-    status = write_vtu(rec, 0, sys->x, sys->v, sys->t, sys->step);
+  if (status == SK_OK && (on_schedule || last)) status = write_output_step(rec, 0, sys->x, sys->v, sys->t, sys->step);
   return status;
 }
 
@@ -470,28 +374,21 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
 sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status) {
   const sk_model *m = &rec->scene->model;
   /* results: complete files up to the last converged step, then the folder is swapped in atomically */
-  double *points = NULL;
-  int n_points = 0;
-  sk_status points_status = SK_OK;
   char message[1100];
   snprintf(message, sizeof message, "%s", sk_error_message());
-  /* A run stopped by a signal or a failed step between two pictures: its last converged state is the one a user
-   * wants to look at, so it gets a picture too (collective; the original message is kept). Not after a write or
-   * memory error: writing more would fail the same way. */
+  /* A run stopped by a signal or a failed step between two outputs: its last converged state is the one a user
+   * wants to look at, so it gets its pictures and contact points too (collective; the original message is kept).
+   * Not after a write or memory error: writing more would fail the same way. */
   const int stopped_by_the_solution = status == SK_ERR_INTERRUPTED || status == SK_ERR_DIVERGED ||
                                      status == SK_ERR_INVERTED || status == SK_ERR_LINEAR_SOLVER;
-  if (stopped_by_the_solution && summary->steps > 0 && writes_vtu(rec) && rec->last_vtu_step != rec->last_step) {
-    if (write_vtu(rec, 0, rec->sys->u_n, rec->sys->v_n, rec->sys->t_n, rec->last_step) != SK_OK && m->rank == 0)
-      fprintf(stderr, "warning: the picture of the last converged step was not written: %s\n", sk_error_message());
-    sk_error_set(status, "%s", message);
-  }
-  if (rec->options->out_dir && m->n_pairs > 0 && rec->scene->output.write_contact_csv && summary->steps > 0) {
-    points_status = gather_points(rec, 0, NULL, &points, &n_points);
+  if (stopped_by_the_solution && summary->steps > 0 && rec->last_output_step != rec->last_step) {
+    if (write_output_step(rec, 0, rec->sys->u_n, rec->sys->v_n, rec->sys->t_n, rec->last_step) != SK_OK &&
+        m->rank == 0)
+      fprintf(stderr, "warning: the output of the last converged step was not written: %s\n", sk_error_message());
     sk_error_set(status, "%s", message);
   }
   if (rec->options->out_dir && m->rank == 0 && rec->dir[0]) {
-    sk_status out_status = points_status;
-    if (out_status == SK_OK && points) out_status = write_contact_csv(rec, points, n_points);
+    sk_status out_status = sk_contact_output_close(rec->contact);
     sk_csv_close(rec->history);
     rec->history = NULL;
     sk_pvd_close(rec->pvd);
@@ -509,6 +406,5 @@ sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status
     if (status == SK_OK) status = out_status;
     else sk_error_set(status, "%s", message);
   }
-  free(points);
   return status;
 }

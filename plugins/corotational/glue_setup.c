@@ -195,7 +195,7 @@ void glue_destroy_body(sk_instance *inst) {
   void *arrays[] = {b->row_ptr, b->cols,    b->mass,       b->stiffness,  b->dofs,     b->contact_of_node,
                     b->y,       b->F,       b->dF,         b->dgy,        b->y2_view,  b->y2_extra,
                     b->rhs_extra, b->f_world, b->q,        b->v,          b->initial,  b->eliminated,
-                    b->index,   b->block,   b->work_node};
+                    b->index,   b->block,   b->work_node,  b->slip_increment, b->slip_length};
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
   for (int k = 0; k < b->n_pairs; ++k) free(b->pairs[k].body_node);
   free(b);
@@ -346,8 +346,10 @@ sk_status glue_build_contact(sk_instance *inst) {
   b->index = calloc(buffer, sizeof(int64_t));
   b->block = calloc(buffer, sizeof(double));
   b->work_node = calloc((size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
+  b->slip_increment = calloc(3 * (size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
+  b->slip_length = calloc((size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
   if (!b->y || !b->F || !b->dF || !b->dgy || !b->y2_view || !b->y2_extra || !b->rhs_extra || !b->initial ||
-      !b->eliminated || !b->index || !b->block || !b->work_node)
+      !b->eliminated || !b->index || !b->block || !b->work_node || !b->slip_increment || !b->slip_length)
     return glue_nomem(inst);
   b->eliminated[0] = 1; /* w: the plugin's own Newton in recover() */
   /* g's row in F: a torque / L (Model 1) or c . u_h a^2 / L (Model 2) is a force, like the body rows */

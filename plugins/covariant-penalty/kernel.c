@@ -166,6 +166,8 @@ int cp_point_state(const cp_point *point, const cp_params *params, const cp_chan
   e->friction = params->mu > 0.0 && point->history;
   e->slip_branch = 0;
   if (e->friction) {
+    const double dn = cp_dot3(n, delta);
+    for (int i = 0; i < 3; ++i) out->slip[i] = delta[i] - dn * n[i];
     /* Trial by parallel transport (51), (77): tau = P (t_n - eps_t Delta rho). */
     for (int i = 0; i < 3; ++i) e->tau_hat[i] = point->t_n[i] - params->eps_t * delta[i];
     double nt = cp_dot3(n, e->tau_hat);

@@ -144,7 +144,9 @@ static sk_status spring_report(sk_instance *in, const sk_state *st, sk_contact_r
   return SK_OK;
 }
 
-/* One output point per owned slave node (contact.csv, VTU): the spring force as "traction", no pressure or gap. */
+/* One output point per owned slave node (contact.csv, VTU): the spring force as the tangential "traction", no
+ * pressure or gap. A node's spring has no area: `forces` says so, and the host divides by the node's tributary
+ * reference measure of the slave surface, so that contact.csv's traction is a traction as for every plugin. */
 static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_callback callback, void *ctx) {
   const sk_view *v = in->slave;
   for (int k = 0; k < v->n_nodes; ++k) {
@@ -154,6 +156,7 @@ static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_cal
     sk_contact_point p = {.struct_size = sizeof p}; /* every struct a plugin hands over says its size */
     for (int i = 0; i < v->dim; ++i) p.x[i] = st->x[0][k * v->dim + i];
     for (int i = 0; i < 3; ++i) p.traction[i] = -s * d[i];
+    p.forces = 1; /* ABI 2.6 */
     p.slave_node = v->node_id[k];
     callback(ctx, &p);
   }

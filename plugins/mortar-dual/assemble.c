@@ -438,6 +438,13 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
   if (ec->mode == EVAL_COMMIT) {
     o->dissipation = 0.0; /* z_t . u~_t: friction force times the weighted slip of the step */
     for (int a = 0; a < nt; ++a) o->dissipation += zt[a] * s[a] * A;
+    memset(o->slip_increment, 0, sizeof o->slip_increment);
+    if (inst->friction && r.state != MORTAR_INACTIVE) {
+      for (int a = 0; a < nt; ++a)
+        for (int i = 0; i < dim; ++i) o->slip_increment[i] += s[a] * tau[a][i];
+      o->slip_length += sqrt(o->slip_increment[0] * o->slip_increment[0] + o->slip_increment[1] * o->slip_increment[1] +
+                             o->slip_increment[2] * o->slip_increment[2]);
+    }
     return SK_OK;
   }
   if (ec->mode == EVAL_SET) {

@@ -32,6 +32,8 @@ typedef struct {
   double W[3];              /* deformable master: W_j [S1]; obstacle: the weighted jump D (x - x^n - dd) */
   double z[3];              /* z_j at the last evaluation (output) */
   double dissipation;       /* EVAL_COMMIT: z_t . u~_t, the friction work of the step */
+  double slip_increment[3]; /* EVAL_COMMIT with friction: the weighted slip u~_t / A of the step, spatial */
+  double slip_length;       /* the accumulated length of the slip increments */
 } owned_node;
 
 /* From a pair's local slots [x_s | x_m | n_s] to the global columns of the nodes involved. */

@@ -625,17 +625,20 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
     const owned_node *o = &inst->owned[oi];
     if (o->state == MORTAR_INACTIVE) continue;
     ++rep->active;
-    if (o->state == MORTAR_STICK) ++rep->stick;
-    else ++rep->slip;
+    if (inst->friction) { /* frictionless nodes are neither stuck nor slipping */
+      if (o->state == MORTAR_STICK) ++rep->stick;
+      else ++rep->slip;
+    }
     rep->dissipated += o->dissipation;
     rep->constraint_norm = fmax(rep->constraint_norm, fabs(o->gap) / o->A_ref);
   }
   return SK_OK;
 }
 
-/* Output: z_j is a traction per current measure (the slave force is D_jj z_j, D over the current surface); pressure
- * and traction are written per reference measure, z_j A_j(x) / A_j(X) (the nodal force over the reference tributary
- * measure, as penalty-nts writes them): in the patch test that is p itself, where z_j = p L_0 / L. */
+/* Output: z_j is a traction per current measure (the force on the slave is -D_jj z_j, D over the current surface, as
+ * report() sums it); pressure and traction are written per reference measure, z_j A_j(x) / A_j(X) (the nodal force
+ * over the reference tributary measure A_j(X), the point's `area`): in the patch test that is p itself, where
+ * z_j = p L_0 / L. */
 static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
   if (!state->extra) mortar_compute_normals(inst, state->x[0]);
   const int dim = inst->dim;
@@ -647,15 +650,21 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     sk_contact_point pt = {.struct_size = sizeof pt};
     double zn = 0.0;
     for (int i = 0; i < dim; ++i) zn += n[i] * o->z[i];
+    /* n is the slave's outward normal and -z the traction on the slave: sk_contact_point's normal (the master's,
+     * towards the slave) and traction (on the slave) are their opposites */
     for (int i = 0; i < 3; ++i) {
       pt.x[i] = i < dim ? state->x[0][(int64_t)o->node * dim + i] : 0.0;
-      pt.normal[i] = n[i];
-      pt.traction[i] = (o->z[i] - zn * n[i]) * nominal;
+      pt.normal[i] = -n[i];
+      pt.traction[i] = -(o->z[i] - zn * n[i]) * nominal;
     }
     pt.pressure = state->extra ? zn * nominal : 0.0;
+    pt.area = o->A_ref;
+    pt.has_slip = inst->friction;
+    memcpy(pt.slip_increment, o->slip_increment, sizeof pt.slip_increment);
+    pt.slip = o->slip_length;
     pt.has_multiplier = state->extra != NULL; /* z_n, the normal part of the node's dual multiplier */
     pt.multiplier = state->extra ? zn : 0.0;
-    pt.gap = o->gap / o->A_ref;
+    pt.gap = o->cover > 0.0 ? o->gap / o->A_ref : NAN; /* NaN: no master face (or obstacle) over the node */
     pt.state = o->state == MORTAR_INACTIVE ? 0 : (o->state == MORTAR_SLIP && inst->friction ? 2 : 1);
     pt.slave_node = inst->slave->node_id[o->node];
     callback(ctx, &pt);

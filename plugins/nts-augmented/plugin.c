@@ -453,6 +453,7 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     memcpy(p->c_extra, x, sizeof(double) * (size_t)inst->stride);
     memset(p->c_t, 0, sizeof p->c_t);
     memset(p->c_t_vector, 0, sizeof p->c_t_vector);
+    memset(p->slip_increment, 0, sizeof p->slip_increment);
     if (!p->c_active) {
       p->c_f[0] = p->f_frozen[0];
       p->c_f[1] = p->f_frozen[1];
@@ -483,6 +484,14 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     const double tau[2] = {(g.m[1][1] * p->c_t[0] - g.m[0][1] * p->c_t[1]) / det,
                            (-g.m[1][0] * p->c_t[0] + g.m[0][0] * p->c_t[1]) / det};
     for (int i = 0; i < 3; ++i) p->c_t_vector[i] = tau[0] * g.a[0][i] + tau[1] * g.a[1][i];
+    if (inst->friction.mu > 0.0) { /* the slave's closest point moved on the facet by f - f_start */
+      double length = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        p->slip_increment[i] = (f[0] - p->f_start[0]) * g.a[0][i] + (f[1] - p->f_start[1]) * g.a[1][i];
+        length += p->slip_increment[i] * p->slip_increment[i];
+      }
+      p->slip_length += sqrt(length);
+    }
   }
   return SK_OK;
 }
@@ -522,10 +531,12 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
     rep->moment[2] += x[0] * force[1] - x[1] * force[0];
     ++rep->active;
     const nts_friction *fr = nts_element_friction(&e);
-    if (point_state(inst, fr) == 2)
-      ++rep->slip;
-    else
-      ++rep->stick;
+    if (inst->friction.mu > 0.0) { /* frictionless points are neither stuck nor slipping */
+      if (point_state(inst, fr) == 2)
+        ++rep->slip;
+      else
+        ++rep->stick;
+    }
     if (inst->friction.mu > 0.0) {
       /* work of the tangential traction minus the change of the penalty energy */
       const nts_geometry *gh = nts_element_geometry(&e, 1);
@@ -533,8 +544,8 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
       rep->dissipated += work - (friction_energy(gh->m, fr->t_next, inst->friction.epsilon_t) -
                                  friction_energy(gh->m, p->t_start, inst->friction.epsilon_t));
     }
-    const double *phi = nts_element_constraints(&e);
-    for (int c = 0; c < 3; ++c) rep->constraint_norm = fmax(rep->constraint_norm, fabs(phi[c]));
+    /* the normal gap (a length, as every plugin reports it); the closest-point conditions Phi_aug are not */
+    rep->constraint_norm = fmax(rep->constraint_norm, fabs(nts_element_constraints(&e)[NTS_PHI_N]));
   }
   return SK_OK;
 }
@@ -545,8 +556,13 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     if (!nts_owned(inst, p)) continue;
     sk_contact_point cp = {.struct_size = sizeof cp};
     cp.slave_node = p->node;
+    cp.forces = 1; /* lambda_n is the node's force: the host divides by the node's tributary measure */
+    cp.has_slip = inst->friction.mu > 0.0;
+    memcpy(cp.slip_increment, p->slip_increment, sizeof cp.slip_increment);
+    cp.slip = p->slip_length;
     for (int i = 0; i < inst->dim; ++i) cp.x[i] = state->x[0][inst->dim * p->k + i];
-    cp.gap = p->gap_estimate;
+    /* NaN when no facet is within reach (or none searched yet: the initial output), as every plugin reports it */
+    cp.gap = p->facet >= 0 ? p->gap_estimate : NAN;
     if (p->facet >= 0 && state->extra) {
       nts_element e;
       SK_TRY(nts_element_eval(inst, k, state, &e));

@@ -57,6 +57,7 @@ typedef struct {
   double force[3];      /* total contact force on the slave node */
   double traction[3];   /* its tangential part */
   double t_cov[2];      /* covariant tangential traction (deformable master) */
+  double slip[3];       /* tangential displacement of the slave relative to the master since the step's anchor */
   double dissipation;   /* slip increment . traction of the step so far */
   int nd;               /* local dofs: slave node, then the master face nodes */
   int64_t rows[MAX_LOCAL_DOFS];
@@ -83,6 +84,8 @@ struct sk_instance {
   int *cand_start, *cand_count; /* candidate master faces of each slave node in cand (find_candidates) */
   cand_list cand;
   friction_history *committed;  /* at the last accepted step */
+  double (*slip_increment)[3];  /* of the last accepted step (points), and the accumulated slip length */
+  double *slip;
   friction_history *anchor;     /* used during the current step */
   unsigned char *last_state;    /* for after_iteration's change detection */
   int *sel_face;                /* master face selected for each slave node (-1: none), see select_face */
@@ -269,6 +272,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
   memset(e->force, 0, sizeof e->force);
   memset(e->traction, 0, sizeof e->traction);
   memset(e->t_cov, 0, sizeof e->t_cov);
+  memset(e->slip, 0, sizeof e->slip);
 
   sk_surface_point pt = {.struct_size = sizeof pt};
   double g;
@@ -368,6 +372,8 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
         tn[a] = dot3(told, pt.a[a]);
       }
     }
+    for (int i = 0; i < 3; ++i)
+      for (int a = 0; a < pdim; ++a) e->slip[i] += dxi[a] * pt.a[a][i];
     cov_metric_derivatives metric;
     cov_metric_derivatives_eval(&pt, &kin, &metric);
     e->state = cov_friction(&pt, &kin, &metric, tn, dxi, eps_t, in->mu, p, Dp, e->t_cov, T, DT, &e->dissipation);
@@ -377,6 +383,10 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     cs->obstacle_displacement(in->obstacle, st->t, d);
     for (int i = 0; i < 3; ++i) w[i] = h->traction[i] - eps_t * (xs[i] - (h->anchor[i] + d[i]));
     nw = dot3(n, w);
+    double rel[3], rel_n;
+    for (int i = 0; i < 3; ++i) rel[i] = xs[i] - (h->anchor[i] + d[i]);
+    rel_n = dot3(n, rel);
+    for (int i = 0; i < 3; ++i) e->slip[i] = rel[i] - rel_n * n[i];
     double trial[3], Dtrial[3 * MAX_LOCAL_DOFS];
     for (int i = 0; i < 3; ++i) trial[i] = w[i] - n[i] * nw;
     for (int c = 0; c < nd; ++c) {
@@ -518,6 +528,8 @@ static void pnts_destroy(sk_instance *in) {
   free(in->cand_count);
   free(in->cand.faces);
   free(in->committed);
+  free(in->slip_increment);
+  free(in->slip);
   free(in->anchor);
   free(in->last_state);
   free(in->sel_face);
@@ -625,13 +637,16 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
   in->cand_start = calloc(ns, sizeof(int));
   in->cand_count = calloc(ns, sizeof(int));
   in->committed = calloc(ns, sizeof *in->committed);
+  in->slip_increment = calloc(ns, sizeof *in->slip_increment);
+  in->slip = calloc(ns, sizeof *in->slip);
   in->anchor = calloc(ns, sizeof *in->anchor);
   in->last_state = calloc(ns, 1);
   in->sel_face = malloc(ns * sizeof(int));
   in->sel_beyond = calloc(ns, 1);
   in->escaped = calloc(ns, 1);
   in->sel_xi = calloc(ns, sizeof *in->sel_xi);
-  if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->anchor || !in->last_state ||
+  if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->slip_increment || !in->slip ||
+      !in->anchor || !in->last_state ||
       !in->sel_face || !in->sel_beyond || !in->escaped || !in->sel_xi)
     return api->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
@@ -863,9 +878,12 @@ static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
   for (int k = 0; k < in->n_slave; ++k) {
     friction_history *c = &in->committed[k];
     memset(c, 0, sizeof *c);
+    memset(in->slip_increment[k], 0, sizeof in->slip_increment[k]);
     if (in->mu == 0.0) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state == STATE_INACTIVE) continue;
+    memcpy(in->slip_increment[k], e.slip, sizeof e.slip);
+    in->slip[k] += sqrt(dot3(e.slip, e.slip));
     c->valid = 1;
     if (in->master) {
       c->face = e.face;
@@ -924,7 +942,7 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     sk_contact_point cp = {.struct_size = sizeof cp};
     memcpy(cp.x, e.x, sizeof cp.x);
     memcpy(cp.normal, e.normal, sizeof cp.normal);
-    /* Pressure eps_n <-g> (force / area) when area weighted, the nodal force otherwise. */
+    /* Pressure eps_n <-g> (force / reference area) when area weighted, the nodal force otherwise. */
     double scale = in->area_weighted && in->area[k] > 0.0 ? 1.0 / in->area[k] : 1.0;
     if (in->rec_start) {
       /* The recovered traction. An open node reports it when every edge node next to it is in contact: it lies inside
@@ -947,9 +965,14 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     }
     cp.pressure = e.p * scale;
     for (int i = 0; i < 3; ++i) cp.traction[i] = e.traction[i] * scale;
+    cp.area = in->area_weighted ? in->area[k] : 0.0;
+    cp.forces = !in->area_weighted; /* nodal stiffnesses give nodal forces: the host divides by its own areas */
     cp.gap = e.gap; /* NaN when no master face is within the search margin */
     cp.state = e.state; /* frictionless contact points report 1 (in contact) */
     cp.slave_node = in->slave->node_id[k];
+    cp.has_slip = in->mu > 0.0;
+    memcpy(cp.slip_increment, in->slip_increment[k], sizeof cp.slip_increment);
+    cp.slip = in->slip[k];
     callback(ctx, &cp);
   }
   return SK_OK;

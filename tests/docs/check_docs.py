@@ -3,6 +3,7 @@ writes and reads. The truth comes from the program and the code, never from a li
 - history.csv and contact.csv: the headers a real run writes (scenes/block-on-plane.yaml has a displacement
   condition, a rigid obstacle and a contact pair, so every column family appears) against the column tables of
   docs/user-guide.md (names, `a_x/_y/_z` groups, `<placeholder>` parts), in both directions and in order;
+- the contact fields of the VTU files a real run writes against the field table of docs/user-guide.md, both ways;
 - scene keys: every key of the tables of docs/scene-reference.md, and every key path quoted in the prose of the docs,
   is set with `stickslip check --set KEY=VALUE` on a valid scene, and the program must not call it an unknown key
   (it reports every key nobody read); and every key that the core reads by name (`sk_cfg_*(node, "key", ...)` in
@@ -100,6 +101,35 @@ def history_columns(c):
 
 def contact_columns(c):
     compare_columns(c, "contact.csv", written_headers()["contact.csv"])
+
+
+def vtu_arrays(path, section):
+    """Names of the DataArrays of a .vtu in <PointData> or <CellData>."""
+    text = open(path, "rb").read().split(b"<AppendedData")[0].decode("latin-1")
+    start, end = text.find("<%s>" % section), text.find("</%s>" % section)
+    return re.findall(r'Name="([^"]+)"', text[start:end]) if start >= 0 else []
+
+
+def vtu_contact_fields(c):
+    """The contact fields of the VTU files (the bodies' step-NNNNNN.vtu, the slave surfaces' contact-NNNNNN.vtu, the
+    obstacles') against the field table of docs/user-guide.md, both ways. mortar-dual on the block: a plugin with
+    friction and multipliers, so that every optional field is written."""
+    results, _ = run(BASE_SCENE, "--steps", "2", "--set", "contact.0.plugin=mortar-dual", "--set",
+                     "contact.0.strategy=saddle-point", "--set", "contact.0.parameters={mu: 0.3}")
+    documented = {name for name, _ in column_table("contact.pvd and contact-NNNNNN.vtu")}
+    folder = results.folder
+    body = [n for n in vtu_arrays(os.path.join(folder, "step-000002.vtu"), "PointData") if n.startswith("contact_")]
+    points = vtu_arrays(os.path.join(folder, "contact-000002.vtu"), "PointData")
+    cells = vtu_arrays(os.path.join(folder, "contact-000002.vtu"), "CellData")
+    for where, names in (("step-000002.vtu point", body), ("contact-000002.vtu point", points),
+                         ("contact-000002.vtu cell", cells)):
+        for name in names:
+            c.check(name in documented, "%s field `%s` is documented in docs/user-guide.md" % (where, name))
+    for name in documented:
+        c.check(name in points or name in cells, "documented field `%s` is written to contact-NNNNNN.vtu" % name)
+        c.check(not name.startswith("contact_") or name in body, "documented field `%s` is on the bodies' nodes" % name)
+    obstacle = vtu_arrays(os.path.join(folder, "obstacles-000002.vtu"), "CellData")
+    c.check(obstacle == ["obstacle"], "obstacles-000002.vtu has the cell field `obstacle` (%s)" % obstacle)
 
 
 # A value of the documented type for `--set` (any value will do: a key the program knows fails, if at all, on its
@@ -205,5 +235,5 @@ def scene_keys_read_are_documented(c):
 
 
 if __name__ == "__main__":
-    main([history_columns, contact_columns, scene_keys_documented_exist, scene_keys_in_prose_exist,
+    main([history_columns, contact_columns, vtu_contact_fields, scene_keys_documented_exist, scene_keys_in_prose_exist,
           scene_keys_read_are_documented])

@@ -52,6 +52,12 @@ void sk_surface_geometry(const sk_surface *surface, int face, const double *xi, 
  * adjacent face normals. normals has 3 * n_nodes entries. */
 void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double *normals);
 
+/* Tributary measure of each surface node (surface->nodes order; area in 3D, length in 2D) at positions q: the
+ * integral of its shape function over the faces, which a uniform traction turns into the node's force. TRI6 and QUAD8
+ * corners, where that integral is 0 or negative, take the positive weights of the modified basis of Popp, Wohlmuth,
+ * Gee & Wall (alpha = 1/5, as penalty-nts does; docs/plugins/penalty-nts.md). */
+void sk_surface_tributary_measures(const sk_surface *surface, const double *q, double *measure);
+
 /* ---- closest-point projection (narrow phase) ---------------------------------------------------------------- */
 /* sk_projection and sk_projection_kind: plugin_types.h. */
 

@@ -29,11 +29,13 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 5u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
+#define SK_ABI_MINOR 6u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
                           2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls)
                           3: sk_layout.idle also with extra unknowns (their trivial rows written by the host)
                           4: sk_layout.extra_anchor (the mesh node of each extra unknown, for the pattern margin)
-                          5: sk_integrator.energy (the energy a body plugin's scheme conserves, for history.csv) */
+                          5: sk_integrator.energy (the energy a body plugin's scheme conserves, for history.csv)
+                          6: sk_contact_point forces, area, has_slip, slip_increment, slip, slave_face (one meaning
+                             of pressure for every plugin, slip over time) */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -292,19 +294,35 @@ typedef struct sk_contact_report {
   double constraint_norm;      /* largest constraint violation among active points (e.g. |Phi|); max over ranks */
 } sk_contact_report;
 
+/* One contact point as contact.csv and the VTU files show it (docs/plugin-abi.md §8 has the conventions). Tractions
+ * are per REFERENCE measure (area in 3D, length in 2D): the normal force a point transmits is pressure x area. */
 typedef struct sk_contact_point {
   uint32_t struct_size;        /* set by the plugin */
   double x[3];                 /* point position */
-  double normal[3];
-  double pressure;             /* normal contact pressure (>= 0 in compression), or nodal force when no area */
-  double traction[3];          /* tangential traction (or force) */
-  double gap;
+  double normal[3];            /* unit normal of the master surface (obstacle) pointing towards the slave: the normal
+                                  traction on the slave is pressure x normal */
+  double pressure;             /* normal traction, >= 0 in compression (a force with `forces`) */
+  double traction[3];          /* tangential traction on the slave (a force with `forces`) */
+  double gap;                  /* signed normal gap: > 0 apart, < 0 penetrating; NaN when nothing is within reach */
   int state;                   /* 0 inactive, 1 stick (or in contact without friction), 2 slip */
   int64_t slave_node;          /* mesh node id (sk_view.node_id), or -1 for a Gauss point */
   /* ABI 2.1 (contact.csv, docs/plugin-abi.md §8): */
   double X[3];                 /* reference position of a Gauss point (a node's comes from the mesh; not read) */
   int has_multiplier;          /* 1 when `multiplier` holds the point's normal Lagrange multiplier */
   double multiplier;           /* the formulation's multiplier of the normal constraint (its own sign convention) */
+  /* ABI 2.6. Zero (as a plugin that does not know them leaves them) keeps the meaning of 2.4: */
+  int forces;                  /* 1: pressure and traction hold the node's normal and tangential FORCES (a formulation
+                                  without areas: nodal multipliers, nodal penalty stiffnesses); the host divides them
+                                  by the node's tributary reference measure of the slave surface. 0: tractions */
+  double area;                 /* the reference measure (area in 3D, length in 2D) the tractions act on: the tributary
+                                  measure of a node, weight x area element of a Gauss point; the normal force is
+                                  pressure x area. 0: unknown (the host takes a node's tributary measure) */
+  int has_slip;                /* 1 when slip_increment and slip hold the point's friction kinematics */
+  double slip_increment[3];    /* tangential displacement of the slave point relative to the master surface in the
+                                  last step (spatial, in the tangent plane; a penalty law's elastic stick included) */
+  double slip;                 /* accumulated length of the slip increments since the start */
+  int64_t slave_face;          /* read when slave_node < 0: the Gauss point's face, its index in the whole slave
+                                  surface (sk_view.cell_index) */
 } sk_contact_point;
 
 #ifdef __cplusplus

@@ -197,7 +197,7 @@ def load_benchmarks(folder="benchmarks", kind="benchmark"):
 # --- plugin declarations -------------------------------------------------------------------------------------------
 
 ENTRY_KEYS = {"parameters", "set", "sweep", "strategies", "linear_solvers", "scene", "label", "strategy_key", "notes",
-              "pressure_output", "bounds", "expect_failure", "short", "scheme_energy", "only"}
+              "bounds", "expect_failure", "short", "scheme_energy", "only"}
 DECLARATION_KEYS = ENTRY_KEYS | {"plugin", "kind", "benchmarks", "stress"}
 
 
@@ -273,7 +273,7 @@ class Run:
 
     def __init__(self, bench, plugin, strategy, solver, values, args, label, scene, options=None):
         self.bench, self.plugin, self.strategy, self.solver = bench, plugin, strategy, solver
-        self.options = options or {}  # declaration keys the evaluators read (pressure_output)
+        self.options = options or {}  # declaration keys the evaluators read
         self.values = values          # swept variable -> value
         self.args = args              # --plugin/--set options
         self.label = label            # the curve this run belongs to

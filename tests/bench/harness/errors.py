@@ -9,62 +9,9 @@ from declarations import DeclarationError
 PROFILE_RANGE = 1.25  # Hertz profile error over r < 1.25 a (as tests/validation's hertz_profile.py)
 
 
-# boundary facets of the linear VTK cells, as local node lists (2D cells: edges; 3D cells: faces)
-_FACETS = {
-    5: [(0, 1), (1, 2), (2, 0)],                                                   # triangle
-    9: [(0, 1), (1, 2), (2, 3), (3, 0)],                                           # quad
-    10: [(0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)],                              # tetra
-    12: [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)],   # hexahedron
-}
-
-
-def _facet_measure(X):
-    if len(X) == 2:
-        return math.dist(X[0], X[1])
-    area = 0.0
-    for i in range(1, len(X) - 1):  # fan of triangles (planar or slightly warped quads)
-        a = [X[i][k] - X[0][k] for k in range(3)]
-        b = [X[i + 1][k] - X[0][k] for k in range(3)]
-        area += 0.5 * math.sqrt((a[1] * b[2] - a[2] * b[1]) ** 2 + (a[2] * b[0] - a[0] * b[2]) ** 2 +
-                                (a[0] * b[1] - a[1] * b[0]) ** 2)
-    return area
-
-
-def tributary_areas(results, nodes):
-    """Reference tributary area (length in 2D) of each slave node: the boundary facets of the last .vtu's cells
-    whose nodes are all slave nodes, each shared equally among its nodes. Used to turn the nodal forces of plugins
-    that report no pressure (declaration `pressure_output: nodal-force`) into pressures."""
-    vtu = results.last_vtu()
-    X = [[p[k] - u[k] for k in range(3)] for p, u in zip(vtu["Points"], vtu["displacement"])]
-    conn = [c[0] for c in vtu["connectivity"]]
-    count = {}
-    start = 0
-    for (end,), (kind,) in zip(vtu["offsets"], vtu["types"]):
-        cell = conn[start:end]
-        start = end
-        if int(kind) not in _FACETS:
-            raise ValueError("nodal-force pressure: VTK cell type %d is not handled" % kind)
-        for facet in _FACETS[int(kind)]:
-            key = tuple(sorted(cell[i] for i in facet))
-            count[key] = (count.get(key, (0, None))[0] + 1, [cell[i] for i in facet])
-    area = dict.fromkeys(nodes, 0.0)
-    for n, facet in count.values():
-        if n == 1 and all(i in area for i in facet):
-            share = _facet_measure([X[i] for i in facet]) / len(facet)
-            for i in facet:
-                area[i] += share
-    return area
-
-
 def contact_pressures(results, run):
-    """The last state's contact points; nodal forces become pressures when the plugin declares them as such."""
-    points = results.contact_points()
-    if run is not None and run.options.get("pressure_output", "pressure") == "nodal-force":
-        area = tributary_areas(results, {int(p["node"]) for p in points})
-        for p in points:
-            a = area.get(int(p["node"]), 0.0)
-            p["pressure"] = p["pressure"] / a if a > 0 else float("nan")
-    return points
+    """The last state's contact points (contact.csv's pressure is a traction for every plugin)."""
+    return results.contact_points()
 
 
 def reference_positions(results, radial, run=None):
