@@ -30,6 +30,7 @@ static void usage_main(FILE *out) {
           "commands:\n"
           "  run SCENE.yaml     run a scene (under `mpirun -np N` for N ranks)\n"
           "  check SCENE.yaml   validate a scene (YAML, meshes, groups, plugins, parameters) without running\n"
+          "  keys SCENE.yaml    list every key of the scene with its value or default, unit and origin\n"
           "  plugins            list the plugins found, with their capabilities, strategies and parameters\n"
           "\n"
           "`stickslip <command> --help` tells more. Documentation: docs/user-guide.md, docs/scene-reference.md\n",
@@ -37,23 +38,34 @@ static void usage_main(FILE *out) {
 }
 
 static void usage_run(FILE *out, const char *command) {
+  int run = strcmp(command, "run") == 0, keys = strcmp(command, "keys") == 0;
+  fprintf(out, "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--replace key.path=value ...]"
+               "\n                      [--trust-scripts]%s%s\n\n",
+          command, keys ? "" : " [--explain]", run ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
+  if (keys)
+    fprintf(out, "Lists every key of the scene as it would run: its value (given, or the default in use), its unit and\n"
+                 "where it came from (file:line:column, --set, default); for each contact pair and body plugin every\n"
+                 "parameter of the plugin's table with its value or declared default.\n\n");
   fprintf(out,
-          "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--trust-scripts]%s\n"
-          "\n"
-          "  --plugin NAME        use plugin NAME for every contact pair (overrides the scene; refused without pairs)\n"
-          "  --set key=value      override any scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
-          "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3])\n"
+          "  --plugin NAME        use plugin NAME for every contact pair (refused without pairs); of each pair's\n"
+          "                       parameters and strategy it keeps what NAME takes and drops the rest with a\n"
+          "                       warning (NAME's defaults apply)\n"
+          "  --set key=value      override a scene key, e.g. --set time.dt=0.005 --set contact.0.parameters.mu=0.3\n"
+          "                       (sequence elements by index; the value is YAML: 0.3, true, [1, 2, 3]); a map\n"
+          "                       merges into the scene's map: --set 'solver.newton={max_iterations: 40}' keeps\n"
+          "                       the scene's other newton keys\n"
+          "  --replace key=value  the same, but the value replaces what the scene has there (maps included)\n"
           "  --trust-scripts      let the scene's .geo scripts run shell commands and write files (SystemCall,\n"
-          "                       Print, Save, CreateDir, Printf > file); refused otherwise. Only for scripts you trust\n"
-          "  --explain            print what each term of the scene needs, what will be computed and what is\n"
-          "                       skipped, and why (docs/performance.md)\n",
-          command, strcmp(command, "run") == 0 ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
-  if (strcmp(command, "run") == 0)
+          "                       Print, Save, CreateDir, Printf > file); refused otherwise. Only for scripts you trust\n");
+  if (!keys)
+    fprintf(out, "  --explain            print what each term of the scene needs, what will be computed and what is\n"
+                 "                       skipped, and why (docs/performance.md)\n");
+  if (run)
     fprintf(out,
             "  --out DIR            write history.csv, contact.csv, summary.json, scene.yaml and results.pvd/.vtu\n"
             "                       into DIR (replaced at the end as a whole; default: no files)\n"
             "  --steps N            stop after N steps\n"
-            "  --quiet              no progress line\n"
+            "  --quiet              no progress line and no information messages (warnings and errors stay)\n"
             "  --verbose            Newton residuals per iteration, step cuts, plugin messages\n");
 }
 
@@ -62,6 +74,7 @@ typedef struct {
   const char *plugin;
   const char *out;
   const char **sets;
+  sk_cfg_override_mode *modes; /* per entry of `sets`: --set merges, --replace replaces */
   int n_sets;
   int steps, quiet, verbose, trust_scripts, explain;
 } arguments;
@@ -70,7 +83,12 @@ typedef struct {
 static int parse_arguments(int argc, char **argv, const char *command, arguments *args) {
   memset(args, 0, sizeof *args);
   args->sets = calloc((size_t)argc, sizeof(char *));
-  int allow_run_options = strcmp(command, "run") == 0;
+  args->modes = calloc((size_t)argc, sizeof *args->modes);
+  if (!args->sets || !args->modes) {
+    fprintf(stderr, "stickslip: out of memory\n");
+    return 1;
+  }
+  int allow_run_options = strcmp(command, "run") == 0, allow_explain = strcmp(command, "keys") != 0;
   for (int i = 2; i < argc; ++i) {
     const char *a = argv[i];
     const char *value = i + 1 < argc ? argv[i + 1] : NULL;
@@ -80,11 +98,12 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
     } else if (strcmp(a, "--plugin") == 0 && value) {
       args->plugin = value;
       ++i;
-    } else if (strcmp(a, "--set") == 0 && value) {
+    } else if ((strcmp(a, "--set") == 0 || strcmp(a, "--replace") == 0) && value) {
       if (!strchr(value, '=')) {
-        fprintf(stderr, "stickslip: --set expects key.path=value, got '%s'\n", value);
+        fprintf(stderr, "stickslip: %s expects key.path=value, got '%s'\n", a, value);
         return 1;
       }
+      args->modes[args->n_sets] = strcmp(a, "--replace") == 0 ? SK_CFG_REPLACE : SK_CFG_MERGE;
       args->sets[args->n_sets++] = value;
       ++i;
     } else if (allow_run_options && strcmp(a, "--out") == 0 && value) {
@@ -101,7 +120,7 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       ++i;
     } else if (strcmp(a, "--trust-scripts") == 0) {
       args->trust_scripts = 1;
-    } else if (strcmp(a, "--explain") == 0) {
+    } else if (allow_explain && strcmp(a, "--explain") == 0) {
       args->explain = 1;
     } else if (allow_run_options && strcmp(a, "--quiet") == 0) {
       args->quiet = 1;
@@ -193,26 +212,30 @@ static void report_results_after_failure(const arguments *args, const sk_run_sum
   }
 }
 
-static int command_scene(int argc, char **argv, int run) {
+typedef enum { COMMAND_RUN, COMMAND_CHECK, COMMAND_KEYS } scene_command;
+
+static int command_scene(int argc, char **argv, scene_command command) {
   sk_driver_mpi_init(&argc, &argv); /* the only commands that need a communicator */
   sk_interrupt_install();           /* after MPI_Init, which may install handlers of its own */
+  const int run = command == COMMAND_RUN;
   arguments args;
-  int parsed = parse_arguments(argc, argv, run ? "run" : "check", &args);
+  int parsed = parse_arguments(argc, argv, run ? "run" : command == COMMAND_KEYS ? "keys" : "check", &args);
   if (parsed != 0) {
     free(args.sets);
+    free(args.modes);
     return parsed == 2 ? 0 : 1;
   }
-  sk_log_verbosity = args.verbose;
+  sk_log_verbosity = args.quiet ? -1 : args.verbose;
   sk_mesh_trust_scripts(args.trust_scripts);
   sk_scene scene;
-  sk_status status = sk_scene_load(args.scene, args.n_sets, args.sets, args.plugin, MPI_COMM_WORLD, &scene);
+  const sk_scene_overrides overrides = {
+      .n = args.n_sets, .assignments = args.sets, .modes = args.modes, .plugin = args.plugin};
+  sk_status status = sk_scene_load_with(args.scene, &overrides, MPI_COMM_WORLD, &scene);
   int code = 0;
-  if (status == SK_OK && args.plugin && scene.model.n_pairs == 0) {
-    status = sk_error_set(SK_ERR_INPUT, "--plugin %s: %s has no contact pairs (no `contact` list), so no plugin "
-                          "would be used", args.plugin, args.scene);
-  }
   if (status != SK_OK) {
     code = fail(status);
+  } else if (command == COMMAND_KEYS) {
+    if (rank_of_world() == 0) sk_scene_keys(&scene, stdout);
   } else if (!run) {
     if (rank_of_world() == 0) {
       const sk_model *m = &scene.model;
@@ -263,6 +286,7 @@ static int command_scene(int argc, char **argv, int run) {
   }
   sk_scene_free(&scene);
   free(args.sets);
+  free(args.modes);
   return code;
 }
 
@@ -275,14 +299,16 @@ int main(int argc, char **argv) {
     if (rank_of_world() == 0) printf("stickslip %s (plugin ABI %u.%u)\n", STICKSLIP_VERSION, SK_ABI_MAJOR, SK_ABI_MINOR);
     code = 0;
   } else if (strcmp(argv[1], "run") == 0) {
-    code = command_scene(argc, argv, 1);
+    code = command_scene(argc, argv, COMMAND_RUN);
   } else if (strcmp(argv[1], "check") == 0) {
-    code = command_scene(argc, argv, 0);
+    code = command_scene(argc, argv, COMMAND_CHECK);
+  } else if (strcmp(argv[1], "keys") == 0) {
+    code = command_scene(argc, argv, COMMAND_KEYS);
   } else if (strcmp(argv[1], "plugins") == 0) {
     code = command_plugins(argc, argv);
   } else {
     if (rank_of_world() == 0)
-      fprintf(stderr, "stickslip: unknown command '%s' (commands: run, check, plugins; see stickslip --help)\n",
+      fprintf(stderr, "stickslip: unknown command '%s' (commands: run, check, keys, plugins; see stickslip --help)\n",
               argv[1]);
     code = 1;
   }
