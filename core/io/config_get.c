@@ -111,6 +111,15 @@ const sk_cfg *sk_cfg_get(const sk_cfg *map, const char *key) {
   return map->items[i];
 }
 
+const sk_cfg *sk_cfg_peek(const sk_cfg *map, const char *key) {
+  int i = map && key ? sk_cfgi_find(map, key) : -1;
+  return i >= 0 ? map->items[i] : NULL;
+}
+
+const sk_cfg *sk_cfg_peek_at(const sk_cfg *node, int i) {
+  return node && node->kind != SK_CFG_SCALAR && i >= 0 && i < node->n ? node->items[i] : NULL;
+}
+
 int sk_cfg_size(const sk_cfg *node) { return node && node->kind != SK_CFG_SCALAR ? node->n : 0; }
 
 const sk_cfg *sk_cfg_at(const sk_cfg *node, int i) {

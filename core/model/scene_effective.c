@@ -48,18 +48,19 @@ static void add_shell_word(text_buffer *b, const char *word) {
 
 static int from_command_line(const sk_cfg *node) { return strncmp(sk_cfg_where(node), "--", 2) == 0; }
 
-/* --plugin NAME on pair k: the plugin is NAME; a strategy and parameters from the file that NAME does not take are
+/* --plugin NAME on pair k (the tree is looked at with sk_cfg_peek: marking a key read would hide it from the
+ * unknown-key check): the plugin is NAME; a strategy and parameters from the file that NAME does not take are
  * dropped (added to `dropped`). A pair that already uses NAME keeps everything, so that a misspelt parameter of its
  * own plugin is still an error. */
 static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, text_buffer *dropped) {
-  const sk_cfg *entry = sk_cfg_at(sk_cfg_get(scene->cfg, "contact"), k);
+  const sk_cfg *entry = sk_cfg_peek_at(sk_cfg_peek(scene->cfg, "contact"), k);
   if (sk_cfg_kind_of(entry) != SK_CFG_MAP) return SK_OK; /* reading the pair will say what is wrong */
-  const char *current = sk_cfg_scalar(sk_cfg_get(entry, "plugin"));
+  const char *current = sk_cfg_scalar(sk_cfg_peek(entry, "plugin"));
   if (current && strcmp(current, plugin->name) == 0) return SK_OK;
   char path[64], line[256];
   snprintf(path, sizeof path, "contact.%d.plugin", k);
   SK_TRY(sk_cfg_set_text(scene->cfg, path, plugin->name, "--plugin"));
-  const sk_cfg *strategy = sk_cfg_get(entry, "strategy");
+  const sk_cfg *strategy = sk_cfg_peek(entry, "strategy");
   const char *wanted = sk_cfg_scalar(strategy);
   int known = 0;
   for (int s = 0; wanted && plugin->strategies[s]; ++s) known |= strcmp(plugin->strategies[s], wanted) == 0;
@@ -69,7 +70,7 @@ static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, te
     snprintf(path, sizeof path, "contact.%d.strategy", k);
     sk_cfg_remove(scene->cfg, path);
   }
-  const sk_cfg *params = sk_cfg_get(entry, "parameters");
+  const sk_cfg *params = sk_cfg_peek(entry, "parameters");
   if (sk_cfg_kind_of(params) != SK_CFG_MAP) return SK_OK;
   /* listed in the order of the file, then removed (removing shifts the keys that follow) */
   int n = sk_cfg_size(params), n_drop = 0;
@@ -77,7 +78,7 @@ static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, te
   if (!drop) return sk_error_set(SK_ERR_NOMEM, "out of memory applying --plugin");
   for (int i = 0; i < n; ++i) {
     const char *key = sk_cfg_key_at(params, i);
-    if (sk_plugin_takes(plugin, key, SK_KIND_PAIR) || from_command_line(sk_cfg_get(params, key))) continue;
+    if (sk_plugin_takes(plugin, key, SK_KIND_PAIR) || from_command_line(sk_cfg_peek(params, key))) continue;
     snprintf(drop[n_drop++], sizeof drop[0], "%s", key);
     snprintf(line, sizeof line, "%scontact[%d].parameters.%s", dropped->used ? ", " : "", k, key);
     add_text(dropped, line);
@@ -95,7 +96,7 @@ static sk_status apply_plugin(sk_scene *scene, const char *name, text_buffer *dr
   const sk_plugin *plugin;
   sk_status status = sk_plugin_load(name, &plugin);
   if (status != SK_OK) return sk_error_prefix(status, "--plugin %s: ", name);
-  const sk_cfg *contact = sk_cfg_get(scene->cfg, "contact");
+  const sk_cfg *contact = sk_cfg_peek(scene->cfg, "contact");
   int n = sk_cfg_kind_of(contact) == SK_CFG_SEQ ? sk_cfg_size(contact) : 0;
   if (n == 0)
     return sk_error_set(SK_ERR_INPUT, "--plugin %s: %s has no contact pairs (no `contact` list), so no plugin would "

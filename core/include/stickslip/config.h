@@ -55,6 +55,10 @@ int sk_cfg_size(const sk_cfg *node);                 /* entries of a map or sequ
 const sk_cfg *sk_cfg_at(const sk_cfg *node, int i);  /* i-th element of a seq or i-th value of a map; marks used */
 const char *sk_cfg_key_at(const sk_cfg *map, int i); /* i-th key of a map, NULL otherwise */
 const char *sk_cfg_scalar(const sk_cfg *node);       /* text of a scalar, NULL otherwise */
+/* The same as sk_cfg_get and sk_cfg_at without marking anything used or remembering the question: for looking at
+ * the tree before it is read (the overrides), so that the unknown-key check still sees every key nobody read. */
+const sk_cfg *sk_cfg_peek(const sk_cfg *map, const char *key);
+const sk_cfg *sk_cfg_peek_at(const sk_cfg *node, int i);
 /* Marks a node and everything below it as used (for subtrees handed over verbatim, e.g. plugin parameters). */
 void sk_cfg_mark_used(const sk_cfg *node);
 /* Child map `key` of `map` as sk_cfg_get gives it; when absent, an empty map that stands in for it (never written
