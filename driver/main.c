@@ -39,13 +39,15 @@ static void usage_main(FILE *out) {
 
 static void usage_run(FILE *out, const char *command) {
   int run = strcmp(command, "run") == 0, keys = strcmp(command, "keys") == 0;
-  fprintf(out, "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--replace key.path=value ...]"
-               "\n                      [--trust-scripts]%s%s\n\n",
+  fprintf(out,
+          "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--replace key.path=value ...]\n"
+          "                      [--trust-scripts]%s%s\n\n",
           command, keys ? "" : " [--explain]", run ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
   if (keys)
-    fprintf(out, "Lists every key of the scene as it would run: its value (given, or the default in use), its unit and\n"
-                 "where it came from (file:line:column, --set, default); for each contact pair and body plugin every\n"
-                 "parameter of the plugin's table with its value or declared default.\n\n");
+    fprintf(out,
+            "Lists every key of the scene as it would run: its value (given, or the default in use), its unit and\n"
+            "where it came from (file:line:column, --set, default); for each contact pair and body plugin every\n"
+            "parameter of the plugin's table with its value or declared default.\n\n");
   fprintf(out,
           "  --plugin NAME        use plugin NAME for every contact pair (refused without pairs); of each pair's\n"
           "                       parameters and strategy it keeps what NAME takes and drops the rest with a\n"

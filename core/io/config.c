@@ -33,7 +33,9 @@ char *sk_cfgi_format(const char *fmt, const char *a, const char *b) {
   return s;
 }
 
-sk_status sk_cfgi_no_memory(void) { return sk_error_set(SK_ERR_NOMEM, "out of memory while reading the configuration"); }
+sk_status sk_cfgi_no_memory(void) {
+  return sk_error_set(SK_ERR_NOMEM, "out of memory while reading the configuration");
+}
 
 sk_cfg *sk_cfgi_node_new(sk_cfg_kind kind, const char *file, const char *origin, int line, int col) {
   sk_cfg *node = calloc(1, sizeof *node);

@@ -26,9 +26,9 @@
 
 enum { PATH_CAP = 4096 };
 
-static const char manifest_header[] = "# stickslip results folder: the files below were written by stickslip (or its "
-                                      "tools: scripts/plot-*.sh); the next run into this folder may replace it, but only "
-                                      "if it holds nothing else\n";
+static const char manifest_header[] = "# stickslip results folder: the files below were written by stickslip (or "
+                                      "its tools: scripts/plot-*.sh); the next run into this folder may replace it, "
+                                      "but only if it holds nothing else\n";
 static const char *const status_names[] = {"ok", "failed", "interrupted"};
 
 /* dir without trailing slashes ("out/" → "out"); "/" and "" are refused. */

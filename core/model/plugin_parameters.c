@@ -1,6 +1,7 @@
 /* A plugin's parameter table as the host reads it: the lines `stickslip plugins` prints ("key, key2: meaning
- * [default]", optionally ending in "(pair)" or "(body)" when the keys apply to one kind of attachment only). The host
- * learns from them which keys a plugin takes (`--plugin` keeps those) and their declared defaults (`stickslip keys`). */
+ * [default]", optionally ending in "(pair)" or "(body)" when the keys apply to one kind of attachment only). The
+ * host learns from them which keys a plugin takes (`--plugin` keeps those) and their declared defaults (`stickslip
+ * keys`). */
 #include <ctype.h>
 #include <stdio.h>
 #include <string.h>

@@ -46,6 +46,28 @@ static void add_shell_word(text_buffer *b, const char *word) {
   add_text(b, "'");
 }
 
+static const char provenance_title[] = "# The effective scene of a stickslip run";
+
+/* A scene that is itself a run's effective scene (a results folder rerun) passes its own header on, so the chain
+ * back to the first scene file and every command line since stays readable. */
+static void add_earlier_provenance(text_buffer *note, const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) return;
+  char line[4096];
+  int first = 1;
+  while (fgets(line, sizeof line, f) && line[0] == '#') {
+    if (first && strncmp(line, provenance_title, sizeof provenance_title - 1) != 0) break;
+    if (first) {
+      add_text(note, "# that scene's own header:\n");
+      first = 0;
+    } else {
+      add_text(note, "#   ");
+      add_text(note, line + (line[1] == ' ' ? 2 : 1));
+    }
+  }
+  fclose(f);
+}
+
 static int from_command_line(const sk_cfg *node) { return strncmp(sk_cfg_where(node), "--", 2) == 0; }
 
 /* --plugin NAME on pair k (the tree is looked at with sk_cfg_peek: marking a key read would hide it from the
@@ -132,8 +154,8 @@ sk_status sk_scene_apply_overrides(sk_scene *scene, const sk_scene_overrides *ov
   }
   if (status == SK_OK) {
     text_buffer note = {0};
-    add_text(&note, "# The effective scene of a stickslip run: rerun it with `stickslip run scene.yaml` (from any "
-                    "folder).\n# scene: ");
+    add_text(&note, provenance_title);
+    add_text(&note, ": rerun it with `stickslip run scene.yaml` (from any folder).\n# scene: ");
     add_text(&note, scene->source);
     add_text(&note, "\n# overrides: ");
     add_text(&note, command.used ? command.text : "none");
@@ -146,6 +168,7 @@ sk_status sk_scene_apply_overrides(sk_scene *scene, const sk_scene_overrides *ov
       add_text(&note, "\n");
     }
     add_text(&note, "# mesh files: absolute paths\n");
+    add_earlier_provenance(&note, scene->path);
     scene->provenance = note.text;
   }
   free(command.text);

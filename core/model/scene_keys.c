@@ -164,8 +164,8 @@ void sk_scene_keys(const sk_scene *scene, FILE *out) {
     }
   }
   fprintf(out, "# %s: every key with its value (given, or the default in use), unit and origin\n", scene->path);
-  fprintf(out, "# units: the scene's own consistent system (e.g. N, mm, s, t/mm³: force/area is then MPa); a value "
-               "in parentheses is a default described in words\n");
+  fprintf(out, "# units: those of the scene (any consistent system: N, mm, s, t/mm^3 make force/area MPa); a value "
+               "in parentheses is a default in words\n");
   fprintf(out, "%-*s  %-*s  %-*s  %s\n", width[0], "key", width[1], "value", width[2], "unit", "origin");
   for (int i = 0; i < list.n; ++i) {
     const row *r = &list.rows[i];

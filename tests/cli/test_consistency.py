@@ -56,7 +56,8 @@ def plugin_parameter_errors(c):
                      r"penalty-nts parameter 'penalty' must be a finite number > 0")
     c.check(c.proc.stderr.count("floor") == 1, "the pair is named once")
     c.run_scene(CONTACT, "--set", "contact.0.parameters.penalty=0", command="check")
-    c.expect_failure(r"^stickslip: --set contact\.0\.parameters\.penalty: contact pair 'floor' \(plugin penalty-nts\): ")
+    c.expect_failure(r"^stickslip: --set contact\.0\.parameters\.penalty: contact pair 'floor' "
+                     r"\(plugin penalty-nts\): ")
     c.run_scene(replace(CONTACT, "{penalty: 1.0e4}", "{penalty: stiff}"), command="check")
     c.expect_failure(r"^stickslip: \S*scene\.yaml:14:27: contact pair 'floor' \(plugin penalty-nts\): key "
                      r"'contact\[0\]\.parameters\.penalty' expects a number, got 'stiff'")
@@ -70,7 +71,8 @@ def set_value_positions(c):
     c.expect_failure(r"^stickslip: --set bodies\.0\.material: body 'block': material: Poisson's ratio nu = 0\.7")
     c.run_scene(replace(BLOCK, "nu: 0.3", "nu: 0.6"), command="check")
     c.expect_failure(r"^stickslip: \S*scene\.yaml:14:\d+: body 'block': material: Poisson's ratio nu = 0\.6")
-    column = int(re.search(r"scene\.yaml:14:(\d+):", c.proc.stderr).group(1)) if "scene.yaml:14:" in c.proc.stderr else 0
+    position = re.search(r"scene\.yaml:14:(\d+):", c.proc.stderr)
+    column = int(position.group(1)) if position else 0
     line = BLOCK.splitlines()[13]
     c.check(line[column - 1:column + 2] == "0.3", "at the column of nu's value (%d in %r)" % (column, line))
 

@@ -74,7 +74,8 @@ def plugin_tables():
             current["strategies"] = [s.replace(" (default)", "").strip() for s in line.split(":", 1)[1].split(",")]
         elif current is not None and line.startswith("    ") and ":" in line:
             keys, rest = line.strip().split(":", 1)
-            kinds = "body" if rest.rstrip().endswith("(body)") else "pair" if rest.rstrip().endswith("(pair)") else "both"
+            scope = re.search(r"\((body|pair)\)$", rest.rstrip())
+            kinds = scope.group(1) if scope else "both"
             current["parameters"].append(([k.strip() for k in keys.split(",")], rest, kinds))
     return tables
 
@@ -118,7 +119,8 @@ def plugin_switch(c, base, label):
                         "%s -> %s: one warning naming %s" % (a, b, expected))
             else:
                 c.check(not warnings, "%s -> %s: nothing dropped, no warning" % (a, b))
-            c.check("unknown key" not in c.proc.stderr, "%s -> %s: none of %s's parameters is an unknown key" % (a, b, a))
+            c.check("unknown key" not in c.proc.stderr,
+                    "%s -> %s: none of %s's parameters is an unknown key" % (a, b, a))
             kept = [k for k in native_keys(a) if k in pair_keys(tables[b])]
             required = [k for keys, text, kinds in tables[b]["parameters"] if kinds != "body" and "required" in text
                         for k in keys if k not in kept]
@@ -155,7 +157,8 @@ def plugin_switch_runs(c):
             and re.search(r"mu: 0\.2", saved) and re.search(r"c_n: 1e4", saved),
             "the results' scene.yaml has mortar-dual with mu kept and c_n set")
     c.run("check", scene, "--plugin", "mortar-dual", "--set", "contact.0.parameters.c_m=1e4")
-    c.expect_failure(r"--set contact\.0\.parameters\.c_m: unknown key 'contact\[0\]\.parameters\.c_m'", out_created=True)
+    c.expect_failure(r"--set contact\.0\.parameters\.c_m: unknown key 'contact\[0\]\.parameters\.c_m'",
+                     out_created=True)
     c.run("check", c.write(scene_for(TWO_BLOCKS, "penalty-nts").replace("mu: 0.2", "mu: 0.2, penalti: 3"), "typo.yaml"),
           "--plugin", "penalty-nts")
     c.expect_failure(r"unknown key 'contact\[0\]\.parameters\.penalti'", out_created=True)
@@ -214,7 +217,8 @@ def results_scene_reruns(c):
     c.check(any(os.path.join(project, "scenes", "blocks.yaml") in line for line in header),
             "the header names the scene file (absolute)")
     c.check(any("--set time.dt=0.25 --set 'solver.newton={max_iterations: 30}' --replace contact.0.parameters.mu=0.1 "
-                "--set contact.0.parameters.c_n=1e4 --plugin mortar-dual" in line for line in header), "the header lists the overrides as typed")
+                "--set contact.0.parameters.c_n=1e4 --plugin mortar-dual" in line for line in header),
+            "the header lists the overrides as typed")
     c.check(any("dropped by --plugin" in line and "contact[0].parameters.penalty" in line for line in header),
             "the header names what --plugin dropped")
     c.check(os.path.join(project, "meshes", "block.geo") in text, "mesh paths are absolute")
@@ -237,6 +241,11 @@ def results_scene_reruns(c):
         print("differ:", differ[:10])
         same = len(before) == len(after) >= 5 and not differ
         c.check(same, "the same history, every column but wall_seconds (%d and %d rows)" % (len(before), len(after)))
+        again = open(os.path.join(elsewhere, "again", "scene.yaml")).read()
+        c.check(re.search(r"# scene: .*results/blocks/scene\.yaml\n# overrides: none\n", again) is not None and
+                "#   scene: %s" % os.path.join(project, "scenes", "blocks.yaml") in again and
+                "#   overrides: --set time.dt=0.25" in again,
+                "the rerun's header names the saved scene and passes on that scene's own header")
 
 
 def plotted_folder_reruns(c):
@@ -270,7 +279,8 @@ def plotted_folder_reruns(c):
 
 def keys_listing(c):
     """Item 8: `stickslip keys` lists every key the scene is read with — given (with file:line:col or --set) or
-    default — with its unit, and each pair's plugin parameters with their declared defaults; --plugin switches them."""
+    default — with its unit, and each pair's plugin parameters with their declared defaults; --plugin switches
+    them."""
     scene = c.write(scene_for(ON_PLANE, "penalty-nts"))
     c.run("keys", scene, "--set", "time.dt=0.25")
     c.no_crash()
