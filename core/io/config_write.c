@@ -6,6 +6,7 @@
 #include <errno.h>
 
 #include "config_tree.h"
+#include "stickslip/text.h"
 
 static int emit_node(yaml_emitter_t *em, const sk_cfg *node) {
   yaml_event_t ev;
@@ -70,54 +71,36 @@ sk_status sk_cfg_write_file(const sk_cfg *root, const char *path) {
 
 /* ---- listing ---------------------------------------------------------------------------------------------------- */
 
-typedef struct {
-  char *text;
-  size_t used, cap;
-} buffer;
-
-static void append(buffer *b, const char *s) {
-  size_t n = strlen(s);
-  if (b->used + n + 1 > b->cap) {
-    size_t cap = 2 * (b->used + n + 1);
-    char *grown = realloc(b->text, cap);
-    if (!grown) return; /* the listing is for reading: a value cut short by a failed allocation is the worst case */
-    b->text = grown;
-    b->cap = cap;
-  }
-  memcpy(b->text + b->used, s, n + 1);
-  b->used += n;
-}
-
 /* A node as one line of YAML: collections in flow style, quoted scalars quoted again. */
-static void flow_text(const sk_cfg *node, buffer *b) {
+static void flow_text(const sk_cfg *node, sk_text *b) {
   if (node->kind == SK_CFG_SCALAR) {
     int quoted = node->style == YAML_SINGLE_QUOTED_SCALAR_STYLE || node->style == YAML_DOUBLE_QUOTED_SCALAR_STYLE;
     if (!quoted) {
-      append(b, node->text);
+      sk_text_add(b, node->text);
       return;
     }
-    append(b, "\"");
+    sk_text_add(b, "\"");
     for (const char *c = node->text; *c; ++c) {
       char one[3] = {*c, 0, 0};
       if (*c == '"' || *c == '\\') {
         one[0] = '\\';
         one[1] = *c;
       }
-      append(b, one);
+      sk_text_add(b, one);
     }
-    append(b, "\"");
+    sk_text_add(b, "\"");
     return;
   }
-  append(b, node->kind == SK_CFG_MAP ? "{" : "[");
+  sk_text_add(b, node->kind == SK_CFG_MAP ? "{" : "[");
   for (int i = 0; i < node->n; ++i) {
-    if (i) append(b, ", ");
+    if (i) sk_text_add(b, ", ");
     if (node->kind == SK_CFG_MAP) {
-      append(b, node->keys[i]);
-      append(b, ": ");
+      sk_text_add(b, node->keys[i]);
+      sk_text_add(b, ": ");
     }
     flow_text(node->items[i], b);
   }
-  append(b, node->kind == SK_CFG_MAP ? "}" : "]");
+  sk_text_add(b, node->kind == SK_CFG_MAP ? "}" : "]");
 }
 
 static const asked_key *asked_of(const sk_cfg *map, const char *key) {
@@ -168,7 +151,7 @@ static void each_given(const sk_cfg *node, const asked_key *asked, void (*each)(
     for (int i = 0; i < node->n; ++i) each_given(node->items[i], NULL, each, ctx);
     return;
   }
-  buffer value = {0};
+  sk_text value = {0};
   flow_text(node, &value);
   sk_cfg_entry entry = {.path = node->path, .value = value.text ? value.text : "", .given = 1, .literal = 1,
                         .quantity = is_quantity(asked), .where = node->where, .meaning = asked ? asked->meaning : NULL};

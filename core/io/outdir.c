@@ -131,30 +131,43 @@ static int is_directory(const char *path) {
   return lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-/* Lists the entries of `dir` into f, those of subfolders as "sub/name" after "sub" (`prefix` "" at the top). */
-static sk_status list_entries(FILE *f, const char *dir, const char *prefix) {
+/* Calls visit(ctx, name, path) for every entry below `dir` but the manifest, `name` relative to the results folder
+ * ("snapshots/step-000010.png"; `prefix` is "" at the top) and `path` NULL when it is too long to form. The visitor
+ * returns 1 to enter a folder, 0 not to, -1 to stop (with the error it set). */
+typedef int (*entry_visitor)(void *ctx, const char *name, const char *path);
+
+static sk_status walk(const char *dir, const char *prefix, entry_visitor visit, void *ctx) {
   DIR *d = opendir(dir);
-  if (!d) return sk_error_set(SK_ERR_IO, "cannot list '%s': %s", dir, strerror(errno));
+  if (!d) return sk_error_set(SK_ERR_IO, "cannot open directory '%s': %s", dir, strerror(errno));
   sk_status status = SK_OK;
   struct dirent *e;
   while (status == SK_OK && (e = readdir(d)) != NULL) {
     if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || (!prefix[0] && !strcmp(e->d_name, SK_OUTDIR_MARKER)))
       continue;
     char name[PATH_CAP], path[PATH_CAP];
-    if ((size_t)snprintf(name, sizeof name, "%s%s", prefix, e->d_name) >= sizeof name ||
-        (size_t)snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= sizeof path) {
-      status = sk_error_set(SK_ERR_IO, "path too long below '%s'", dir);
-      break;
-    }
-    fprintf(f, "%s\n", name);
-    if (is_directory(path)) {
+    int fits = (size_t)snprintf(name, sizeof name, "%s%s", prefix, e->d_name) < sizeof name &&
+               (size_t)snprintf(path, sizeof path, "%s/%s", dir, e->d_name) < sizeof path;
+    int enter = visit(ctx, name, fits ? path : NULL);
+    if (enter < 0) {
+      status = SK_ERR_IO;
+    } else if (enter && fits && is_directory(path)) {
       char sub[PATH_CAP + 1];
       snprintf(sub, sizeof sub, "%s/", name);
-      status = list_entries(f, path, sub);
+      status = walk(path, sub, visit, ctx);
     }
   }
   closedir(d);
   return status;
+}
+
+/* The manifest lists every entry, those in folders too. */
+static int list_entry(void *ctx, const char *name, const char *path) {
+  if (!path) {
+    sk_error_set(SK_ERR_IO, "path too long: '%s'", name);
+    return -1;
+  }
+  fprintf((FILE *)ctx, "%s\n", name);
+  return 1;
 }
 
 /* Writes the manifest of `dir`: every entry in it now, and the status. */
@@ -165,7 +178,7 @@ static sk_status manifest_write(const char *dir, sk_results_status status) {
   if (!f) return sk_error_set(SK_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
   fputs(manifest_header, f);
   fprintf(f, "status: %s\n", status_names[status]);
-  sk_status listed = list_entries(f, dir, "");
+  sk_status listed = walk(dir, "", list_entry, f);
   if (listed != SK_OK) {
     fclose(f);
     return listed;
@@ -223,34 +236,21 @@ static void add_foreign(foreign_files *foreign, const char *name) {
   ++foreign->n;
 }
 
-/* The entries of `dir` (a results folder, or a folder in it named `prefix` "sub/") that its manifest does not list.
- * A listed folder is the run's only with everything in it listed too ("sub/file"): a file of the user's put into a
- * folder a tool wrote (snapshots/) is not lost with it. */
-static sk_status find_foreign(const char *dir, const char *prefix, const manifest *m, foreign_files *foreign) {
-  DIR *d = opendir(dir);
-  if (!d) return sk_error_set(SK_ERR_IO, "cannot open directory '%s': %s", dir, strerror(errno));
-  sk_status status = SK_OK;
-  struct dirent *e;
-  while (status == SK_OK && (e = readdir(d)) != NULL) {
-    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || (!prefix[0] && !strcmp(e->d_name, SK_OUTDIR_MARKER)))
-      continue;
-    char name[PATH_CAP], path[PATH_CAP];
-    if ((size_t)snprintf(name, sizeof name, "%s%s", prefix, e->d_name) >= sizeof name ||
-        (size_t)snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= sizeof path) {
-      add_foreign(foreign, e->d_name); /* too deep to list: not ours to remove */
-      continue;
-    }
-    int ours = m->found && (m->listed ? manifest_lists(m, name) : !prefix[0] && is_output_name(name));
-    if (!ours) {
-      add_foreign(foreign, name);
-    } else if (m->listed && is_directory(path)) {
-      char sub[PATH_CAP + 1];
-      snprintf(sub, sizeof sub, "%s/", name);
-      status = find_foreign(path, sub, m, foreign);
-    }
-  }
-  closedir(d);
-  return status;
+/* The entries of a results folder that its manifest does not list. A listed folder is the run's only with everything
+ * in it listed too ("sub/file"): a file of the user's put into a folder a tool wrote (snapshots/) is not lost with
+ * it. A path too long to form is not ours to remove. */
+typedef struct {
+  const manifest *m;
+  foreign_files *foreign;
+} foreign_search;
+
+static int find_foreign(void *ctx, const char *name, const char *path) {
+  const foreign_search *search = ctx;
+  const manifest *m = search->m;
+  int top = strchr(name, '/') == NULL;
+  int ours = path && m->found && (m->listed ? manifest_lists(m, name) : top && is_output_name(name));
+  if (!ours) add_foreign(search->foreign, name);
+  return ours && m->listed; /* enter the run's folders to look at what is in them */
 }
 
 /* May `dir` be replaced? Yes if it does not exist, is empty, or holds only files its manifest lists (files of the
@@ -269,7 +269,8 @@ static sk_status check_replaceable(const char *dir, const char *where) {
   manifest m;
   manifest_read(dir, &m);
   foreign_files foreign = {.n = 0};
-  sk_status status = find_foreign(dir, "", &m, &foreign);
+  foreign_search search = {&m, &foreign};
+  sk_status status = walk(dir, "", find_foreign, &search);
   int found = m.found;
   free(m.text);
   if (status != SK_OK) return status;

@@ -9,48 +9,30 @@
 
 #include "stickslip/plugins.h"
 #include "stickslip/scene.h"
-
-/* A growing piece of text (the provenance, the list of dropped keys). */
-typedef struct {
-  char *text;
-  size_t used, cap;
-} text_buffer;
-
-static void add_text(text_buffer *b, const char *s) {
-  size_t n = strlen(s);
-  if (b->used + n + 1 > b->cap) {
-    size_t cap = 2 * (b->used + n + 1);
-    char *grown = realloc(b->text, cap);
-    if (!grown) return; /* a shorter note; the scene itself is unaffected */
-    b->text = grown;
-    b->cap = cap;
-  }
-  memcpy(b->text + b->used, s, n + 1);
-  b->used += n;
-}
+#include "stickslip/text.h"
 
 /* `word` as one shell word: as it is when it is plain, else in single quotes. */
-static void add_shell_word(text_buffer *b, const char *word) {
+static void add_shell_word(sk_text *b, const char *word) {
   int plain = word[0] != '\0';
   for (const char *c = word; *c && plain; ++c)
     plain = strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-=/:+,@%", *c) != NULL;
   if (plain) {
-    add_text(b, word);
+    sk_text_add(b, word);
     return;
   }
-  add_text(b, "'");
+  sk_text_add(b, "'");
   for (const char *c = word; *c; ++c) {
     char one[2] = {*c, 0};
-    add_text(b, *c == '\'' ? "'\\''" : one);
+    sk_text_add(b, *c == '\'' ? "'\\''" : one);
   }
-  add_text(b, "'");
+  sk_text_add(b, "'");
 }
 
 static const char provenance_title[] = "# The effective scene of a stickslip run";
 
 /* A scene that is itself a run's effective scene (a results folder rerun) passes its own header on, so the chain
  * back to the first scene file and every command line since stays readable. */
-static void add_earlier_provenance(text_buffer *note, const char *path) {
+static void add_earlier_provenance(sk_text *note, const char *path) {
   FILE *f = fopen(path, "r");
   if (!f) return;
   char line[4096];
@@ -58,11 +40,11 @@ static void add_earlier_provenance(text_buffer *note, const char *path) {
   while (fgets(line, sizeof line, f) && line[0] == '#') {
     if (first && strncmp(line, provenance_title, sizeof provenance_title - 1) != 0) break;
     if (first) {
-      add_text(note, "# that scene's own header:\n");
+      sk_text_add(note, "# that scene's own header:\n");
       first = 0;
     } else {
-      add_text(note, "#   ");
-      add_text(note, line + (line[1] == ' ' ? 2 : 1));
+      sk_text_add(note, "#   ");
+      sk_text_add(note, line + (line[1] == ' ' ? 2 : 1));
     }
   }
   fclose(f);
@@ -74,7 +56,7 @@ static int from_command_line(const sk_cfg *node) { return strncmp(sk_cfg_where(n
  * unknown-key check): the plugin is NAME; a strategy and parameters from the file that NAME does not take are
  * dropped (added to `dropped`). A pair that already uses NAME keeps everything, so that a misspelt parameter of its
  * own plugin is still an error. */
-static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, text_buffer *dropped) {
+static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, sk_text *dropped) {
   const sk_cfg *entry = sk_cfg_peek_at(sk_cfg_peek(scene->cfg, "contact"), k);
   if (sk_cfg_kind_of(entry) != SK_CFG_MAP) return SK_OK; /* reading the pair will say what is wrong */
   const char *current = sk_cfg_scalar(sk_cfg_peek(entry, "plugin"));
@@ -88,7 +70,7 @@ static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, te
   for (int s = 0; wanted && plugin->strategies[s]; ++s) known |= strcmp(plugin->strategies[s], wanted) == 0;
   if (strategy && !known && !from_command_line(strategy)) {
     snprintf(line, sizeof line, "%scontact[%d].strategy (%s)", dropped->used ? ", " : "", k, wanted ? wanted : "?");
-    add_text(dropped, line);
+    sk_text_add(dropped, line);
     snprintf(path, sizeof path, "contact.%d.strategy", k);
     sk_cfg_remove(scene->cfg, path);
   }
@@ -103,7 +85,7 @@ static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, te
     if (sk_plugin_takes(plugin, key, SK_KIND_PAIR) || from_command_line(sk_cfg_peek(params, key))) continue;
     snprintf(drop[n_drop++], sizeof drop[0], "%s", key);
     snprintf(line, sizeof line, "%scontact[%d].parameters.%s", dropped->used ? ", " : "", k, key);
-    add_text(dropped, line);
+    sk_text_add(dropped, line);
   }
   for (int i = 0; i < n_drop; ++i) {
     char removed[192];
@@ -114,7 +96,7 @@ static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, te
   return SK_OK;
 }
 
-static sk_status apply_plugin(sk_scene *scene, const char *name, text_buffer *dropped) {
+static sk_status apply_plugin(sk_scene *scene, const char *name, sk_text *dropped) {
   const sk_plugin *plugin;
   sk_status status = sk_plugin_load(name, &plugin);
   if (status != SK_OK) return sk_error_prefix(status, "--plugin %s: ", name);
@@ -137,37 +119,37 @@ sk_status sk_scene_apply_overrides(sk_scene *scene, const sk_scene_overrides *ov
   char *real = realpath(scene->path, NULL);
   snprintf(scene->source, sizeof scene->source, "%s", real ? real : scene->path);
   free(real);
-  text_buffer command = {0}, dropped = {0};
+  sk_text command = {0}, dropped = {0};
   sk_status status = SK_OK;
   for (int k = 0; overrides && k < overrides->n && status == SK_OK; ++k) {
     sk_cfg_override_mode mode = overrides->modes ? overrides->modes[k] : SK_CFG_MERGE;
     status = sk_cfg_override(scene->cfg, overrides->assignments[k], mode);
-    add_text(&command, command.used ? " " : "");
-    add_text(&command, mode == SK_CFG_REPLACE ? "--replace " : "--set ");
+    sk_text_add(&command, command.used ? " " : "");
+    sk_text_add(&command, mode == SK_CFG_REPLACE ? "--replace " : "--set ");
     add_shell_word(&command, overrides->assignments[k]);
   }
   if (status == SK_OK && overrides && overrides->plugin) {
     status = apply_plugin(scene, overrides->plugin, &dropped);
-    add_text(&command, command.used ? " " : "");
-    add_text(&command, "--plugin ");
+    sk_text_add(&command, command.used ? " " : "");
+    sk_text_add(&command, "--plugin ");
     add_shell_word(&command, overrides->plugin);
   }
   if (status == SK_OK) {
-    text_buffer note = {0};
-    add_text(&note, provenance_title);
-    add_text(&note, ": rerun it with `stickslip run scene.yaml` (from any folder).\n# scene: ");
-    add_text(&note, scene->source);
-    add_text(&note, "\n# overrides: ");
-    add_text(&note, command.used ? command.text : "none");
-    add_text(&note, command.used ? " (applied below)\n" : "\n");
+    sk_text note = {0};
+    sk_text_add(&note, provenance_title);
+    sk_text_add(&note, ": rerun it with `stickslip run scene.yaml` (from any folder).\n# scene: ");
+    sk_text_add(&note, scene->source);
+    sk_text_add(&note, "\n# overrides: ");
+    sk_text_add(&note, command.used ? command.text : "none");
+    sk_text_add(&note, command.used ? " (applied below)\n" : "\n");
     if (dropped.used) {
-      add_text(&note, "# dropped by --plugin (not parameters of ");
-      add_text(&note, overrides->plugin);
-      add_text(&note, ", whose defaults apply): ");
-      add_text(&note, dropped.text);
-      add_text(&note, "\n");
+      sk_text_add(&note, "# dropped by --plugin (not parameters of ");
+      sk_text_add(&note, overrides->plugin);
+      sk_text_add(&note, ", whose defaults apply): ");
+      sk_text_add(&note, dropped.text);
+      sk_text_add(&note, "\n");
     }
-    add_text(&note, "# mesh files: absolute paths\n");
+    sk_text_add(&note, "# mesh files: absolute paths\n");
     add_earlier_provenance(&note, scene->path);
     scene->provenance = note.text;
   }

@@ -7,10 +7,9 @@ import re
 import signal
 import subprocess
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cli_case import BIN, BLOCK, CONTACT, ROOT, main, replace  # noqa: E402
+from cli_case import BLOCK, CONTACT, ROOT, main, replace, signal_run  # noqa: E402
 
 DISK = os.path.join(ROOT, "scenes", "free-flight-disk.yaml")
 
@@ -26,21 +25,8 @@ def stopped_runs_say_so(c):
     c.run("run", c.write(BLOCK))
     c.check(c.proc.returncode == 0 and re.search(r"scene\.yaml: done, 4 steps in ", c.proc.stderr) is not None,
             "a finished run says done, 4 steps")
-    env = dict(os.environ)
-    env.pop("STICKSLIP_PLUGIN_PATH", None)
     out = os.path.join(c.dir, "disk")
-    proc = subprocess.Popen([BIN, "run", DISK, "--out", out], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, env=env, cwd=c.dir)
-    history = os.path.join(out + ".partial-%d" % proc.pid, "history.csv")
-    deadline = time.time() + 60
-    while time.time() < deadline and proc.poll() is None:
-        if os.path.exists(history) and open(history).read().count("\n") >= 4:
-            break
-        time.sleep(0.02)
-    c.check(proc.poll() is None, "the run was still running when interrupted")
-    proc.send_signal(signal.SIGINT)
-    _, stderr = proc.communicate(timeout=60)
-    print("exit %d\nstderr: %s" % (proc.returncode, stderr))
+    proc, stderr = signal_run(c, [DISK], out, 4, signal.SIGINT)
     match = re.search(r"free-flight-disk\.yaml: interrupted after (\d+) steps, ", stderr)
     c.check(proc.returncode == 130 and match is not None, "it says it was interrupted")
     c.check("done" not in stderr, "it does not say done")
