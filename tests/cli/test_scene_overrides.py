@@ -6,6 +6,7 @@ import re
 import shutil
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli_case import BIN, CONTACT, MESHES, ROOT, main, read_table, replace  # noqa: E402
@@ -88,49 +89,58 @@ def native_keys(plugin):
     return re.findall(r"(\w+):", NATIVE[plugin][0])
 
 
+def checks(argument_lists):
+    """`stickslip check ARGS` for each list of arguments, a few at a time (each is a program start that mostly
+    waits for meshes and libraries)."""
+    def one(args):
+        return subprocess.run([BIN, "check", *args], capture_output=True, text=True, timeout=120)
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        return list(pool.map(one, argument_lists))
+
+
 def plugin_switch(c, base, label):
     """Every ordered pair (A, B) of plugins that both accept the scene: A's scene with --plugin B checks, or fails
     only on a parameter B's table marks as required that A's scene does not give; either way one warning names
     exactly A's parameters (and strategy) that B does not take, and none of A's is called unknown."""
     tables = plugin_tables()
     accepting = []
-    for plugin in sorted(NATIVE):
-        c.run("check", c.write(scene_for(base, plugin), "%s-%s.yaml" % (label, plugin)))
-        if c.proc.returncode != 0:
-            c.check("lacks what this scene needs" in c.proc.stderr or "not a corotational body" in c.proc.stderr,
-                    "%s refuses the %s scene only for a capability it lacks" % (plugin, label))
+    scenes = {p: c.write(scene_for(base, p), "%s-%s.yaml" % (label, p)) for p in sorted(NATIVE)}
+    for plugin, proc in zip(sorted(NATIVE), checks([[scenes[p]] for p in sorted(NATIVE)])):
+        if proc.returncode != 0:
+            c.check("lacks what this scene needs" in proc.stderr, "%s refuses the %s scene only for a capability it "
+                    "lacks (%s)" % (plugin, label, proc.stderr.strip()))
             continue
         accepting.append(plugin)
     c.check(len(accepting) >= 3, "%s: %d plugins accept the scene (%s)" % (label, len(accepting), accepting))
-    for a in accepting:
-        for b in accepting:
-            if a == b:
-                continue
-            c.run("check", "%s-%s.yaml" % (label, a), "--plugin", b)
-            c.no_crash()
-            strategy = NATIVE[a][1]
-            dropped = ["strategy (%s)" % strategy] if strategy and strategy not in tables[b]["strategies"] else []
-            dropped += [k for k in native_keys(a) if k not in pair_keys(tables[b])]
-            warnings = [line for line in c.proc.stderr.splitlines() if line.startswith("warning: --plugin")]
-            if dropped:
-                expected = ", ".join("contact[0]." + ("parameters." + k if "strategy" not in k else k)
-                                     for k in dropped)
-                c.check(len(warnings) == 1 and warnings[0].endswith(": " + expected),
-                        "%s -> %s: one warning naming %s" % (a, b, expected))
-            else:
-                c.check(not warnings, "%s -> %s: nothing dropped, no warning" % (a, b))
-            c.check("unknown key" not in c.proc.stderr,
-                    "%s -> %s: none of %s's parameters is an unknown key" % (a, b, a))
-            kept = [k for k in native_keys(a) if k in pair_keys(tables[b])]
-            required = [k for keys, text, kinds in tables[b]["parameters"] if kinds != "body" and "required" in text
-                        for k in keys if k not in kept]
-            if c.proc.returncode == 0:
-                c.check(re.search(r"pair 'interface|pair 'floor'", c.proc.stdout) is not None and
-                        ("plugin %s," % b) in c.proc.stdout, "%s -> %s: check passes with %s" % (a, b, b))
-            else:
-                missing = re.search(r"missing key 'contact\[0\]\.parameters\.(\w+)'", c.proc.stderr)
-                c.check(missing is not None and missing.group(1) in required,
-                        "%s -> %s: fails only on a parameter %s requires (%s)" % (a, b, b, c.proc.stderr.strip()))
+    pairs = [(a, b) for a in accepting for b in accepting if a != b]
+    for (a, b), proc in zip(pairs, checks([[scenes[a], "--plugin", b] for a, b in pairs])):
+        c.proc = proc
+        print("$ stickslip check %s-%s.yaml --plugin %s\nexit %d\nstdout: %s\nstderr: %s" % (
+            label, a, b, proc.returncode, proc.stdout.strip(), proc.stderr.strip()))
+        c.no_crash()
+        strategy = NATIVE[a][1]
+        dropped = ["strategy (%s)" % strategy] if strategy and strategy not in tables[b]["strategies"] else []
+        dropped += [k for k in native_keys(a) if k not in pair_keys(tables[b])]
+        warnings = [line for line in c.proc.stderr.splitlines() if line.startswith("warning: --plugin")]
+        if dropped:
+            expected = ", ".join("contact[0]." + ("parameters." + k if "strategy" not in k else k)
+                                 for k in dropped)
+            c.check(len(warnings) == 1 and warnings[0].endswith(": " + expected),
+                    "%s -> %s: one warning naming %s" % (a, b, expected))
+        else:
+            c.check(not warnings, "%s -> %s: nothing dropped, no warning" % (a, b))
+        c.check("unknown key" not in c.proc.stderr,
+                "%s -> %s: none of %s's parameters is an unknown key" % (a, b, a))
+        kept = [k for k in native_keys(a) if k in pair_keys(tables[b])]
+        required = [k for keys, text, kinds in tables[b]["parameters"] if kinds != "body" and "required" in text
+                    for k in keys if k not in kept]
+        if c.proc.returncode == 0:
+            c.check(re.search(r"pair 'interface|pair 'floor'", c.proc.stdout) is not None and
+                    ("plugin %s," % b) in c.proc.stdout, "%s -> %s: check passes with %s" % (a, b, b))
+        else:
+            missing = re.search(r"missing key 'contact\[0\]\.parameters\.(\w+)'", c.proc.stderr)
+            c.check(missing is not None and missing.group(1) in required,
+                    "%s -> %s: fails only on a parameter %s requires (%s)" % (a, b, b, c.proc.stderr.strip()))
 
 
 def plugin_switch_deformable(c):
