@@ -41,13 +41,15 @@ static void usage_run(FILE *out, const char *command) {
   int run = strcmp(command, "run") == 0, keys = strcmp(command, "keys") == 0;
   fprintf(out,
           "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--replace key.path=value ...]\n"
-          "                      [--trust-scripts]%s%s\n\n",
-          command, keys ? "" : " [--explain]", run ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "");
+          "                      [--trust-scripts]%s%s\n%s\n",
+          command, keys ? "" : " [--explain]", run ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "",
+          keys ? "       stickslip keys --plugin NAME\n" : "");
   if (keys)
     fprintf(out,
             "Lists every key of the scene as it would run: its value (given, or the default in use), its unit and\n"
             "where it came from (file:line:column, --set, default); for each contact pair and body plugin every\n"
-            "parameter of the plugin's table with its value or declared default.\n\n");
+            "parameter of the plugin's table with its value or declared default. Without a scene: the parameters\n"
+            "of plugin NAME with their declared defaults.\n\n");
   fprintf(out,
           "  --plugin NAME        use plugin NAME for every contact pair (refused without pairs); of each pair's\n"
           "                       parameters and strategy it keeps what NAME takes and drops the rest with a\n"
@@ -139,8 +141,9 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       return 1;
     }
   }
-  if (!args->scene) {
-    fprintf(stderr, "stickslip %s: which scene? (stickslip %s SCENE.yaml)\n", command, command);
+  if (!args->scene && !(strcmp(command, "keys") == 0 && args->plugin)) {
+    fprintf(stderr, "stickslip %s: which scene? (stickslip %s SCENE.yaml%s)\n", command, command,
+            strcmp(command, "keys") == 0 ? ", or stickslip keys --plugin NAME for a plugin's parameters" : "");
     return 1;
   }
   return 0;
@@ -229,6 +232,14 @@ static int command_scene(int argc, char **argv, scene_command command) {
   }
   sk_log_verbosity = args.quiet ? -1 : args.verbose;
   sk_mesh_trust_scripts(args.trust_scripts);
+  if (!args.scene) { /* keys --plugin NAME */
+    const sk_plugin *plugin = NULL;
+    sk_status status = sk_plugin_load(args.plugin, &plugin);
+    if (status == SK_OK && rank_of_world() == 0) status = sk_plugin_keys(plugin, stdout);
+    free(args.sets);
+    free(args.modes);
+    return status == SK_OK ? 0 : fail(status);
+  }
   sk_scene scene;
   const sk_scene_overrides overrides = {
       .n = args.n_sets, .assignments = args.sets, .modes = args.modes, .plugin = args.plugin};

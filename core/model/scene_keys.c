@@ -143,17 +143,10 @@ static void note_plugin_parameters(const sk_cfg *entry, const sk_plugin *plugin,
   }
 }
 
-void sk_scene_keys(const sk_scene *scene, FILE *out) {
-  const sk_model *m = &scene->model;
-  const sk_cfg *contact = sk_cfg_get(scene->cfg, "contact");
-  for (int k = 0; k < m->n_pairs; ++k)
-    note_plugin_parameters(sk_cfg_at(contact, k), m->pairs[k].plugin, SK_KIND_PAIR);
-  const sk_cfg *bodies = sk_cfg_get(scene->cfg, "bodies");
-  for (int b = 0; b < m->n_bodies; ++b)
-    if (m->bodies[b].plugin) note_plugin_parameters(sk_cfg_at(bodies, b), m->bodies[b].plugin, SK_KIND_BODY);
-
+/* The listing of the keys of `root` (sk_cfg_each), in aligned columns after a heading naming `source`. */
+static void print_keys(const sk_cfg *root, const char *source, FILE *out) {
   listing list = {0};
-  sk_cfg_each(scene->cfg, collect, &list);
+  sk_cfg_each(root, collect, &list);
   int width[3] = {3, 5, 4};
   for (int i = 0; i < list.n; ++i) {
     const char *cells[3] = {list.rows[i].path, list.rows[i].value, list.rows[i].unit};
@@ -163,7 +156,7 @@ void sk_scene_keys(const sk_scene *scene, FILE *out) {
       if (n > width[c] && n <= cap) width[c] = n;
     }
   }
-  fprintf(out, "# %s: every key with its value (given, or the default in use), unit and origin\n", scene->path);
+  fprintf(out, "# %s: every key with its value (given, or the default in use), unit and origin\n", source);
   fprintf(out, "# units: those of the scene (any consistent system: N, mm, s, t/mm^3 make force/area MPa); a value "
                "in parentheses is a default in words\n");
   fprintf(out, "%-*s  %-*s  %-*s  %s\n", width[0], "key", width[1], "value", width[2], "unit", "origin");
@@ -176,4 +169,31 @@ void sk_scene_keys(const sk_scene *scene, FILE *out) {
     free(r->origin);
   }
   free(list.rows);
+}
+
+void sk_scene_keys(const sk_scene *scene, FILE *out) {
+  const sk_model *m = &scene->model;
+  const sk_cfg *contact = sk_cfg_get(scene->cfg, "contact");
+  for (int k = 0; k < m->n_pairs; ++k)
+    note_plugin_parameters(sk_cfg_at(contact, k), m->pairs[k].plugin, SK_KIND_PAIR);
+  const sk_cfg *bodies = sk_cfg_get(scene->cfg, "bodies");
+  for (int b = 0; b < m->n_bodies; ++b)
+    if (m->bodies[b].plugin) note_plugin_parameters(sk_cfg_at(bodies, b), m->bodies[b].plugin, SK_KIND_BODY);
+  print_keys(scene->cfg, scene->path, out);
+}
+
+sk_status sk_plugin_keys(const sk_plugin *plugin, FILE *out) {
+  sk_cfg *root = NULL;
+  SK_TRY(sk_cfg_parse_string("{}", plugin->name, &root));
+  /* one section per kind of attachment, named only when the plugin has both */
+  int both = (plugin->kinds & SK_KIND_PAIR) && (plugin->kinds & SK_KIND_BODY);
+  if (plugin->kinds & SK_KIND_PAIR)
+    note_plugin_parameters(both ? sk_cfg_section(root, "pair") : root, plugin, SK_KIND_PAIR);
+  if (plugin->kinds & SK_KIND_BODY)
+    note_plugin_parameters(both ? sk_cfg_section(root, "body") : root, plugin, SK_KIND_BODY);
+  char source[160];
+  snprintf(source, sizeof source, "plugin %s", plugin->name);
+  print_keys(root, source, out);
+  sk_cfg_free(root);
+  return SK_OK;
 }

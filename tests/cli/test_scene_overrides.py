@@ -323,6 +323,11 @@ def keys_listing(c):
     c.run("keys", scene, "--plugin", "mortar-dual")
     c.check(c.proc.returncode == 0 and "contact[0].parameters.c_n" in c.proc.stdout and
             "parameters.penalty " not in c.proc.stdout, "with --plugin mortar-dual: mortar-dual's parameters")
+    c.run("keys", "--plugin", "corotational")  # a plugin alone: its table, per kind of attachment
+    c.check(c.proc.returncode == 0 and re.search(r"^pair\.parameters\.mu +0 +default; corotational:", c.proc.stdout,
+                                                 re.M) is not None and
+            re.search(r"^body\.parameters\.axis_z +1 +default", c.proc.stdout, re.M) is not None,
+            "keys --plugin corotational lists its pair and body parameters with their defaults")
     c.run("keys", c.write(replace(scene_for(ON_PLANE, "penalty-nts"), "dt: 0.5", "dt: -1"), "bad.yaml"))
     c.expect_failure(r"bad\.yaml:\d+:\d+: key 'time\.dt': must be positive")
 

@@ -73,6 +73,8 @@ sk_status sk_scene_write(const sk_scene *scene, const char *path);
 /* Every key of the loaded scene with its value or default, unit and origin (file:line:column, --set, default), and
  * for each pair and body plugin every parameter of its table (`stickslip keys`). Rank 0 calls it. */
 void sk_scene_keys(const sk_scene *scene, FILE *out);
+/* The same for a plugin alone: its parameters with their declared defaults (`stickslip keys --plugin NAME`). */
+sk_status sk_plugin_keys(const sk_plugin *plugin, FILE *out);
 void sk_scene_free(sk_scene *scene);
 /* What the scene computes and skips, with the reasons: every term's declared needs and the outputs of a run into
  * `out_dir` (NULL: no result files). For `stickslip run|check --explain`; rank 0 calls it. */
