@@ -54,13 +54,14 @@ static int from_command_line(const sk_cfg *node) { return strncmp(sk_cfg_where(n
 
 /* --plugin NAME on pair k (the tree is looked at with sk_cfg_peek: marking a key read would hide it from the
  * unknown-key check): the plugin is NAME; a strategy and parameters from the file that NAME does not take are
- * dropped (added to `dropped`). A pair that already uses NAME keeps everything, so that a misspelt parameter of its
- * own plugin is still an error. */
+ * dropped (added to `dropped`). A pair whose file already names NAME keeps everything, so that a misspelt parameter
+ * of its own plugin is still an error. */
 static sk_status switch_pair(sk_scene *scene, int k, const sk_plugin *plugin, sk_text *dropped) {
   const sk_cfg *entry = sk_cfg_peek_at(sk_cfg_peek(scene->cfg, "contact"), k);
   if (sk_cfg_kind_of(entry) != SK_CFG_MAP) return SK_OK; /* reading the pair will say what is wrong */
-  const char *current = sk_cfg_scalar(sk_cfg_peek(entry, "plugin"));
-  if (current && strcmp(current, plugin->name) == 0) return SK_OK;
+  const sk_cfg *current = sk_cfg_peek(entry, "plugin");
+  if (sk_cfg_scalar(current) && strcmp(sk_cfg_scalar(current), plugin->name) == 0 && !from_command_line(current))
+    return SK_OK;
   char path[64], line[256];
   snprintf(path, sizeof path, "contact.%d.plugin", k);
   SK_TRY(sk_cfg_set_text(scene->cfg, path, plugin->name, "--plugin"));

@@ -154,7 +154,7 @@ def plugin_switch_obstacle(c):
 def plugin_switch_runs(c):
     """A penalty-nts scene run with --plugin mortar-dual: the parameters mortar-dual takes (mu) are kept, the rest
     dropped; it runs to the end; a parameter given on the command line is never dropped (a misspelt one is an error);
-    a pair that already uses the plugin keeps everything (its misspelt key is still an error)."""
+    a pair whose file already names the plugin keeps everything (its misspelt key is still an error)."""
     scene = c.write(scene_for(TWO_BLOCKS, "penalty-nts"))
     c.run("run", scene, "--plugin", "mortar-dual", "--set", "contact.0.parameters.c_n=1e4", "--out", c.out, "--quiet")
     c.check(c.proc.returncode == 0, "runs to the end")
@@ -172,6 +172,10 @@ def plugin_switch_runs(c):
     c.run("check", c.write(scene_for(TWO_BLOCKS, "penalty-nts").replace("mu: 0.2", "mu: 0.2, penalti: 3"), "typo.yaml"),
           "--plugin", "penalty-nts")
     c.expect_failure(r"unknown key 'contact\[0\]\.parameters\.penalti'", out_created=True)
+    # a plugin name set on the command line is not the file's: --plugin still drops what it does not take
+    c.run("check", scene, "--set", "contact.0.plugin=mortar-dual", "--plugin", "mortar-dual")
+    c.check(c.proc.returncode == 0 and "dropped what mortar-dual does not take" in c.proc.stderr,
+            "--set contact.0.plugin=mortar-dual --plugin mortar-dual drops penalty-nts's parameters")
     c.run("check", scene, "--plugin", "no-such-plugin")
     c.expect_failure(r"--plugin no-such-plugin: unknown plugin 'no-such-plugin'", out_created=True)
 
