@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "config_tree.h"
+#include "stickslip/text.h"
 
 /* "file:line" of a node (maps report missing keys this way), or its --set origin. */
 static void where_line(const sk_cfg *node, char *buf, size_t n) {
@@ -157,13 +158,13 @@ static void key_path(const sk_cfg *map, const char *key, char *buf, size_t n) {
 
 /* Finds `key`; absent and required → error naming the map's position. *node NULL when absent. */
 
-static int edit_distance(const char *a, const char *b);
-
 /* A key of `map` within edit distance 2 of `key` (a misspelling of the required key), or NULL. */
 static const sk_cfg *misspelt_key(const sk_cfg *map, const char *key) {
-  for (int i = 0; map && map->kind == SK_CFG_MAP && i < map->n; ++i)
-    if (strcmp(map->keys[i], key) != 0 && edit_distance(map->keys[i], key) <= 2 && strlen(key) > 2)
-      return map->items[i];
+  for (int i = 0; map && map->kind == SK_CFG_MAP && i < map->n; ++i) {
+    sk_closest closest = SK_CLOSEST_NONE;
+    sk_closest_offer(&closest, map->keys[i], key);
+    if (closest.best && strlen(key) > 2) return map->items[i];
+  }
   return NULL;
 }
 
@@ -385,42 +386,10 @@ sk_status sk_cfg_choice(const sk_cfg *map, const char *key, int required, const 
 
 /* ---- unused keys ------------------------------------------------------------------------------------------ */
 
-/* Optimal string alignment distance (a transposition counts as one edit). Long keys: no suggestion. */
-static int edit_distance(const char *a, const char *b) {
-  enum { MAXLEN = 64 };
-  size_t la = strlen(a), lb = strlen(b);
-  if (la >= MAXLEN || lb >= MAXLEN) return INT_MAX;
-  int d[MAXLEN + 1][MAXLEN + 1];
-  for (size_t i = 0; i <= la; ++i) d[i][0] = (int)i;
-  for (size_t j = 0; j <= lb; ++j) d[0][j] = (int)j;
-  for (size_t i = 1; i <= la; ++i) {
-    for (size_t j = 1; j <= lb; ++j) {
-      int cost = a[i - 1] != b[j - 1];
-      int best = d[i - 1][j] + 1;
-      if (d[i][j - 1] + 1 < best) best = d[i][j - 1] + 1;
-      if (d[i - 1][j - 1] + cost < best) best = d[i - 1][j - 1] + cost;
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && d[i - 2][j - 2] + 1 < best) {
-        best = d[i - 2][j - 2] + 1;
-      }
-      d[i][j] = best;
-    }
-  }
-  return d[la][lb];
-}
-
 static const char *suggestion(const sk_cfg *map, const char *key) {
-  const char *best = NULL;
-  int best_distance = 3; /* suggest only within distance 2 */
-  for (int i = 0; i < map->n_asked; ++i) {
-    const char *candidate = map->asked[i].key;
-    if (strcmp(candidate, key) == 0) continue;
-    int d = edit_distance(key, candidate);
-    if (d < best_distance && (size_t)d < strlen(candidate)) {
-      best = candidate;
-      best_distance = d;
-    }
-  }
-  return best;
+  sk_closest closest = SK_CLOSEST_NONE;
+  for (int i = 0; i < map->n_asked; ++i) sk_closest_offer(&closest, key, map->asked[i].key);
+  return closest.best;
 }
 
 static sk_status find_unused(const sk_cfg *node) {

@@ -159,6 +159,15 @@ sk_status sk_scene_apply_overrides(sk_scene *scene, const sk_scene_overrides *ov
   return status;
 }
 
+void sk_scene_note(sk_scene *scene, const char *line) {
+  sk_text note = {scene->provenance, scene->provenance ? strlen(scene->provenance) : 0,
+                  scene->provenance ? strlen(scene->provenance) + 1 : 0};
+  sk_text_add(&note, "# ");
+  sk_text_add(&note, line);
+  sk_text_add(&note, "\n");
+  scene->provenance = note.text;
+}
+
 sk_status sk_scene_absolute_mesh_paths(sk_scene *scene) {
   const sk_cfg *mesh = sk_cfg_get(scene->cfg, "mesh");
   int n = sk_cfg_kind_of(mesh) == SK_CFG_SEQ ? sk_cfg_size(mesh) : 1;

@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cli_case import BLOCK, CONTACT, ROOT, main, replace, signal_run  # noqa: E402
+from cli_case import BLOCK, CONTACT, ROOT, main, read_summary, replace, signal_run  # noqa: E402
 
 DISK = os.path.join(ROOT, "scenes", "free-flight-disk.yaml")
 
@@ -78,6 +78,51 @@ def usage_lists_options(c):
     c.check("[--explain]" in c.proc.stdout.split("\n\n")[0], "run's usage has --explain")
 
 
+def command_line_mistakes(c):
+    """A mistyped command or option gets one line in one form, "stickslip COMMAND: what is wrong; see stickslip
+    COMMAND --help", exit 1, and the likely intent: the closest option or command, the command an option belongs to,
+    the value an option lacks. `--name=value` is `--name value`; `stickslip help COMMAND` is `COMMAND --help`."""
+    block = c.write(BLOCK)
+    mistakes = [
+        (["chek", block], r"^stickslip: unknown command 'chek' \(did you mean 'check'\?\); see stickslip --help$"),
+        (["--verison"], r"^stickslip: unknown command '--verison' \(did you mean '--version'\?\)"),
+        (["frobnicate"], r"^stickslip: unknown command 'frobnicate' \(commands: run, check, keys, plugins\)"),
+        (["run", block, "--stepz", "2"], r"^stickslip run: unknown option '--stepz' \(did you mean '--steps'\?\); "
+                                         r"see stickslip run --help$"),
+        (["run", block, "--plugn=mortar-dual"], r"^stickslip run: unknown option '--plugn=mortar-dual' \(did you "
+                                                r"mean '--plugin'\?\)"),
+        (["check", block, "--out", "r"], r"^stickslip check: --out is an option of stickslip run, not of stickslip "
+                                         r"check; see stickslip check --help$"),
+        (["keys", block, "--explain"], r"^stickslip keys: --explain is an option of stickslip run"),
+        (["run", block, "--steps"], r"^stickslip run: --steps needs a value \(--steps N\)"),
+        (["run", block, "--plugin", "--quiet"], r"^stickslip run: --plugin needs a value \(--plugin NAME\)"),
+        (["run", block, "--quiet=yes"], r"^stickslip run: --quiet takes no value, got '--quiet=yes'"),
+        (["run", block, "--steps=-3"], r"^stickslip run: --steps expects a positive integer, got '-3'"),
+        (["run", block, block], r"^stickslip run: a second scene '.*scene\.yaml' after '.*scene\.yaml'"),
+        (["check"], r"^stickslip check: which scene\? \(stickslip check SCENE\.yaml\); see stickslip check --help$"),
+        (["plugins", "--all"], r"^stickslip plugins: unexpected argument '--all'; see stickslip plugins --help$"),
+    ]
+    for args, pattern in mistakes:
+        c.run(*args)
+        c.expect_failure(pattern)
+        c.check(not c.proc.stdout, "nothing on stdout")
+    c.run("run", block, "--steps=2", "--out=%s" % c.out, "--set=time.dt=0.25", "--quiet")
+    c.check(c.proc.returncode == 0, "--name=value options run")
+    if c.proc.returncode == 0:
+        c.check(read_summary(c.out)["steps"] == 2, "--steps=2 stops after 2 steps")
+        saved = open(os.path.join(c.out, "scene.yaml")).read()
+        c.check("# overrides: --set time.dt=0.25 (applied below)\n" in saved, "--set=... is recorded as --set")
+        c.check("# run with --steps 2: it stopped there; `stickslip run scene.yaml` runs to time.end" in saved,
+                "the saved scene's header says the run was cut short by --steps")
+    for args, usage in ((["help", "run"], "usage: stickslip run SCENE.yaml"),
+                        (["plugins", "--help"], "usage: stickslip plugins"),
+                        (["help", "keys"], "usage: stickslip keys SCENE.yaml"), (["--help"], "usage: stickslip <command>"),
+                        (["help"], "usage: stickslip <command>"), (["check", "-h"], "usage: stickslip check SCENE.yaml")):
+        c.run(*args)
+        c.check(c.proc.returncode == 0 and usage in c.proc.stdout and not c.proc.stderr,
+                "stickslip %s: exit 0, the usage on stdout" % " ".join(args))
+
+
 def quiet_keeps_warnings(c):
     """--quiet drops the progress line and information (the auto linear solver's decisions), keeps warnings."""
     scene = c.write(replace(replace(CONTACT, "scheme: quasi-static", "scheme: midpoint"),
@@ -108,7 +153,8 @@ def plot_scripts_help(c):
 
 
 CASES = {f.__name__: f for f in [stopped_runs_say_so, plugin_parameter_errors, set_value_positions,
-                                 usage_lists_options, quiet_keeps_warnings, plot_scripts_help]}
+                                 usage_lists_options, command_line_mistakes, quiet_keeps_warnings,
+                                 plot_scripts_help]}
 
 if __name__ == "__main__":
     main(CASES)

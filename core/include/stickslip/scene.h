@@ -65,6 +65,9 @@ sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, c
  * changes a pair's plugin drops the parameters and the strategy of the file that the new plugin does not take (one
  * warning names them; keys set on the command line stay, so a misspelt one is still an error). */
 sk_status sk_scene_apply_overrides(sk_scene *scene, const sk_scene_overrides *overrides);
+/* Adds `line` (without its "# " and newline) to the header of the results' scene.yaml: what the command line did to
+ * the run that the scene does not say (`--steps N`). */
+void sk_scene_note(sk_scene *scene, const char *line);
 /* Rewrites every mesh `file` of scene->cfg as an absolute path, so the effective scene reads from any folder. */
 sk_status sk_scene_absolute_mesh_paths(sk_scene *scene);
 /* The effective scene as YAML into `path`, after a comment header saying where it came from and what the command
