@@ -143,6 +143,22 @@ static void note_plugin_parameters(const sk_cfg *entry, const sk_plugin *plugin,
   }
 }
 
+/* One line of the listing: each cell starts at its column, or two spaces after a longer cell before it (which then
+ * takes the room of the empty or short cells that follow rather than shifting the whole line). */
+static void print_row(FILE *out, const int width[3], const char *const cells[4]) {
+  int at = 0, column = 0;
+  for (int c = 0; c < 4; ++c) {
+    if (c > 0) {
+      int pad = column - at < 2 ? 2 : column - at;
+      if (!cells[c][0] && c < 3) pad = 0; /* an empty cell: the next one decides the spacing */
+      at += fprintf(out, "%*s", pad, "");
+    }
+    at += fprintf(out, "%s", cells[c]);
+    if (c < 3) column += width[c] + 2;
+  }
+  fprintf(out, "\n");
+}
+
 /* The listing of the keys of `root` (sk_cfg_each), in aligned columns after a heading naming `source`. */
 static void print_keys(const sk_cfg *root, const char *source, FILE *out) {
   listing list = {0};
@@ -159,10 +175,10 @@ static void print_keys(const sk_cfg *root, const char *source, FILE *out) {
   fprintf(out, "# %s: every key with its value (given, or the default in use), unit and origin\n", source);
   fprintf(out, "# units: those of the scene (any consistent system: N, mm, s, t/mm^3 make force/area MPa); a value "
                "in parentheses is a default in words\n");
-  fprintf(out, "%-*s  %-*s  %-*s  %s\n", width[0], "key", width[1], "value", width[2], "unit", "origin");
+  print_row(out, width, (const char *[]){"key", "value", "unit", "origin"});
   for (int i = 0; i < list.n; ++i) {
     const row *r = &list.rows[i];
-    fprintf(out, "%-*s  %-*s  %-*s  %s\n", width[0], r->path, width[1], r->value, width[2], r->unit, r->origin);
+    print_row(out, width, (const char *[]){r->path, r->value, r->unit, r->origin});
     free(r->path);
     free(r->value);
     free(r->unit);

@@ -324,6 +324,13 @@ def keys_listing(c):
     for key, pattern in expect.items():
         c.check(re.search(pattern, rows.get(key, "")) is not None, "%s: /%s/ (%s)" % (key, pattern, rows.get(key)))
     c.check(not [line for line in rows.values() if re.search(r"  \?  ", line)], "every quantity has a unit")
+    header = next(line for line in c.proc.stdout.splitlines() if line.startswith("key "))
+    origin_column = header.index("origin")
+    c.check(rows["time.end"].index("scene.yaml") - len(c.dir) - 1 == origin_column and
+            rows["time.start"].index("default") == origin_column, "origins start in the origin column")
+    c.check(re.search(r"^bodies\[0\]\.plugin +\(none: the core integrates the body\)  default$",
+                      rows.get("bodies[0].plugin", "")) is not None,
+            "a value longer than its column takes the empty unit's room, two spaces before its origin")
     c.run("keys", scene, "--plugin", "mortar-dual")
     c.check(c.proc.returncode == 0 and "contact[0].parameters.c_n" in c.proc.stdout and
             "parameters.penalty " not in c.proc.stdout, "with --plugin mortar-dual: mortar-dual's parameters")
