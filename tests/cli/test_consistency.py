@@ -148,7 +148,7 @@ def plot_scripts_help(c):
         c.check(p.returncode == 0 and re.search(r"usage", p.stdout, re.I) is not None and not p.stderr,
                 "%s --help: exit 0 and the usage on stdout" % script)
     p = subprocess.run([os.path.join(ROOT, "scripts", "plot-history.sh")], capture_output=True, text=True)
-    c.check(p.returncode == 2 and "usage: scripts/plot-history.sh RESULTS_DIR" in p.stderr,
+    c.check(p.returncode == 2 and re.search(r"usage: plot-history\.sh .*results", p.stderr) is not None,
             "plot-history.sh without a folder: exit 2 and the usage")
 
 
