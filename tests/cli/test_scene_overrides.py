@@ -263,8 +263,9 @@ def results_scene_reruns(c):
 
 
 def plotted_folder_reruns(c):
-    """Item 2: after plot-history.sh and plot-snapshots.sh a run into the same folder replaces it (their files are
-    the run's); a file of the user's in the folder or in snapshots/ still stops it and is kept."""
+    """Item 2: after plot-history.sh and plot-snapshots.sh (with and without --contact) a run into the same folder
+    replaces it (their files are the run's); a file of the user's in the folder or in snapshots/ still stops it and
+    is kept."""
     scene = c.write(scene_for(ON_PLANE, "penalty-nts"))
     scripts = os.path.join(ROOT, "scripts")
     for attempt in ("plotted", "user file", "user file in snapshots"):
@@ -272,10 +273,11 @@ def plotted_folder_reruns(c):
             shutil.rmtree(c.out)
         c.run("run", scene, "--out", c.out, "--quiet")
         c.check(c.proc.returncode == 0, "the run succeeds")
-        for script in ("plot-history.sh", "plot-snapshots.sh"):
-            p = subprocess.run([os.path.join(scripts, script), c.out], capture_output=True, text=True)
-            c.check(p.returncode == 0, "%s succeeds (%s)" % (script, p.stderr.strip()[-200:]))
+        for script, *options in (("plot-history.sh",), ("plot-snapshots.sh",), ("plot-snapshots.sh", "--contact")):
+            p = subprocess.run([os.path.join(scripts, script), c.out, *options], capture_output=True, text=True)
+            c.check(p.returncode == 0, "%s %s succeeds (%s)" % (script, " ".join(options), p.stderr.strip()[-200:]))
         c.check(os.path.exists(os.path.join(c.out, "history.png")) and
+                os.path.exists(os.path.join(c.out, "snapshots-contact.png")) and
                 os.path.isdir(os.path.join(c.out, "snapshots")), "the plots are in the folder")
         mine = {"plotted": None, "user file": "notes.txt", "user file in snapshots": "snapshots/mine.txt"}[attempt]
         if mine:
