@@ -145,10 +145,15 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
     fprintf(stderr, "stickslip: out of memory\n");
     return 1;
   }
+  int set_ends_at = -1; /* the argument holding the last --set or --replace value, and which of the two it was */
+  const char *set_option = "--set";
   for (int i = 2; i < argc; ++i) {
     const char *a = argv[i];
     if (strcmp(a, "-h") == 0) a = "--help";
     if (a[0] != '-' || strcmp(a, "-") == 0) {
+      if (set_ends_at == i - 1) /* `--set key={a: 1}` split by the shell */
+        return usage_error(command, "'%s' after %s '%s': a value with spaces needs quotes (%s 'key={a: 1, b: 2}')",
+                           a, set_option, args->sets[args->n_sets - 1], set_option);
       if (args->scene) return usage_error(command, "a second scene '%s' after '%s': one scene at a time", a,
                                           args->scene);
       args->scene = a;
@@ -179,6 +184,8 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
         return usage_error(command, "%s expects key.path=value, got '%s'", name, value);
       args->modes[args->n_sets] = strcmp(name, "--replace") == 0 ? SK_CFG_REPLACE : SK_CFG_MERGE;
       args->sets[args->n_sets++] = value;
+      set_ends_at = i;
+      set_option = strcmp(name, "--replace") == 0 ? "--replace" : "--set";
     } else if (strcmp(name, "--out") == 0) {
       args->out = value;
     } else if (strcmp(name, "--steps") == 0) {

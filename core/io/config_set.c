@@ -86,8 +86,8 @@ static sk_status locate(sk_cfg *root, char *key, const char *origin, int create,
                             cur->path, cur->where, segment);
       long at = strtol(segment, NULL, 10);
       if (at >= cur->n)
-        return sk_error_set(SK_ERR_INPUT, "%s: index %ld is out of range: '%s' (%s) has %d entries", origin, at,
-                            cur->path, cur->where, cur->n);
+        return sk_error_set(SK_ERR_INPUT, "%s: index %ld is out of range: '%s' (%s) has %d entr%s (0 to %d)",
+                            origin, at, cur->path, cur->where, cur->n, cur->n == 1 ? "y" : "ies", cur->n - 1);
       i = (int)at;
     } else {
       return sk_error_set(SK_ERR_INPUT, "%s: '%s' (%s) is a scalar, it has no entry '%s'", origin, cur->path,

@@ -101,6 +101,13 @@ def command_line_mistakes(c):
         (["run", block, block], r"^stickslip run: a second scene '.*scene\.yaml' after '.*scene\.yaml'"),
         (["check"], r"^stickslip check: which scene\? \(stickslip check SCENE\.yaml\); see stickslip check --help$"),
         (["plugins", "--all"], r"^stickslip plugins: unexpected argument '--all'; see stickslip plugins --help$"),
+        # `--replace contact.0.parameters={mu: 0.1}` without quotes: the shell splits it in two
+        (["check", block, "--replace", "bodies.0.material={E:", "3}"],
+         r"^stickslip check: '3}' after --replace 'bodies\.0\.material=\{E:': a value with spaces needs quotes "
+         r"\(--replace 'key=\{a: 1, b: 2\}'\)"),
+        (["check", block, "--set", "bodies.1.material.E=3"],
+         r"^stickslip: --set bodies\.1\.material\.E: index 1 is out of range: 'bodies' \(.*scene\.yaml:\d+:\d+\) has "
+         r"1 entry \(0 to 0\)$"),
     ]
     for args, pattern in mistakes:
         c.run(*args)
