@@ -352,6 +352,9 @@ def main():
         proc = subprocess.run(["gnuplot"], input="\n".join(script) + "\n", text=True, capture_output=True)
         if proc.returncode != 0:
             raise SystemExit("plot-history: gnuplot failed:\n" + proc.stderr)
+    # the picture is the run's: the next run into the folder replaces it with the rest
+    subprocess.run([os.path.join(os.path.dirname(os.path.abspath(__file__)), "claim-results-files.sh"), folder,
+                    "history.png"], check=True)
     print("plot-history: %s (%s): %s" % (png, kind, ", ".join(PANEL_NAMES[p] for p in panels)))
 
 

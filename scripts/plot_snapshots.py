@@ -532,7 +532,10 @@ def main():
     if args.count < 1:
         parser.error("--count must be >= 1")
     args.title = args.title or os.path.basename(os.path.normpath(args.results))
-    contact(args) if args.contact else bodies(args)
+    written = contact(args) if args.contact else bodies(args)
+    # the pictures are the run's: the next run into the folder replaces them with it
+    subprocess.run([os.path.join(os.path.dirname(os.path.abspath(__file__)), "claim-results-files.sh"), args.results]
+                   + written, check=True)
 
 
 if __name__ == "__main__":

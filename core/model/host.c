@@ -12,7 +12,9 @@
 int sk_log_verbosity = 0;
 
 static void log_va(int rank, int level, const char *fmt, va_list args) {
-  if (rank != 0 || level > 1 + sk_log_verbosity) return;
+  /* warnings always; information unless --quiet (verbosity -1); debug with --verbose (1) */
+  int shown = level == 1 || (level == 0 && sk_log_verbosity >= 0) || (level >= 2 && sk_log_verbosity > 0);
+  if (rank != 0 || !shown) return;
   char message[2048];
   vsnprintf(message, sizeof message, fmt, args);
   fprintf(stderr, "%s%s\n", level == 1 ? "warning: " : "", message);

@@ -27,6 +27,7 @@ static void copy_name(char *dst, const char *src) {
 static sk_status read_history(const sk_cfg *map, const char *key, sk_history *history) {
   history->n = 0;
   const sk_cfg *node = sk_cfg_get(map, key);
+  sk_cfg_note_default(map, key, "constant 1", 0, NULL);
   if (!node) return SK_OK;
   int n = sk_cfg_size(node);
   if (sk_cfg_kind_of(node) != SK_CFG_SEQ || n < 1)
@@ -63,6 +64,7 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   char path[1024];
   SK_TRY(sk_cfg_resolve_path(entry, file, path, sizeof path));
   const sk_cfg *params = sk_cfg_get(entry, "parameters");
+  sk_cfg_note_default(entry, "parameters", "none: the script's own values", 0, NULL);
   sk_mesh_param list[32];
   int n_params = sk_cfg_size(params);
   if (params && sk_cfg_kind_of(params) != SK_CFG_MAP) return fail_at(params, "%s", "expects a map name: value");
@@ -79,6 +81,7 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   SK_TRY(sk_cfg_double(entry, "time_limit", 0, options.time_limit, &options.time_limit));
   options.max_elements = max_elements;
   SK_TRY(sk_cfg_int(entry, "order", 0, 0, &options.order));
+  sk_cfg_note_default(entry, "order", "as meshed", 0, NULL);
   if (options.order < 0 || options.order > 2)
     return fail_at(sk_cfg_get(entry, "order"), "%s", "must be 1 or 2 (or absent: the elements as meshed)");
   SK_TRY(sk_cfg_bool(entry, "serendipity", 0, 0, &options.serendipity));
@@ -93,6 +96,7 @@ static sk_status load_mesh_entry(const sk_cfg *entry, int dim_wanted, sk_mesh *m
   double translate[3] = {0, 0, 0}, axis[3] = {0, 0, 1}, angle = 0;
   SK_TRY(sk_cfg_vector(entry, "translate", 0, 3, translate, translate));
   const sk_cfg *rotate = sk_cfg_get(entry, "rotate");
+  sk_cfg_note_default(entry, "rotate", "none", 0, NULL);
   if (rotate) {
     SK_TRY(sk_cfg_vector(rotate, "axis", 1, 3, NULL, axis));
     SK_TRY(sk_cfg_double(rotate, "degrees", 1, 0, &angle));
@@ -184,6 +188,7 @@ static sk_status check_kind(const sk_cfg *at, const sk_plugin *plugin, sk_kind k
 static sk_status read_body_plugin(const sk_cfg *entry, const sk_model *model, sk_body *body) {
   const char *plugin_name;
   SK_TRY(sk_cfg_string(entry, "plugin", 0, NULL, &plugin_name));
+  sk_cfg_note_default(entry, "plugin", "none: the core integrates the body", 0, NULL);
   if (!plugin_name) {
     if (sk_cfg_get(entry, "strategy") || sk_cfg_get(entry, "parameters"))
       return sk_error_set(SK_ERR_INPUT, "%s: body '%s': `strategy` and `parameters` need a `plugin`",
@@ -234,7 +239,16 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
     SK_TRY(sk_cfg_double(material, "nu", 1, 0, &nu));
     SK_TRY(sk_cfg_double(material, "density", model->time.integrator->dynamic, 0, &density));
     sk_status status = sk_material_init(&body->material, kind, E, nu, density);
-    if (status != SK_OK) return sk_error_prefix(status, "%s: body '%s': ", sk_cfg_where(material), name);
+    if (status != SK_OK) {
+      /* name the value at fault where it was given (a line of the file, or --set bodies.0.material.E): the one
+       * check, sk_material_init, tells which by failing with the others set to harmless values */
+      const char *culprit = sk_material_init(&body->material, kind, E, 0.0, 0.0) != SK_OK    ? "E"
+                            : sk_material_init(&body->material, kind, E, nu, 0.0) != SK_OK ? "nu"
+                                                                                            : "density";
+      sk_material_init(&body->material, kind, E, nu, density); /* the first failure's message again */
+      const sk_cfg *at = sk_cfg_get(material, culprit);
+      return sk_error_prefix(status, "%s: body '%s': ", sk_cfg_where(at ? at : material), name);
+    }
     body->solid.type = body->group->type;
     body->solid.dim = model->dim;
     body->solid.mat = &body->material;
@@ -368,6 +382,7 @@ static sk_status read_obstacle(const sk_cfg *node, int dim, sk_obstacle *obstacl
   if (!(normal_length > 0)) return fail_at(node, "%s", "obstacle normal is zero");
   for (int i = 0; i < 3; ++i) obstacle->normal[i] /= normal_length;
   const sk_cfg *motion = sk_cfg_get(node, "motion");
+  sk_cfg_note_default(node, "motion", "at rest", 0, NULL);
   int n = sk_cfg_size(motion);
   if (n > SK_OBSTACLE_MOTION_MAX) return fail_at(motion, "%s", "has more than 64 points");
   for (int k = 0; k < n; ++k) {
@@ -418,7 +433,7 @@ static sk_status choose_strategy(const sk_cfg *entry, const sk_plugin *plugin, i
   return SK_OK;
 }
 
-static sk_status read_contact(const sk_cfg *root, const char *plugin_override, sk_scene *scene) {
+static sk_status read_contact(const sk_cfg *root, sk_scene *scene) {
   sk_model *model = &scene->model;
   const sk_cfg *list = sk_cfg_get(root, "contact");
   int n = sk_cfg_size(list);
@@ -435,7 +450,6 @@ static sk_status read_contact(const sk_cfg *root, const char *plugin_override, s
     SK_TRY(sk_cfg_string(entry, "name", 0, default_name, &name));
     copy_name(pair->name, name);
     SK_TRY(sk_cfg_string(entry, "plugin", 1, NULL, &plugin_name));
-    if (plugin_override) plugin_name = plugin_override;
     sk_status status = sk_plugin_load(plugin_name, &pair->plugin);
     if (status != SK_OK)
       return sk_error_prefix(status, "%s: contact pair '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), name);
@@ -508,14 +522,20 @@ static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu",
 static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", NULL};
 static const char *const predictor_names[] = {"last-state", "previous-increment", NULL};
 
+/* The decisions of solver.linear.solver `auto`, as information (not shown with --quiet). */
+static void log_linear_decision(void *ctx, const char *line) {
+  (void)ctx;
+  sk_log_message(0, 0, "linear solver (auto): %s", line); /* the bridge calls it on rank 0 only */
+}
+
 static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
-  const sk_cfg *node = sk_cfg_get(root, "solver");
+  const sk_cfg *node = sk_cfg_section(root, "solver");
   if (node && sk_cfg_kind_of(node) != SK_CFG_MAP)
     return fail_at(node, "%s", "expects a map with `newton` and/or `linear`");
   sk_newton_options_default(&solver->newton);
   sk_linear_options_default(&solver->linear);
-  const sk_cfg *newton = sk_cfg_get(node, "newton");
-  const sk_cfg *linear = sk_cfg_get(node, "linear");
+  const sk_cfg *newton = sk_cfg_section(node, "newton");
+  const sk_cfg *linear = sk_cfg_section(node, "linear");
   int line_search = (int)solver->newton.line_search, kind = (int)solver->linear.kind;
   SK_TRY(sk_cfg_double(newton, "tolerance", 0, solver->newton.relative_tolerance, &solver->newton.relative_tolerance));
   SK_TRY(sk_cfg_double(newton, "absolute_tolerance", 0, solver->newton.residual_tolerance,
@@ -537,6 +557,7 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   solver->newton.line_search = (sk_line_search)line_search;
   SK_TRY(sk_cfg_choice(linear, "solver", 0, linear_names, kind, &kind));
   solver->linear.kind = (sk_linear_solver_kind)kind;
+  solver->linear.log = log_linear_decision;
   SK_TRY(sk_cfg_double(linear, "tolerance", 0, solver->linear.tolerance, &solver->linear.tolerance));
   SK_TRY(sk_cfg_int(linear, "max_iterations", 0, solver->linear.max_iterations, &solver->linear.max_iterations));
   if (!(solver->newton.relative_tolerance > 0) || !(solver->newton.residual_tolerance > 0))
@@ -546,7 +567,7 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
 }
 
 static sk_status read_output(const sk_cfg *root, sk_output_settings *output) {
-  const sk_cfg *node = sk_cfg_get(root, "output");
+  const sk_cfg *node = sk_cfg_section(root, "output");
   SK_TRY(sk_cfg_int(node, "vtu_every", 0, 10, &output->vtu_every));
   SK_TRY(sk_cfg_bool(node, "vtu", 0, 1, &output->write_vtu));
   SK_TRY(sk_cfg_bool(node, "contact_csv", 0, 1, &output->write_contact_csv));
@@ -556,7 +577,7 @@ static sk_status read_output(const sk_cfg *root, sk_output_settings *output) {
 
 /* ---- the whole scene -------------------------------------------------------------------------------------------- */
 
-static sk_status build(const char *plugin_override, sk_scene *scene) {
+static sk_status build(sk_scene *scene) {
   sk_model *model = &scene->model;
   const sk_cfg *root = scene->cfg;
   const char *description;
@@ -567,6 +588,9 @@ static sk_status build(const char *plugin_override, sk_scene *scene) {
   SK_TRY(read_output(root, &scene->output));
   SK_TRY(load_meshes(root, &model->mesh));
   model->dim = model->mesh.dim;
+  char from_mesh[32];
+  snprintf(from_mesh, sizeof from_mesh, "from the mesh: %d", model->dim);
+  sk_cfg_note_default(root, "dimension", from_mesh, 0, NULL);
   model->n_nodes = model->mesh.n_nodes;
   model->n_dofs = model->n_nodes * model->dim;
   model->X = malloc(sizeof(double) * (size_t)(model->n_dofs > 0 ? model->n_dofs : 1));
@@ -575,7 +599,7 @@ static sk_status build(const char *plugin_override, sk_scene *scene) {
     for (int i = 0; i < model->dim; ++i) model->X[a * model->dim + i] = model->mesh.x[3 * a + i];
   SK_TRY(read_bodies(root, model));
   SK_TRY(read_boundary(root, model));
-  SK_TRY(read_contact(root, plugin_override, scene));
+  SK_TRY(read_contact(root, scene));
   SK_TRY(sk_model_build(model));
   /* The system of terms creates the plugin instances now, so that their parameters are validated (and read) before
    * the unknown-key check. */
@@ -583,19 +607,23 @@ static sk_status build(const char *plugin_override, sk_scene *scene) {
   return sk_cfg_check_unused(root);
 }
 
-sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, const char *plugin_override,
-                        MPI_Comm comm, sk_scene *scene) {
+sk_status sk_scene_load_with(const char *path, const sk_scene_overrides *overrides, MPI_Comm comm,
+                             sk_scene *scene) {
   memset(scene, 0, sizeof *scene);
   snprintf(scene->path, sizeof scene->path, "%s", path);
   scene->model.comm = comm;
   MPI_Comm_rank(comm, &scene->model.rank);
   MPI_Comm_size(comm, &scene->model.n_ranks);
   SK_TRY(sk_cfg_load(path, &scene->cfg));
-  for (int k = 0; k < n_sets; ++k) {
-    sk_status status = sk_cfg_set(scene->cfg, sets[k]);
-    if (status != SK_OK) return sk_error_prefix(status, "--set %s: ", sets[k]);
-  }
-  return build(plugin_override, scene);
+  SK_TRY(sk_scene_apply_overrides(scene, overrides));
+  SK_TRY(build(scene));
+  return sk_scene_absolute_mesh_paths(scene);
+}
+
+sk_status sk_scene_load(const char *path, int n_sets, const char *const *sets, const char *plugin_override,
+                        MPI_Comm comm, sk_scene *scene) {
+  sk_scene_overrides overrides = {.n = n_sets, .assignments = sets, .modes = NULL, .plugin = plugin_override};
+  return sk_scene_load_with(path, &overrides, comm, scene);
 }
 
 void sk_scene_free(sk_scene *scene) {
@@ -604,6 +632,8 @@ void sk_scene_free(sk_scene *scene) {
   sk_model_free(&scene->model);
   sk_cfg_free(scene->cfg);
   scene->cfg = NULL;
+  free(scene->provenance);
+  scene->provenance = NULL;
 }
 
 void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, FILE *out) {

@@ -525,6 +525,35 @@ static void declare_friction(plugin_term *term) {
     sk_needs_declare(needs, SK_NEED_FRICTION, 1, "mu = %s", sk_cfg_scalar(node) ? sk_cfg_scalar(node) : "?");
 }
 
+/* The message of a failed create() as "FILE:LINE:COL: contact pair 'NAME' (plugin P): ...": at the parameter the
+ * plugin's message names ('key'), else at the `parameters` map, unless the message has its position already (the
+ * host's getters give one); a plugin that names the pair itself ("hertz: ...") would say it twice, so that goes. */
+static void create_error(const plugin_term *term, sk_status status) {
+  char message[2048];
+  snprintf(message, sizeof message, "%s", sk_error_message());
+  const char *text = message;
+  size_t n = strlen(term->attach.name);
+  if (n > 0 && strncmp(text, term->attach.name, n) == 0 && text[n] == ':' && text[n + 1] == ' ') text += n + 2;
+  const sk_cfg *params = term->host.params, *at = NULL;
+  const char *where = sk_cfg_where(params);
+  const char *colon = strchr(where, ':');
+  int positioned = strncmp(text, "--", 2) == 0 ||
+                   (params && colon && strncmp(text, where, (size_t)(colon - where + 1)) == 0);
+  for (int i = 0; params && !positioned && !at && i < sk_cfg_size(params); ++i) {
+    char quoted[160];
+    snprintf(quoted, sizeof quoted, "'%s'", sk_cfg_key_at(params, i));
+    if (strstr(text, quoted)) at = sk_cfg_at(params, i);
+  }
+  if (params && !positioned && !at) at = params;
+  const char *rest = positioned ? strstr(text, ": ") : NULL; /* after the position the message has */
+  if (rest)
+    sk_error_set(status, "%.*s: %s (plugin %s): %s", (int)(rest - text), text, term->base.name, term->plugin->name,
+                 rest + 2);
+  else
+    sk_error_set(status, "%s%s%s (plugin %s): %s", at ? sk_cfg_where(at) : "", at ? ": " : "", term->base.name,
+                 term->plugin->name, text);
+}
+
 sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **out) {
   plugin_term *term = calloc(1, sizeof *term);
   if (!term) return sk_error_set(SK_ERR_NOMEM, "out of memory for a plugin instance");
@@ -545,7 +574,7 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   if (status == SK_OK && term->base.needs.needed[SK_NEED_MASS]) status = sk_model_build_mass(sys->model);
   if (status == SK_OK) {
     status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
-    if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);
+    if (status != SK_OK) create_error(term, status);
   }
   if (status == SK_OK) declare_friction(term);
   /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */

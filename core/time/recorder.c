@@ -129,7 +129,7 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
     snprintf(path, sizeof path, "%s/history.csv", rec->dir);
     SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
     snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
-    SK_TRY(sk_cfg_write_file(scene->cfg, path));
+    SK_TRY(sk_scene_write(scene, path));
     if (scene->output.write_vtu) {
       snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
       SK_TRY(sk_pvd_open(path, &rec->pvd));

@@ -145,7 +145,8 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
                       (long long)step, sys->t_n, step_dt);
     }
   }
-  if (options->progress && m->rank == 0) sk_progress_end();
+  if (options->progress && m->rank == 0)
+    sk_progress_end(status == SK_OK ? NULL : status == SK_ERR_INTERRUPTED ? "interrupted" : "failed");
   fill_summary(sys, wall_start, status, summary);
   if (rec) status = sk_recorder_close(rec, summary, status);
   sk_recorder_free(rec);

@@ -70,7 +70,7 @@ def _expand(case, declaration, installed, subset, kind, extra_set=None, short=Fa
                 overrides = {**dec.substitute(case.set, env, case.path + ": set"), **sets}
                 args = []
                 for key, value in overrides.items():
-                    args += ["--set", "%s=%s" % (key, dec.yaml_flow(value))]
+                    args += [dec.override_option(value), "%s=%s" % (key, dec.yaml_flow(value))]
                 runs.append(dec.Run(case.name, None, None, None, dict(vals), args, CORE, case.scene))
         else:
             runs = dec.expand(case, declaration, "stress", installed, quick=False, subset=subset, short=short)

@@ -148,7 +148,7 @@ def tied_dual_mpi(c):
 
 def reject_once(c):
     rejecting, _ = run(SPRINGS)
-    reference, _ = run(SPRINGS, "--set", "contact.0.plugin=example-spring", "--set", "contact.0.parameters={k: 5}")
+    reference, _ = run(SPRINGS, "--set", "contact.0.plugin=example-spring", "--replace", "contact.0.parameters={k: 5}")
     names = ["contact_force_x", "contact_force_y", "reaction_pull_x", "reaction_pull_y", "strain_energy"]
     worst, where = max_difference(rejecting, reference, names)
     print("reject-once vs example-spring at k_final: %.3e (%s)" % (worst, where))

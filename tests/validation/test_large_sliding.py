@@ -44,7 +44,7 @@ def large_sliding_penalty_nts_3d(c):
 
 def covariant_args(variant, margin=None):
     params = "penalty: 1.0e+6, mu: 0.3, variant: %s" % variant + (", search_margin: %g" % margin if margin else "")
-    return ["--plugin", "covariant-penalty", "--set", "contact.0.parameters={%s}" % params]
+    return ["--plugin", "covariant-penalty", "--replace", "contact.0.parameters={%s}" % params]
 
 
 def large_sliding_covariant_sts(c):

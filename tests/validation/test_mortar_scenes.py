@@ -60,8 +60,8 @@ def mortar_patch_test_3d(c):
     (tri3: Newton's tolerance, the interface is at a general position; 6e-15 and 2.5e-12 with the fan about the
     vertices' mean, before 2026-11-28), total force p = 10 to 1e-12."""
     tets = ("--set", "mesh.0.file=../meshes/box-tet.geo", "--set", "mesh.1.file=../meshes/box-tet.geo",
-            "--set", "mesh.0.parameters={lx: 1, ly: 1, lz: 0.5, x0: 0, y0: 0, z0: -0.5, h: 0.34}",
-            "--set", "mesh.1.parameters={lx: 1, ly: 1, lz: 0.5, x0: 0, y0: 0, z0: 0, h: 0.25}")
+            "--replace", "mesh.0.parameters={lx: 1, ly: 1, lz: 0.5, x0: 0, y0: 0, z0: -0.5, h: 0.34}",
+            "--replace", "mesh.1.parameters={lx: 1, ly: 1, lz: 0.5, x0: 0, y0: 0, z0: 0, h: 0.25}")
     for label, args, bound in (("hex8/quad4", (), 2e-14), ("tet4/tri3", tets, 1e-11)):
         results, _ = run(PATCH_3D, *args)
         p = active_pressures(results)
@@ -75,7 +75,7 @@ def mortar_patch_test_3d(c):
     # finding 16). Measured: spread 3.4e-15 (saddle point, 4 x 4 against 5 x 5), 3.9e-15 (condensed, 8 x 8 / 9 x 9).
     for strategy, n in (("saddle-point", 4), ("condensed", 8)):
         results, _ = run("scenes/patch-test-3d.yaml", "--plugin", "mortar-dual",
-                         "--set", "contact.0.parameters={mu: 0, c_n: 10000}", "--set", "contact.0.strategy=" + strategy,
+                         "--replace", "contact.0.parameters={mu: 0, c_n: 10000}", "--set", "contact.0.strategy=" + strategy,
                          "--set", "mesh.parameters.n_lower=%d" % n, "--set", "mesh.parameters.n_upper=%d" % (n + 1))
         label = "shared boundary lines, %s, %d x %d against %d x %d" % (strategy, n, n, n + 1, n + 1)
         p = active_pressures(results)
@@ -111,7 +111,7 @@ def mortar_block_on_plane(c):
     mortar-dual: stick to t = 1.2 with F_t/F_n = 0.1535 (penalty-nts: 0.153), full slip with F_t/F_n = 0.3 to
     round-off from t = 1.5 (measured 0.30000000000)."""
     results, _ = run("scenes/block-on-plane.yaml", "--plugin", "mortar-dual",
-                     "--set", "contact.0.parameters={mu: 0.3, c_n: 8000}")
+                     "--replace", "contact.0.parameters={mu: 0.3, c_n: 8000}")
     rows = {round(row["time"], 6): row for row in results.rows}
     r = rows[1.2]
     c.check(r["stick_points"] == r["active_points"] == 9, "t = 1.2: all 9 base nodes stick")

@@ -418,7 +418,7 @@ def nts_patch_test_2d(c):
     (penalty-nts: 7.66 % at refine 1)."""
     p = 10.0
     for refine in (1, 2, 3, 4):
-        results, _ = run("scenes/patch-test-2d.yaml", *NTS, "--set", "contact.0.parameters={}",
+        results, _ = run("scenes/patch-test-2d.yaml", *NTS, "--replace", "contact.0.parameters={}",
                          "--set", "mesh.parameters.refine=%d" % refine)
         last = results.rows[-1]
         c.check(results.summary["status"] == "ok" and abs(last["contact_force_y"] - p) <= 1e-12 * p
@@ -444,7 +444,7 @@ def nts_hertz_2d(c):
     Es = e_star(E1, E2)
     errors = []
     for refine in (1, 2):
-        results, _ = run("scenes/hertz-2d.yaml", *NTS, "--set", "contact.0.parameters={}",
+        results, _ = run("scenes/hertz-2d.yaml", *NTS, "--replace", "contact.0.parameters={}",
                          "--set", "mesh.parameters.refine=%g" % refine, "--set", "output.vtu_every=4")
         last = results.rows[-1]
         P = 2 * abs(last["reaction_top_y"])
@@ -479,7 +479,7 @@ def nts_block_on_plane(c):
     here a length): the same stick/slip sequence as penalty-nts, slip at exactly F_t/F_n = mu, no penetration.
     Measured: stick to t = 1.2 (F_t/F_n 0.153), partial slip from 1.25, full slip from 1.5 with F_t/F_n = 0.3 to 1e-15,
     max |Phi| at round-off, 293 Newton iterations."""
-    results, _ = run("scenes/block-on-plane.yaml", *NTS, "--set", "contact.0.parameters={mu: 0.3, epsilon_t: 1.0e4}")
+    results, _ = run("scenes/block-on-plane.yaml", *NTS, "--replace", "contact.0.parameters={mu: 0.3, epsilon_t: 1.0e4}")
     mu = 0.3
     rows = results.rows[1:]
     c.check(results.summary["status"] == "ok" and results.summary["step_cuts"] == 0, "60 steps, no cuts")
@@ -518,11 +518,11 @@ def slider_normal_force(c, dim, normal, large_dt):
     theirs, _ = run(scene, *args)
     # the default (slide_search 0): a node beyond its facet stays on the extension for the step; measured dips of
     # -1.90 % (2D) / -2.02 % (3D) at the steps whose nodes cross a master edge (9.49 / 9.34 before the one-step limit)
-    plain, _ = run(scene, *NTS, "--set", SLIDER_FRICTION, *args)
+    plain, _ = run(scene, *NTS, "--replace", SLIDER_FRICTION, *args)
     dips = [(a[key] - b[key]) / b[key] for a, b in zip(plain.rows, theirs.rows) if a["time"] >= 1.2 - 1e-9]
     c.check(plain.summary["status"] == "ok" and max(abs(d) for d in dips) <= 0.025, "%s slide_search 0: F_n within "
             "2.5 %% of penalty-nts's (%+.2f %% ... %+.2f %%)" % (dim, 100 * min(dips), 100 * max(dips)))
-    ours, _ = run(scene, *NTS, "--set", SLIDER_FRICTION, "--set", "contact.0.parameters.slide_search=1", *args)
+    ours, _ = run(scene, *NTS, "--replace", SLIDER_FRICTION, "--set", "contact.0.parameters.slide_search=1", *args)
     c.check(ours.summary["status"] == "ok" and len(ours.rows) == len(theirs.rows) == 26, "%s: 25 steps" % dim)
     deviations, worst_ratio = [], 0.0
     for a, b in zip(ours.rows, theirs.rows):
@@ -540,7 +540,7 @@ def slider_normal_force(c, dim, normal, large_dt):
     sliding = [r[key] for r in theirs.rows if r["time"] >= 1.2 - 1e-9]
     low, high = min(sliding) * (1 - 3e-3), max(sliding) * (1 + 3e-3)
     end = 2.8 if dim == "2d" else 3.2
-    large, proc = run(scene, *NTS, "--set", SLIDER_FRICTION, "--set", "contact.0.parameters.slide_search=1",
+    large, proc = run(scene, *NTS, "--replace", SLIDER_FRICTION, "--set", "contact.0.parameters.slide_search=1",
                       "--set", "time.dt=%g" % large_dt,
                       "--set", "time.end=%g" % end, "--verbose")
     c.check(large.summary["status"] == "ok", "%s dt %g: the run reaches t = %g" % (dim, large_dt, end))

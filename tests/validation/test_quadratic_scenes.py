@@ -138,7 +138,7 @@ RESULTANT = (3.0, -2.0, -100.0)  # a 10 % compression with some shear: the top s
 def resultant_runs(*args, area="reference", np=1, law="neo-hooke-bonet"):
     load = "{name: load, group: zmax, resultant: [%g, %g, %g], area: %s, history: [[0, 0], [1, 1]]}" % (
         RESULTANT + (area,))
-    return run(BLOCK, "--set", "mesh.parameters={nx: 2, ny: 2, nz: 2}", "--set", "boundary.3=" + load, "--set",
+    return run(BLOCK, "--replace", "mesh.parameters={nx: 2, ny: 2, nz: 2}", "--replace", "boundary.3=" + load, "--set",
                "bodies.0.material.model=" + law, "--set", "output.vtu_every=4", *args, np=np)[0]
 
 
@@ -166,8 +166,8 @@ def resultant_load(c):
             results = resultant_runs(*args, area=area)
             reaction_balance(c, results, "%s, %s area" % (label, area))
             if area == "reference":
-                traction = run(BLOCK, "--set", "mesh.parameters={nx: 2, ny: 2, nz: 2}", "--set",
-                               "bodies.0.material.model=neo-hooke-bonet", "--set", "output.vtu_every=0", "--set",
+                traction = run(BLOCK, "--replace", "mesh.parameters={nx: 2, ny: 2, nz: 2}", "--set",
+                               "bodies.0.material.model=neo-hooke-bonet", "--set", "output.vtu_every=0", "--replace",
                                "boundary.3={name: load, group: zmax, traction: [%g, %g, %g], "
                                "history: [[0, 0], [1, 1]]}" % RESULTANT, *args)[0]
                 names = [k for k in results.rows[-1] if k.startswith("reaction_")]
@@ -208,7 +208,7 @@ def quadratic_refusals(c):
                            ("covariant-penalty", "TRI6 and QUAD8 are not supported"),
                            ("mortar-dual", "first-order faces only")):
         proc = subprocess.run([binary, "check", os.path.join(ROOT, "scenes/hertz-3d.yaml"), "--plugin", plugin,
-                               "--set", "mesh.order=2", "--set", "contact.0.parameters={}"],
+                               "--set", "mesh.order=2", "--replace", "contact.0.parameters={}"],
                               capture_output=True, text=True)
         message = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ""
         c.check(proc.returncode == 1 and needle in message and "sphere-contact" in message and "6-node" in message,

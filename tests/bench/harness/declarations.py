@@ -110,6 +110,12 @@ def sweep_value(value, variables, where):
     raise DeclarationError("%s: sweep value %r must be a number or an expression" % (where, value))
 
 
+def override_option(value):
+    """`--replace` for a map (a benchmark's `parameters` or `set` value is the whole map, as declared), `--set`
+    otherwise (`--set` would merge a map into the scene's)."""
+    return "--replace" if isinstance(value, dict) else "--set"
+
+
 def yaml_flow(value):
     """A value as a YAML flow scalar or collection for `--set key=value`."""
     if value is None:
@@ -373,7 +379,7 @@ def _expand_variant(bench, declaration, section, plugins, quick, subset, short, 
                     overrides.update(substitute(entry.get("set") or {}, env2, where + ".set"))
                     overrides["solver.linear.solver"] = solver
                     for key, value in overrides.items():
-                        args += ["--set", "%s=%s" % (key, yaml_flow(value))]
+                        args += [override_option(value), "%s=%s" % (key, yaml_flow(value))]
                     label = entry.get("label") or "/".join(
                         p for p in (declaration.plugin, strategy if len(strategies) > 1 else None,
                                     solver if len(solvers) > 1 else None) if p)
@@ -400,5 +406,5 @@ def reference_run(bench):
                 overrides["contact.%d.strategy" % n] = ref["strategy"]
     overrides.update(substitute(ref.get("set") or {}, bench.variables, bench.path + ": reference.set"))
     for key, value in overrides.items():
-        args += ["--set", "%s=%s" % (key, yaml_flow(value))]
+        args += [override_option(value), "%s=%s" % (key, yaml_flow(value))]
     return Run(bench.name, None, ref.get("strategy"), None, {}, args, "reference", bench.scene)
