@@ -505,7 +505,7 @@ static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
 /* in sk_linear_solver_kind order */
 static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto",     "mumps",
                                            "klu2",   "klu",         "gmres-sgs", "gmres-jacobi", NULL};
-static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", "more-thuente", NULL};
+static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", NULL};
 static const char *const predictor_names[] = {"last-state", "previous-increment", NULL};
 
 static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {

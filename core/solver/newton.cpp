@@ -465,7 +465,6 @@ const char *line_search_method(sk_line_search ls) {
   switch (ls) {
     case SK_LINE_SEARCH_BACKTRACK: return "Backtrack";
     case SK_LINE_SEARCH_POLYNOMIAL: return "Polynomial";
-    case SK_LINE_SEARCH_MORE_THUENTE: return "More'-Thuente";
     case SK_LINE_SEARCH_FULL_STEP:
     default: return "Full Step";
   }
@@ -506,15 +505,14 @@ sk_status sk_line_search_from_name(const char *name, sk_line_search *ls) {
     sk_line_search ls;
   } names[] = {{"full-step", SK_LINE_SEARCH_FULL_STEP},
                {"backtrack", SK_LINE_SEARCH_BACKTRACK},
-               {"polynomial", SK_LINE_SEARCH_POLYNOMIAL},
-               {"more-thuente", SK_LINE_SEARCH_MORE_THUENTE}};
+               {"polynomial", SK_LINE_SEARCH_POLYNOMIAL}};
   for (const auto &entry : names) {
     if (name && std::strcmp(name, entry.name) == 0) {
       *ls = entry.ls;
       return SK_OK;
     }
   }
-  return sk_error_set(SK_ERR_INPUT, "unknown line search '%s' (expected full-step, backtrack, polynomial or more-thuente)",
+  return sk_error_set(SK_ERR_INPUT, "unknown line search '%s' (expected full-step, backtrack or polynomial)",
                       name ? name : "(null)");
 }
 

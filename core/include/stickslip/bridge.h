@@ -138,12 +138,7 @@ typedef struct {
   sk_status (*solve_to_tolerance)(void *ctx, const double *x, const double *F, double tolerance, double *dx);
 } sk_newton_callbacks;
 
-typedef enum {
-  SK_LINE_SEARCH_FULL_STEP = 0,
-  SK_LINE_SEARCH_BACKTRACK,
-  SK_LINE_SEARCH_POLYNOMIAL,
-  SK_LINE_SEARCH_MORE_THUENTE
-} sk_line_search;
+typedef enum { SK_LINE_SEARCH_FULL_STEP = 0, SK_LINE_SEARCH_BACKTRACK, SK_LINE_SEARCH_POLYNOMIAL } sk_line_search;
 
 typedef struct {
   double residual_tolerance;  /* absolute ||F||_2 (default 1e-8) */
@@ -218,8 +213,7 @@ typedef struct {
 } sk_newton_report;
 
 void sk_newton_options_default(sk_newton_options *options);
-/* full-step | backtrack | polynomial | more-thuente */
-sk_status sk_line_search_from_name(const char *name, sk_line_search *ls);
+sk_status sk_line_search_from_name(const char *name, sk_line_search *ls); /* full-step|backtrack|polynomial */
 /* Runs NOX from the replicated initial guess x (length n, overwritten by the solution, or by the last accepted
  * iterate on failure). Collective. On failure returns SK_ERR_LINEAR_SOLVER when the solve callback reported a
  * linear-solver failure, the callback's status when another callback failed with a status other than

@@ -393,8 +393,8 @@ static void check_linear_solver_failure(void) {
 }
 
 static void check_names_and_defaults(void) {
-  const char *names[] = {"full-step", "backtrack", "polynomial", "more-thuente"};
-  for (int i = 0; i < 4; ++i) {
+  const char *names[] = {"full-step", "backtrack", "polynomial"};
+  for (int i = 0; i < 3; ++i) {
     sk_line_search ls;
     SK_CHECK(sk_line_search_from_name(names[i], &ls) == SK_OK);
     SK_CHECK((int)ls == i);
