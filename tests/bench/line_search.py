@@ -7,12 +7,14 @@ solver.newton.line_search themselves (the others run once, as they are). The tab
 
   python3 tests/bench/line_search.py                 # every group, every candidate
   python3 tests/bench/line_search.py --group user     # shipped | user | stress
-  options: --candidates full-step,backtrack,...  --jobs N  --fresh  --docs (write the tables)"""
+  options: --candidates full-step,backtrack,...  --only REGEX (runs whose name matches)  --jobs N  --fresh
+           --docs (write the tables)"""
 import argparse
 import os
 import re
 import subprocess
 import sys
+import time
 from concurrent.futures import ThreadPoolExecutor
 
 import yaml
@@ -168,13 +170,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--group", action="append", choices=sorted(GROUPS))
     ap.add_argument("--candidates", default=",".join(CANDIDATES))
+    ap.add_argument("--only", help="a regular expression: only the runs whose name matches it")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--fresh", action="store_true")
     ap.add_argument("--docs", action="store_true")
     args = ap.parse_args()
     candidates = args.candidates.split(",")
     for group in args.group or sorted(GROUPS):
-        jobs = GROUPS[group]()
+        jobs = [job for job in GROUPS[group]() if not args.only or re.search(args.only, job.name)]
         work = sorted({(job, "own" if job.chooses else c) for job in jobs for c in candidates},
                       key=lambda w: (w[0].name, w[1]))
         results = {}
@@ -191,9 +194,10 @@ def main():
         print(text)
         if args.docs:
             commits = sorted({r.get("commit", "?") for r in results.values() if r})
-            head = ("Command: `python3 tests/bench/line_search.py --group %s --docs`. Measured at %s, %s; cells: "
-                    "Newton iterations / step cuts over the whole run." % (group, ", ".join(commits),
-                                                                          __import__("time").strftime("%Y-%m-%d")))
+            only = " --only '%s'" % args.only if args.only else ""
+            head = ("Command: `python3 tests/bench/line_search.py --group %s%s --docs`. Measured at %s, %s; cells: "
+                    "Newton iterations / step cuts over the whole run." % (group, only, ", ".join(commits),
+                                                                          time.strftime("%Y-%m-%d")))
             report.replace_section("linear-solvers.md", "line-search-" + group, head + "\n\n" + text)
 
 
