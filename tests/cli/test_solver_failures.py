@@ -6,7 +6,11 @@
   the rest of the run (one message, no step cut, summary.json records it), and the run ends as with `direct`;
 - iterative_equals_direct: a contact run whose systems keep their multiplier rows (scenes/two-elements.yaml,
   nts-augmented `augmented`, the first 25 midpoint steps: contact in steps 13-21) gives with GMRES + MueLu and GMRES + SGS (multiplier rows through
-  their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances.
+  their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances;
+- default_line_search: a quasi-static scene without `line_search` gets the backtracking line search (a punch pressed
+  and dragged with friction, nts-augmented, tests/bench/line-search/punch-2d.yaml: it runs to the end, where the full
+  step fails in step 1, as it did by default before), a dynamic one the full step (two-elements, 25 midpoint steps:
+  the history of `full-step`, digit for digit) (issue 31; docs/linear-solvers.md, "Line search").
 Usage: python3 test_solver_failures.py CASE."""
 import os
 import re
@@ -55,6 +59,28 @@ def iterative_fallback(c):
             "the contact force equals the direct run's to %.1e relative" % (worst / scale))
 
 
+def default_line_search(c):
+    punch = os.path.join(ROOT, "tests", "bench", "line-search", "punch-2d.yaml")
+    args = ("--quiet", "--plugin", "nts-augmented", "--set", "contact.0.parameters={mu: 0.3, epsilon_t: 1.0e+5}")
+    full_out = os.path.join(c.dir, "full-step")
+    c.run("run", punch, *args, "--out", c.out)
+    c.run("run", punch, *args, "--out", full_out, "--set", "solver.newton.line_search=full-step")
+    s, full = read_summary(c.out), read_summary(full_out)
+    c.check(s["status"] == "ok" and s["final_time"] == 2,
+            "quasi-static default: the punch runs to t = 2 (got %s at t = %s)" % (s["status"], s["final_time"]))
+    c.check(full["status"] == "failed", "with the full step it fails (got %s): the default is not the full step"
+            % full["status"])
+    scene = os.path.join(ROOT, "scenes", "two-elements.yaml")
+    dynamic_full = os.path.join(c.dir, "dynamic-full-step")
+    dynamic_default = os.path.join(c.dir, "dynamic-default")
+    c.run("run", scene, "--quiet", "--steps", "25", "--out", dynamic_default)
+    c.run("run", scene, "--quiet", "--steps", "25", "--out", dynamic_full, "--set", "solver.newton.line_search=full-step")
+    def history(folder):  # every column but the wall clock
+        return [{k: v for k, v in row.items() if k != "wall_seconds"} for row in read_history(folder)]
+    a, b = history(dynamic_default), history(dynamic_full)
+    c.check(len(a) == 26 and a == b, "dynamic default: the full step's history, digit for digit")
+
+
 def iterative_equals_direct(c):
     scene = os.path.join(ROOT, "scenes", "two-elements.yaml")
     common = ("--quiet", "--steps", "25", "--set", "contact.0.strategy=augmented")
@@ -85,7 +111,7 @@ def iterative_equals_direct(c):
                 % (solver, inexact, worst / scale, bound))
 
 
-CASES = {f.__name__: f for f in [roundoff_floor, iterative_fallback, iterative_equals_direct]}
+CASES = {f.__name__: f for f in [roundoff_floor, iterative_fallback, iterative_equals_direct, default_line_search]}
 
 if __name__ == "__main__":
     main(CASES)
