@@ -621,10 +621,15 @@ sk_status sk_system_solve(sk_system *sys) {
                                          .after_iteration = cb_after_iteration};
   memset(&sys->newton, 0, sizeof sys->newton);
   const int max_loops = sys->solver->max_active_set_loops;
+  /* the positions q = X + x carry the rounding that reaches the residual: the round-off floor of a correction */
+  sk_newton_options options = sys->solver->newton;
+  double xx = 0.0;
+  for (int64_t k = 0; k < sys->model->n_dofs; ++k) xx += sys->model->X[k] * sys->model->X[k];
+  options.roundoff_scale = sqrt(xx);
   for (int loop = 0;; ++loop) {
     sk_newton_report report;
     sys->fatal = SK_OK;
-    sk_status status = sk_newton_solve(sys->comm, &sys->solver->newton, &callbacks, (int)sys->n, sys->x, &report);
+    sk_status status = sk_newton_solve(sys->comm, &options, &callbacks, (int)sys->n, sys->x, &report);
     if (status != SK_OK && sys->fatal != SK_OK) status = sk_error_set(sys->fatal, "%s", sys->fatal_message);
     const int iterations = sys->newton.iterations + report.iterations;
     const int solves = sys->newton.linear_solves + report.linear_solves;

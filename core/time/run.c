@@ -95,6 +95,11 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
     summary->newton_iterations += sys->newton.iterations;
     if (status == SK_OK) {
       summary->steps++;
+      /* accepted at the residual's round-off floor: a warning for the first few, all counted in summary.json */
+      if (sys->newton.outcome == SK_NEWTON_ROUNDOFF_FLOOR && ++summary->roundoff_floor_steps <= 3 && m->rank == 0)
+        fprintf(stderr, "stickslip: warning: step %lld (t = %.6g): Newton %s%s\n", (long long)step, sys->t,
+                sys->newton.reason, summary->roundoff_floor_steps == 3 ? " (further such steps are counted in "
+                "summary.json, roundoff_floor_steps)" : "");
       if (on_schedule) {
         sys->t = target; /* t_n + (target - t_n) may differ from target in the last bit */
         scheduled++;

@@ -16,6 +16,10 @@
  * force acts at x_s on the slave and at x_m on the master, which differ by g n).
  * Friction (rigid obstacle). The obstacle only translates, so the history is an anchor point fixed in the
  * obstacle and a spatial traction: t^trial = P (t_n - eps_t (x_s - x_anchor(t))), P = I - n n.
+ * The stick/slip switch of a Newton iteration remembers the traction of a node that slipped at the last Jacobian's
+ * point (held_friction; cov_return_map_held): such a node sticks, rather than slipping the other way, once its trial
+ * turns back, so that a stiff eps_t does not make Newton cycle between two slip directions (docs/stability.md,
+ * finding 19). At a converged point the switch must agree with the return map (pnts_converged).
  *
  * Master face. begin_step and update_active_set select one master face per slave node (the closest-point projection,
  * keeping a face selected earlier in the step while the slave stays within 10 % of a face beyond it); residual and
@@ -45,6 +49,14 @@ typedef struct {
   double anchor[3];     /* obstacle: anchor point minus the obstacle translation, spatial traction */
   double traction[3];
 } friction_history;
+
+/* The friction state of one slave node at the last point where the Jacobian was assembled (the last accepted Newton
+ * iterate): its traction when it slipped there, the switch's memory (cov_return_map_held). */
+typedef struct {
+  int slip;             /* 0: stuck, inactive or frictionless there (the return map decides alone) */
+  int face;             /* deformable master: the face whose covariant basis t is in */
+  double t[3];          /* covariant (deformable master, pdim components) or spatial (obstacle) traction */
+} held_friction;
 
 /* Everything one evaluation of a slave node produces. */
 typedef struct {
@@ -88,6 +100,8 @@ struct sk_instance {
   double *slip;
   friction_history *anchor;     /* used during the current step */
   unsigned char *last_state;    /* for after_iteration's change detection */
+  held_friction *held;          /* per slave node, the stick/slip switch's memory within the step */
+  int return_map_only;          /* 1: evaluate without the memory (pnts_converged compares the two) */
   int *sel_face;                /* master face selected for each slave node (-1: none), see select_face */
   unsigned char *sel_beyond;    /* 1: the selection lies beyond the master's border (and its extension band) */
   unsigned char *escaped;       /* 1: the closest face at the last point is not a candidate (see select_face) */
@@ -249,6 +263,14 @@ static sk_status select_face(sk_instance *in, const double *const *x, int k) {
 
 /* ---- evaluation of one slave node ------------------------------------------------------------------------------- */
 
+/* The traction slave node k held while slipping at the last Jacobian's point, in the basis the evaluation on `face`
+ * uses (-1: an obstacle), or NULL: the return map decides alone (a node that stuck there, or that has changed face
+ * since, whose old covariant components would mean nothing on the new one). */
+static const double *held_traction(const sk_instance *in, int k, int face) {
+  const held_friction *h = &in->held[k];
+  return !in->return_map_only && h->slip && h->face == face ? h->t : NULL;
+}
+
 /* Evaluates slave node k at state->x and state->t: gap, forces and, when want_jacobian, the local Jacobian. The
  * covariant kinematics and friction (dxi, dn, the metric derivatives, the return map) are the shared kernel's
  * (plugins/common/covariant.h). */
@@ -376,7 +398,8 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
       for (int a = 0; a < pdim; ++a) e->slip[i] += dxi[a] * pt.a[a][i];
     cov_metric_derivatives metric;
     cov_metric_derivatives_eval(&pt, &kin, &metric);
-    e->state = cov_friction(&pt, &kin, &metric, tn, dxi, eps_t, in->mu, p, Dp, e->t_cov, T, DT, &e->dissipation);
+    e->state = cov_friction(&pt, &kin, &metric, tn, dxi, eps_t, in->mu, p, Dp, held_traction(in, k, e->face),
+                            e->t_cov, T, DT, &e->dissipation);
   } else if (in->mu > 0.0 && h->valid) {
     /* Obstacle: trial = P w, w = t_n - eps_t (x_s - x_anchor(t)), P = I - n n; D(P w) = P Dw - Dn (n.w) - n (w.Dn). */
     double d[3], w[3], nw;
@@ -400,7 +423,8 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     }
     const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     double Dt[3 * MAX_LOCAL_DOFS];
-    e->state = cov_return_map(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, T, Dt, &e->dissipation);
+    e->state = cov_return_map_held(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, held_traction(in, k, -1),
+                                   T, Dt, &e->dissipation);
     for (int i = 0; i < 3; ++i)
       for (int c = 0; c < nd; ++c) DT[i][c] = Dt[i * nd + c];
   }
@@ -532,6 +556,7 @@ static void pnts_destroy(sk_instance *in) {
   free(in->slip);
   free(in->anchor);
   free(in->last_state);
+  free(in->held);
   free(in->sel_face);
   free(in->escaped);
   free(in->sel_beyond);
@@ -641,12 +666,13 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
   in->slip = calloc(ns, sizeof *in->slip);
   in->anchor = calloc(ns, sizeof *in->anchor);
   in->last_state = calloc(ns, 1);
+  in->held = calloc(ns, sizeof *in->held);
   in->sel_face = malloc(ns * sizeof(int));
   in->sel_beyond = calloc(ns, 1);
   in->escaped = calloc(ns, 1);
   in->sel_xi = calloc(ns, sizeof *in->sel_xi);
   if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->slip_increment || !in->slip ||
-      !in->anchor || !in->last_state ||
+      !in->anchor || !in->last_state || !in->held ||
       !in->sel_face || !in->sel_beyond || !in->escaped || !in->sel_xi)
     return api->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
@@ -750,6 +776,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
     }
   }
   memset(in->last_state, 0, (size_t)in->n_slave);
+  memset(in->held, 0, sizeof *in->held * (size_t)in->n_slave);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
   if (master)
     for (int k = 0; k < in->n_slave; ++k) SK_TRY(select_face(in, st->x, k));
@@ -809,12 +836,18 @@ static sk_status pnts_residual(sk_instance *in, const sk_state *st, sk_sink *sin
   return SK_OK;
 }
 
+/* The Jacobian is assembled at the accepted Newton iterates only: its point is the memory of the stick/slip switch
+ * for the points that follow (held_friction). */
 static sk_status pnts_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink) {
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
     if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 1, &e));
     if (e.nd > 0) sink->add_matrix(sink, e.nd, e.rows, e.nd, e.rows, e.K);
+    held_friction *h = &in->held[k];
+    h->slip = e.state == STATE_SLIP;
+    h->face = in->master ? e.face : -1;
+    for (int i = 0; i < 3; ++i) h->t[i] = in->master ? (i < 2 ? e.t_cov[i] : 0.0) : e.traction[i];
   }
   return SK_OK;
 }
@@ -839,6 +872,31 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
   return SK_OK;
 }
 
+/* At a converged point the switch's memory must not have kept a node stuck whose trial lies outside the cone: the
+ * return map alone decides each node again, a node where it differs forgets its memory, and the point is rejected
+ * (Newton again from it, with the return map's state there). */
+static sk_status agree_with_return_map(sk_instance *in, const sk_state *st, int *accept) {
+  if (in->mu == 0.0) return SK_OK;
+  point_eval with, without;
+  int differ = 0;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->slave->owned[k] || !in->held[k].slip) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &with));
+    in->return_map_only = 1;
+    const sk_status status = evaluate_point(in, st, k, 0, &without);
+    in->return_map_only = 0;
+    SK_TRY(status);
+    if (with.state == without.state) continue;
+    in->held[k].slip = 0;
+    ++differ;
+  }
+  if (differ == 0) return SK_OK;
+  in->api->log(in->host, 2, "%s: penalty-nts: %d slave node(s) held in stick at the converged point slip by the return "
+               "map; Newton again from it", in->name, differ);
+  *accept = 0;
+  return SK_OK;
+}
+
 /* A slave node whose closest face at the converged point is not among its candidates (it slid further within the
  * step than the predictor and the search margin reach) was held on its last face's extension: the candidates are
  * searched again over the box swept from x_n to the converged point, the faces selected there, and the point is
@@ -847,6 +905,7 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
  * the search margin). */
 static sk_status pnts_converged(sk_instance *in, const sk_state *st, int *accept) {
   *accept = 1;
+  SK_TRY(agree_with_return_map(in, st, accept));
   if (!in->master) return SK_OK;
   int escaped = 0, reached = 0;
   for (int k = 0; k < in->n_slave; ++k) escaped += in->escaped[k];

@@ -24,6 +24,7 @@ typedef struct {
   int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */
   int pattern_builds;      /* sparsity patterns built or grown (each rebuilds the solver's matrix; solver.pattern_margin) */
   int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
+  int roundoff_floor_steps; /* steps accepted at the residual's round-off floor (bridge.h: SK_NEWTON_ROUNDOFF_FLOOR) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;
