@@ -163,6 +163,7 @@ sk_status sk_check_attachment(const sk_plugin *plugin, const sk_scene_descriptio
   if (!cannot_run(plugin, &d->info, needed, reason, sizeof reason)) return SK_OK;
   sk_scene_info probe = d->info; /* the sides stay d's */
   probe.strategy = 0;
+  probe.probe = 1;
   alternatives a = {.info = &probe, .needed = needed, .except = plugin->name, .list = ""};
   sk_plugin_each(consider, NULL, &a);
   return sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' cannot run it: %s. %s%s%s", where, plugin->name, reason,

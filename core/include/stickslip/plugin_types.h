@@ -375,6 +375,9 @@ typedef struct sk_scene_info {
   int self_contact;            /* 1 when slave and master are the same surface */
   const sk_scene_side *slave;  /* a pair's slave surface; a body: the body */
   const sk_scene_side *master; /* a pair's master surface or rigid obstacle; NULL for a body */
+  int probe;                   /* 1 when the host asks a plugin the scene does not name, in its search for the plugins
+                                  that can run what the named one cannot: a plugin that is no contact formulation (a
+                                  teaching example) declines then */
 } sk_scene_info;
 
 #ifdef __cplusplus
