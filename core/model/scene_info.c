@@ -67,37 +67,36 @@ static int asks_friction(const void *params) {
   return sk_cfg_as_double(node, &mu) != SK_OK || mu != 0.0;
 }
 
-void sk_describe_pair(const sk_model *model, int pair, sk_scene_description *d) {
-  const sk_contact_pair *p = &model->pairs[pair];
+/* What pairs and bodies share: the kind, names, dimension, ranks, strategy and the scheme of `body`. */
+static sk_scene_info *describe_attachment(const sk_model *model, sk_kind kind, const char *name, int strategy, int body,
+                                          sk_scene_description *d) {
   memset(d, 0, sizeof *d);
   sk_scene_info *info = &d->info;
   info->struct_size = sizeof *info;
-  info->kind = SK_KIND_PAIR;
-  info->name = p->name;
+  info->kind = kind;
+  info->name = name;
   info->dim = model->dim;
   info->n_ranks = model->n_ranks;
-  info->strategy = p->strategy;
+  info->strategy = strategy;
+  describe_scheme(model, body, info);
+  info->slave = &d->slave;
+  return info;
+}
+
+void sk_describe_pair(const sk_model *model, int pair, sk_scene_description *d) {
+  const sk_contact_pair *p = &model->pairs[pair];
+  sk_scene_info *info = describe_attachment(model, SK_KIND_PAIR, p->name, p->strategy, p->slave.body, d);
   info->friction = asks_friction(p->params);
   info->self_contact = p->self_contact;
   describe_surface(model, &p->slave, &d->slave);
   if (p->has_obstacle) describe_obstacle(&p->obstacle, &d->master);
   else describe_surface(model, &p->master, &d->master);
-  describe_scheme(model, p->slave.body, info);
-  info->slave = &d->slave;
   info->master = &d->master;
 }
 
 void sk_describe_body(const sk_model *model, int body, sk_scene_description *d) {
   const sk_body *b = &model->bodies[body];
-  memset(d, 0, sizeof *d);
-  sk_scene_info *info = &d->info;
-  info->struct_size = sizeof *info;
-  info->kind = SK_KIND_BODY;
-  info->name = b->name;
-  info->dim = model->dim;
-  info->n_ranks = model->n_ranks;
-  info->strategy = b->strategy;
-  describe_scheme(model, body, info);
+  describe_attachment(model, SK_KIND_BODY, b->name, b->strategy, body, d);
   sk_scene_side *side = &d->slave;
   side->struct_size = sizeof *side;
   side->name = b->name;
@@ -105,7 +104,9 @@ void sk_describe_body(const sk_model *model, int body, sk_scene_description *d) 
   side->cell_type = b->group->type;
   side->order = sk_elem_order(b->group->type);
   side->n_cells = b->group->n_elems;
-  info->slave = side;
+  int *nodes = NULL, n_nodes = 0;
+  if (sk_group_nodes(b->group, &nodes, &n_nodes) == SK_OK) side->n_nodes = n_nodes;
+  free(nodes);
 }
 
 /* ---- refusals at check time ------------------------------------------------------------------------------------- */

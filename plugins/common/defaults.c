@@ -86,3 +86,16 @@ sk_status sk_defaults_follow(const sk_host_api *api, sk_host *host, const sk_sce
   }
   return SK_OK;
 }
+
+sk_status sk_defaults_penalties(const sk_host_api *api, sk_host *host, const double factor[3], int nodal, int friction,
+                                double *eps_n, double *eps_t) {
+  const sk_scene_ext *scene = sk_defaults_scene(api, host);
+  double computed = 0.0;
+  char reason[700] = "";
+  if (scene) {
+    const sk_scene_info *info = scene->info(host);
+    computed = sk_defaults_stiffness(info, factor[info->slave->order == 2 ? 2 : 1], nodal, reason, sizeof reason);
+  }
+  SK_TRY(sk_defaults_param(api, host, scene, "penalty", computed, reason, eps_n));
+  return sk_defaults_follow(api, host, scene, "penalty_tangential", *eps_n, "the normal penalty", friction, eps_t);
+}

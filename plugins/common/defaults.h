@@ -36,4 +36,10 @@ sk_status sk_defaults_param(const sk_host_api *api, sk_host *host, const sk_scen
 sk_status sk_defaults_follow(const sk_host_api *api, sk_host *host, const sk_scene_ext *scene, const char *key,
                              double value, const char *other, int report, double *out);
 
+/* The penalties of a penalty formulation: `penalty` the scene's, or factor[order of the slave faces] E* / h (times A
+ * when `nodal`: a nodal stiffness); `penalty_tangential` the scene's or the normal one, reported only with
+ * `friction` (unused without). */
+sk_status sk_defaults_penalties(const sk_host_api *api, sk_host *host, const double factor[3], int nodal, int friction,
+                                double *eps_n, double *eps_t);
+
 #endif

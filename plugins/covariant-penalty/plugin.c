@@ -69,18 +69,7 @@ static double mean_face_size(const sk_view *v) {
 static const double PENALTY_FACTOR[3] = {0.0, 10.0, 100.0};
 
 static sk_status read_penalties(sk_instance *in) {
-  const sk_scene_ext *scene = sk_defaults_scene(in->api, in->host);
-  double computed = 0.0;
-  char reason[700] = "";
-  if (scene) {
-    const sk_scene_info *info = scene->info(in->host);
-    computed = sk_defaults_stiffness(info, PENALTY_FACTOR[info->slave->order == 2 ? 2 : 1],
-                                     in->variant == CP_NTS && !in->area_weighted, reason, sizeof reason);
-  }
-  SK_TRY(sk_defaults_param(in->api, in->host, scene, "penalty", computed, reason, &in->eps_n));
-  /* frictionless: unused, so not reported */
-  return sk_defaults_follow(in->api, in->host, scene, "penalty_tangential", in->eps_n, "the normal penalty",
-                            in->mu > 0.0, &in->eps_t);
+  return sk_defaults_penalties(in->api, in->host, PENALTY_FACTOR, in->variant == CP_NTS && !in->area_weighted, in->mu > 0.0, &in->eps_n, &in->eps_t);
 }
 
 static sk_status read_parameters(sk_instance *in) {

@@ -582,18 +582,7 @@ static void pnts_destroy(sk_instance *in) {
 static const double PENALTY_FACTOR[3] = {0.0, 10.0, 100.0};
 
 static sk_status read_penalties(sk_instance *in) {
-  const sk_scene_ext *scene = sk_defaults_scene(in->api, in->host);
-  double computed = 0.0;
-  char reason[700] = "";
-  if (scene) {
-    const sk_scene_info *info = scene->info(in->host);
-    const int order = info->slave->order == 2 ? 2 : 1;
-    computed = sk_defaults_stiffness(info, PENALTY_FACTOR[order], !in->area_weighted, reason, sizeof reason);
-  }
-  SK_TRY(sk_defaults_param(in->api, in->host, scene, "penalty", computed, reason, &in->penalty));
-  /* frictionless: unused, so not reported */
-  return sk_defaults_follow(in->api, in->host, scene, "penalty_tangential", in->penalty, "the normal penalty",
-                            in->mu > 0.0, &in->penalty_t);
+  return sk_defaults_penalties(in->api, in->host, PENALTY_FACTOR, !in->area_weighted, in->mu > 0.0, &in->penalty, &in->penalty_t);
 }
 
 /* Gauss rule for the tributary areas: degree 5 on lines and quads (3 points, 3x3), degree 2 on triangles (3 points):
