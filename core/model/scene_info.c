@@ -18,6 +18,11 @@ static void describe_body_material(const sk_model *model, int body, sk_scene_sid
   side->body_name = b->name;
   side->E = b->material.E;
   side->nu = b->material.nu;
+  for (int i = 0; i < 3; ++i) {
+    side->velocity[i] = b->velocity[i];
+    side->angular_velocity[i] = b->angular_velocity[i];
+    side->center[i] = b->center[i];
+  }
 }
 
 static void describe_surface(const sk_model *model, const sk_surface *surface, sk_scene_side *side) {

@@ -111,6 +111,15 @@ def corotational_curved_obstacle(c):
             ["penalty-nts"], ["nts-augmented", "mortar-dual", "covariant-penalty"])
 
 
+def corotational_spin_off_axis(c):
+    # the co-rotational body spins about its plugin's axis: another spin was refused only at the first step
+    text = replace(scene_text("corot-torus-on-plane.yaml"), "angular_velocity: [0, 0, 20]",
+                   "angular_velocity: [0, 5, 20]")
+    c.run_scene(text, command="check")
+    c.expect_failure(r"body 'torus'", r"corotational", r"angular_velocity \(0, 5, 20\) is not along the plugin's "
+                     r"axis \(0, 0, 1\)")
+
+
 def accepted_combination(c):
     # the same scenes with a plugin that can: check passes and names the plugin
     c.run_scene(MIDPOINT, "--plugin", "nts-augmented", "--set", "contact.0.parameters={}", command="check")
@@ -182,5 +191,6 @@ def glued_interface(c):
 if __name__ == "__main__":
     main({f.__name__: f for f in [mortar_midpoint, mortar_quadratic, nts_curved_obstacle, nts_quadratic, covariant_2d,
                                   serendipity_slave, friction_without_capability, corotational_pair_off_its_body,
-                                  corotational_moving_plane, corotational_curved_obstacle, accepted_combination,
+                                  corotational_moving_plane, corotational_curved_obstacle, corotational_spin_off_axis,
+                                  accepted_combination,
                                   glued_interface]})

@@ -356,6 +356,10 @@ typedef struct sk_scene_side {
   double h_min, h_mean, h_max;
   double measure;              /* total reference area of a 3D surface, length of a 2D one; 0 for an obstacle/body */
   int64_t n_cells, n_nodes;    /* faces and nodes of the whole surface (elements and nodes of a body) */
+  double velocity[3];          /* the body's initial motion (`velocity`, `angular_velocity`, `center`): v(X) =
+                                  velocity + angular_velocity x (X - center); zero for an obstacle */
+  double angular_velocity[3];
+  double center[3];
 } sk_scene_side;
 
 /* An attachment as the scene describes it. */
