@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The constants of the defaults computed from the scene (docs/scene-reference.md#contact, each plugin page's
 "Defaults"), measured: accuracy against Newton iterations over a range of the constant c of each plugin's rule
-(penalty = c E*/h, c_n = c E*/h, epsilon_t = c E*/h A), on small scenes a user writes from the scene reference (scenes/
-here: no solver section, only mu on the pair) and on the Hertz scenes (closed form) with linear and quadratic
-elements. The value a plugin computes by default is read from `stickslip check --explain`; the sweep gives the key
+(penalty = c E*/h, c_n = c E*/h, epsilon_t = c E*/h A), on small scenes a user writes from the scene reference
+(tests/scenes-from-reference: no solver section, only mu on the pair) and on the Hertz scenes (closed form) with
+linear and quadratic elements. The value a plugin computes by default is read from `stickslip check --explain`; the sweep gives the key
 c / c_default times that value.
 
   python3 tests/bench/defaults/measure_defaults.py                        every case, plugin and constant
@@ -33,7 +33,7 @@ from stickslip_results import Results  # noqa: E402
 from test_contact_scenes import reference_points  # noqa: E402
 
 BIN = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
-USER = os.path.join(HERE, "scenes")
+USER = os.path.join(ROOT, "tests", "scenes-from-reference")
 # case -> (scene, --set overrides, normal axis of the contact force, Hertz dimension or 0, the plugins that run it)
 CASES = {
     "punch-2d": (os.path.join(USER, "punch-2d.yaml"), [], 1, 0, ["penalty-nts", "nts-augmented", "mortar-dual"]),
