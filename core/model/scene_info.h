@@ -1,4 +1,4 @@
-/* What an attachment is, as the scene describes it (plugin_types.h: sk_scene_info, ABI 2.5), and the checks made
+/* What an attachment is, as the scene describes it (plugin_types.h: sk_scene_info, ABI 2.7), and the checks made
  * on it before any plugin instance exists (internal to the simulation layer): the capabilities and sk_plugin.check
  * of the plugin a pair or body names, the search for the plugins that can run it, and contact surfaces glued to
  * each other by shared nodes. scene.c calls the checks while it reads the scene; term_plugin.c hands the
@@ -21,7 +21,7 @@ void sk_describe_pair(const sk_model *model, int pair, sk_scene_description *d);
 void sk_describe_body(const sk_model *model, int body, sk_scene_description *d);
 
 /* Refuses an attachment the plugin cannot run, before any instance exists: `needed` capabilities it lacks, or its
- * sk_plugin.check (ABI 2.5). The message (prefixed with `where`, e.g. "scene.yaml:12:5: contact pair 'floor'")
+ * sk_plugin.check (ABI 2.7). The message (prefixed with `where`, e.g. "scene.yaml:12:5: contact pair 'floor'")
  * names the plugin, the reason and the plugins on the search path that can run it. */
 sk_status sk_check_attachment(const sk_plugin *plugin, const sk_scene_description *d, uint64_t needed,
                               const char *where);

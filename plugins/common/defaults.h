@@ -1,4 +1,4 @@
-/* Defaults computed from the scene (the host's extension stickslip.scene.v1, ABI 2.5): the arithmetic the plugins'
+/* Defaults computed from the scene (the host's extension stickslip.scene.v1, ABI 2.7): the arithmetic the plugins'
  * rules share. A rule belongs to its formulation and is stated on its page (docs/plugins/<name>.md, "Defaults");
  * these helpers only compute its ingredients and report the value, so every plugin prints the same kind of reason.
  * Host-free: they see the ABI structs only. */
@@ -7,7 +7,7 @@
 
 #include "stickslip/plugin.h"
 
-/* The scene extension of a host, or NULL (a host before ABI 2.5). */
+/* The scene extension of a host, or NULL (a host before ABI 2.7). */
 const sk_scene_ext *sk_defaults_scene(const sk_host_api *api, sk_host *host);
 
 /* E* of the pair: 1 / ((1 - nu_s^2)/E_s + (1 - nu_m^2)/E_m), a rigid obstacle adding 0; `text` (may be NULL) says

@@ -132,7 +132,7 @@ static sk_status read_parameters(sk_instance *inst) {
   if (!(b->c_n > 0.0) || !(b->c_t > 0.0))
     return api->error(host, SK_ERR_INPUT, "c_n = %g, c_t = %g: both must be > 0", b->c_n, b->c_t);
   /* the scene's spin must be about the axis (the velocity field v + w x (X - c) is rigid by construction): refused
-   * here, at check time, where the scene tells it (ABI 2.5); glue_ensure_started checks the field on older hosts */
+   * here, at check time, where the scene tells it (ABI 2.7); glue_ensure_started checks the field on older hosts */
   const sk_scene_ext *scene = SK_HAS(api, get_extension) ? api->get_extension(host, SK_EXT_SCENE) : NULL;
   if (scene) {
     const double *w = scene->info(host)->slave->angular_velocity;

@@ -146,7 +146,7 @@ static const sk_integrator integrator = {
     .energy = glue_energy,
 };
 
-/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.5) ----------------------------------------------------- */
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7) ----------------------------------------------------- */
 
 static sk_status check(const sk_scene_info *scene, char *reason, int size) {
   if (scene->kind == SK_KIND_BODY) {

@@ -195,7 +195,7 @@ static sk_status make_entities(sk_instance *in) {
   return SK_OK;
 }
 
-/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.5; create() asks the same on older hosts) ---------------- */
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
 
 static int face_supported(sk_elem_type type) { return type == SK_QUAD4 || type == SK_QUAD9 || type == SK_TRI3; }
 

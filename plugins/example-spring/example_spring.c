@@ -182,7 +182,7 @@ static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_cal
   return SK_OK;
 }
 
-/* ---- what it cannot run (ABI 2.5): called before any instance exists ------------------------------------------- */
+/* ---- what it cannot run (ABI 2.7): called before any instance exists ------------------------------------------- */
 /* The capabilities already say what the host checks (dimension, obstacle or master, scheme, friction). A plugin
  * refuses here what the scene alone decides and the bits cannot say. This one runs anything it is named for, but it
  * is no contact formulation, so it declines when the host looks for plugins that can replace another one. */
@@ -218,7 +218,7 @@ static const sk_plugin example_spring = {
     .points = spring_points,
     .integrator = NULL,        /* not a body plugin */
     .get_extension = NULL,
-    .check = spring_check,     /* ABI 2.5: what it refuses before any instance exists */
+    .check = spring_check,     /* ABI 2.7: what it refuses before any instance exists */
 };
 
 EXPORT const sk_plugin *stickslip_plugin_entry(void);

@@ -275,7 +275,7 @@ static void reference_measures(sk_instance *inst) {
   for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].A_ref = inst->A_node[inst->owned[oi].node];
 }
 
-/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.5) ----------------------------------------------------- */
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7) ----------------------------------------------------- */
 
 /* Contact is enforced at t_(n+1): a scheme balancing forces elsewhere (the midpoint rule) is refused. */
 static int scheme_refused(const char *scheme, double alpha, char *reason, int size) {
@@ -482,7 +482,7 @@ static sk_status store_history(sk_instance *inst) {
 /* ---- the step ---------------------------------------------------------------------------------------------------- */
 static sk_status begin_step(sk_instance *inst, const sk_state *state) {
   char reason[300];
-  if (scheme_refused(state->scheme, state->alpha, reason, sizeof reason)) /* a host before ABI 2.5 skips check() */
+  if (scheme_refused(state->scheme, state->alpha, reason, sizeof reason)) /* a host before ABI 2.7 skips check() */
     return inst->api->error(inst->host, SK_ERR_INPUT, "mortar-dual: %s", reason);
   /* the attempt starts from the committed set; tangent references from the normals at t_n */
   mortar_compute_normals(inst, state->x_n[0]);

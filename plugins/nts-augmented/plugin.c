@@ -106,7 +106,7 @@ static sk_status plane_setup(sk_instance *inst) {
   return SK_OK;
 }
 
-/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.5; create() asks the same on older hosts) ---------------- */
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
 
 static int first_order_face(sk_elem_type type) { return type == SK_LINE2 || type == SK_TRI3 || type == SK_QUAD4; }
 

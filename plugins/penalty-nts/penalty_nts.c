@@ -442,7 +442,7 @@ static int face_type_fits(sk_elem_type type, int dim) {
   return type == SK_TRI3 || type == SK_TRI6 || type == SK_QUAD4 || type == SK_QUAD8 || type == SK_QUAD9;
 }
 
-/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.5; create() asks the same on older hosts) ---------------- */
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
 
 /* A uniform pressure puts tensile consistent loads (-1/12 of the face area) on QUAD8 corners, which a penalty node
  * cannot carry: measured on the 3D patch test with hex20, every corner opened by 4e-4 while the edge nodes

@@ -1,4 +1,4 @@
-"""What a plugin cannot run is refused by `check` and by `run` before anything starts (plugin ABI 2.5: capabilities
+"""What a plugin cannot run is refused by `check` and by `run` before anything starts (plugin ABI 2.7: capabilities
 and sk_plugin.check): one case per refused combination, each asserting that the message names the plugin, the
 reason and the plugins on the search path that can run the pair. Contact surfaces glued by shared mesh nodes are
 refused with the node count and the fix; separately meshed bodies touching with coincident nodes are not.

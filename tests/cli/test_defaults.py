@@ -1,4 +1,4 @@
-"""Defaults computed from the scene (plugin ABI 2.5, stickslip.scene.v1): `check --explain` and `run --explain` print
+"""Defaults computed from the scene (plugin ABI 2.7, stickslip.scene.v1): `check --explain` and `run --explain` print
 each with its value and reason, the value is the plugin's rule on the scene's numbers, a value the scene gives wins,
 `stickslip plugins` states the rules, and a scene giving only mu runs with every plugin that takes it.
 

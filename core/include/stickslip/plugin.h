@@ -197,7 +197,7 @@ typedef struct sk_linear_ext {
                            double *y_extra);
 } sk_linear_ext;
 
-/* ---- extension "stickslip.scene.v1" (ABI 2.5): the scene around an instance, and defaults computed from it ------ */
+/* ---- extension "stickslip.scene.v1" (ABI 2.7): the scene around an instance, and defaults computed from it ------ */
 /* A parameter whose good value depends on the scene (a penalty ~ E/h, a complementarity constant) gets its default
  * from the scene: the plugin reads the key with param_*(..., required 0, dflt NAN, ...), and when it is absent
  * computes the value from info() by the rule its page states, then tells the host with computed(), which
@@ -294,7 +294,7 @@ typedef struct sk_plugin {
   const sk_integrator *integrator;
   /* Optional plugin-side interfaces by id; may be NULL. */
   const void *(*get_extension)(const char *id);
-  /* ABI 2.5, may be NULL: can the plugin run the attachment `scene` describes? Called before any instance exists, by
+  /* ABI 2.7, may be NULL: can the plugin run the attachment `scene` describes? Called before any instance exists, by
    * `stickslip check` and `run` for the plugin a pair or body names, and for every plugin on the search path when
    * the host looks for the ones that can (the error lists them). SK_OK, or SK_ERR_PLUGIN with one sentence in
    * `reason` (e.g. "the midpoint scheme balances forces at t_n + dt/2, and mortar-dual enforces contact at

@@ -327,7 +327,7 @@ typedef struct sk_contact_point {
                                   surface (sk_view.cell_index) */
 } sk_contact_point;
 
-/* ---- the scene around an attachment (ABI 2.5): sk_plugin.check and the extension stickslip.scene.v1 ------------ */
+/* ---- the scene around an attachment (ABI 2.7): sk_plugin.check and the extension stickslip.scene.v1 ------------ */
 /* Plain data the host fills from the scene alone (no instance needed), the same on every rank: what sk_plugin.check
  * decides on, and what a plugin computes its default parameters from (docs/plugin-abi.md §9.4). */
 typedef enum {

@@ -50,7 +50,9 @@ CASES = {
     "hertz-3d-hex27": ("scenes/hertz-3d-hex.yaml", ["mesh.order=2"], 2, 3, ["penalty-nts", "covariant-penalty"]),
 }
 # the parameter each plugin's constant scales, and that constant's default (the plugins' pages)
-PRIMARY = {"penalty-nts": "penalty", "covariant-penalty": "penalty", "mortar-dual": "c_n", "nts-augmented": "epsilon_t"}
+# (nts-augmented: epsilon_t with friction; frictionless, only c_n is computed and swept)
+PRIMARY = {"penalty-nts": ["penalty"], "covariant-penalty": ["penalty"], "mortar-dual": ["c_n"],
+           "nts-augmented": ["epsilon_t", "c_n"]}
 FIELDS = ["case", "plugin", "key", "constant", "settings", "value", "ok", "final_time", "steps", "step_cuts",
           "newton", "active_set_loops", "cpu", "h", "penetration_h", "friction_ratio", "l2", "a", "p0", "message"]
 COMPUTED = re.compile(r"^\s*contact\[0\]\.parameters\.(\w+) = (\S+) \(computed: (.*)\)$")
@@ -94,9 +96,13 @@ def default_constant(reason):
     return float(reason.split()[0])
 
 
-def run(case, plugin, key, constant, extra):
+def run(case, plugin, keys, constant, extra):
+    """One run with the first of `keys` the plugin computes set to constant / its default constant times its value."""
     scene, _, axis, hertz, _ = CASES[case]
     defaults = computed_defaults(case, plugin, extra)
+    key = next((k for k in keys if k in defaults), None)
+    if key is None:
+        raise RuntimeError("%s computes none of %s for %s" % (plugin, keys, case))
     value, reason = defaults[key]
     value *= constant / default_constant(reason)
     h = float(re.search(r"h = (\S+) \(mean", reason).group(1))
@@ -166,13 +172,13 @@ def main():
         for plugin in CASES[case][4]:
             if args.plugins and plugin not in args.plugins.split(","):
                 continue
-            key = args.key or PRIMARY[plugin]
+            keys = [args.key] if args.key else PRIMARY[plugin]
             rows = []
             for constant in [float(c) for c in args.constants.split(",")]:
-                row = run(case, plugin, key, constant, args.set)
+                row = run(case, plugin, keys, constant, args.set)
                 rows.append(row)
                 print("%-16s %-17s %-9s c %-6g ok %s  steps %-4s cuts %-3s newton %-5s pen/h %-9s Ft/Fn %-7s l2 %-7s %s"
-                      % (case, plugin, key, constant, row["ok"], row.get("steps", ""), row.get("step_cuts", ""),
+                      % (case, plugin, row["key"], constant, row["ok"], row.get("steps", ""), row.get("step_cuts", ""),
                          row.get("newton", ""), row.get("penetration_h", ""), row.get("friction_ratio", ""),
                          row.get("l2", ""), row.get("message", "")[:60] if not row["ok"] else ""), flush=True)
             merge(args.csv, rows)
