@@ -76,7 +76,8 @@ def runs(c, name):
             c.check(named == runnable, "%s the plugins that can are those check accepts (%s)" % (key, sorted(named)))
     for plugin in sorted(runnable):
         out = os.path.join(c.dir, plugin)
-        c.run("run", scene, "--plugin", plugin, "--out", out, "--quiet", *RUN)
+        # a few CPU seconds (mortar-dual on the half ball: 18), minutes of wall time on a loaded machine
+        c.run("run", scene, "--plugin", plugin, "--out", out, "--quiet", *RUN, timeout=240)
         c.no_crash()
         summary = read_summary(out) if os.path.exists(os.path.join(out, "summary.json")) else {}
         print("%s %s: status %s, t %s, steps %s, Newton iterations %s, step cuts %s" % (
