@@ -122,7 +122,7 @@ def corotational_spin_off_axis(c):
 
 def accepted_combination(c):
     # the same scenes with a plugin that can: check passes and names the plugin
-    c.run_scene(MIDPOINT, "--plugin", "nts-augmented", "--set", "contact.0.parameters={}", command="check")
+    c.run_scene(MIDPOINT, "--plugin", "nts-augmented", "--replace", "contact.0.parameters={}", command="check")
     c.no_crash()
     c.check(c.proc.returncode == 0, "nts-augmented runs the midpoint scene (exit %d)" % c.proc.returncode)
     c.run_scene(CONTACT, "--set", "mesh.order=2", command="check")

@@ -3,8 +3,8 @@
 "Defaults"), measured: accuracy against Newton iterations over a range of the constant c of each plugin's rule
 (penalty = c E*/h, c_n = c E*/h, epsilon_t = c E*/h A), on small scenes a user writes from the scene reference
 (tests/scenes-from-reference: no solver section, only mu on the pair) and on the Hertz scenes (closed form) with
-linear and quadratic elements. The value a plugin computes by default is read from `stickslip check --explain`; the sweep gives the key
-c / c_default times that value.
+linear and quadratic elements. The value a plugin computes by default is read from `stickslip check --explain`; the
+sweep gives the key c / c_default times that value.
 
   python3 tests/bench/defaults/measure_defaults.py                        every case, plugin and constant
   python3 tests/bench/defaults/measure_defaults.py --cases punch-2d --plugins mortar-dual --constants 1,10
@@ -79,7 +79,8 @@ def mu_of(scene):
 def computed_defaults(case, plugin, extra):
     """{key: (value, reason)} the plugin computes for the case with only mu given."""
     scene = CASES[case][0]
-    args = base_arguments(case, plugin, extra) + ["--set", "contact.0.parameters={mu: %g}" % mu_of(scene), "--explain"]
+    args = base_arguments(case, plugin, extra) + ["--replace", "contact.0.parameters={mu: %g}" % mu_of(scene),
+                                                  "--explain"]
     proc = subprocess.run([BIN, "check"] + args, capture_output=True, text=True)
     if proc.returncode != 0:
         raise RuntimeError("check failed: %s\n%s" % (" ".join(args), proc.stderr))
@@ -109,7 +110,7 @@ def run(case, plugin, keys, constant, extra):
     params = "{mu: %g, %s: %.10g}" % (mu_of(scene), key, value)
     out = os.path.join(tempfile.mkdtemp(prefix="stickslip-defaults-"), "results")
     command = [BIN, "run"] + base_arguments(case, plugin, extra) + [
-        "--set", "contact.0.parameters=" + params, "--out", out, "--quiet", "--set", "output.vtu_every=0"]
+        "--replace", "contact.0.parameters=" + params, "--out", out, "--quiet", "--set", "output.vtu_every=0"]
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
     proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
     _, status, usage = os.wait4(proc.pid, 0)
