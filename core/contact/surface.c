@@ -215,6 +215,35 @@ sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_
   return status;
 }
 
+void sk_surface_sizes(const sk_surface *surface, const double *X_nodes, int stride, double *h_min, double *h_mean,
+                      double *h_max, double *measure) {
+  const int dim = surface->dim, nen = surface->nen, corners = sk_elem_corners(surface->face_type);
+  const int edges = corners == 2 ? 1 : corners;
+  double lo = INFINITY, hi = 0.0, sum = 0.0, area = 0.0;
+  long count = 0;
+  double X[SK_FACE_NEN_MAX * 3];
+  for (int f = 0; f < surface->n_faces; ++f) {
+    const int *conn = surface->conn + (size_t)f * nen;
+    for (int a = 0; a < nen; ++a)
+      for (int i = 0; i < dim; ++i) X[a * dim + i] = X_nodes[(size_t)stride * (size_t)conn[a] + i];
+    for (int e = 0; e < edges; ++e) {
+      const double *p = X + e * dim, *q = X + ((e + 1) % corners) * dim;
+      double d2 = 0.0;
+      for (int i = 0; i < dim; ++i) d2 += (q[i] - p[i]) * (q[i] - p[i]);
+      const double h = sqrt(d2);
+      lo = fmin(lo, h);
+      hi = fmax(hi, h);
+      sum += h;
+      ++count;
+    }
+    area += sk_face_area(surface->face_type, dim, X);
+  }
+  *h_min = count ? lo : 0.0;
+  *h_mean = count ? sum / (double)count : 0.0;
+  *h_max = hi;
+  *measure = area;
+}
+
 void sk_surface_free(sk_surface *surface) {
   if (!surface) return;
   free(surface->conn);

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene_info.h"
 #include "stickslip/plugins.h"
 #include "system.h"
 
@@ -201,15 +202,12 @@ static sk_status read_body_plugin(const sk_cfg *entry, const sk_model *model, sk
   SK_TRY(check_kind(sk_cfg_get(entry, "plugin"), body->plugin, SK_KIND_BODY, "body", body->name));
   SK_TRY(choose_strategy(entry, body->plugin, &body->strategy));
   body->params = sk_cfg_get(entry, "parameters");
-  uint64_t need = (model->dim == 2 ? SK_CAP_2D : SK_CAP_3D) | model->time.integrator->plugin_caps;
-  uint64_t missing = need & ~body->plugin->caps;
-  if (missing) {
-    char text[256];
-    sk_capabilities_string(missing, text, sizeof text);
-    return sk_error_set(SK_ERR_PLUGIN, "%s: body '%s': plugin '%s' lacks what this scene needs: %s",
-                        sk_cfg_where(entry), body->name, body->plugin->name, text);
-  }
-  return SK_OK;
+  char where[SK_NAME_MAX + 1200];
+  snprintf(where, sizeof where, "%s: body '%s'", sk_cfg_where(entry), body->name);
+  sk_scene_description description;
+  sk_describe_body(model, (int)(body - model->bodies), &description);
+  return sk_check_attachment(body->plugin, &description,
+                             (model->dim == 2 ? SK_CAP_2D : SK_CAP_3D) | model->time.integrator->plugin_caps, where);
 }
 
 static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
@@ -472,13 +470,15 @@ static sk_status read_contact(const sk_cfg *root, sk_scene *scene) {
     }
     pair->params = sk_cfg_get(entry, "parameters");
     SK_TRY(choose_strategy(entry, pair->plugin, &pair->strategy));
-    uint64_t missing = capabilities_needed(model, pair) & ~pair->plugin->caps;
-    if (missing) {
-      char text[256];
-      sk_capabilities_string(missing, text, sizeof text);
-      return sk_error_set(SK_ERR_PLUGIN, "%s: contact pair '%s': plugin '%s' lacks what this scene needs: %s",
-                          sk_cfg_where(entry), name, pair->plugin->name, text);
-    }
+    /* whatever the plugin cannot run is refused now, naming the plugins that can (not in begin_step) */
+    char where[SK_NAME_MAX + 1200];
+    snprintf(where, sizeof where, "%s: contact pair '%s'", sk_cfg_where(entry), name);
+    sk_scene_description description;
+    sk_describe_pair(model, k, &description);
+    SK_TRY(sk_check_attachment(pair->plugin, &description,
+                               capabilities_needed(model, pair) | (description.info.friction ? SK_CAP_FRICTION : 0),
+                               where));
+    SK_TRY(sk_check_glued(model, k, where));
     if (model->time.integrator->energy_momentum && !(pair->plugin->caps & SK_CAP_ENERGY_MOMENTUM))
       sk_log_message(model->rank, 1,
                      "contact pair '%s': plugin '%s' is not energy-consistent with the midpoint scheme: momenta are "
@@ -646,7 +646,15 @@ void sk_scene_free(sk_scene *scene) {
 
 void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, FILE *out) {
   sk_mesh_cache_explain(out);
-  sk_system_explain(scene->system, out);
+  const sk_system *sys = scene->system;
+  int computed = 0;
+  for (int k = 0; k < sys->n_terms; ++k) computed += sk_term_plugin_explain_defaults(sys->terms[k], NULL);
+  if (computed) {
+    fprintf(out, "parameters computed from the scene (a value the scene gives wins; the plugins' pages state the "
+            "rules):\n");
+    for (int k = 0; k < sys->n_terms; ++k) sk_term_plugin_explain_defaults(sys->terms[k], out);
+  }
+  sk_system_explain(sys, out);
   const sk_output_settings *o = &scene->output;
   fprintf(out, "outputs:\n");
   if (out_dir || progress || sk_skip_forced("invariants"))

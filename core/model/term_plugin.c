@@ -444,6 +444,7 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
       attach->obstacle = &pair->obstacle;
     }
     attach->self_contact = pair->self_contact;
+    sk_describe_pair(m, pair_index, &term->scene);
   } else {
     const sk_body *b = &m->bodies[body];
     term->plugin = b->plugin;
@@ -454,6 +455,7 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
     attach->strategy = b->strategy;
     SK_TRY(add_view(term, m, NULL, b->name, 0, body));
     attach->body = term->view_list[0];
+    sk_describe_body(m, body, &term->scene);
     term->body_buffer = zeros(m->n_dofs);
     term->pending_u = zeros(dof_count(attach->body));
     term->pending_v = zeros(dof_count(attach->body));
@@ -599,3 +601,13 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
 }
 
 const sk_term_ops *sk_plugin_term_ops(void) { return &plugin_ops; }
+
+int sk_term_plugin_explain_defaults(const sk_term *base, FILE *out) {
+  if (base->ops != &plugin_ops) return 0;
+  const plugin_term *term = (const plugin_term *)base;
+  for (int k = 0; out && k < term->n_computed; ++k)
+    fprintf(out, "  %s[%d].parameters.%s = %.6g (computed: %s)\n", term->pair >= 0 ? "contact" : "bodies",
+            term->pair >= 0 ? term->pair : term->body, term->computed[k].key, term->computed[k].value,
+            term->computed[k].reason);
+  return term->n_computed;
+}

@@ -131,6 +131,19 @@ static sk_status read_parameters(sk_instance *inst) {
     return api->error(host, SK_ERR_INPUT, "tolerance = %g: need 0 < tolerance < 1", b->tolerance);
   if (!(b->c_n > 0.0) || !(b->c_t > 0.0))
     return api->error(host, SK_ERR_INPUT, "c_n = %g, c_t = %g: both must be > 0", b->c_n, b->c_t);
+  /* the scene's spin must be about the axis (the velocity field v + w x (X - c) is rigid by construction): refused
+   * here, at check time, where the scene tells it (ABI 2.7); glue_ensure_started checks the field on older hosts */
+  const sk_scene_ext *scene = SK_HAS(api, get_extension) ? api->get_extension(host, SK_EXT_SCENE) : NULL;
+  if (scene) {
+    const double *w = scene->info(host)->slave->angular_velocity;
+    const double length = sqrt(corot_dot(3, b->axis, b->axis)), along = corot_dot(3, w, b->axis) / length;
+    double off = 0.0;
+    for (int i = 0; i < 3; ++i) off += (w[i] - along * b->axis[i] / length) * (w[i] - along * b->axis[i] / length);
+    if (sqrt(off) > 1e-12 * sqrt(corot_dot(3, w, w)))
+      return api->error(host, SK_ERR_INPUT, "the body's angular_velocity (%g, %g, %g) is not along the plugin's axis "
+                        "(%g, %g, %g): give axis_x, axis_y, axis_z along the spin, or a spin about the axis", w[0],
+                        w[1], w[2], b->axis[0], b->axis[1], b->axis[2]);
+  }
   if (strcmp(initial, "steady") == 0)
     b->steady = 1;
   else if (strcmp(initial, "undeformed") == 0)

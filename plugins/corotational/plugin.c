@@ -10,6 +10,7 @@
  * own nothing in the system: they register their slave surface, obstacle and mu with the body instance at create
  * (bodies are created first) and report their planes' share of the contact. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -145,6 +146,33 @@ static const sk_integrator integrator = {
     .energy = glue_energy,
 };
 
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7) ----------------------------------------------------- */
+
+static sk_status check(const sk_scene_info *scene, char *reason, int size) {
+  if (scene->kind == SK_KIND_BODY) {
+    if (scene->n_ranks == 1) return SK_OK;
+    snprintf(reason, (size_t)size, "the corotational body plugin runs on one rank (this run has %d)", scene->n_ranks);
+    return SK_ERR_PLUGIN;
+  }
+  const sk_scene_side *slave = scene->slave, *master = scene->master;
+  if (strcmp(scene->scheme, integrator.name) != 0)
+    snprintf(reason, (size_t)size, "its contact acts on corotational bodies only: the body of slave surface '%s' "
+             "is integrated by '%s' (give that body `plugin: corotational`)", slave->name, scene->scheme);
+  else if (!master->rigid || master->shape != SK_SHAPE_PLANE)
+    snprintf(reason, (size_t)size, "the corotational plugin supports rigid planes only (the master of this pair is "
+             "%s '%s')", master->rigid ? "a curved obstacle" : "the deformable surface", master->name);
+  else if (master->moving)
+    snprintf(reason, (size_t)size, "the corotational plugin supports planes at rest: obstacle '%s' has a motion",
+             master->name);
+  else if (slave->cell_type == SK_TRI6 || slave->cell_type == SK_QUAD8)
+    snprintf(reason, (size_t)size, "slave surface '%s' has %s faces, whose corner nodes get no positive contact "
+             "weight; use first-order elements or hex27 (QUAD9 faces)", slave->name,
+             slave->cell_type == SK_TRI6 ? "TRI6" : "QUAD8");
+  else
+    return SK_OK;
+  return SK_ERR_PLUGIN;
+}
+
 static const sk_plugin plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "corotational",
@@ -172,6 +200,7 @@ static const sk_plugin plugin = {
     .points = points,
     .integrator = &integrator,
     .get_extension = NULL,
+    .check = check,
 };
 
 __attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);

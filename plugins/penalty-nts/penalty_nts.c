@@ -27,12 +27,14 @@
  *
  * Every scheme is evaluated at t_{n+1} (q, state->t): the plugin does not claim the energy-momentum capability. */
 #include <math.h>
+#include <stdio.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "candidates.h"
 #include "covariant.h"
+#include "defaults.h"
 #include "stickslip/plugin.h"
 
 #define PNTS_EXPORT __attribute__((visibility("default")))
@@ -119,9 +121,11 @@ enum { REC_STRIDE = 5 };
 
 static const char *const pnts_strategies[] = {"none", NULL};
 static const char *const pnts_parameters[] = {
-    "penalty: normal penalty eps_n > 0; pressure/length when area_weighted, force/length otherwise [required]",
+    "penalty: normal penalty eps_n > 0; pressure/length when area_weighted, force/length otherwise [computed from "
+    "the scene: 10 E*/h on first-order slave faces, 100 E*/h on second-order ones (E*: contact modulus of the "
+    "pair, h: mean edge of the slave surface); times the mean tributary area when area_weighted is 0]",
     "mu: Coulomb friction coefficient >= 0 [0]",
-    "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [required when mu > 0]",
+    "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [computed from the scene: penalty]",
     "area_weighted: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
     "stiffnesses [1]",
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
@@ -462,6 +466,33 @@ static int face_type_fits(sk_elem_type type, int dim) {
   return type == SK_TRI3 || type == SK_TRI6 || type == SK_QUAD4 || type == SK_QUAD8 || type == SK_QUAD9;
 }
 
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
+
+/* A uniform pressure puts tensile consistent loads (-1/12 of the face area) on QUAD8 corners, which a penalty node
+ * cannot carry: measured on the 3D patch test with hex20, every corner opened by 4e-4 while the edge nodes
+ * penetrated 1e-6, and the pressures ranged over 6 ... 21 for p = 10. */
+static int faces_refused(const char *slave_name, sk_elem_type slave, int has_master, sk_elem_type master, int dim,
+                         char *reason, int size) {
+  if (!face_type_fits(slave, dim) || (has_master && !face_type_fits(master, dim)))
+    snprintf(reason, (size_t)size, "penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/TRI6/QUAD4/QUAD8/QUAD9 in "
+             "3D");
+  else if (slave == SK_QUAD8)
+    snprintf(reason, (size_t)size, "penalty-nts cannot use QUAD8 (hex20) slave faces (surface '%s'): their corner "
+             "nodes would need tensile contact forces under a uniform pressure. Use hex27 (QUAD9 faces: "
+             "mesh.serendipity false), or make the QUAD8 surface the master", slave_name);
+  else
+    return 0;
+  return 1;
+}
+
+static sk_status pnts_check(const sk_scene_info *scene, char *reason, int size) {
+  const sk_scene_side *master = scene->master;
+  return faces_refused(scene->slave->name, scene->slave->cell_type, !master->rigid, master->cell_type, scene->dim,
+                       reason, size)
+             ? SK_ERR_PLUGIN
+             : SK_OK;
+}
+
 /* The trap of node-to-surface on quadratic faces: integral N_I over a flat TRI6 is 0 at the corners (1/3 of the area
  * at each edge node), over a QUAD8 -1/12 at the corners, so area-weighted penalties would leave the corners
  * unconstrained (TRI6: measured on hertz-3d with mesh.order 2, corner nodes penetrate up to 37 times as deep as edge
@@ -569,12 +600,14 @@ static void pnts_destroy(sk_instance *in) {
   free(in);
 }
 
-static sk_status read_positive(sk_instance *in, const char *key, int required, double dflt, double *out) {
-  SK_TRY(in->api->param_double(in->host, key, required, dflt, out));
-  if (!(*out > 0.0) || !isfinite(*out))
-    return in->api->error(in->host, SK_ERR_INPUT, "%s: penalty-nts parameter '%s' must be a finite number > 0, got %g",
-                          in->name, key, *out);
-  return SK_OK;
+/* The penalties: the scene's values, or computed from it (docs/plugins/penalty-nts.md#defaults): eps_N = c E* / h
+ * with c = PENALTY_FACTOR[order of the slave faces], E* the pair's contact modulus and h the slave surface's mean
+ * edge; times the mean tributary area per slave node when the penalty is a nodal stiffness (area_weighted 0);
+ * eps_T = eps_N. */
+static const double PENALTY_FACTOR[3] = {0.0, 10.0, 100.0};
+
+static sk_status read_penalties(sk_instance *in) {
+  return sk_defaults_penalties(in->api, in->host, PENALTY_FACTOR, !in->area_weighted, in->mu > 0.0, &in->penalty, &in->penalty_t);
 }
 
 /* Gauss rule for the tributary areas: degree 5 on lines and quads (3 points, 3x3), degree 2 on triangles (3 points):
@@ -595,33 +628,24 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
                       "obstacle", in->name);
   if (in->dim != 2 && in->dim != 3)
     return api->error(host, SK_ERR_INPUT, "%s: penalty-nts works in 2D or 3D, not %dD", in->name, in->dim);
-  if (!face_type_fits(slave->cell_type, in->dim) || (master && !face_type_fits(master->cell_type, in->dim)))
-    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/TRI6/QUAD4/"
-                      "QUAD8/QUAD9 in 3D", in->name);
-  /* A uniform pressure puts tensile consistent loads (-1/12 of the face area) on QUAD8 corners, which a penalty node
-   * cannot carry: measured on the 3D patch test with hex20, every corner opened by 4e-4 while the edge nodes
-   * penetrated 1e-6, and the pressures ranged over 6 ... 21 for p = 10. */
-  if (slave->cell_type == SK_QUAD8)
-    return api->error(host, SK_ERR_INPUT,
-                      "%s: penalty-nts cannot use QUAD8 (hex20) slave faces: their corner nodes would need tensile "
-                      "contact forces under a uniform pressure. Use hex27 (QUAD9 faces: mesh.serendipity false), or "
-                      "make the QUAD8 surface the master", in->name);
+  char reason[300];
+  if (faces_refused(slave->name, slave->cell_type, master != NULL, master ? master->cell_type : SK_POINT1, in->dim,
+                    reason, sizeof reason))
+    return api->error(host, SK_ERR_INPUT, "%s: %s", in->name, reason);
 
-  SK_TRY(read_positive(in, "penalty", 1, 0.0, &in->penalty));
+  SK_TRY(api->param_int(host, "area_weighted", 0, 1, &in->area_weighted));
+  if (in->area_weighted != 0 && in->area_weighted != 1)
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
+                      in->name, in->area_weighted);
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &in->mu));
   if (!(in->mu >= 0.0) || !isfinite(in->mu))
     return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'mu' must be a finite number >= 0, got %g",
                       in->name, in->mu);
-  if (in->mu > 0.0) SK_TRY(read_positive(in, "penalty_tangential", 1, 0.0, &in->penalty_t));
-  else SK_TRY(api->param_double(host, "penalty_tangential", 0, in->penalty, &in->penalty_t));
-  SK_TRY(api->param_int(host, "area_weighted", 0, 1, &in->area_weighted));
+  SK_TRY(read_penalties(in));
   SK_TRY(api->param_double(host, "master_extension", 0, 0.1, &in->extension));
   if (!(in->extension >= 0.0 && in->extension <= 0.5))
     return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'master_extension' must be in [0, 0.5], got %g",
                       in->name, in->extension);
-  if (in->area_weighted != 0 && in->area_weighted != 1)
-    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
-                      in->name, in->area_weighted);
 
   /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
   double mean_size = 0.0;
@@ -1059,6 +1083,7 @@ static const sk_plugin pnts_plugin = {
     .reject_step = pnts_reject_step,
     .report = pnts_report,
     .points = pnts_points,
+    .check = pnts_check,
 };
 
 PNTS_EXPORT const sk_plugin *stickslip_plugin_entry(void);

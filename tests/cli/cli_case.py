@@ -65,11 +65,12 @@ class Case:
             f.write(text)
         return path
 
-    def run(self, *args, env=None):
+    def run(self, *args, env=None, timeout=60):
         full_env = dict(os.environ)
         full_env.pop("STICKSLIP_PLUGIN_PATH", None)
         full_env.update(env or {})
-        proc = subprocess.run([BIN, *args], capture_output=True, text=True, env=full_env, timeout=60, cwd=self.dir)
+        proc = subprocess.run([BIN, *args], capture_output=True, text=True, env=full_env, timeout=timeout,
+                              cwd=self.dir)
         self.proc = proc
         print("$ stickslip %s\nexit %d\nstdout: %s\nstderr: %s" % (" ".join(args), proc.returncode,
                                                                     proc.stdout.strip(), proc.stderr.strip()))

@@ -38,6 +38,11 @@ typedef struct {
 sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_group *body, int body_index,
                            sk_surface *surface);
 void sk_surface_free(sk_surface *surface);
+/* Sizes of a surface at positions X_nodes (`stride` entries per node of the surface's numbering: 3 for the mesh's
+ * coordinates): corner-to-corner edge lengths (min, mean and max over every face's edges; a 2D face is one edge,
+ * mid-side nodes do not split it) and the total area (3D) or length (2D). The sizes stickslip.scene.v1 reports. */
+void sk_surface_sizes(const sk_surface *surface, const double *X_nodes, int stride, double *h_min, double *h_mean,
+                      double *h_max, double *measure);
 
 /* ---- covariant geometry at a surface point ------------------------------------------------------------------ */
 /* sk_surface_point (plugin_types.h, part of the plugin ABI): core functions fill every member and ignore

@@ -840,9 +840,8 @@ static void expect_create_error(const char *what, const char *key, double value,
 }
 
 static void test_parameter_errors(void) {
-  expect_create_error("missing penalty", NULL, 0, NULL, 0, "penalty");
   expect_create_error("negative penalty", "penalty", -1.0, NULL, 0, "'penalty'");
-  expect_create_error("friction without tangential penalty", "penalty", 1.0, "mu", 0.2, "penalty_tangential");
+  expect_create_error("negative tangential penalty", "mu", 0.2, "penalty_tangential", -1.0, "'penalty_tangential'");
   expect_create_error("negative mu", "penalty", 1.0, "mu", -0.2, "'mu'");
   expect_create_error("bad area_weighted", "penalty", 1.0, "area_weighted", 2, "'area_weighted'");
   expect_create_error("negative margin", "penalty", 1.0, "search_margin", -1, "'search_margin'");
@@ -856,6 +855,48 @@ static void test_parameter_errors(void) {
                   SK_CAP_RIGID_OBSTACLE | SK_CAP_DEFORMABLE_MASTER;
   SK_CHECK((pl->caps & need) == need);
   SK_CHECK((pl->caps & (SK_CAP_MULTIPLIERS | SK_CAP_ENERGY_MOMENTUM)) == 0);
+}
+
+/* The penalties computed from the scene when it gives none (docs/plugins/penalty-nts.md#defaults): 10 E* / h on linear
+ * slave faces, 100 E* / h on quadratic ones, E* of the pair (a rigid obstacle adds no compliance), h the slave surface's
+ * mean edge; times the mean tributary length per node without area weighting; eps_T = eps_N; given values win. */
+static double computed_penalty(sk_elem_type slave_type, int obstacle, const char *key, double value, const char *key2,
+                               double value2, const char *which) {
+  const double X[] = {1.0, 0.0, -1.0, 0.0, 0.0, 0.1, 0.5, 0.1, 0.25, 0.1};
+  const int master[] = {0, 1}, slave[] = {2, 3, 4};
+  scene s;
+  scene_init(&s, 2, 5, X);
+  if (obstacle) {
+    sk_obstacle plane = {.kind = SK_OBSTACLE_PLANE, .normal = {0, 1, 0}};
+    scene_obstacle(&s, &plane);
+  } else {
+    scene_master(&s, SK_LINE2, 2, 1, master);
+  }
+  scene_slave(&s, slave_type, slave_type == SK_LINE3 ? 3 : 2, 1, slave);
+  kit_material(&s.k, 0, 1000.0, 0.3);
+  kit_material(&s.k, 1, 1.0e6, 0.3);
+  if (key) scene_param(&s, key, value);
+  if (key2) scene_param(&s, key2, value2);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  const double computed = kit_computed(&s.k, which);
+  scene_destroy(&s);
+  return computed;
+}
+
+static void test_computed_defaults(void) {
+  const double pair = 1.0 / (0.91 / 1000.0 + 0.91 / 1.0e6), rigid = 1000.0 / 0.91, h = 0.5;
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, NULL, 0, NULL, 0, "penalty"), 10.0 * pair / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 1, NULL, 0, NULL, 0, "penalty"), 10.0 * rigid / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE3, 0, NULL, 0, NULL, 0, "penalty"), 100.0 * pair / h, 1e-12);
+  /* a nodal stiffness: times the slave's length per node (0.5 over 2 nodes) */
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "area_weighted", 0, NULL, 0, "penalty"), 10.0 * pair / h * 0.25,
+                 1e-12);
+  /* the tangential penalty follows the normal one, computed or given; frictionless it is not reported */
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "mu", 0.3, NULL, 0, "penalty_tangential"), 10.0 * pair / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "mu", 0.3, "penalty", 5.0, "penalty_tangential"), 5.0, 1e-12);
+  SK_CHECK(isnan(computed_penalty(SK_LINE2, 0, NULL, 0, NULL, 0, "penalty_tangential")));
+  /* a given value wins and nothing is reported */
+  SK_CHECK(isnan(computed_penalty(SK_LINE2, 0, "penalty", 5.0, NULL, 0, "penalty")));
 }
 
 /* A rejected step leaves the committed history alone: redoing it gives the same tractions. */
@@ -1170,6 +1211,7 @@ int main(void) {
   test_master_extension();
   test_kinked_master_selection();
   test_parameter_errors();
+  test_computed_defaults();
   test_reject_keeps_history();
   test_tri6_master();
   test_tri6_slave();
