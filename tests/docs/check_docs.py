@@ -116,7 +116,7 @@ def vtu_contact_fields(c):
     obstacles') against the field table of docs/user-guide.md, both ways. mortar-dual on the block: a plugin with
     friction and multipliers, so that every optional field is written."""
     results, _ = run(BASE_SCENE, "--steps", "2", "--set", "contact.0.plugin=mortar-dual", "--set",
-                     "contact.0.strategy=saddle-point", "--set", "contact.0.parameters={mu: 0.3}")
+                     "contact.0.strategy=saddle-point", "--replace", "contact.0.parameters={mu: 0.3}")
     documented = {name for name, _ in column_table("contact.pvd and contact-NNNNNN.vtu")}
     folder = results.folder
     body = [n for n in vtu_arrays(os.path.join(folder, "step-000002.vtu"), "PointData") if n.startswith("contact_")]
