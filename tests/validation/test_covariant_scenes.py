@@ -186,7 +186,7 @@ def ks_parabolic(c):
 def ks_spiral(c):
     """6.3, Table 5: pressing and the first 20 spiral steps. Case 1 (without the curvature part; STAS has none, so the
     full tangent): the paper 9, 8, 5, then 4 per step (90); ours 7, 5, then 3-4 (76): at most the paper's 4 from step
-    4 on. Case 2 (only the main matrix): the paper 10, then 13 per step (254); the printed main matrix
+    4 on (with eps 2.1e6 instead of the scene's 2.1e5, 4 in 16 of steps 4-20 and 89 in all: docs). Case 2 (only the main matrix): the paper 10, then 13 per step (254); the printed main matrix
     (tangent_form: paper) takes 14, then 13 in every step (261): the paper's 13 in steps 2-18 (its 12 and 11 in steps
     19, 20 are 13 here). The exact form's main part converges in 4-5 per step: it differentiates the ray through the
     obstacle's normal, which the printed n (x) n does not (docs)."""
