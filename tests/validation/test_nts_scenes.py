@@ -1,6 +1,6 @@
 """Validation of the nts-augmented plugin (Franke, Hesch & Betsch 2013) through the driver: the Table I two-element
-scene (scenes/two-elements.yaml) and the coarse two-tori impact (scenes/two-tori-coarse.yaml: the first 12 steps, and
-the full 500-step run, ~100 s).
+scene (scenes/two-elements.yaml) and the coarse two-tori impact (scenes/two-tori-coarse.yaml: the first 8 steps, the
+first 20 with friction, and the full 500-step run, ~100 s).
 Usage: python3 test_nts_scenes.py CASE (see CASES at the bottom); exit code 0 when every check holds."""
 import math
 import re
