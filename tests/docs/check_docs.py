@@ -151,6 +151,8 @@ def documented_keys():
     keys = []
     for headings, lead, rows in tables:
         section = headings.get(2, "")
+        if headings.get(3) == "Defaults computed from the scene":
+            continue  # rows of plugins and their parameters (checked by the plugins), not scene keys
         if section == "Top level":
             prefix = ""
         else:
