@@ -11,12 +11,13 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 
 from . import errors, report
-from .measure import read_results, run_measured, summary_fields
+from .measure import add_outcome, read_results, run_measured
 
 DESCRIPTION = """Runs every combination of the --vary values on SCENE (one `stickslip run` per variant, --jobs at once),
 then tabulates per variant: status, steps, Newton iterations, step cuts, CPU and wall time, and the error against a
 reference run or a closed form. Writes OUT/compare.csv, OUT/compare.md (also printed) and OUT/compare.png (time
-against error, gnuplot), and each variant's results folder under OUT/runs/.
+against error, gnuplot: with two or more --vary keys the last one runs along the curves, e.g. one curve per plugin
+over the refinements; the grey line is the Pareto front), and each variant's results folder under OUT/runs/.
 
 Every variant is first checked with `stickslip check` (the scene's own key and value checking), so a misspelt key or a
 value a plugin refuses stops the comparison before anything runs."""
@@ -168,14 +169,7 @@ def run_variant(binary, scene, variant, folder, timeout):
     cmd = [binary, "run", scene, "--out", results_dir, "--quiet", *variant["args"]]
     record = {"label": variant["label"], "values": variant["values"], "folder": folder, "command": cmd}
     record.update(run_measured(cmd, os.path.join(folder, "stderr.txt"), timeout))
-    results = read_results(results_dir)
-    if results is not None:
-        record.update(summary_fields(results))
-    else:
-        record["status"] = "timeout" if record["timed_out"] else "no-results"
-        with open(os.path.join(folder, "stderr.txt")) as f:
-            record["message"] = f.read()[-500:].strip()
-    return record, results
+    return record, add_outcome(record, results_dir, os.path.join(folder, "stderr.txt"))
 
 
 def finest(records):
@@ -215,7 +209,17 @@ def measure_errors(records, results, measure, variables, reference, reference_in
 
 TABLE = [("#", "index", "%d"), ("variant", "label", "%s"), ("status", "status", "%s"), ("steps", "steps", "%d"),
          ("Newton its", "newton_iterations", "%d"), ("cuts", "step_cuts", "%d"), ("unknowns", "unknowns", "%d"),
-         ("CPU s", "cpu_seconds", "%.3g"), ("wall s", "wall_seconds", "%.3g"), ("error", "error", "%.3e")]
+         ("CPU s", "cpu_seconds", "%.3g"), ("wall s", "wall_seconds_outside", "%.3g"), ("error", "error", "%.3e")]
+
+
+def curve_label(record):
+    """The plot's curve of a variant: with two or more --vary keys, the last one runs along each curve (e.g. the
+    refinement along one curve per plugin); with one, every variant is its own point."""
+    keys = list(record["values"])
+    if len(keys) < 2:
+        return record["label"]
+    names = short_names(keys)
+    return " ".join("%s=%s" % (n, record["values"][k]) for n, k in zip(names[:-1], keys[:-1]))
 
 
 def write_outputs(out, records, scene, error_label, time_key):
@@ -223,11 +227,13 @@ def write_outputs(out, records, scene, error_label, time_key):
         w = csv.writer(f)
         keys = list(records[0]["values"]) if records else []
         w.writerow(["index", "label", *keys, "status", "steps", "newton_iterations", "step_cuts", "unknowns",
-                    "cpu_seconds", "wall_seconds", "max_rss_mb", "error", "error_note", "folder"])
+                    "cpu_seconds", "wall_seconds_outside", "wall_seconds", "max_rss_mb", "error", "error_note",
+                    "folder"])
         for r in records:
             w.writerow([r["index"], r["label"], *[r["values"][k] for k in keys],
                         *[report.cell(r.get(c)) for c in ("status", "steps", "newton_iterations", "step_cuts",
-                                                           "unknowns", "cpu_seconds", "wall_seconds", "max_rss_mb",
+                                                           "unknowns", "cpu_seconds", "wall_seconds_outside",
+                                                           "wall_seconds", "max_rss_mb",
                                                            "error", "error_note")], r["folder"]])
     rows = []
     for r in records:
@@ -246,7 +252,7 @@ def write_outputs(out, records, scene, error_label, time_key):
         f.write(text)
     plotted = report.plot(os.path.join(out, "compare.png"), "%s: time against error" % os.path.basename(scene),
                           "CPU seconds" if time_key == "cpu_seconds" else "wall seconds", error_label,
-                          records, x=time_key, y="error")
+                          [dict(r, label=curve_label(r)) for r in records], x=time_key, y="error")
     return text, plotted
 
 
@@ -277,8 +283,9 @@ def parse_arguments(argv):
     p.add_argument("--out", metavar="DIR",
                    help="where the table, the plot and the runs go (default: compare-<scene name>); replaced")
     p.add_argument("--time", choices=("cpu", "wall"), default="cpu",
-                   help="the time axis of the plot: the run's CPU time (child processes included; default) or its "
-                        "wall time (summary.json)")
+                   help="the time axis of the plot: the CPU time of the whole `stickslip run` process (meshing and "
+                        "child processes included; default) or its wall time (both measured from outside; with "
+                        "--jobs above 1 or on a busy machine wall times include waiting)")
     p.add_argument("--timeout", type=float, default=3600.0, metavar="SECONDS",
                    help="a variant running longer is stopped and reported as timeout (default 3600)")
     p.add_argument("--binary", metavar="PATH", help="the stickslip driver to run (default: the one running this)")
@@ -313,7 +320,7 @@ def compare(args):
     else:
         measure, variables = reference_measure(args.error)
         error_label = {"final_positions": "max nodal position difference at the end against the reference"}.get(
-            measure, "max_t |%s - reference| / max_t |reference|" % ", ".join(variables.get("columns", [])))
+            measure, "max_t |F - F_ref| / max_t |F_ref|, F = (%s)" % ", ".join(variables.get("columns", [])))
     reference_run = None
     if args.reference_run:
         reference_run = read_results(args.reference_run)
@@ -366,7 +373,7 @@ def compare(args):
         measure_errors(records, results, measure, variables, reference, reference_index)
 
     text, plotted = write_outputs(out, records, args.scene, error_label,
-                                  "cpu_seconds" if args.time == "cpu" else "wall_seconds")
+                                  "cpu_seconds" if args.time == "cpu" else "wall_seconds_outside")
     print()
     print(text)
     print("written: %s%s" % (", ".join(os.path.join(out, f) for f in ("compare.csv", "compare.md")),

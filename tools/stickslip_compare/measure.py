@@ -57,3 +57,16 @@ def read_results(folder):
 def summary_fields(results):
     """summary.json's counters (SUMMARY_KEYS) of a finished run."""
     return {k: results.summary.get(k) for k in SUMMARY_KEYS if k in results.summary}
+
+
+def add_outcome(record, results_dir, stderr_path):
+    """Adds what a finished child left to its record: summary.json's counters, or (no results) status timeout or
+    no-results with the end of its stderr as the message. Returns the Results or None."""
+    results = read_results(results_dir)
+    if results is not None:
+        record.update(summary_fields(results))
+    else:
+        record["status"] = "timeout" if record["timed_out"] else "no-results"
+        with open(stderr_path) as f:
+            record["message"] = f.read()[-500:].strip()
+    return results

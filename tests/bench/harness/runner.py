@@ -11,7 +11,7 @@ import sys
 from declarations import BIN, ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from stickslip_compare.measure import read_results, run_measured, summary_fields  # noqa: E402
+from stickslip_compare.measure import add_outcome, read_results, run_measured, summary_fields  # noqa: E402
 
 OUT = os.environ.get("STICKSLIP_BENCH_OUT", os.path.join(ROOT, "results", "bench"))
 
@@ -67,13 +67,7 @@ def execute(run, group, timeout, fresh=False, binary=BIN, log=print):
         "label": run.label, "values": run.values, "tag": run.tag, "command": cmd[1:], **cost,
         "folder": folder, "commit": COMMIT,
     }
-    results = read_results(results_dir)
-    if results is not None:
-        record.update(summary_fields(results))
-    else:
-        record["status"] = "timeout" if cost["timed_out"] else "no-results"
-        with open(os.path.join(folder, "stderr.txt")) as f:
-            record["message"] = f.read()[-500:].strip()
+    results = add_outcome(record, results_dir, os.path.join(folder, "stderr.txt"))
     save(record)
     return record, results
 
