@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "mpi_start.h"
+#include "tools.h"
 #include "stickslip/bridge.h"
 #include "stickslip/fe.h"
 #include "stickslip/interrupt.h"
@@ -36,6 +37,9 @@ static void usage_main(FILE *out) {
           "  check SCENE.yaml   validate a scene (YAML, meshes, groups, plugins, parameters) without running\n"
           "  keys SCENE.yaml    list every key of the scene with its value or default, unit and origin\n"
           "  plugins            list the plugins found, with their capabilities, strategies and parameters\n"
+          "  compare SCENE.yaml --vary KEY=A,B ...\n"
+          "                     run variants of a scene (plugins, strategies, parameters), tabulate and plot their\n"
+          "                     cost against their error\n"
           "\n"
           "`stickslip <command> --help` (or `stickslip help <command>`) tells more. Documentation: docs/user-guide.md,\n"
           "docs/scene-reference.md\n",
@@ -394,13 +398,15 @@ int main(int argc, char **argv) {
     code = command_scene(argc, argv, COMMAND_KEYS);
   } else if (strcmp(argv[1], "plugins") == 0) {
     code = command_plugins(argc, argv);
+  } else if (strcmp(argv[1], "compare") == 0) {
+    code = sk_driver_exec_tool("stickslip-compare", argc, argv);
   } else {
-    static const char *const words[] = {"run", "check", "keys", "plugins", "help", "--help", "--version"};
+    static const char *const words[] = {"run", "check", "keys", "plugins", "compare", "help", "--help", "--version"};
     sk_closest closest = SK_CLOSEST_NONE;
     for (size_t k = 0; k < sizeof words / sizeof words[0]; ++k) sk_closest_offer(&closest, argv[1], words[k]);
     if (rank_of_world() == 0)
       fprintf(stderr, "stickslip: unknown command '%s'%s%s%s; see stickslip --help\n", argv[1],
-              closest.best ? " (did you mean '" : " (commands: run, check, keys, plugins)",
+              closest.best ? " (did you mean '" : " (commands: run, check, keys, plugins, compare)",
               closest.best ? closest.best : "", closest.best ? "'?)" : "");
     code = 1;
   }

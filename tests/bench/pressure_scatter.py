@@ -29,7 +29,7 @@ BINS = 8
 def split_error(results, bench):
     e = errors.hertz_profile(results, bench, None, None)
     a, p0 = e["a"], e["p0"]
-    points, _ = errors.reference_positions(results, True, None)
+    points, _ = errors.reference_positions(results, True)
     inside = [(r, p, g) for r, p, g in points if r < errors.PROFILE_RANGE * a]
     bins = {}
     for r, p, _ in inside:

@@ -86,7 +86,7 @@ def command_line_mistakes(c):
     mistakes = [
         (["chek", block], r"^stickslip: unknown command 'chek' \(did you mean 'check'\?\); see stickslip --help$"),
         (["--verison"], r"^stickslip: unknown command '--verison' \(did you mean '--version'\?\)"),
-        (["frobnicate"], r"^stickslip: unknown command 'frobnicate' \(commands: run, check, keys, plugins\)"),
+        (["frobnicate"], r"^stickslip: unknown command 'frobnicate' \(commands: run, check, keys, plugins, compare\)"),
         (["run", block, "--stepz", "2"], r"^stickslip run: unknown option '--stepz' \(did you mean '--steps'\?\); "
                                          r"see stickslip run --help$"),
         (["run", block, "--plugn=mortar-dual"], r"^stickslip run: unknown option '--plugn=mortar-dual' \(did you "

@@ -256,6 +256,9 @@ def load_declarations():
 
 def installed_plugins(binary=BIN):
     """{name: {"strategies": [...], "capabilities": [...]}} from `stickslip plugins` (the listing users read)."""
+    if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        raise DeclarationError("no stickslip driver at %s: build it (scripts/build.sh), or name one with --binary "
+                               "or STICKSLIP_BIN" % binary)
     proc = subprocess.run([binary, "plugins"], capture_output=True, text=True)
     plugins, current = {}, None
     for line in proc.stdout.splitlines():
