@@ -289,7 +289,7 @@ def strategy_names(c):
 
 # Words that narrate the making of the project rather than describe it.
 NARRATION = re.compile(r"\bsessions?\b(?! ?-?(?:stat|start|id\b))|\bwork periods?\b|\bengineers?\b|\bcoordinator\b|"
-                       r"\bthis round\b|\bwe measured\b|shared/notes|/work/shared|\.\./shared", re.I)
+                       r"\bthis round\b|\bwe measured\b|shared/notes|shared/seeds|/work/shared|\.\./shared", re.I)
 
 
 def no_narration(c):
