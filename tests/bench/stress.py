@@ -247,7 +247,7 @@ def document(case, records, notes, ladder, short=False):
         text.append("- skipped: " + n)
     if short:
         text += ["", "The short (CI) pass only, the plugins' default strategies (`python3 tests/bench/stress.py --short "
-                 "--docs %s`); the full sweep was not run in this session." % case.name]
+                 "--docs %s`); the full sweep has not been run with mortar-dual yet." % case.name]
     text += ["", "Measured at %s (CPU times of a loaded machine)." % report.commits(records)]
     report.replace_section("stability.md", "stress-" + case.name, "\n".join(text))
 

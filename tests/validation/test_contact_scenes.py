@@ -1,5 +1,5 @@
 """Validation of the contact scenes with the baseline plugin penalty-nts: Hertz 2D/3D against the closed forms of
-validation.md, the contact patch test, stick/slip of a block on a plane, momentum of the Franke-Hesch-Betsch
+docs/validation.md, the contact patch test, stick/slip of a block on a plane, momentum of the Franke-Hesch-Betsch
 two-element impact, frame indifference and MPI equality. Usage: python3 test_contact_scenes.py CASE (CASES at the
 bottom); exit code 0 when every check holds. Measured numbers are quoted in each check's docstring."""
 import math
