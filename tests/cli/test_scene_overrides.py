@@ -157,7 +157,8 @@ def plugin_switch_runs(c):
     a pair whose file already names the plugin keeps everything (its misspelt key is still an error)."""
     scene = c.write(scene_for(TWO_BLOCKS, "penalty-nts"))
     # the full Newton step: with the quasi-static default (backtracking) mortar-dual stops at step 8 of these two
-    # blocks (||F|| grows from 0.09 to 903 in 25 iterations; docs/linear-solvers.md, "Line search"). This test is about --plugin.
+    # blocks (||F|| grows from 0.09 to 903 in 25 iterations; docs/linear-solvers.md, "Line search"). This test is
+    # about --plugin.
     c.run("run", scene, "--plugin", "mortar-dual", "--set", "contact.0.parameters.c_n=1e4", "--set",
           "solver.newton.line_search=full-step", "--out", c.out, "--quiet")
     c.check(c.proc.returncode == 0, "runs to the end")
