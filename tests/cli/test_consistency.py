@@ -18,7 +18,8 @@ def stopped_runs_say_so(c):
     """The progress line's last words: "failed after N steps" for a failed run, "interrupted after N steps" for a
     run stopped by Ctrl-C, "done, N steps" only for one that finished."""
     failing = replace(replace(BLOCK, "model: hooke", "model: neo-hooke"), "[0, 0, -10]", "[0, 0, -1.0e5]")
-    c.run("run", c.write(failing), "--set", "time.max_cuts=2")
+    # the full Newton step inverts elements under this load (backtracking, the quasi-static default, converges it)
+    c.run("run", c.write(failing), "--set", "time.max_cuts=2", "--set", "solver.newton.line_search=full-step")
     c.check(c.proc.returncode == 1, "the run fails")
     c.check(re.search(r"scene\.yaml: failed after 0 steps, ", c.proc.stderr) is not None, "it says it failed")
     c.check("done" not in c.proc.stderr, "it does not say done")
@@ -39,7 +40,7 @@ def plugin_parameter_errors(c):
     """A bad plugin parameter is reported at its file:line:column (or its --set), naming the pair once."""
     c.run_scene(replace(CONTACT, "{penalty: 1.0e4}", "{penalty: -1.0e4}"), command="check")
     c.expect_failure(r"^stickslip: \S*scene\.yaml:14:27: contact pair 'floor' \(plugin penalty-nts\): "
-                     r"penalty-nts parameter 'penalty' must be a finite number > 0")
+                     r"parameter 'penalty' must be a finite number > 0")
     c.check(c.proc.stderr.count("floor") == 1, "the pair is named once")
     c.run_scene(CONTACT, "--set", "contact.0.parameters.penalty=0", command="check")
     c.expect_failure(r"^stickslip: --set contact\.0\.parameters\.penalty: contact pair 'floor' "
