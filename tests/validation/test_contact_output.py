@@ -37,6 +37,12 @@ SLIDES = {
     "corotational": ("scenes/corot-ball-on-plane-friction.yaml", [], 0.2),  # lands sliding: no stick to flip from
 }
 STICKS_FIRST = {SLIDE_3D}
+
+
+def overrides(sets):
+    """Command-line options for KEY=VALUE overrides: a pair's whole parameter map replaces the scene's (--set of a map
+    would merge into it), everything else is --set."""
+    return [a for s in sets for a in ("--replace" if s.startswith("contact.0.parameters=") else "--set", s)]
 VTU_EVERY = 2
 
 
@@ -169,7 +175,7 @@ def check_vtu_fields(c, results, plugin):
 def slide(plugin):
     def case(c):
         scene, sets, mu = SLIDES[plugin]
-        args = [a for s in sets + ["output.vtu_every=%d" % VTU_EVERY] for a in ("--set", s)]
+        args = overrides(sets + ["output.vtu_every=%d" % VTU_EVERY])
         results, _ = run(scene, *args)
         c.check(results.summary["status"] == "ok", "%s: the run succeeds" % plugin)
         check_time_series(c, results, plugin)
@@ -205,7 +211,7 @@ HERTZ = {
 def hertz(name):
     def case(c):
         dim, scene, sets, bound = HERTZ[name]
-        results, _ = run(scene, *[a for s in sets for a in ("--set", s)])
+        results, _ = run(scene, *overrides(sets))
         load, a, p0 = hertz_reference(dim, results)
         errors = profile_errors(reference_points(results, radial=dim == 3), a, p0)
         print("%s: load %.6g, a %.5g, p0 %.5g; errors %s" % (name, load, a, p0, ", ".join(
@@ -224,7 +230,7 @@ def hertz(name):
 def contact_output_mpi(c):
     """The block slide with penalty-nts on 1 and 2 ranks: the same contact.csv and contact fields to round-off."""
     scene, sets, _ = SLIDES["penalty-nts"]
-    args = [a for s in sets + ["output.vtu_every=10"] for a in ("--set", s)]
+    args = overrides(sets + ["output.vtu_every=10"])
     one, _ = run(scene, *args)
     two, _ = run(scene, *args, np=2)
     c.check(two.summary["ranks"] == 2, "the second run used 2 ranks")
