@@ -202,7 +202,7 @@ def mortar_hertz_2d(c):
     c.check(b - 0.05 < edge < b < free, "contact edge between the nodes %.4f and %.4f around b = %.4f"
             % (edge, free, b))
     loaded, _ = run(HERTZ_2D, "--set", "output.vtu_every=0",
-                    "--set", "boundary.0={name: top, group: cylinder-top, resultant: [0, %.10g], history: [[0, 0], "
+                    "--replace", "boundary.0={name: top, group: cylinder-top, resultant: [0, %.10g], history: [[0, 0], "
                     "[1, 1]]}" % (-HERTZ_2D_F / 2))
     F = 2 * abs(loaded.rows[-1]["contact_force_y"])  # a prescribed load has no reaction column
     points = loaded.contact_points()

@@ -131,7 +131,7 @@ def hertz():
         r, _ = run("hertz-" + name, HERTZ, *args)
         F, b, p0, l2, _ = hertz_2d_profile(r)
         print("  %s: F = %.2f N/mm (thesis %.2f), b(F) = %.4f, l2 error %.2e" % (name, F, HERTZ_2D_F, b, l2))
-    r, _ = run("hertz-thesis-load", HERTZ, "--set", "boundary.0={name: top, group: cylinder-top, resultant: "
+    r, _ = run("hertz-thesis-load", HERTZ, "--replace", "boundary.0={name: top, group: cylinder-top, resultant: "
                "[0, %.10g], history: [[0, 0], [1, 1]]}" % (-HERTZ_2D_F / 2), "--set", "output.contact_csv=true")
     p0, b = ellipse_fit(r.contact_points())
     print("  the thesis's load: fitted b = %.5f, p0 = %.3f, centre %.3f"
