@@ -18,7 +18,7 @@ def stopped_runs_say_so(c):
     """The progress line's last words: "failed after N steps" for a failed run, "interrupted after N steps" for a
     run stopped by Ctrl-C, "done, N steps" only for one that finished."""
     failing = replace(replace(BLOCK, "model: hooke", "model: neo-hooke"), "[0, 0, -10]", "[0, 0, -1.0e5]")
-    # the full Newton step inverts elements under this load (backtracking, the quasi-static default, converges it)
+    # the full Newton step (named: backtracking converges this load) inverts elements
     c.run("run", c.write(failing), "--set", "time.max_cuts=2", "--set", "solver.newton.line_search=full-step")
     c.check(c.proc.returncode == 1, "the run fails")
     c.check(re.search(r"scene\.yaml: failed after 0 steps, ", c.proc.stderr) is not None, "it says it failed")

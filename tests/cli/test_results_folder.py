@@ -32,7 +32,7 @@ def failed_run_keeps_results(c):
     """Item 5: a run that fails (0 steps) next to finished results goes to DIR.incomplete; DIR is kept."""
     before = good_run(c, c.out)
     c.run("run", c.write(failing(BLOCK)), "--out", c.out, "--quiet", "--set", "time.max_cuts=2", "--set",
-          "solver.newton.line_search=full-step")  # backtracking, the quasi-static default, converges this load
+          "solver.newton.line_search=full-step")  # named: backtracking converges this load
     c.expect_failure(r"no convergence", r"results up to t = 0 \(step 0\) are in .*results\.incomplete",
                      r"the results already in .*results were kept", out_created=True)
     c.check(open(os.path.join(c.out, "history.csv")).read() == before, "the good results are untouched")

@@ -7,10 +7,10 @@
 - iterative_equals_direct: a contact run whose systems keep their multiplier rows (scenes/two-elements.yaml,
   nts-augmented `augmented`, the first 25 midpoint steps: contact in steps 13-21) gives with GMRES + MueLu and GMRES + SGS (multiplier rows through
   their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances;
-- default_line_search: a quasi-static scene without `line_search` gets the backtracking line search (a punch pressed
-  and dragged with friction, nts-augmented, tests/bench/line-search/punch-2d.yaml: it runs to the end, where the full
-  step fails in step 1, as it did by default before), a dynamic one the full step (two-elements, 25 midpoint steps:
-  the history of `full-step`, digit for digit) (issue 31; docs/linear-solvers.md, "Line search").
+- line_search_choice: the backtracking line search runs a punch pressed and dragged with friction (nts-augmented,
+  tests/bench/line-search/punch-2d.yaml) to the end, where the full step fails in step 1; a scene without
+  `line_search` gets the full step (two-elements, 25 midpoint steps: the history of `full-step`, digit for digit)
+  (docs/linear-solvers.md, "Line search": why the full step stays the default).
 Usage: python3 test_solver_failures.py CASE."""
 import os
 import re
@@ -59,17 +59,16 @@ def iterative_fallback(c):
             "the contact force equals the direct run's to %.1e relative" % (worst / scale))
 
 
-def default_line_search(c):
+def line_search_choice(c):
     punch = os.path.join(ROOT, "tests", "bench", "line-search", "punch-2d.yaml")
     args = ("--quiet", "--plugin", "nts-augmented", "--set", "contact.0.parameters={mu: 0.3, epsilon_t: 1.0e+5}")
     full_out = os.path.join(c.dir, "full-step")
-    c.run("run", punch, *args, "--out", c.out)
+    c.run("run", punch, *args, "--out", c.out, "--set", "solver.newton.line_search=backtrack")
     c.run("run", punch, *args, "--out", full_out, "--set", "solver.newton.line_search=full-step")
     s, full = read_summary(c.out), read_summary(full_out)
     c.check(s["status"] == "ok" and s["final_time"] == 2,
-            "quasi-static default: the punch runs to t = 2 (got %s at t = %s)" % (s["status"], s["final_time"]))
-    c.check(full["status"] == "failed", "with the full step it fails (got %s): the default is not the full step"
-            % full["status"])
+            "backtrack: the punch runs to t = 2 (got %s at t = %s)" % (s["status"], s["final_time"]))
+    c.check(full["status"] == "failed", "with the full step it fails (got %s)" % full["status"])
     scene = os.path.join(ROOT, "scenes", "two-elements.yaml")
     dynamic_full = os.path.join(c.dir, "dynamic-full-step")
     dynamic_default = os.path.join(c.dir, "dynamic-default")
@@ -78,7 +77,7 @@ def default_line_search(c):
     def history(folder):  # every column but the wall clock
         return [{k: v for k, v in row.items() if k != "wall_seconds"} for row in read_history(folder)]
     a, b = history(dynamic_default), history(dynamic_full)
-    c.check(len(a) == 26 and a == b, "dynamic default: the full step's history, digit for digit")
+    c.check(len(a) == 26 and a == b, "default: the full step's history, digit for digit")
 
 
 def iterative_equals_direct(c):
@@ -111,7 +110,7 @@ def iterative_equals_direct(c):
                 % (solver, inexact, worst / scale, bound))
 
 
-CASES = {f.__name__: f for f in [roundoff_floor, iterative_fallback, iterative_equals_direct, default_line_search]}
+CASES = {f.__name__: f for f in [roundoff_floor, iterative_fallback, iterative_equals_direct, line_search_choice]}
 
 if __name__ == "__main__":
     main(CASES)
