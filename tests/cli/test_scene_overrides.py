@@ -333,10 +333,21 @@ def keys_listing(c):
     origin_column = header.index("origin")
     c.check(rows["time.end"].index("scene.yaml") - len(c.dir) - 1 == origin_column and
             rows["time.start"].index("default") == origin_column, "origins start in the origin column")
-    plugin_row = rows.get("bodies[0].plugin", "")
-    c.check(re.search(r"^bodies\[0\]\.plugin +\(none: the core integrates the body\) {2,}default$", plugin_row)
-            is not None and plugin_row.rindex("default") == origin_column,
-            "a value longer than its column takes the empty unit's room, its origin in the origin column")
+    # Every origin starts in the origin column, or two spaces after a longer value that took the unit's room: the
+    # rule holds whatever the paths in the value column (a checkout's location changes their length).
+    misplaced = []
+    for key, line in rows.items():
+        found = re.search(r"  (default|\S*scene\.yaml:\d+:\d+|--set )", line[len(key):])
+        if found is None:
+            misplaced.append(key)
+            continue
+        start = len(key) + found.start(1)
+        before = len(line[:start].rstrip())
+        if start != (origin_column if before <= origin_column - 2 else before + 2):
+            misplaced.append(key)
+    c.check(not misplaced, "origins in the origin column or two spaces after a longer value (%s)" % misplaced[:5])
+    c.check(re.search(r"^bodies\[0\]\.plugin +\(none: the core integrates the body\) {2,}default$",
+                      rows.get("bodies[0].plugin", "")) is not None, "a value longer than its column is printed whole")
     c.run("keys", scene, "--plugin", "mortar-dual")
     c.check(c.proc.returncode == 0 and "contact[0].parameters.c_n" in c.proc.stdout and
             "parameters.penalty " not in c.proc.stdout, "with --plugin mortar-dual: mortar-dual's parameters")
