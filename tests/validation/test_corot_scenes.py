@@ -118,6 +118,7 @@ def ball_on_plane(c, model=1, friction=False, strategy="monolithic"):
     if friction:
         c.check(rows[-1]["w"] < 0 < rows[0]["w"], "friction reverses the spin: theta' %.4g -> %.4g"
                 % (rows[0]["w"], rows[-1]["w"]))
+    return res, rows
 
 
 def corot_ball_on_plane_model1(c):
@@ -128,8 +129,36 @@ def corot_ball_on_plane_model2(c):
     ball_on_plane(c, 2)
 
 
+def spin_rate(res, v0_x, omega0):
+    """A run's rotation rate about its centre of mass at the last step, J_c / I: J_c = J - x_c x P, the centre moved
+    by the momenta (midpoint rule, mass P_x(0) / v0_x) from the origin, and I = J(0) / omega0 (the run starts as a
+    rigid spin omega0 about its centre at the origin)."""
+    rows = res.rows
+    mass = rows[0]["momentum_x"] / v0_x
+    centre = [0.0, 0.0]
+    for a, b in zip(rows, rows[1:]):
+        for i, key in enumerate(("momentum_x", "momentum_y")):
+            centre[i] += b["dt"] * (a[key] + b[key]) / (2 * mass)
+    last = rows[-1]
+    j_centre = last["angular_momentum_z"] - (centre[0] * last["momentum_y"] - centre[1] * last["momentum_x"])
+    return j_centre * omega0 / rows[0]["angular_momentum_z"]
+
+
 def corot_ball_on_plane_friction_model1(c):
-    ball_on_plane(c, 1, True)
+    """Also Fig. 6.8: the paper sees a slightly larger rotation rate after contact with its standard nonlinear scheme
+    than with the co-rotational ones. Our comparison scheme (SVK midpoint, penalty-nts friction) gives a larger one:
+    measured -0.857 against Model 1's -1.086 (the same with eps_t 1e9 or 1e11; -0.889 at dt 0.001), so not slightly
+    (docs/plugins/corotational.md, Against the paper); the direction is checked."""
+    corot, rows = ball_on_plane(c, 1, True)
+    nonlinear, _ = run("scenes/corot-ball-on-plane-nonlinear.yaml", "--set", "contact.0.parameters.mu=0.2")
+    w_corot, w_nonlinear = spin_rate(corot, 40.0, rows[0]["w"]), spin_rate(nonlinear, 40.0, rows[0]["w"])
+    print("  theta' after contact: Model 1 %.4f (its own w %.4f), nonlinear %.4f"
+          % (w_corot, rows[-1]["w"], w_nonlinear))
+    # the two differ by the disk's deformation in I (measured 2.9e-4)
+    c.check(abs(w_corot - rows[-1]["w"]) <= 1e-3 * abs(rows[-1]["w"]),
+            "the rate from the momenta, %.5f, is Model 1's w %.5f" % (w_corot, rows[-1]["w"]))
+    c.check(w_corot < w_nonlinear < 0, "Fig. 6.8: the nonlinear scheme's rate after contact %.4f above Model 1's %.4f"
+            % (w_nonlinear, w_corot))
 
 
 def corot_ball_on_plane_friction_model2(c):
