@@ -65,6 +65,7 @@ struct sk_instance {
   mortar_ncp_params ncp;
   int segment_gauss, cell_rule, face_gauss, max_flips;
   double search_margin, min_cover;
+  double frozen_band; /* concentrated integration: a Gauss point keeps its master face this far beyond its edge */
   double branch_tol;        /* a traction: 1e-8 c_n h (h the slave's mean edge), the round-off band of a branch at a
                                converged point (mortar_ncp_branch_holds) */
 

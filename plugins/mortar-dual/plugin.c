@@ -25,6 +25,9 @@ static const char *const parameters[] = {
     "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
     "there; else 6, exact on parallelograms]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
+    "frozen_band: concentrated integration: how far beyond its edge, in face parameters, a Gauss point keeps the "
+    "master face chosen at the step's start (0.1: 5 % of an edge); 0 chooses again whenever it leaves the face, "
+    "path-independent to round-off at the cost of more Newton runs [0.1]",
     "max_flips: active-set changes of a node within a step before its branch is frozen (semismooth) [8]",
     "min_cover: share of a node's support the master must cover for it to enter contact [0.5]",
     "search_margin: inflation of the search boxes (length) [the mean master edge length]",
@@ -215,6 +218,7 @@ static sk_status read_parameters(sk_instance *inst) {
   const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
   SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : 6, &inst->cell_rule));
   SK_TRY(api->param_int(host, "face_gauss", 0, 5, &inst->face_gauss));
+  SK_TRY(api->param_double(host, "frozen_band", 0, 0.1, &inst->frozen_band));
   SK_TRY(api->param_int(host, "max_flips", 0, 8, &inst->max_flips));
   SK_TRY(api->param_double(host, "min_cover", 0, 0.5, &inst->min_cover));
   const double edge = inst->master ? mean_edge(inst->master) : mean_edge(inst->slave);
@@ -223,14 +227,16 @@ static sk_status read_parameters(sk_instance *inst) {
   if (inst->ncp.mu < 0.0 || !(inst->ncp.c_n > 0.0) || !(inst->ncp.c_t > 0.0) || inst->search_margin < 0.0 ||
       inst->segment_gauss < 1 || inst->segment_gauss > MORTAR_MAX_RULE || inst->face_gauss < 1 ||
       inst->face_gauss > MORTAR_MAX_RULE || mortar_triangle_rule(inst->cell_rule, &dummy_xi, &dummy_w) == 0 ||
-      inst->max_flips < 1 || inst->min_cover < 0.0 || inst->min_cover > 1.0)
+      inst->max_flips < 1 || inst->min_cover < 0.0 || inst->min_cover > 1.0 || !(inst->frozen_band >= 0.0) ||
+      !(inst->frozen_band <= 1.0))
     return api->error(host, SK_ERR_INPUT,
                       "mortar-dual: need mu >= 0, c_n > 0, c_t > 0, search_margin >= 0, 1 <= segment_gauss, face_gauss "
-                      "<= %d, cell_rule in {1, 3, 6, 7, 12}, max_flips >= 1, 0 <= min_cover <= 1 (got mu %g, c_n %g, "
-                      "c_t %g, search_margin %g, segment_gauss %d, face_gauss %d, cell_rule %d, max_flips %d, "
-                      "min_cover %g)",
+                      "<= %d, cell_rule in {1, 3, 6, 7, 12}, max_flips >= 1, 0 <= min_cover <= 1, 0 <= frozen_band "
+                      "<= 1 (got mu %g, c_n %g, c_t %g, search_margin %g, segment_gauss %d, face_gauss %d, cell_rule "
+                      "%d, max_flips %d, min_cover %g, frozen_band %g)",
                       MORTAR_MAX_RULE, inst->ncp.mu, inst->ncp.c_n, inst->ncp.c_t, inst->search_margin,
-                      inst->segment_gauss, inst->face_gauss, inst->cell_rule, inst->max_flips, inst->min_cover);
+                      inst->segment_gauss, inst->face_gauss, inst->cell_rule, inst->max_flips, inst->min_cover,
+                      inst->frozen_band);
   inst->friction = inst->ncp.mu > 0.0;
   /* c_n h is about the modulus (c_n ~ E / h): 1e-8 of it lies far below any pressure the run resolves and above the
    * round-off of z_n and c_n g at a converged point */

@@ -118,6 +118,7 @@ def ball_on_plane(c, model=1, friction=False, strategy="monolithic"):
     if friction:
         c.check(rows[-1]["w"] < 0 < rows[0]["w"], "friction reverses the spin: theta' %.4g -> %.4g"
                 % (rows[0]["w"], rows[-1]["w"]))
+    return res, rows
 
 
 def corot_ball_on_plane_model1(c):
@@ -128,8 +129,36 @@ def corot_ball_on_plane_model2(c):
     ball_on_plane(c, 2)
 
 
+def spin_rate(res, v0_x, omega0):
+    """A run's rotation rate about its centre of mass at the last step, J_c / I: J_c = J - x_c x P, the centre moved
+    by the momenta (midpoint rule, mass P_x(0) / v0_x) from the origin, and I = J(0) / omega0 (the run starts as a
+    rigid spin omega0 about its centre at the origin)."""
+    rows = res.rows
+    mass = rows[0]["momentum_x"] / v0_x
+    centre = [0.0, 0.0]
+    for a, b in zip(rows, rows[1:]):
+        for i, key in enumerate(("momentum_x", "momentum_y")):
+            centre[i] += b["dt"] * (a[key] + b[key]) / (2 * mass)
+    last = rows[-1]
+    j_centre = last["angular_momentum_z"] - (centre[0] * last["momentum_y"] - centre[1] * last["momentum_x"])
+    return j_centre * omega0 / rows[0]["angular_momentum_z"]
+
+
 def corot_ball_on_plane_friction_model1(c):
-    ball_on_plane(c, 1, True)
+    """Also Fig. 6.8: the paper sees a slightly larger rotation rate after contact with its standard nonlinear scheme
+    than with the co-rotational ones. Our comparison scheme (SVK midpoint, penalty-nts friction) gives a larger one:
+    measured -0.857 against Model 1's -1.086 (the same with eps_t 1e9 or 1e11; -0.889 at dt 0.001), so not slightly
+    (docs/plugins/corotational.md, Against the paper); the direction is checked."""
+    corot, rows = ball_on_plane(c, 1, True)
+    nonlinear, _ = run("scenes/corot-ball-on-plane-nonlinear.yaml", "--set", "contact.0.parameters.mu=0.2")
+    w_corot, w_nonlinear = spin_rate(corot, 40.0, rows[0]["w"]), spin_rate(nonlinear, 40.0, rows[0]["w"])
+    print("  theta' after contact: Model 1 %.4f (its own w %.4f), nonlinear %.4f"
+          % (w_corot, rows[-1]["w"], w_nonlinear))
+    # the two differ by the disk's deformation in I (measured 2.9e-4)
+    c.check(abs(w_corot - rows[-1]["w"]) <= 1e-3 * abs(rows[-1]["w"]),
+            "the rate from the momenta, %.5f, is Model 1's w %.5f" % (w_corot, rows[-1]["w"]))
+    c.check(w_corot < w_nonlinear < 0, "Fig. 6.8: the nonlinear scheme's rate after contact %.4f above Model 1's %.4f"
+            % (w_nonlinear, w_corot))
 
 
 def corot_ball_on_plane_friction_model2(c):
@@ -203,9 +232,9 @@ def corot_ball_two_planes(c):
             "falls: %.3f, %.3f, %.3f at dt 0.001, 0.0005, 0.00025" % tuple(e))
 
 
-def both_models(c, scene, end):
+def both_models(c, scene, end, *args):
     """Models 1 and 2 on a frictional scene to t = end, each with its energy and J balances: [(res, rows)] * 2."""
-    runs = [simulate(c, scene, "--set", "time.end=%r" % end, "--set", "bodies.0.parameters.model=%d" % m)
+    runs = [simulate(c, scene, "--set", "time.end=%r" % end, "--set", "bodies.0.parameters.model=%d" % m, *args)
             for m in (1, 2)]
     for m, (res, rows) in zip((1, 2), runs):
         energy_balance(c, res, rows, True)
@@ -218,7 +247,7 @@ def corot_ball_two_planes_models(c):
     while the ball spins freely (both keep the steady spin exactly), and close after the first impact. At dt 0.001 they
     part at the second contact (theta' 1.4 against 7.9 at t = 0.028); at dt 0.0005 they agree through the third
     (measured in docs/plugins/corotational.md, Against the paper): the difference of the lever arms is the co-rotated
-    vibration u - T(u), which the impact's resolution sets."""
+    vibration u - T(u), which the impact's resolution sets. The centres' difference is first order in dt (below)."""
     (_, one), (_, two) = both_models(c, "scenes/corot-ball-two-planes.yaml", 0.024)
     free = [k for k, r in enumerate(one) if r["t"] <= 0.003 + 1e-12]
     d_free = max(max(abs(one[k][q] - two[k][q]) for q in ("theta", "x", "y")) for k in free)
@@ -228,6 +257,15 @@ def corot_ball_two_planes_models(c):
     print("  after the first impact: theta' differs by %.2e relative, the centre by %.2e (radius 1)" % (dw, dx))
     c.check(dw <= 0.02 and dx <= 1e-3, "similar after the first impact (the paper: similar results, small differences "
             "in the translation): theta' within 2 %% (%.2e), centre within 1e-3 of the radius (%.1e)" % (dw, dx))
+    # The translation's difference is the discretisation's: to t = 0.02 (before the second contact) it halves with
+    # dt (measured 2.48e-4, 1.23e-4, 6.2e-5 at dt 0.001, 0.0005, 0.00025), while theta' keeps 1.0 - 1.3 %.
+    (_, one_half), (_, two_half) = both_models(c, "scenes/corot-ball-two-planes.yaml", 0.02, "--set", "time.dt=0.0005")
+
+    def centre_gap(a_rows, b_rows):
+        return max(max(abs(a["x"] - b["x"]), abs(a["y"] - b["y"])) for a, b in zip(a_rows, b_rows) if a["t"] <= 0.02)
+    coarse, fine = centre_gap(one, two), centre_gap(one_half, two_half)
+    c.check(fine <= 0.6 * coarse, "the models' centres differ by %.3e at dt 0.001 and %.3e at 0.0005 to t = 0.02: a "
+            "first-order discretisation difference (ratio %.2f <= 0.6)" % (coarse, fine, fine / coarse))
 
 
 def corot_ellipse_two_planes(c):

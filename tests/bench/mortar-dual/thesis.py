@@ -21,7 +21,7 @@ import sys
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tests", "validation"))
 from stickslip_results import Results  # noqa: E402
-from test_mortar_thesis import ellipse_fit, hertz_2d_profile, newton_runs, HERTZ_2D_F  # noqa: E402
+from test_mortar_thesis import ellipse_fit, hertz_2d_profile, newton_runs, HERTZ_2D_F, HERTZ_2D_H  # noqa: E402
 
 OUT = os.path.join(os.environ.get("STICKSLIP_BENCH_OUT", os.path.join(ROOT, "results", "bench")), "mortar-thesis")
 BINARY = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
@@ -126,7 +126,9 @@ HERTZ = "scenes/mortar-hertz-2d.yaml"
 def hertz():
     print("8.3 Hertz, the approach 0.015 mm: F against the block's size (R = 69.565):")
     for name, args in (("H35", ["--set", "mesh.parameters.H=35"]), ("H70", []),
-                       ("H140", ["--set", "mesh.parameters.H=140"]), ("H280", ["--set", "mesh.parameters.H=280"]),
+                       ("H140", ["--set", "mesh.parameters.H=140"]), ("H200", ["--set", "mesh.parameters.H=200"]),
+                       ("H242", ["--set", "mesh.parameters.H=%g" % HERTZ_2D_H]),
+                       ("H250", ["--set", "mesh.parameters.H=250"]), ("H280", ["--set", "mesh.parameters.H=280"]),
                        ("W280", ["--set", "mesh.parameters.W=280"])):
         r, _ = run("hertz-" + name, HERTZ, *args)
         F, b, p0, l2, _ = hertz_2d_profile(r)
