@@ -643,6 +643,21 @@ void sk_scene_free(sk_scene *scene) {
   scene->provenance = NULL;
 }
 
+/* What Newton does with a step (solver.newton; `stickslip keys` shows where each value comes from). */
+static void explain_newton(const sk_solver_settings *solver, FILE *out) {
+  const sk_newton_options *n = &solver->newton;
+  fprintf(out, "Newton (solver.newton):\n");
+  if (solver->backtrack_retry)
+    fprintf(out, "  %-16s %s: full Newton steps; a step whose Newton fails is solved again from its start with the "
+            "backtracking line search, and cut only if that fails too\n", "line_search",
+            line_search_names[FULL_STEP_THEN_BACKTRACK]);
+  else
+    fprintf(out, "  %-16s %s in every iteration; a step whose Newton fails is cut\n", "line_search",
+            line_search_names[n->line_search]);
+  fprintf(out, "  %-16s ||F|| <= %g or ||F||/||F0|| <= %g, with ||dx|| <= %g (1 + ||x||); at most %d iterations\n",
+          "convergence", n->residual_tolerance, n->relative_tolerance, n->update_tolerance, n->max_iterations);
+}
+
 void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, FILE *out) {
   sk_mesh_cache_explain(out);
   const sk_system *sys = scene->system;
@@ -654,6 +669,7 @@ void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, 
     for (int k = 0; k < sys->n_terms; ++k) sk_term_plugin_explain_defaults(sys->terms[k], out);
   }
   sk_system_explain(sys, out);
+  explain_newton(&scene->solver, out);
   const sk_output_settings *o = &scene->output;
   fprintf(out, "outputs:\n");
   if (out_dir || progress || sk_skip_forced("invariants"))

@@ -70,6 +70,9 @@ def line_search_choice(c):
     c.check(s["status"] == "ok" and s["final_time"] == 2,
             "backtrack: the punch runs to t = 2 (got %s at t = %s)" % (s["status"], s["final_time"]))
     c.check(full["status"] == "failed", "with the full step it fails (got %s)" % full["status"])
+    c.run("check", punch, "--explain")
+    c.check(re.search(r"line_search +full-step-then-backtrack: full Newton steps; a step whose Newton fails is solved "
+                      r"again", c.proc.stdout) is not None, "check --explain prints the default line search")
     default_out = os.path.join(c.dir, "default")
     c.run("run", punch, *args, "--out", default_out)
     d = read_summary(default_out)
