@@ -623,6 +623,7 @@ sk_status sk_system_solve(sk_system *sys) {
   const int max_loops = sys->solver->max_active_set_loops;
   /* the positions q = X + x carry the rounding that reaches the residual: the round-off floor of a correction */
   sk_newton_options options = sys->solver->newton;
+  if (sys->backtracking) options.line_search = SK_LINE_SEARCH_BACKTRACK;
   double xx = 0.0;
   for (int64_t k = 0; k < sys->model->n_dofs; ++k) xx += sys->model->X[k] * sys->model->X[k];
   options.roundoff_scale = sqrt(xx);

@@ -31,6 +31,7 @@ struct sk_system {
   MPI_Comm comm;
   int rank, n_ranks;
   const sk_solver_settings *solver;
+  int backtracking; /* 1: this attempt's Newton uses the backtracking line search (run.c's retry of a failed step) */
   const sk_time_integrator *integrator; /* the scene's (pair plugins see its name and alpha) */
   int n_terms;
   sk_term **terms;

@@ -346,6 +346,8 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_int(json, "step_cuts", sum->cuts);
   sk_json_int(json, "active_set_loops", sum->active_set_loops);
   sk_json_int(json, "roundoff_floor_steps", sum->roundoff_floor_steps);
+  sk_json_int(json, "backtrack_retries", sum->backtrack_retries);
+  sk_json_int(json, "backtrack_rescues", sum->backtrack_rescues);
   sk_json_int(json, "dofs", m->n_dofs);
   sk_json_int(json, "unknowns", (int)sum->unknowns_max);
   sk_json_int(json, "linear_system_size", (int)sum->linear_size_max);

@@ -3,7 +3,10 @@
  * three good steps; the sub-steps of a cut step land on the scheduled times t_start + n dt again; a SIGINT/SIGTERM
  * ends the run between two steps. The recorder writes the results. Everything a step is made of lives in the
  * terms. Only failures a shorter step can cure are cut: Newton's divergence, a stagnated residual and inverted
- * elements, not a failed linear solve (sk_newton_outcome in bridge.h). */
+ * elements, not a failed linear solve (sk_newton_outcome in bridge.h). With the default line search
+ * (full-step-then-backtrack) such a failure first solves the same step again with the backtracking line search, and
+ * only a failed retry cuts it: the full step keeps its iteration count where it converges, the backtracking converges
+ * what it cannot (docs/linear-solvers.md, "Line search"). */
 #define _GNU_SOURCE
 #include "stickslip/run.h"
 
@@ -22,8 +25,10 @@ static double now_seconds(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* One attempt of the step from sys->t_n with dt: begin, Newton (with outer active-set loops), commit. */
-static sk_status attempt(sk_system *sys, double dt, int64_t step) {
+/* One attempt of the step from sys->t_n with dt: begin, Newton (with outer active-set loops, backtracking or the
+ * scene's line search), commit. */
+static sk_status attempt(sk_system *sys, double dt, int64_t step, int backtracking) {
+  sys->backtracking = backtracking;
   SK_TRY(sk_system_begin(sys, dt, step));
   SK_TRY(sk_system_solve(sys));
   return sk_system_commit(sys);
@@ -67,6 +72,25 @@ static sk_status interrupted(const sk_system *sys, int steps) {
                       sk_interrupt_name(signal_number), steps, sys->t_n);
 }
 
+/* The failed attempt of `step` solved again from its start with the backtracking line search. A linear solver that
+ * fails on the retry's iterates (a singular matrix on a shortened step) is no reason to stop a run the full step's
+ * failure would have cut: it returns SK_ERR_DIVERGED with both reasons, and the stepper cuts. */
+static sk_status retry_backtracking(sk_system *sys, double dt, int64_t step, int verbose, sk_run_summary *summary) {
+  char first[600];
+  snprintf(first, sizeof first, "%s", sk_error_message());
+  sk_system_reject(sys);
+  summary->backtrack_retries++;
+  if (sys->rank == 0 && verbose)
+    fprintf(stderr, "step %lld at t = %.6g: %s — solving it again with the backtracking line search\n",
+            (long long)step, sys->t_n, first);
+  sk_status status = attempt(sys, dt, step, 1);
+  summary->newton_iterations += sys->newton.iterations;
+  if (status == SK_OK) summary->backtrack_rescues++;
+  if (status == SK_ERR_LINEAR_SOLVER)
+    status = sk_error_set(SK_ERR_DIVERGED, "%s; with backtracking: %s", first, sk_error_message());
+  return status;
+}
+
 sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary *summary) {
   const double wall_start = now_seconds();
   memset(summary, 0, sizeof *summary);
@@ -91,8 +115,10 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
     const double step_dt = step_size(sys->t_n, dt, target, t_eps);
     const int on_schedule = step_dt == target - sys->t_n;
     const int64_t step = summary->steps + 1;
-    status = attempt(sys, step_dt, step);
+    status = attempt(sys, step_dt, step, 0);
     summary->newton_iterations += sys->newton.iterations;
+    if ((status == SK_ERR_DIVERGED || status == SK_ERR_INVERTED) && scene->solver.backtrack_retry)
+      status = retry_backtracking(sys, step_dt, step, options->verbose, summary);
     if (status == SK_OK) {
       summary->steps++;
       /* accepted at the residual's round-off floor: a warning for the first few, all counted in summary.json */

@@ -73,11 +73,11 @@ def plugins_state_rules(c):
 
 
 def only_mu_runs(c):
-    # the block pressed on the plane with only mu, two steps, with every contact plugin that takes a 3D obstacle;
-    # friction with a full Newton step stalls in nts-augmented at its default epsilon_t (docs/plugins/
-    # nts-augmented.md#defaults), so the run has a line search
+    # the block pressed on the plane with only mu, two steps, with every contact plugin that takes a 3D obstacle and
+    # no solver section: friction with the full Newton step alone stalls in nts-augmented at its default epsilon_t
+    # (docs/plugins/nts-augmented.md#defaults); the default line search solves such a step again with backtracking
     for plugin in RULES:
-        c.run_scene(ONLY_MU, "--plugin", plugin, "--set", "solver.newton.line_search=backtrack")
+        c.run_scene(ONLY_MU, "--plugin", plugin)
         c.no_crash()
         c.check(c.proc.returncode == 0, "%s runs with only mu (exit %d)" % (plugin, c.proc.returncode))
 

@@ -8,9 +8,10 @@
   nts-augmented `augmented`, the first 25 midpoint steps: contact in steps 13-21) gives with GMRES + MueLu and GMRES + SGS (multiplier rows through
   their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances;
 - line_search_choice: the backtracking line search runs a punch pressed and dragged with friction (nts-augmented,
-  tests/bench/line-search/punch-2d.yaml) to the end, where the full step fails in step 1; a scene without
-  `line_search` gets the full step (two-elements, 25 midpoint steps: the history of `full-step`, digit for digit)
-  (docs/linear-solvers.md, "Line search": why the full step stays the default).
+  tests/bench/line-search/punch-2d.yaml) to the end, where the full step fails in step 1; the default
+  (full-step-then-backtrack) runs it too, solving the steps whose full-step Newton fails again with backtracking
+  (counted in summary.json) without a step cut; where the full step converges the default is the full step (two-elements,
+  25 midpoint steps: the history of `full-step`, digit for digit) (docs/linear-solvers.md, "Line search").
 Usage: python3 test_solver_failures.py CASE."""
 import os
 import re
@@ -69,6 +70,20 @@ def line_search_choice(c):
     c.check(s["status"] == "ok" and s["final_time"] == 2,
             "backtrack: the punch runs to t = 2 (got %s at t = %s)" % (s["status"], s["final_time"]))
     c.check(full["status"] == "failed", "with the full step it fails (got %s)" % full["status"])
+    c.run("check", punch, "--explain")
+    c.check(re.search(r"line_search +full-step-then-backtrack: full Newton steps; a step whose Newton fails is solved "
+                      r"again", c.proc.stdout) is not None, "check --explain prints the default line search")
+    default_out = os.path.join(c.dir, "default")
+    c.run("run", punch, *args, "--out", default_out)
+    d = read_summary(default_out)
+    c.check(d["status"] == "ok" and d["final_time"] == 2,
+            "default: the punch runs to t = 2 (got %s at t = %s)" % (d["status"], d["final_time"]))
+    c.check(d.get("backtrack_retries", 0) >= 1 and d.get("backtrack_rescues") == d.get("backtrack_retries")
+            and d["step_cuts"] == 0, "default: the failed full steps are solved with backtracking, no step cut "
+            "(retries %s, rescued %s, cuts %s)" % (d.get("backtrack_retries"), d.get("backtrack_rescues"),
+                                                   d["step_cuts"]))
+    print("punch-2d nts-augmented: backtrack %d iterations / %d cuts; default %d / %d (%d retries)" % (
+        s["newton_iterations"], s["step_cuts"], d["newton_iterations"], d["step_cuts"], d["backtrack_retries"]))
     scene = os.path.join(ROOT, "scenes", "two-elements.yaml")
     dynamic_full = os.path.join(c.dir, "dynamic-full-step")
     dynamic_default = os.path.join(c.dir, "dynamic-default")

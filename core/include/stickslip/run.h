@@ -25,6 +25,9 @@ typedef struct {
   int pattern_builds;      /* sparsity patterns built or grown (each rebuilds the solver's matrix; solver.pattern_margin) */
   int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
   int roundoff_floor_steps; /* steps accepted at the residual's round-off floor (bridge.h: SK_NEWTON_ROUNDOFF_FLOOR) */
+  int backtrack_retries;   /* failed steps solved again with the backtracking line search before a cut
+                              (line_search full-step-then-backtrack) */
+  int backtrack_rescues;   /* of those, the ones that converged (no cut needed) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;

@@ -22,6 +22,9 @@ typedef struct {
                                converged point (plugin.h: converged) */
   int pattern_margin;       /* solver.pattern_margin: rings of mesh neighbours by which couplings the terms declare
                                widen the sparsity pattern when it grows (system_pattern.c) */
+  int backtrack_retry;      /* solver.newton.line_search `full-step-then-backtrack` (the default; newton.line_search is
+                               then the full step): a step whose Newton fails is solved again from its start with the
+                               backtracking line search before it is cut (run.c) */
 } sk_solver_settings;
 
 typedef struct {
