@@ -53,6 +53,10 @@ static void usage_run(FILE *out, const char *command) {
             "  --out DIR            write history.csv, contact.csv, summary.json, scene.yaml and results.pvd/.vtu\n"
             "                       into DIR (replaced at the end as a whole; default: no files)\n"
             "  --steps N            stop after N steps\n"
+            "  --checkpoint-every N write a checkpoint every N steps (the state and the plugins' history) into\n"
+            "                       --checkpoint DIR (default DIR.checkpoint for --out DIR); the last two are kept\n"
+            "  --restart DIR        continue from the checkpoint in DIR (its latest, or DIR/step-NNNNNNNN), on any\n"
+            "                       number of ranks; no SCENE: it is the checkpoint's (docs/user-guide.md)\n"
             "  --quiet              no progress line\n"
             "  --verbose            Newton residuals per iteration, step cuts, plugin messages\n");
 }
@@ -64,6 +68,9 @@ typedef struct {
   const char **sets;
   int n_sets;
   int steps, quiet, verbose, trust_scripts, explain;
+  int checkpoint_every;
+  const char *checkpoint, *restart;
+  char checkpoint_default[4200];
 } arguments;
 
 /* Returns 0 on success, 1 on bad usage (message printed), 2 when help was printed. */
@@ -99,6 +106,21 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       }
       args->steps = (int)steps;
       ++i;
+    } else if (allow_run_options && strcmp(a, "--checkpoint-every") == 0 && value) {
+      char *end;
+      long every = strtol(value, &end, 10);
+      if (*end || every < 1) {
+        fprintf(stderr, "stickslip: --checkpoint-every expects a positive integer, got '%s'\n", value);
+        return 1;
+      }
+      args->checkpoint_every = (int)every;
+      ++i;
+    } else if (allow_run_options && strcmp(a, "--checkpoint") == 0 && value) {
+      args->checkpoint = value;
+      ++i;
+    } else if (allow_run_options && strcmp(a, "--restart") == 0 && value) {
+      args->restart = value;
+      ++i;
     } else if (strcmp(a, "--trust-scripts") == 0) {
       args->trust_scripts = 1;
     } else if (strcmp(a, "--explain") == 0) {
@@ -118,9 +140,22 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       return 1;
     }
   }
-  if (!args->scene) {
+  if (args->restart && (args->scene || args->n_sets > 0 || args->plugin)) {
+    fprintf(stderr, "stickslip %s: --restart continues the checkpoint's scene, with its --set values and --plugin: "
+            "give no SCENE, --set or --plugin\n", command);
+    return 1;
+  }
+  if (!args->scene && !args->restart) {
     fprintf(stderr, "stickslip %s: which scene? (stickslip %s SCENE.yaml)\n", command, command);
     return 1;
+  }
+  if (args->checkpoint && !args->checkpoint_every) {
+    fprintf(stderr, "stickslip %s: --checkpoint DIR needs --checkpoint-every N\n", command);
+    return 1;
+  }
+  if (args->checkpoint_every && !args->checkpoint && args->out) {
+    snprintf(args->checkpoint_default, sizeof args->checkpoint_default, "%s.checkpoint", args->out);
+    args->checkpoint = args->checkpoint_default;
   }
   return 0;
 }
@@ -205,7 +240,19 @@ static int command_scene(int argc, char **argv, int run) {
   sk_log_verbosity = args.verbose;
   sk_mesh_trust_scripts(args.trust_scripts);
   sk_scene scene;
-  sk_status status = sk_scene_load(args.scene, args.n_sets, args.sets, args.plugin, MPI_COMM_WORLD, &scene);
+  sk_restart *restart = NULL;
+  const char *const *sets = args.sets;
+  sk_status status = SK_OK;
+  if (args.restart) { /* the checkpoint's scene, as it was loaded */
+    status = sk_restart_open(args.restart, MPI_COMM_WORLD, &restart);
+    if (status == SK_OK) {
+      args.scene = sk_restart_scene(restart);
+      args.plugin = sk_restart_plugin(restart);
+      args.n_sets = sk_restart_sets(restart, &sets);
+    }
+  }
+  if (status == SK_OK) status = sk_scene_load(args.scene, args.n_sets, sets, args.plugin, MPI_COMM_WORLD, &scene);
+  else memset(&scene, 0, sizeof scene);
   int code = 0;
   if (status == SK_OK && args.plugin && scene.model.n_pairs == 0) {
     status = sk_error_set(SK_ERR_INPUT, "--plugin %s: %s has no contact pairs (no `contact` list), so no plugin "
@@ -241,7 +288,14 @@ static int command_scene(int argc, char **argv, int run) {
     sk_run_options options = {.out_dir = args.out,
                               .progress = !args.quiet && rank_of_world() == 0,
                               .verbose = args.verbose,
-                              .max_steps = args.steps};
+                              .max_steps = args.steps,
+                              .checkpoint_every = args.checkpoint_every,
+                              .checkpoint_dir = args.checkpoint,
+                              .scene_path = args.scene,
+                              .sets = sets,
+                              .n_sets = args.n_sets,
+                              .plugin = args.plugin,
+                              .restart = restart};
     sk_run_summary summary;
     /* the stepper polls the signal handlers installed in main() before each step (sk_run) */
     status = sk_run(&scene, &options, &summary);
@@ -262,6 +316,7 @@ static int command_scene(int argc, char **argv, int run) {
     }
   }
   sk_scene_free(&scene);
+  sk_restart_free(restart);
   free(args.sets);
   return code;
 }

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "../model/assemble.h"
+#include "checkpoint.h"
 #include "stickslip/output.h"
 
 /* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
@@ -49,6 +50,7 @@ struct sk_recorder {
   int vtu_count;
   int64_t last_step;       /* the last converged step recorded */
   int64_t last_vtu_step;   /* the step of the last picture written */
+  char restarted_from[4096]; /* the checkpoint a restarted run continues, or "" */
   /* the linear solvers that ran, by step ranges: "mumps (steps 1-12), gmres-muelu (steps 13-40)" */
   char solvers_used[1024];
   unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
@@ -141,16 +143,16 @@ typedef struct {
   double *buffer;
   int n, cap;
   int failed;
-  double *pressure, *gap, *state; /* per node, for the VTU */
 } point_collector;
 
-/* The reference position of a contact point: a node's from the mesh, a Gauss point's from the plugin (ABI 2.1), NaN
- * when a plugin built against 2.0 cannot say. */
+/* The reference position of a contact point: a node's from the mesh (the slave node is one this rank holds), a Gauss
+ * point's from the plugin (ABI 2.1), NaN when a plugin built against 2.0 cannot say. */
 static void reference_position(const sk_model *m, const sk_contact_point *p, int64_t node, double X[3]) {
+  const int local = node >= 0 ? sk_model_node_of(m, node) : -1;
   for (int i = 0; i < 3; ++i)
-    X[i] = node >= 0 && node < m->n_nodes ? (i < m->dim ? m->X[node * m->dim + i] : 0.0)
-           : SK_HAS(p, X)                 ? p->X[i]
-                                          : NAN;
+    X[i] = local >= 0    ? (i < m->dim ? m->X[(int64_t)local * m->dim + i] : 0.0)
+           : SK_HAS(p, X) ? p->X[i]
+                          : NAN;
 }
 
 static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
@@ -175,22 +177,12 @@ static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
                                        p->normal[2], p->pressure, p->traction[0], p->traction[1], p->traction[2],
                                        p->gap, (double)p->state, multiplier, (double)node, (double)pair};
   memcpy(r, values, sizeof values);
-  if (node >= 0 && c->pressure) {
-    c->pressure[node] = p->pressure;
-    c->gap[node] = p->gap;
-    c->state[node] = p->state;
-  }
 }
 
 /* Gathers the contact points of every pair to rank 0. Caller frees *all. */
-static sk_status gather_points(sk_recorder *rec, int initial, double *node_fields, double **all, int *n_all) {
+static sk_status gather_points(sk_recorder *rec, int initial, double **all, int *n_all) {
   const sk_model *m = &rec->scene->model;
   point_collector c = {.model = m};
-  if (node_fields) {
-    c.pressure = node_fields;
-    c.gap = node_fields + m->n_nodes;
-    c.state = node_fields + 2 * m->n_nodes;
-  }
   sk_status status = sk_system_points(rec->sys, initial, collect_point, &c);
   if (status == SK_OK && c.failed) status = no_memory("the contact points");
   status = sk_system_collective(rec->sys, status);
@@ -237,88 +229,183 @@ static sk_status write_contact_csv(sk_recorder *rec, const double *points, int n
 /* ---- VTU -------------------------------------------------------------------------------------------------------- */
 
 typedef struct {
-  double *points, *displacement, *velocity, *node_fields, *node_fields_sum, *stress, *stress_sum;
+  double *points, *displacement, *velocity, *node_fields, *stress;
   sk_elem_type *types;
   int *offsets, *conn;
   double *body_id, *rank_id;
 } vtu_buffers;
 
 static void free_vtu_buffers(vtu_buffers *b) {
-  void *all[] = {b->points, b->displacement, b->velocity, b->node_fields, b->node_fields_sum, b->stress,
-                 b->stress_sum, b->types, b->offsets, b->conn, b->body_id, b->rank_id};
+  void *all[] = {b->points, b->displacement, b->velocity, b->node_fields, b->stress, b->types, b->offsets, b->conn,
+                 b->body_id, b->rank_id};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
 }
 
-/* The mesh at displacement u and velocity v (time t, step), with stresses and contact point fields. */
+/* The owned nodes' values of two vectors over the local dofs, into whole-mesh arrays on rank 0 (3 per node, by mesh
+ * id; collective). */
+static sk_status gather_nodes(const sk_model *m, const double *u, const double *v, double *u_all, double *v_all) {
+  const int dim = m->dim;
+  int n_owned = 0;
+  for (int a = 0; a < m->n_nodes; ++a) n_owned += m->node_owner[a] == m->rank;
+  const int width = 1 + 2 * dim;
+  double *mine = malloc(sizeof(double) * (size_t)(width * n_owned + 1));
+  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
+  double *all = m->rank == 0 ? malloc(sizeof(double) * (size_t)(width * m->n_nodes_global + 1)) : NULL;
+  int ok = mine && counts && displs && (m->rank != 0 || all);
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  if (!ok) {
+    free(mine), free(counts), free(displs), free(all);
+    return no_memory("the VTU output");
+  }
+  for (int a = 0, k = 0; a < m->n_nodes; ++a) {
+    if (m->node_owner[a] != m->rank) continue;
+    double *r = mine + (size_t)width * k++;
+    r[0] = (double)m->node_gid[a];
+    for (int i = 0; i < dim; ++i) {
+      r[1 + i] = u[a * dim + i];
+      r[1 + dim + i] = v[a * dim + i];
+    }
+  }
+  const int count = width * n_owned;
+  MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
+  for (int r = 1; r < m->n_ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
+  if (m->rank == 0)
+    for (int k = 0; k < m->n_nodes_global; ++k) {
+      const double *r = all + (size_t)width * k;
+      const int64_t id = (int64_t)r[0];
+      for (int i = 0; i < dim; ++i) {
+        u_all[3 * id + i] = r[1 + i];
+        v_all[3 * id + i] = r[1 + dim + i];
+      }
+    }
+  free(mine), free(counts), free(displs), free(all);
+  return SK_OK;
+}
+
+/* The Cauchy stress of this rank's elements, 9 per whole-mesh cell on rank 0 (collective). */
+static sk_status gather_stress(const sk_model *m, const double *u, double *stress_all) {
+  double *local = calloc(9 * (size_t)m->n_elements + 1, sizeof(double));
+  int n_own = 0;
+  for (int e = 0; e < m->n_elements; ++e) n_own += m->element_part[e] == m->rank;
+  double *mine = malloc(sizeof(double) * 10 * (size_t)(n_own + 1));
+  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
+  int total_cells = 0;
+  for (int b = 0; b < m->n_bodies; ++b) total_cells += m->bodies[b].n_elems_global;
+  double *all = m->rank == 0 ? malloc(sizeof(double) * 10 * (size_t)(total_cells + 1)) : NULL;
+  sk_status status = local && mine && counts && displs && (m->rank != 0 || all) ? SK_OK : no_memory("the stresses");
+  if (status == SK_OK) status = sk_bulk_stress(m, u, local);
+  int bad = status != SK_OK;
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, m->comm);
+  if (!bad) {
+    /* (whole cell index, stress) of each own element; cells numbered body by body */
+    int k = 0;
+    for (int b = 0, base = 0; b < m->n_bodies; base += m->bodies[b].n_elems_global, ++b)
+      for (int e = m->bodies[b].first_element; e < m->bodies[b].first_element + m->bodies[b].group->n_elems; ++e) {
+        if (m->element_part[e] != m->rank) continue;
+        mine[10 * k] = base + m->element_index[e];
+        memcpy(mine + 10 * k + 1, local + 9 * (size_t)e, 9 * sizeof(double));
+        ++k;
+      }
+    const int count = 10 * k;
+    MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
+    for (int r = 1; r < m->n_ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
+    if (m->rank == 0)
+      for (int j = 0; j < total_cells; ++j)
+        memcpy(stress_all + 9 * (size_t)all[10 * j], all + 10 * j + 1, 9 * sizeof(double));
+  }
+  free(local), free(mine), free(counts), free(displs), free(all);
+  if (bad && status == SK_OK) status = sk_error_set(SK_ERR_INVERTED, "an inverted element on another rank");
+  return status;
+}
+
+/* The mesh at displacement u and velocity v (time t, step), with stresses and contact point fields: rank 0 writes
+ * the whole mesh (its copy, model.h: sk_whole_mesh; on one rank the model itself). */
 static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const double *v, double t, int64_t step) {
   const sk_model *m = &rec->scene->model;
-  const int dim = m->dim, nn = m->n_nodes;
+  const int nn = m->n_nodes_global;
+  int n_cells = 0;
+  for (int b = 0; b < m->n_bodies; ++b) n_cells += m->bodies[b].n_elems_global;
+  const int root = m->rank == 0;
   vtu_buffers b = {0};
-  b.points = calloc(3 * (size_t)nn, sizeof(double));
-  b.displacement = calloc(3 * (size_t)nn, sizeof(double));
-  b.velocity = calloc(3 * (size_t)nn, sizeof(double));
-  b.node_fields = calloc(3 * (size_t)nn, sizeof(double));
-  b.node_fields_sum = calloc(3 * (size_t)nn, sizeof(double));
-  b.stress = calloc(9 * (size_t)m->n_elements, sizeof(double));
-  b.stress_sum = calloc(9 * (size_t)m->n_elements, sizeof(double));
-  sk_status status = b.points && b.displacement && b.velocity && b.node_fields && b.node_fields_sum && b.stress &&
-                             b.stress_sum
-                         ? SK_OK
-                         : no_memory("the VTU output");
-  if (status == SK_OK) status = sk_bulk_stress(m, u, b.stress);
+  if (root) {
+    b.points = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.displacement = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.velocity = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.node_fields = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.stress = calloc(9 * (size_t)n_cells + 1, sizeof(double));
+  }
+  int ok = !root || (b.points && b.displacement && b.velocity && b.node_fields && b.stress);
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  sk_status status = ok ? SK_OK : no_memory("the VTU output");
+  if (status == SK_OK) status = gather_stress(m, u, b.stress);
   status = sk_system_collective(rec->sys, status);
   double *all_points = NULL;
   int n_points = 0;
-  if (status == SK_OK) status = gather_points(rec, initial, b.node_fields, &all_points, &n_points);
+  if (status == SK_OK) status = gather_points(rec, initial, &all_points, &n_points);
+  if (status == SK_OK) status = gather_nodes(m, u, v, b.displacement, b.velocity);
+  if (status == SK_OK && root)
+    for (int k = 0; k < n_points; ++k) { /* the contact fields at slave nodes (points with a node) */
+      const double *p = all_points + POINT_FIELDS * (size_t)k;
+      const int64_t node = (int64_t)p[16];
+      if (node < 0 || node >= nn) continue;
+      b.node_fields[node] = p[9];
+      b.node_fields[nn + node] = p[13];
+      b.node_fields[2 * nn + node] = p[14];
+    }
   free(all_points);
-  if (status != SK_OK) {
+  if (status != SK_OK || !root) {
     free_vtu_buffers(&b);
     return status;
   }
-  MPI_Reduce(b.stress, b.stress_sum, 9 * m->n_elements, MPI_DOUBLE, MPI_SUM, 0, m->comm);
-  MPI_Reduce(b.node_fields, b.node_fields_sum, 3 * nn, MPI_DOUBLE, MPI_SUM, 0, m->comm);
-  if (m->rank == 0) {
-    for (int a = 0; a < nn; ++a)
-      for (int i = 0; i < dim; ++i) {
-        b.displacement[3 * a + i] = u[a * dim + i];
-        b.velocity[3 * a + i] = v[a * dim + i];
-        b.points[3 * a + i] = m->X[a * dim + i] + u[a * dim + i];
-      }
-    const int n_cells = m->n_elements;
-    b.types = calloc((size_t)n_cells + 1, sizeof(sk_elem_type));
-    b.offsets = calloc((size_t)n_cells + 1, sizeof(int));
-    b.conn = calloc((size_t)n_cells * SK_MAX_NEN + 1, sizeof(int));
-    b.body_id = calloc((size_t)n_cells + 1, sizeof(double));
-    b.rank_id = calloc((size_t)n_cells + 1, sizeof(double));
-    if (!b.types || !b.offsets || !b.conn || !b.body_id || !b.rank_id) status = no_memory("the VTU output");
-    for (int e = 0; e < n_cells && status == SK_OK; ++e) {
+  /* the whole mesh: rank 0's copy, or the model on one rank */
+  const sk_whole_mesh *w = m->whole;
+  for (int a = 0; a < nn; ++a)
+    for (int i = 0; i < 3; ++i) {
+      const double X = w ? w->X[3 * a + i] : (i < m->dim ? m->X[a * m->dim + i] : 0.0);
+      b.points[3 * a + i] = X + b.displacement[3 * a + i];
+    }
+  b.types = calloc((size_t)n_cells + 1, sizeof(sk_elem_type));
+  b.offsets = calloc((size_t)n_cells + 1, sizeof(int));
+  b.conn = calloc((size_t)n_cells * SK_MAX_NEN + 1, sizeof(int));
+  b.body_id = calloc((size_t)n_cells + 1, sizeof(double));
+  b.rank_id = calloc((size_t)n_cells + 1, sizeof(double));
+  if (!b.types || !b.offsets || !b.conn || !b.body_id || !b.rank_id) status = no_memory("the VTU output");
+  for (int e = 0; e < n_cells && status == SK_OK; ++e) {
+    if (w) {
+      b.types[e] = w->types[e];
+      b.offsets[e + 1] = w->offsets[e + 1];
+      memcpy(b.conn + w->offsets[e], w->conn + w->offsets[e], sizeof(int) * (size_t)(w->offsets[e + 1] - w->offsets[e]));
+      b.body_id[e] = w->body[e];
+      b.rank_id[e] = w->part[e];
+    } else {
       const sk_body *body;
       const int *ec;
-      int dofs[SK_MAX_NEN * 3];
-      sk_element_dofs(m, e, dofs, &body, &ec);
+      sk_element_dofs(m, e, NULL, &body, &ec);
       b.types[e] = body->group->type;
       b.offsets[e + 1] = b.offsets[e] + body->group->nen;
       memcpy(b.conn + b.offsets[e], ec, sizeof(int) * (size_t)body->group->nen);
       b.body_id[e] = (double)(body - m->bodies);
       b.rank_id[e] = m->element_part[e];
     }
-    sk_vtu_field point_fields[] = {{"displacement", 3, b.displacement},
-                                   {"velocity", 3, b.velocity},
-                                   {"contact_pressure", 1, b.node_fields_sum},
-                                   {"contact_gap", 1, b.node_fields_sum + nn},
-                                   {"contact_state", 1, b.node_fields_sum + 2 * nn}};
-    sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress_sum}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
-    const int n_point_fields = m->n_pairs > 0 ? 5 : 2;
-    char file[64], path[1400];
-    snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
-    snprintf(path, sizeof path, "%s/%s", rec->dir, file);
-    if (status == SK_OK)
-      status = sk_vtu_write(path, nn, b.points, n_cells, b.types, b.offsets, b.conn, n_point_fields, point_fields, 3,
-                            cell_fields);
-    if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
-    rec->vtu_count++;
-    rec->last_vtu_step = step;
   }
+  sk_vtu_field point_fields[] = {{"displacement", 3, b.displacement},
+                                 {"velocity", 3, b.velocity},
+                                 {"contact_pressure", 1, b.node_fields},
+                                 {"contact_gap", 1, b.node_fields + nn},
+                                 {"contact_state", 1, b.node_fields + 2 * nn}};
+  sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
+  const int n_point_fields = m->n_pairs > 0 ? 5 : 2;
+  char file[64], path[1400];
+  snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
+  snprintf(path, sizeof path, "%s/%s", rec->dir, file);
+  if (status == SK_OK)
+    status = sk_vtu_write(path, nn, b.points, n_cells, b.types, b.offsets, b.conn, n_point_fields, point_fields, 3,
+                          cell_fields);
+  if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
+  rec->vtu_count++;
+  rec->last_vtu_step = step;
   free_vtu_buffers(&b);
   return status;
 }
@@ -374,6 +461,50 @@ sk_status sk_recorder_initial(sk_recorder *rec) {
   return status;
 }
 
+sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart) {
+  rec->dissipated = restart->dissipated;
+  rec->last_vtu_step = restart->last_vtu_step;
+  rec->last_step = restart->progress.steps;
+  snprintf(rec->restarted_from, sizeof rec->restarted_from, "%s", restart->dir);
+  if (!rec->history) return SK_OK;
+  /* the rows up to the checkpoint, as the interrupted run wrote them (%.17g: they read back exactly) */
+  char path[4200];
+  snprintf(path, sizeof path, "%s/history.csv", restart->dir);
+  FILE *f = fopen(path, "r");
+  if (!f) return SK_OK; /* a checkpoint of a run without --out has no rows */
+  char *line = NULL;
+  size_t cap = 0;
+  sk_status status = SK_OK;
+  int row = 0;
+  while (status == SK_OK && getline(&line, &cap, f) > 0) {
+    if (row++ == 0) continue; /* the header */
+    int c = 0;
+    for (char *p = line, *end; c < rec->n_columns && *p && *p != '\n'; ++c, p = *end == ',' ? end + 1 : end) {
+      rec->row[c] = strtod(p, &end);
+      if (end == p) break;
+    }
+    if (c != rec->n_columns)
+      status = sk_error_set(SK_ERR_INPUT, "--restart: %s, line %d: %d columns, this scene's history has %d", path, row, c,
+                            rec->n_columns);
+    else
+      status = sk_csv_row(rec->history, rec->row);
+  }
+  free(line);
+  fclose(f);
+  return status;
+}
+
+void sk_recorder_checkpoint_state(sk_recorder *rec, sk_recorder_state *state) {
+  static char path[1300];
+  state->dissipated = rec->dissipated;
+  state->last_vtu_step = rec->last_vtu_step;
+  state->history_path = NULL;
+  if (rec->history) {
+    snprintf(path, sizeof path, "%s/history.csv", rec->dir);
+    state->history_path = path;
+  }
+}
+
 /* Appends the open range of steps that used the same linear solvers to solvers_used. */
 static void close_solver_range(sk_recorder *rec) {
   if (rec->range_first == 0) return;
@@ -427,6 +558,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_string(json, "status", sum->interrupted ? "interrupted" : sum->failed ? "failed" : "ok");
   if (sum->failed) sk_json_string(json, "message", sum->message);
   sk_json_string(json, "scene", rec->scene->path);
+  if (rec->restarted_from[0]) sk_json_string(json, "restarted_from", rec->restarted_from);
   sk_json_int(json, "steps", sum->steps);
   sk_json_number(json, "final_time", sum->final_time);
   sk_json_int(json, "newton_iterations", sum->newton_iterations);
@@ -478,7 +610,7 @@ sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status
     sk_error_set(status, "%s", message);
   }
   if (rec->options->out_dir && m->n_pairs > 0 && rec->scene->output.write_contact_csv && summary->steps > 0) {
-    points_status = gather_points(rec, 0, NULL, &points, &n_points);
+    points_status = gather_points(rec, 0, &points, &n_points);
     sk_error_set(status, "%s", message);
   }
   if (rec->options->out_dir && m->rank == 0 && rec->dir[0]) {

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "glue.h"
+#include "records.h"
 
 #define CP_EXPORT __attribute__((visibility("default")))
 
@@ -245,6 +246,60 @@ static sk_status cp_create(const sk_host_api *api, sk_host *host, const sk_attac
   return SK_OK;
 }
 
+/* ---- checkpoints (stickslip.checkpoint.v1): the committed history of each entity ---------------------------------- */
+
+/* An entity's key: its slave node's whole index (nts), or its face's whole index and Gauss point (sts, stas; the
+ * entities of a face are consecutive, one per Gauss point). */
+static int64_t entity_key(const sk_instance *in, int k) {
+  const entity *e = &in->entities[k];
+  if (e->cell < 0) return in->slave->node_index[e->slave[0]];
+  int q = 0;
+  while (k - q - 1 >= 0 && in->entities[k - q - 1].cell == e->cell) ++q;
+  return in->slave->cell_index[e->cell] * (int64_t)MAX_GAUSS + q;
+}
+
+static sk_status cp_save(sk_instance *in, const sk_state *st, sk_record_writer *writer) {
+  (void)st;
+  for (int k = 0; k < in->n_entities; ++k) {
+    history h = in->entities[k].committed;
+    if (!h.valid) continue;
+    if (in->master) h.face = (int)in->master->cell_index[h.face];
+    writer->put(writer, entity_key(in, k), &h, (uint32_t)sizeof h);
+  }
+  return SK_OK;
+}
+
+static sk_status cp_load(sk_instance *in, const sk_state *st, const sk_record_reader *reader) {
+  (void)st;
+  int *cells = in->master ? records_cells_of_view(in->master) : NULL;
+  if (in->master && !cells) return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+  sk_status status = SK_OK;
+  for (int k = 0; k < in->n_entities && status == SK_OK; ++k) {
+    entity *e = &in->entities[k];
+    history h;
+    memset(&e->committed, 0, sizeof e->committed);
+    const int64_t got = reader->get(reader, entity_key(in, k), &h, (uint32_t)sizeof h);
+    if (got < 0) continue;
+    if (got != (int64_t)sizeof h)
+      status = in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty: a history record of %lld bytes, expected %zu",
+                              (long long)got, sizeof h);
+    else if (in->master && (h.face = records_view_cell(cells, in->master, h.face)) < 0)
+      status = in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty: a contact point's history lies on a master "
+                              "face this rank does not hold");
+    else
+      e->committed = h;
+  }
+  free(cells);
+  return status;
+}
+
+static const sk_checkpoint_ext cp_checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = cp_save,
+                                                .load = cp_load};
+
+static const void *cp_extension(const char *id) {
+  return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &cp_checkpoint : NULL;
+}
+
 static const sk_plugin cp_plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "covariant-penalty",
@@ -270,7 +325,7 @@ static const sk_plugin cp_plugin = {
     .report = cp_report,
     .points = cp_points,
     .integrator = NULL,
-    .get_extension = NULL,
+    .get_extension = cp_extension,
 };
 
 CP_EXPORT const sk_plugin *stickslip_plugin_entry(void);

@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "candidates.h"
+#include "records.h"
 #include "covariant.h"
 #include "stickslip/plugin.h"
 
@@ -955,6 +956,51 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
   return SK_OK;
 }
 
+/* ---- checkpoints (stickslip.checkpoint.v1): the committed friction history, by slave node ------------------------- */
+
+/* One record per slave node with history, under its node_index, the master face as its whole cell index. */
+static sk_status pnts_save(sk_instance *in, const sk_state *st, sk_record_writer *writer) {
+  (void)st;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->slave->owned[k] || !in->committed[k].valid) continue;
+    friction_history h = in->committed[k];
+    if (in->master) h.face = (int)in->master->cell_index[h.face];
+    writer->put(writer, in->slave->node_index[k], &h, (uint32_t)sizeof h);
+  }
+  return SK_OK;
+}
+
+/* The history of every slave node this rank holds (owned and ghost: commit_step keeps both). */
+static sk_status pnts_load(sk_instance *in, const sk_state *st, const sk_record_reader *reader) {
+  (void)st;
+  int *cells = in->master ? records_cells_of_view(in->master) : NULL;
+  if (in->master && !cells) return in->api->error(in->host, SK_ERR_NOMEM, "penalty-nts: out of memory");
+  sk_status status = SK_OK;
+  for (int k = 0; k < in->n_slave && status == SK_OK; ++k) {
+    friction_history h;
+    memset(&in->committed[k], 0, sizeof in->committed[k]);
+    const int64_t got = reader->get(reader, in->slave->node_index[k], &h, (uint32_t)sizeof h);
+    if (got < 0) continue;
+    if (got != (int64_t)sizeof h)
+      status = in->api->error(in->host, SK_ERR_INPUT, "penalty-nts: slave node %lld: a history record of %lld bytes, "
+                              "expected %zu", (long long)in->slave->node_id[k], (long long)got, sizeof h);
+    else if (in->master && (h.face = records_view_cell(cells, in->master, h.face)) < 0)
+      status = in->api->error(in->host, SK_ERR_INPUT, "penalty-nts: slave node %lld: its friction anchor lies on a "
+                              "master face this rank does not hold", (long long)in->slave->node_id[k]);
+    else
+      in->committed[k] = h;
+  }
+  free(cells);
+  return status;
+}
+
+static const sk_checkpoint_ext pnts_checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = pnts_save,
+                                                  .load = pnts_load};
+
+static const void *pnts_extension(const char *id) {
+  return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &pnts_checkpoint : NULL;
+}
+
 static const sk_plugin pnts_plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "penalty-nts",
@@ -977,6 +1023,7 @@ static const sk_plugin pnts_plugin = {
     .reject_step = pnts_reject_step,
     .report = pnts_report,
     .points = pnts_points,
+    .get_extension = pnts_extension,
 };
 
 PNTS_EXPORT const sk_plugin *stickslip_plugin_entry(void);
