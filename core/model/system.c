@@ -271,6 +271,9 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
     if (sys->terms[k]->ops->predict) status = sys->terms[k]->ops->predict(sys->terms[k], sys);
   SK_TRY(sk_system_collective(sys, status));
+  /* the predictors write the dofs of their bodies' elements; the ghosts outside them (master surface nodes held for
+   * contact) get their owners' predicted values */
+  sk_exchange_forward(&sys->ghost_dofs, sys->x);
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
   for (int k = 0; k < sys->n_terms; ++k) {
@@ -658,7 +661,10 @@ sk_status sk_system_commit(sk_system *sys) {
     status = term->ops->commit(term, sys);
     if (status != SK_OK) sk_error_prefix(status, "%s: commit: ", term->name);
   }
-  return sk_system_collective(sys, status);
+  status = sk_system_collective(sys, status);
+  /* the velocities of ghosts outside this rank's elements (which no term computes here) from their owners */
+  if (status == SK_OK) sk_exchange_forward(&sys->ghost_dofs, sys->v);
+  return status;
 }
 
 void sk_system_reject(sk_system *sys) {
