@@ -1,6 +1,6 @@
 """Checkpoint and restart (docs/user-guide.md, "Checkpoints and restart"): a run stopped at a checkpoint and
-continued with `--restart` equals the uninterrupted run — to 1e-12 of each history column's largest value on the same
-number of ranks, to 1e-10 on another — with a friction scene (nts-augmented on two hex8, deformable master, Coulomb
+continued with `--restart` equals the uninterrupted run — every history column to 1e-12 of its scale (column_scale)
+on the same number of ranks, Newton iteration counts included; to 1e-10 on another — with a friction scene (nts-augmented on two hex8, deformable master, Coulomb
 mu = 0.5: committed facets, tractions and multipliers; penalty-nts on a block pressed and dragged over a plane:
 friction anchors) and a body-plugin scene (corotational, which runs on one rank: its rotation, co-rotated velocities
 and contact sets). Direct solver KLU2 throughout (it factorises on rank 0): an iterative solver reproduces a run only
@@ -55,26 +55,39 @@ def restarted(case, checkpoint, np, folder, name):
     return Results(out)
 
 
-def worst_difference(a, b):
-    """The largest |a - b| over the rows of both, relative to each column's largest |a| (wall time left out)."""
+def column_scale(a, name):
+    """What a difference in a column is measured against: its largest |value|; for a vector's component (momentum_x,
+    contact_force_y, ...) the largest |value| of the vector's three components (a component that is zero in the
+    scene, e.g. momentum_x of the two hex8, holds round-off of 1e-14 that two rank counts do not share); for
+    constraint_violation, a length, 1 (the scenes' bodies are of unit size; it holds round-off of 1e-16)."""
+    if name == "constraint_violation":
+        return 1.0
+    names = [name[:-1] + c for c in "xyz"] if name[-2:] in ("_x", "_y", "_z") else [name]
+    return max(max(max(abs(v) for v in a.column(n)) for n in names if n in a.rows[0]), 1e-300)
+
+
+def worst_difference(a, b, with_iterations):
+    """The largest |a - b| over the rows of both, relative to each column's scale (column_scale; wall time left out,
+    and the Newton iteration counts unless with_iterations: on another number of ranks the last bits of the state
+    differ, and the block's step 30, where it reaches its stop, takes 9 to 13 iterations to the same converged
+    state depending on them — two uninterrupted 2-rank MUMPS runs differ there by 3, measured 2026-11-28)."""
     worst, where = 0.0, None
     for name in a.rows[0]:
-        if name == "wall_seconds":
+        if name == "wall_seconds" or (name == "newton_iterations" and not with_iterations):
             continue
         column_a, column_b = a.column(name), b.column(name)
-        scale = max(max(abs(v) for v in column_a), 1e-300)
-        d = max(abs(x - y) for x, y in zip(column_a, column_b)) / scale
+        d = max(abs(x - y) for x, y in zip(column_a, column_b)) / column_scale(a, name)
         if d > worst:
             worst, where = d, name
     return worst, where
 
 
-def compare(checks, label, reference, result, tolerance):
+def compare(checks, label, reference, result, tolerance, with_iterations=True):
     checks.check(len(result.rows) == len(reference.rows),
                  "%s: %d history rows, like the uninterrupted run's %d" % (label, len(result.rows), len(reference.rows)))
     checks.check(result.rows[-1]["step"] == reference.rows[-1]["step"], "%s: ends at step %g (%g)" %
                  (label, result.rows[-1]["step"], reference.rows[-1]["step"]))
-    worst, where = worst_difference(reference, result)
+    worst, where = worst_difference(reference, result, with_iterations)
     checks.check(worst <= tolerance, "%s: every history column equal to %.1e (largest difference %.2e, %s)" %
                  (label, tolerance, worst, where))
     checks.check("restarted_from" in result.summary, "%s: summary.json names the checkpoint" % label)
@@ -98,7 +111,8 @@ def restart_friction_other_ranks(checks):
             folder = tempfile.mkdtemp(prefix="stickslip-restart-")
             reference = straight(case, read, folder)
             result = restarted(case, interrupted(case, written, folder), read, folder, "again")
-            compare(checks, "%s, %d rank(s) -> %d" % (case[0], written, read), reference, result, 1e-10)
+            compare(checks, "%s, %d rank(s) -> %d" % (case[0], written, read), reference, result, 1e-10,
+                    with_iterations=False)
             shutil.rmtree(folder)
 
 
