@@ -5,8 +5,8 @@
  * UCX transport calibrates its clock by sleeping (~0.2 s, 850 nanosleeps). With the two MCA settings below it takes
  * 0.04 s. Neither matters to a single process: an isolated singleton has no daemon to spawn further processes
  * with (stickslip never does), and ob1 with the self transport is how one process talks to itself. Settings the
- * user made in the environment are kept; under mpirun nothing is changed. --version, --help and plugins do not
- * start MPI at all.
+ * user made in the environment are kept; under mpirun nothing is changed. --version, --help (of every command),
+ * plugins and a command line refused before the scene is read do not start MPI at all.
  * Isolated singletons all use job family 0, so they would share the session directory /tmp/ompi.HOST.UID/jf.0: one
  * process finishing removed it while another was creating its own below it (MPI_Init aborted, seen in
  * cli_hostile_non_finite with two tests at once). Each process gets a session base of its own, removed after

@@ -1,4 +1,4 @@
-// The lower half of a two-layer ring above a block (validation.md, "Ring pressed onto a block"): ring centred at
+// The lower half of a two-layer ring above a block (docs/validation.md, "Ring pressed onto a block"): ring centred at
 // (0, cy), inner layer r_inner..r_mid, outer layer r_mid..r_outer, its two ends on the line y = cy; the block
 // [-block_width/2, block_width/2] x [-block_height, 0] below it (gap cy - r_outer). Structured quad4: n_around
 // divisions along the half ring and n_layer through each layer; the block nx x ny, uniform. All counts scale with

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job on a fresh machine: installs the dependencies, builds, runs the bundled default scene, plots its
-# energy/momentum history and draws the deformed bodies at four instants.
+# history and draws the deformed bodies at four instants.
 # Usage: scripts/demo.sh [SCENE.yaml] [extra `stickslip run` arguments]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,9 +13,9 @@ out=results/$name
 mkdir -p results
 build/bin/stickslip run "$scene" --out "$out" "$@"
 scripts/plot-history.sh "$out" "$name"
-echo "results: $out/ (history.csv, summary.json, contact.csv with contact, results.pvd for ParaView)"
-echo "plot:    $out/history.png (energy, momenta, contact force)"
+echo "results: $out/ (history.csv, summary.json, contact.csv over time; results.pvd, contact.pvd for ParaView)"
+echo "plot:    $out/history.png (the panels that fit the run)"
 if [ -f "$out/results.pvd" ]; then # unless the scene turned output.vtu off
   scripts/plot-snapshots.sh "$out" --title "$name: |displacement|"
-  echo "bodies:  $out/snapshots.png (more: scripts/plot-snapshots.sh $out --field contact_pressure --times ...)"
+  echo "bodies:  $out/snapshots.png (more: scripts/plot-snapshots.sh $out --field contact_pressure, --contact, --help)"
 fi

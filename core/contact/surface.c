@@ -217,6 +217,35 @@ sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_
   return status;
 }
 
+void sk_surface_sizes(const sk_surface *surface, const double *X_nodes, int stride, double *h_min, double *h_mean,
+                      double *h_max, double *measure) {
+  const int dim = surface->dim, nen = surface->nen, corners = sk_elem_corners(surface->face_type);
+  const int edges = corners == 2 ? 1 : corners;
+  double lo = INFINITY, hi = 0.0, sum = 0.0, area = 0.0;
+  long count = 0;
+  double X[SK_FACE_NEN_MAX * 3];
+  for (int f = 0; f < surface->n_faces; ++f) {
+    const int *conn = surface->conn + (size_t)f * nen;
+    for (int a = 0; a < nen; ++a)
+      for (int i = 0; i < dim; ++i) X[a * dim + i] = X_nodes[(size_t)stride * (size_t)conn[a] + i];
+    for (int e = 0; e < edges; ++e) {
+      const double *p = X + e * dim, *q = X + ((e + 1) % corners) * dim;
+      double d2 = 0.0;
+      for (int i = 0; i < dim; ++i) d2 += (q[i] - p[i]) * (q[i] - p[i]);
+      const double h = sqrt(d2);
+      lo = fmin(lo, h);
+      hi = fmax(hi, h);
+      sum += h;
+      ++count;
+    }
+    area += sk_face_area(surface->face_type, dim, X);
+  }
+  *h_min = count ? lo : 0.0;
+  *h_mean = count ? sum / (double)count : 0.0;
+  *h_max = hi;
+  *measure = area;
+}
+
 void sk_surface_free(sk_surface *surface) {
   if (!surface) return;
   free(surface->conn);
@@ -325,5 +354,42 @@ void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double
     double length = sqrt(dot3(normals + 3 * k, normals + 3 * k));
     if (length > 0.0)
       for (int i = 0; i < 3; ++i) normals[3 * k + i] /= length;
+  }
+}
+
+/* The modified basis (Popp et al., SIAM J. Sci. Comput. 34, 2012) on the face's integrals A[]: each corner takes
+ * alpha of its two edge nodes' integrals, the edge nodes keep 1 - 2 alpha of theirs (a partition of unity with
+ * positive integrals: flat TRI6 2/15 and 1/5 of the area, QUAD8 1/20 and 1/5). */
+static void modified_basis_weights(sk_elem_type type, double *A) {
+  const double alpha = 0.2;
+  const int corners = type == SK_TRI6 ? 3 : type == SK_QUAD8 ? 4 : 0;
+  double edge[4];
+  for (int e = 0; e < corners; ++e) edge[e] = A[corners + e];
+  for (int e = 0; e < corners; ++e) {
+    A[e] += alpha * edge[e];
+    A[(e + 1) % corners] += alpha * edge[e];
+    A[corners + e] = (1.0 - 2.0 * alpha) * edge[e];
+  }
+}
+
+void sk_surface_tributary_measures(const sk_surface *surface, const double *q, double *measure) {
+  memset(measure, 0, (size_t)surface->n_nodes * sizeof *measure);
+  enum { MAX_POINTS = 16 };
+  double xi[MAX_POINTS][2], w[MAX_POINTS];
+  /* exact for N_I times the area element of straight faces (degree 2 on TRI3, 4 on TRI6, 5 otherwise) */
+  const sk_elem_type type = surface->face_type;
+  const int n = sk_face_quadrature(type, type == SK_TRI3 ? 2 : type == SK_TRI6 ? 4 : 5, MAX_POINTS, xi, w);
+  sk_surface_point point;
+  for (int f = 0; f < surface->n_faces; ++f) {
+    double A[SK_FACE_NEN_MAX] = {0};
+    for (int p = 0; p < n; ++p) {
+      sk_surface_geometry(surface, f, xi[p], q, &point);
+      for (int a = 0; a < surface->nen; ++a) A[a] += point.N[a] * point.jacobian * w[p];
+    }
+    modified_basis_weights(type, A);
+    for (int a = 0; a < surface->nen; ++a) {
+      const int index = surface_node_index(surface, surface->conn[(size_t)f * surface->nen + a]);
+      if (index >= 0) measure[index] += A[a];
+    }
   }
 }

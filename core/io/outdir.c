@@ -2,8 +2,10 @@
  * - results appear complete or not at all: they are written into a staging folder DIR.partial-PID next to DIR and
  *   put in place by renames only at the end;
  * - only files stickslip wrote are ever replaced: every results folder carries a manifest (SK_OUTDIR_MARKER) listing
- *   its files, and an existing DIR is replaced only when every entry in it is listed there (or it is empty); any
- *   other file is a refusal naming it — before the run, and again at the end;
+ *   its files (those in subfolders as "folder/file"), and an existing DIR is replaced only when every entry in it
+ *   is listed there (or it is empty); any other file is a refusal naming it — before the run, and again at the end.
+ *   The project's tools that write into a results folder (scripts/plot-*.sh) add what they wrote to the manifest
+ *   (scripts/claim-results-files.sh): their files are the run's and go with it;
  * - a run that did not finish (failed, interrupted) never replaces finished results: it goes to DIR.incomplete;
  * - a run that cannot write (a full disk) leaves DIR as it was and removes its staging folder;
  * - staging folders of runs that were killed (SIGKILL, a crash) are named on the next run into the same DIR, not
@@ -24,8 +26,9 @@
 
 enum { PATH_CAP = 4096 };
 
-static const char manifest_header[] = "# stickslip results folder: the files below were written by stickslip; the next "
-                                      "run into this folder may replace it, but only if it holds nothing else\n";
+static const char manifest_header[] = "# stickslip results folder: the files below were written by stickslip (or "
+                                      "its tools: scripts/plot-*.sh); the next run into this folder may replace it, "
+                                      "but only if it holds nothing else\n";
 static const char *const status_names[] = {"ok", "failed", "interrupted"};
 
 /* dir without trailing slashes ("out/" → "out"); "/" and "" are refused. */
@@ -123,24 +126,63 @@ static int is_output_name(const char *name) {
   return strncmp(name, "step-", 5) == 0 && n > 9 && strcmp(name + n - 4, ".vtu") == 0;
 }
 
+static int is_directory(const char *path) {
+  struct stat st;
+  return lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* Calls visit(ctx, name, path) for every entry below `dir` but the manifest, `name` relative to the results folder
+ * ("snapshots/step-000010.png"; `prefix` is "" at the top) and `path` NULL when it is too long to form. The visitor
+ * returns 1 to enter a folder, 0 not to, -1 to stop (with the error it set). */
+typedef int (*entry_visitor)(void *ctx, const char *name, const char *path);
+
+static sk_status walk(const char *dir, const char *prefix, entry_visitor visit, void *ctx) {
+  DIR *d = opendir(dir);
+  if (!d) return sk_error_set(SK_ERR_IO, "cannot open directory '%s': %s", dir, strerror(errno));
+  sk_status status = SK_OK;
+  struct dirent *e;
+  while (status == SK_OK && (e = readdir(d)) != NULL) {
+    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || (!prefix[0] && !strcmp(e->d_name, SK_OUTDIR_MARKER)))
+      continue;
+    char name[PATH_CAP], path[PATH_CAP];
+    int fits = (size_t)snprintf(name, sizeof name, "%s%s", prefix, e->d_name) < sizeof name &&
+               (size_t)snprintf(path, sizeof path, "%s/%s", dir, e->d_name) < sizeof path;
+    int enter = visit(ctx, name, fits ? path : NULL);
+    if (enter < 0) {
+      status = SK_ERR_IO;
+    } else if (enter && fits && is_directory(path)) {
+      char sub[PATH_CAP + 1];
+      snprintf(sub, sizeof sub, "%s/", name);
+      status = walk(path, sub, visit, ctx);
+    }
+  }
+  closedir(d);
+  return status;
+}
+
+/* The manifest lists every entry, those in folders too. */
+static int list_entry(void *ctx, const char *name, const char *path) {
+  if (!path) {
+    sk_error_set(SK_ERR_IO, "path too long: '%s'", name);
+    return -1;
+  }
+  fprintf((FILE *)ctx, "%s\n", name);
+  return 1;
+}
+
 /* Writes the manifest of `dir`: every entry in it now, and the status. */
 static sk_status manifest_write(const char *dir, sk_results_status status) {
   char path[PATH_CAP + 64];
   snprintf(path, sizeof path, "%s/%s", dir, SK_OUTDIR_MARKER);
-  DIR *d = opendir(dir);
-  if (!d) return sk_error_set(SK_ERR_IO, "cannot list '%s': %s", dir, strerror(errno));
   FILE *f = fopen(path, "w");
-  if (!f) {
-    closedir(d);
-    return sk_error_set(SK_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-  }
+  if (!f) return sk_error_set(SK_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
   fputs(manifest_header, f);
   fprintf(f, "status: %s\n", status_names[status]);
-  struct dirent *e;
-  while ((e = readdir(d)) != NULL)
-    if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, SK_OUTDIR_MARKER))
-      fprintf(f, "%s\n", e->d_name);
-  closedir(d);
+  sk_status listed = walk(dir, "", list_entry, f);
+  if (listed != SK_OK) {
+    fclose(f);
+    return listed;
+  }
   int failed = ferror(f);
   if (fclose(f) != 0 || failed) return sk_error_set(SK_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
   return SK_OK;
@@ -178,6 +220,39 @@ static sk_status remove_tree(const char *path) {
   return SK_OK;
 }
 
+enum { FOREIGN_NAMED = 3 };
+typedef struct {
+  char names[FOREIGN_NAMED][PATH_CAP / 4]; /* the first few in name order */
+  int n;
+} foreign_files;
+
+static void add_foreign(foreign_files *foreign, const char *name) {
+  int at = foreign->n < FOREIGN_NAMED ? foreign->n : FOREIGN_NAMED;
+  while (at > 0 && strcmp(name, foreign->names[at - 1]) < 0) {
+    if (at < FOREIGN_NAMED) memcpy(foreign->names[at], foreign->names[at - 1], sizeof foreign->names[at]);
+    --at;
+  }
+  if (at < FOREIGN_NAMED) snprintf(foreign->names[at], sizeof foreign->names[at], "%s", name);
+  ++foreign->n;
+}
+
+/* The entries of a results folder that its manifest does not list. A listed folder is the run's only with everything
+ * in it listed too ("sub/file"): a file of the user's put into a folder a tool wrote (snapshots/) is not lost with
+ * it. A path too long to form is not ours to remove. */
+typedef struct {
+  const manifest *m;
+  foreign_files *foreign;
+} foreign_search;
+
+static int find_foreign(void *ctx, const char *name, const char *path) {
+  const foreign_search *search = ctx;
+  const manifest *m = search->m;
+  int top = strchr(name, '/') == NULL;
+  int ours = path && m->found && (m->listed ? manifest_lists(m, name) : top && is_output_name(name));
+  if (!ours) add_foreign(search->foreign, name);
+  return ours && m->listed; /* enter the run's folders to look at what is in them */
+}
+
 /* May `dir` be replaced? Yes if it does not exist, is empty, or holds only files its manifest lists (files of the
  * known output names for a bare marker of an older version). Otherwise an error naming the first foreign file;
  * `where` (may be NULL) says where the new results are waiting. */
@@ -191,38 +266,25 @@ static sk_status check_replaceable(const char *dir, const char *where) {
   if (!S_ISDIR(st.st_mode))
     return sk_error_set(SK_ERR_IO, "refusing to replace '%s': it exists and is not a directory%s%s", dir, kept,
                         where ? where : "");
-  DIR *d = opendir(dir);
-  if (!d) return sk_error_set(SK_ERR_IO, "cannot open directory '%s': %s", dir, strerror(errno));
   manifest m;
   manifest_read(dir, &m);
-  enum { NAMED = 3 };
-  char foreign[NAMED][256]; /* the first few in name order */
-  int n_foreign = 0;
-  struct dirent *e;
-  while ((e = readdir(d)) != NULL) {
-    const char *name = e->d_name;
-    if (!strcmp(name, ".") || !strcmp(name, "..") || !strcmp(name, SK_OUTDIR_MARKER)) continue;
-    int ours = m.found && (m.listed ? manifest_lists(&m, name) : is_output_name(name));
-    if (ours) continue;
-    int at = n_foreign < NAMED ? n_foreign : NAMED;
-    while (at > 0 && strcmp(name, foreign[at - 1]) < 0) {
-      if (at < NAMED) memcpy(foreign[at], foreign[at - 1], sizeof foreign[at]);
-      --at;
-    }
-    if (at < NAMED) snprintf(foreign[at], sizeof foreign[at], "%s", name);
-    ++n_foreign;
-  }
-  closedir(d);
+  foreign_files foreign = {.n = 0};
+  foreign_search search = {&m, &foreign};
+  sk_status status = walk(dir, "", find_foreign, &search);
+  int found = m.found;
   free(m.text);
+  if (status != SK_OK) return status;
+  const int n_foreign = foreign.n;
   if (n_foreign == 0) return SK_OK;
   char list[900] = "";
-  for (int k = 0; k < n_foreign && k < NAMED; ++k)
-    snprintf(list + strlen(list), sizeof list - strlen(list), "%s'%s'", k ? ", " : "", foreign[k]);
-  if (n_foreign > NAMED) snprintf(list + strlen(list), sizeof list - strlen(list), " and %d more", n_foreign - NAMED);
+  for (int k = 0; k < n_foreign && k < FOREIGN_NAMED; ++k)
+    snprintf(list + strlen(list), sizeof list - strlen(list), "%s'%s'", k ? ", " : "", foreign.names[k]);
+  if (n_foreign > FOREIGN_NAMED)
+    snprintf(list + strlen(list), sizeof list - strlen(list), " and %d more", n_foreign - FOREIGN_NAMED);
   return sk_error_set(SK_ERR_IO,
                       "refusing to replace '%s': it holds %s, which stickslip did not write%s; move %s away or "
                       "choose another --out%s%s",
-                      dir, list, m.found ? "" : " (it is not a stickslip results folder)",
+                      dir, list, found ? "" : " (it is not a stickslip results folder)",
                       n_foreign > 1 ? "them" : "it", kept, where ? where : "");
 }
 

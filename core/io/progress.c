@@ -71,12 +71,16 @@ void sk_progress_update(int step, double t, int newton_its, const char *extra) {
   fflush(stderr);
 }
 
-void sk_progress_end(void) {
+void sk_progress_end(const char *stopped) {
   if (!progress.active) return;
   char spent[32];
   format_duration(spent, sizeof spent, wall_seconds() - progress.start);
-  fprintf(stderr, "%s%s: done, %d steps in %s%s\n", progress.tty ? "\r" : "", progress.label, progress.step, spent,
-          progress.tty ? "\033[K" : "");
+  if (stopped)
+    fprintf(stderr, "%s%s: %s after %d steps, %s%s\n", progress.tty ? "\r" : "", progress.label, stopped,
+            progress.step, spent, progress.tty ? "\033[K" : "");
+  else
+    fprintf(stderr, "%s%s: done, %d steps in %s%s\n", progress.tty ? "\r" : "", progress.label, progress.step, spent,
+            progress.tty ? "\033[K" : "");
   fflush(stderr);
   progress.active = 0;
 }

@@ -2,6 +2,7 @@
  * invariants and stresses. */
 #include "assemble.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 int sk_element_dofs(const sk_model *model, int element, int *dofs, const sk_body **body_out, const int **conn_out) {
@@ -106,12 +107,14 @@ void sk_traction_add(const sk_model *model, int k, double t, double *F) {
   }
 }
 
-sk_status sk_bulk_invariants(const sk_model *model, const double *u, const double *v, sk_invariants *inv) {
+/* The invariants of body `only` (all bodies when negative), whose nodes `in_body` marks. */
+static sk_status invariants(const sk_model *model, int only, const unsigned char *in_body, const double *u,
+                            const double *v, sk_invariants *inv) {
   memset(inv, 0, sizeof *inv);
   int dim = model->dim;
   /* M v per owned node (consistent mass: its row is whole on its owner), kinetic energy and momenta */
   for (int a = 0; a < model->n_nodes; ++a) {
-    if (model->node_owner[a] != model->rank) continue;
+    if (model->node_owner[a] != model->rank || (in_body && !in_body[a])) continue;
     double mv[3] = {0, 0, 0};
     for (int64_t k = model->mass_row_ptr[a]; k < model->mass_row_ptr[a + 1]; ++k) {
       int b = model->mass_cols[k];
@@ -133,6 +136,7 @@ sk_status sk_bulk_invariants(const sk_model *model, const double *u, const doubl
     if (model->element_part[e] != model->rank) continue;
     const sk_body *body;
     int n = sk_element_dofs(model, e, dofs, &body, NULL);
+    if (only >= 0 && body - model->bodies != only) continue;
     double X[SK_MAX_NEN * 3], ue[SK_MAX_NEN * 3], W = 0.0;
     gather(n, dofs, model->X, X);
     gather(n, dofs, u, ue);
@@ -152,6 +156,21 @@ sk_status sk_bulk_invariants(const sk_model *model, const double *u, const doubl
     inv->angular_momentum[i] = sums[5 + i];
   }
   return SK_OK;
+}
+
+sk_status sk_bulk_invariants(const sk_model *model, const double *u, const double *v, sk_invariants *inv) {
+  return invariants(model, -1, NULL, u, v, inv);
+}
+
+sk_status sk_bulk_body_invariants(const sk_model *model, int body, const double *u, const double *v,
+                                  sk_invariants *inv) {
+  unsigned char *in_body = calloc((size_t)model->n_nodes + 1, 1);
+  if (!in_body) return sk_error_set(SK_ERR_NOMEM, "out of memory for the invariants of body %d", body);
+  const sk_group *g = model->bodies[body].group;
+  for (int64_t k = 0; k < (int64_t)g->n_elems * g->nen; ++k) in_body[g->conn[k]] = 1;
+  const sk_status status = invariants(model, body, in_body, u, v, inv);
+  free(in_body);
+  return status;
 }
 
 sk_status sk_bulk_stress(const sk_model *model, const double *u, double *stress) {

@@ -41,6 +41,9 @@ typedef struct {
 /* Kinetic and strain energy, linear and angular momentum (about the origin) at displacement u and velocity v (over
  * the local dofs; collective: each rank sums its owned nodes and elements). */
 sk_status sk_bulk_invariants(const sk_model *model, const double *u, const double *v, sk_invariants *inv);
+/* The same for one body (collective). */
+sk_status sk_bulk_body_invariants(const sk_model *model, int body, const double *u, const double *v,
+                                  sk_invariants *inv);
 
 /* Element-averaged Cauchy stress (9 per element, zero for other ranks' elements: sum over ranks). */
 sk_status sk_bulk_stress(const sk_model *model, const double *u, double *stress);

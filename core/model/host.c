@@ -1,5 +1,6 @@
 /* The host api of the plugin ABI (plugin.h: sk_host_api) and its extensions stickslip.bulk.v1,
- * stickslip.condense.v1 and stickslip.linear.v1; and the one path for messages to the user (sk_log_message). */
+ * stickslip.condense.v1, stickslip.linear.v1 and stickslip.scene.v1; and the one path for messages to the user
+ * (sk_log_message). */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,7 +13,9 @@
 int sk_log_verbosity = 0;
 
 static void log_va(int rank, int level, const char *fmt, va_list args) {
-  if (rank != 0 || level > 1 + sk_log_verbosity) return;
+  /* warnings always; information unless --quiet (verbosity -1); debug with --verbose (1) */
+  int shown = level == 1 || (level == 0 && sk_log_verbosity >= 0) || (level >= 2 && sk_log_verbosity > 0);
+  if (rank != 0 || !shown) return;
   char message[2048];
   vsnprintf(message, sizeof message, fmt, args);
   fprintf(stderr, "%s%s\n", level == 1 ? "warning: " : "", message);
@@ -345,10 +348,33 @@ static sk_status linear_solve_again(sk_host *host, const double *const *b_view, 
 
 static const sk_linear_ext linear_ext = {SK_TABLE_HEADER(sk_linear_ext), .solve_again = linear_solve_again};
 
+/* ---- stickslip.scene.v1 ------------------------------------------------------------------------------------------ */
+
+static const sk_scene_info *scene_info(sk_host *host) { return &host->term->scene.info; }
+
+static void scene_computed(sk_host *host, const char *key, double value, const char *fmt, ...) {
+  plugin_term *term = host->term;
+  plugin_computed *entry = NULL;
+  for (int k = 0; k < term->n_computed && !entry; ++k)
+    if (strcmp(term->computed[k].key, key) == 0) entry = &term->computed[k]; /* a second report replaces the first */
+  if (!entry && term->n_computed < PLUGIN_MAX_COMPUTED) entry = &term->computed[term->n_computed++];
+  if (!entry) return;
+  snprintf(entry->key, sizeof entry->key, "%s", key);
+  entry->value = value;
+  va_list args;
+  va_start(args, fmt);
+  vsnprintf(entry->reason, sizeof entry->reason, fmt, args);
+  va_end(args);
+  sk_log_message(host->sys->rank, 2, "%s: parameter %s = %g (computed: %s)", host->name, key, value, entry->reason);
+}
+
+static const sk_scene_ext scene_ext = {SK_TABLE_HEADER(sk_scene_ext), .info = scene_info, .computed = scene_computed};
+
 static const void *host_get_extension(sk_host *host, const char *id) {
   if (!id) return NULL;
   if (strcmp(id, SK_EXT_BULK) == 0) return host->term->body >= 0 ? &bulk_ext : NULL;
   if (strcmp(id, SK_EXT_CONDENSE) == 0) return &condense_ext;
+  if (strcmp(id, SK_EXT_SCENE) == 0) return &scene_ext;
   if (strcmp(id, SK_EXT_LINEAR) == 0) {
     host->term->wants_linear = 1;
     return &linear_ext;

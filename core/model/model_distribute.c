@@ -83,6 +83,11 @@ static sk_status localize_surface(const sk_model *m, const int *local_of, sk_sur
     return no_memory("surfaces");
   }
   sk_status status = face_owners(m, s, owner);
+  /* the whole surface's sizes (the scene's description, stickslip.scene.v1: the same on every rank) */
+  if (!s->whole_sizes) {
+    sk_surface_sizes(s, m->mesh.x, 3, &s->whole_h_min, &s->whole_h_mean, &s->whole_h_max, &s->whole_measure);
+    s->whole_sizes = 1;
+  }
   int kept = 0;
   for (int f = 0; f < s->n_faces; ++f) {
     int held = 1;

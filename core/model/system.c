@@ -526,6 +526,11 @@ static sk_status cb_solve(void *ctx, const double *x, const double *F, double *d
   MPI_Allreduce(MPI_IN_PLACE, &any_recover, 1, MPI_INT, MPI_MAX, sys->comm);
   memset(local, 0, sizeof(double) * (size_t)sys->n);
   SK_TRY(sk_system_from_rows(sys, sys->y, local));
+  /* |dx . F| over the kept unknowns (FEAP's energy norm, --verbose), each owned entry once */
+  double energy = 0.0;
+  for (int64_t k = 0; k < sys->n_owned; ++k) energy += local[sys->owned[k]] * F[k];
+  MPI_Allreduce(MPI_IN_PLACE, &energy, 1, MPI_DOUBLE, MPI_SUM, sys->comm);
+  sys->newton_energy = fabs(energy);
   sk_exchange_forward(&sys->ghost_dofs, local);
   sk_exchange_forward(&sys->ghost_extras, local);
   if (any_recover) {
@@ -595,7 +600,8 @@ static sk_status cb_after_iteration(void *ctx, int iteration, const double *x, d
   sk_system *sys = ctx;
   (void)x;
   if (sys->verbose && sys->rank == 0)
-    fprintf(stderr, "  step %lld newton %d |F| = %.3e\n", (long long)sys->step, iteration, residual_norm);
+    fprintf(stderr, "  step %lld newton %d |F| = %.3e |dx.F| = %.3e\n", (long long)sys->step, iteration, residual_norm,
+            sys->newton_energy);
   return SK_OK;
 }
 
@@ -608,12 +614,19 @@ sk_status sk_system_solve(sk_system *sys) {
                                          .after_iteration = cb_after_iteration};
   memset(&sys->newton, 0, sizeof sys->newton);
   const int max_loops = sys->solver->max_active_set_loops;
+  /* the positions q = X + x carry the rounding that reaches the residual: the round-off floor of a correction */
+  sk_newton_options options = sys->solver->newton;
+  double xx = 0.0;
+  for (int64_t k = 0; k < sys->model->n_dofs; ++k)
+    if (sys->role[k] == SK_NODE_OWNED) xx += sys->model->X[k] * sys->model->X[k];
+  MPI_Allreduce(MPI_IN_PLACE, &xx, 1, MPI_DOUBLE, MPI_SUM, sys->comm);
+  options.roundoff_scale = sqrt(xx);
   for (int loop = 0;; ++loop) {
     sk_newton_report report;
     sys->fatal = SK_OK;
     double *owned = sys->owned_work;
     for (int64_t k = 0; k < sys->n_owned; ++k) owned[k] = sys->x[sys->owned[k]];
-    sk_status status = sk_newton_solve(sys->comm, &sys->solver->newton, &callbacks, (int)sys->n_owned, owned, &report);
+    sk_status status = sk_newton_solve(sys->comm, &options, &callbacks, (int)sys->n_owned, owned, &report);
     if (status != SK_OK && sys->fatal != SK_OK) status = sk_error_set(sys->fatal, "%s", sys->fatal_message);
     const int iterations = sys->newton.iterations + report.iterations;
     const int solves = sys->newton.linear_solves + report.linear_solves;

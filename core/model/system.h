@@ -118,6 +118,7 @@ struct sk_system {
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
   int verbose;
+  double newton_energy;     /* |dx . F| of the last Newton direction (FEAP's energy norm), printed with --verbose */
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
   int forget_setup;    /* test switch STICKSLIP_NO_SKIP=symbolic-setup: every solve sets up as on a new pattern */
   /* the largest residual entry of the attempt's last evaluation (-1: none yet), for the message of a failed step */
@@ -196,6 +197,11 @@ typedef struct {
   double *obstacle_force;  /* 3 per obstacle pair (caller's array) */
 } sk_contact_totals;
 sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_totals *totals);
+/* The bodies whose plugin integrator reports the energy its scheme conserves (ABI 2.5): the sum of those energies
+ * (scheme[0] kinetic, scheme[1] strain) and the host's own for the same bodies at (u, v) (host[0], host[1]: from the
+ * world state and the body's material), both summed over ranks; zeros when no body reports (collective). */
+sk_status sk_system_scheme_energy(sk_system *sys, const double *u, const double *v, int initial, double scheme[2],
+                                  double host[2]);
 /* Calls every plugin term's points() (initial: the initial state); the pair index is passed along. */
 sk_status sk_system_points(sk_system *sys, int initial, void (*callback)(void *ctx, int pair, const sk_contact_point *),
                            void *ctx);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "assemble.h"
 #include "system.h"
 
 /* ---- results ----------------------------------------------------------------------------------------------------- */
@@ -68,6 +69,28 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
   totals->slip = sums[8];
   totals->dissipated = sums[9];
   totals->n_obstacles = n_obstacles;
+  return SK_OK;
+}
+
+sk_status sk_system_scheme_energy(sk_system *sys, const double *u, const double *v, int initial, double scheme[2],
+                                  double host[2]) {
+  scheme[0] = scheme[1] = host[0] = host[1] = 0.0;
+  sk_status status = SK_OK;
+  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
+    int body;
+    double energy[2];
+    status = sk_term_plugin_scheme_energy(sys->terms[k], sys, initial, &body, energy);
+    status = sk_system_collective(sys, status);
+    if (status != SK_OK || body < 0) continue; /* the same on every rank: every rank creates every instance */
+    sk_invariants own;
+    status = sk_bulk_body_invariants(sys->model, body, u, v, &own);
+    scheme[0] += energy[0];
+    scheme[1] += energy[1];
+    host[0] += own.kinetic;
+    host[1] += own.strain;
+  }
+  SK_TRY(status);
+  MPI_Allreduce(MPI_IN_PLACE, scheme, 2, MPI_DOUBLE, MPI_SUM, sys->comm);
   return SK_OK;
 }
 

@@ -9,6 +9,8 @@
 #ifndef STICKSLIP_TERM_H
 #define STICKSLIP_TERM_H
 
+#include <stdio.h>
+
 #include "stickslip/plugin.h"
 
 typedef struct sk_system sk_system;
@@ -108,5 +110,12 @@ int sk_term_plugin_pair(const sk_term *term);
 int sk_term_plugin_checkpointable(const sk_term *term, const char **plugin);
 sk_status sk_term_plugin_save(sk_term *term, sk_system *sys, sk_record_writer *writer);
 sk_status sk_term_plugin_load(sk_term *term, sk_system *sys, const sk_record_reader *reader);
+/* A plugin term that claimed its body and whose integrator reports the energy its scheme conserves (ABI 2.5): *body
+ * is that body and energy[0], energy[1] its kinetic and strain energy, this rank's part (initial: of the initial
+ * state); *body = -1 and zeros for any other term. */
+sk_status sk_term_plugin_scheme_energy(sk_term *term, sk_system *sys, int initial, int *body, double energy[2]);
+/* The parameters a plugin term computed from the scene (stickslip.scene.v1), one line each into `out` (--explain;
+ * NULL: none); returns how many. */
+int sk_term_plugin_explain_defaults(const sk_term *term, FILE *out);
 
 #endif

@@ -2,6 +2,7 @@
  * sees (positions per view, refreshed when the iterate changes) and runs the ABI calls at the system's stages. The
  * capability checks that depend on what an instance does (extra unknowns, eliminations) are made here. */
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -417,6 +418,24 @@ int sk_term_plugin_pair(const sk_term *base) {
   return ((const plugin_term *)base)->pair;
 }
 
+sk_status sk_term_plugin_scheme_energy(sk_term *base, sk_system *sys, int initial, int *body, double energy[2]) {
+  *body = -1;
+  energy[0] = energy[1] = 0.0;
+  if (base->ops != &plugin_ops) return SK_OK;
+  plugin_term *term = (plugin_term *)base;
+  if (!term->integrator || !SK_HAS(term->integrator, energy) || !term->integrator->energy) return SK_OK;
+  sk_plugin_term_refresh(term, sys, initial);
+  sk_error_clear();
+  sk_status status = said(term, "energy", term->integrator->energy(term->instance, &term->state, &energy[0],
+                                                                    &energy[1]));
+  if (status == SK_OK && !(isfinite(energy[0]) && isfinite(energy[1])))
+    status = sk_error_set(SK_ERR_PLUGIN, "its integrator's energy is not a number (kinetic %g, strain %g)",
+                          energy[0], energy[1]);
+  if (status != SK_OK) return sk_error_prefix(status, "%s: energy: ", base->name);
+  *body = term->body;
+  return SK_OK;
+}
+
 /* ---- creation --------------------------------------------------------------------------------------------------- */
 
 static sk_status add_view(plugin_term *term, sk_system *sys, const sk_surface *surface, const char *name, int whole,
@@ -479,6 +498,7 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
       attach->obstacle = &pair->obstacle;
     }
     attach->self_contact = pair->self_contact;
+    sk_describe_pair(m, pair_index, &term->scene);
   } else {
     const sk_body *b = &m->bodies[body];
     term->plugin = b->plugin;
@@ -489,6 +509,7 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
     attach->strategy = b->strategy;
     SK_TRY(add_view(term, sys, NULL, b->name, 0, body));
     attach->body = term->view_list[0];
+    sk_describe_body(m, body, &term->scene);
     term->pending_u = zeros(dof_count(attach->body));
     term->pending_v = zeros(dof_count(attach->body));
     term->scratch_K = zeros((int64_t)(SK_MAX_NEN * 3) * (SK_MAX_NEN * 3));
@@ -559,6 +580,35 @@ static void declare_friction(plugin_term *term) {
     sk_needs_declare(needs, SK_NEED_FRICTION, 1, "mu = %s", sk_cfg_scalar(node) ? sk_cfg_scalar(node) : "?");
 }
 
+/* The message of a failed create() as "FILE:LINE:COL: contact pair 'NAME' (plugin P): ...": at the parameter the
+ * plugin's message names ('key'), else at the `parameters` map, unless the message has its position already (the
+ * host's getters give one); a plugin that names the pair itself ("hertz: ...") would say it twice, so that goes. */
+static void create_error(const plugin_term *term, sk_status status) {
+  char message[2048];
+  snprintf(message, sizeof message, "%s", sk_error_message());
+  const char *text = message;
+  size_t n = strlen(term->attach.name);
+  if (n > 0 && strncmp(text, term->attach.name, n) == 0 && text[n] == ':' && text[n + 1] == ' ') text += n + 2;
+  const sk_cfg *params = term->host.params, *at = NULL;
+  const char *where = sk_cfg_where(params);
+  const char *colon = strchr(where, ':');
+  int positioned = strncmp(text, "--", 2) == 0 ||
+                   (params && colon && strncmp(text, where, (size_t)(colon - where + 1)) == 0);
+  for (int i = 0; params && !positioned && !at && i < sk_cfg_size(params); ++i) {
+    char quoted[160];
+    snprintf(quoted, sizeof quoted, "'%s'", sk_cfg_key_at(params, i));
+    if (strstr(text, quoted)) at = sk_cfg_at(params, i);
+  }
+  if (params && !positioned && !at) at = params;
+  const char *rest = positioned ? strstr(text, ": ") : NULL; /* after the position the message has */
+  if (rest)
+    sk_error_set(status, "%.*s: %s (plugin %s): %s", (int)(rest - text), text, term->base.name, term->plugin->name,
+                 rest + 2);
+  else
+    sk_error_set(status, "%s%s%s (plugin %s): %s", at ? sk_cfg_where(at) : "", at ? ": " : "", term->base.name,
+                 term->plugin->name, text);
+}
+
 sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **out) {
   plugin_term *term = calloc(1, sizeof *term);
   if (!term) return sk_error_set(SK_ERR_NOMEM, "out of memory for a plugin instance");
@@ -579,7 +629,7 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   if (status == SK_OK && term->base.needs.needed[SK_NEED_MASS]) status = sk_model_build_mass(sys->model);
   if (status == SK_OK) {
     status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
-    if (status != SK_OK) sk_error_prefix(status, "%s (plugin %s): ", term->base.name, term->plugin->name);
+    if (status != SK_OK) create_error(term, status);
   }
   if (status == SK_OK) declare_friction(term);
   /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */
@@ -604,3 +654,13 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
 }
 
 const sk_term_ops *sk_plugin_term_ops(void) { return &plugin_ops; }
+
+int sk_term_plugin_explain_defaults(const sk_term *base, FILE *out) {
+  if (base->ops != &plugin_ops) return 0;
+  const plugin_term *term = (const plugin_term *)base;
+  for (int k = 0; out && k < term->n_computed; ++k)
+    fprintf(out, "  %s[%d].parameters.%s = %.6g (computed: %s)\n", term->pair >= 0 ? "contact" : "bodies",
+            term->pair >= 0 ? term->pair : term->body, term->computed[k].key, term->computed[k].value,
+            term->computed[k].reason);
+  return term->n_computed;
+}

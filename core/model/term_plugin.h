@@ -4,8 +4,16 @@
 #define STICKSLIP_TERM_PLUGIN_H
 
 #include "host.h"
+#include "scene_info.h"
 
-enum { PLUGIN_MAX_VIEWS = 2 };
+enum { PLUGIN_MAX_VIEWS = 2, PLUGIN_MAX_COMPUTED = 16 };
+
+/* A parameter default the instance computed from the scene (stickslip.scene.v1 computed()), for --explain. */
+typedef struct {
+  char key[64];
+  double value;
+  char reason[400];
+} plugin_computed;
 
 typedef struct plugin_term {
   sk_term base;
@@ -42,6 +50,10 @@ typedef struct plugin_term {
   int wants_linear;
   double *again_b, *again_y;
   int64_t again_size;
+  /* stickslip.scene.v1: the attachment as the scene describes it, and the defaults computed from it */
+  sk_scene_description scene;
+  plugin_computed computed[PLUGIN_MAX_COMPUTED];
+  int n_computed;
 } plugin_term;
 
 /* Positions, x_n and v_n of the views from the system (refresh_state: only when the iterate changed). */

@@ -7,6 +7,7 @@
 // the group reports F = +inf instead, so a backtracking line search shortens the step and the FiniteValue test
 // stops a full-step Newton cleanly. The callback's message is kept and reported with SK_ERR_DIVERGED.
 #include <algorithm>
+#include <cfloat>
 #include <cstdarg>
 #include <cmath>
 #include <cstdio>
@@ -360,13 +361,15 @@ class UpdateNormTest : public NOX::StatusTest::Generic {
     if (use_prediction_ && previous.isNewton() && previous.getNormF() > 0)
       predicted_ = previous.getNewton().norm() * group.getNormF() / previous.getNormF();
     value_ = std::min(step_, predicted_);
-    bound_ = tolerance_ * (1.0 + std::sqrt(xx));
+    x_norm_ = std::sqrt(xx);
+    bound_ = tolerance_ * (1.0 + x_norm_);
     if (value_ <= bound_) status_ = NOX::StatusTest::Converged;
     return status_;
   }
   NOX::StatusTest::StatusType getStatus() const override { return status_; }
   double step() const { return step_; }
   double bound() const { return bound_; }
+  double x_norm() const { return x_norm_; }
   std::ostream &print(std::ostream &stream, int indent) const override {
     stream << std::string(indent, ' ') << status_ << "min(||s|| = " << step_ << ", predicted ||dx|| = " << predicted_
            << ") <= " << bound_ << "\n";
@@ -376,24 +379,30 @@ class UpdateNormTest : public NOX::StatusTest::Generic {
  private:
   double tolerance_;
   bool use_prediction_;
-  double step_ = 0, predicted_ = 0, value_ = 0, bound_ = 0;
+  double step_ = 0, predicted_ = 0, value_ = 0, bound_ = 0, x_norm_ = 0;
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
 
-// Stagnation: ||F|| sits on its round-off floor above both tolerances. Two iterations in a row have a full Newton
-// correction at round-off (||d_{k-1}|| <= update_tolerance (1 + ||x||)) that does not lower ||F|| below kStallRatio
-// of its previous value: Newton is converged as far as double precision allows, and more iterations (or a shorter
-// time step) cannot reach the tolerance. Without this test such a step ran max_iterations (50) seven times over, one
-// per step cut. The full correction d, not the step taken s: a line search that backtracks to a tiny s from a large
-// d is stuck far from the solution (large sliding: ||F||/||F0|| = 0.22 with ||s|| = 6e-10), a failure a shorter
-// time step does cure.
+// Stagnation: ||F|| stops decreasing while the full Newton corrections d_{k-1} are small. Two levels:
+//  - the round-off floor: ||d_{k-1}|| <= SK_NEWTON_ROUNDOFF_ULPS eps (||x|| + roundoff_scale), so that x + d equals x
+//    but for its last digits, in kFloorIterations iterations in a row that do not lower ||F|| below kStallRatio of
+//    its previous value. x is the solution as far as double precision resolves it: the solve ends as converged (the
+//    caller warns, SK_NEWTON_ROUNDOFF_FLOOR). Measured on the contact patch test at penalty 1e9 (penalty-range,
+//    factor 1e6): ||F|| = 1.5e-10 ... 2.2e-10 against the absolute tolerance 1e-10 with ||d|| = 2e-17 ... 8e-17,
+//    1.5 ... 6 eps ||x||; without this level every such step was cut until max_cuts ended the run.
+//  - above it, up to the update tolerance (||d_{k-1}|| <= update_tolerance (1 + ||x||)), kStalledIterations such
+//    iterations fail the attempt (SK_NEWTON_STAGNATED), which is cut: there a shorter step often converges
+//    (bridge.h). Without this test such a step ran max_iterations (50) seven times over, one per step cut.
+// The full correction d, not the step taken s: a line search that backtracks to a tiny s from a large d is stuck far
+// from the solution (large sliding: ||F||/||F0|| = 0.22 with ||s|| = 6e-10), a failure a shorter time step does cure.
 class StagnationTest : public NOX::StatusTest::Generic {
  public:
   // A Newton step at round-off that still converges lowers ||F|| by orders of magnitude; at the floor ||F||
   // fluctuates by tens of percent.
   static constexpr double kStallRatio = 0.5;
-  static constexpr int kStalledIterations = 4;
-  explicit StagnationTest(const UpdateNormTest &update) : update_(update) {}
+  static constexpr int kStalledIterations = 4, kFloorIterations = 2;
+  StagnationTest(const UpdateNormTest &update, double roundoff_scale)
+      : update_(update), roundoff_scale_(roundoff_scale) {}
   NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic &solver, NOX::StatusTest::CheckType) override {
     status_ = NOX::StatusTest::Unconverged;
     if (solver.getNumIterations() == 0) return status_;
@@ -401,25 +410,31 @@ class StagnationTest : public NOX::StatusTest::Generic {
     previous_norm_f_ = solver.getPreviousSolutionGroup().getNormF();
     const auto &previous = solver.getPreviousSolutionGroup();
     correction_ = previous.isNewton() ? previous.getNewton().norm() : update_.step();
-    const bool stalled = correction_ <= update_.bound() && norm_f_ >= kStallRatio * previous_norm_f_;
-    stalled_ = stalled ? stalled_ + 1 : 0;
-    if (stalled_ >= kStalledIterations) status_ = NOX::StatusTest::Failed;
+    floor_ = SK_NEWTON_ROUNDOFF_ULPS * DBL_EPSILON * (update_.x_norm() + roundoff_scale_);
+    const bool not_falling = norm_f_ >= kStallRatio * previous_norm_f_;
+    stalled_ = not_falling && correction_ <= update_.bound() ? stalled_ + 1 : 0;
+    at_floor_ = not_falling && correction_ <= floor_ ? at_floor_ + 1 : 0;
+    if (at_floor_ >= kFloorIterations) status_ = NOX::StatusTest::Converged;
+    else if (stalled_ >= kStalledIterations) status_ = NOX::StatusTest::Failed;
     return status_;
   }
   NOX::StatusTest::StatusType getStatus() const override { return status_; }
+  bool at_floor() const { return status_ == NOX::StatusTest::Converged; }
   double norm_f() const { return norm_f_; }
   double previous_norm_f() const { return previous_norm_f_; }
   double correction() const { return correction_; }
+  double floor() const { return floor_; }
   std::ostream &print(std::ostream &stream, int indent) const override {
     stream << std::string(indent, ' ') << status_ << "stalled iterations " << stalled_ << " < " << kStalledIterations
-           << "\n";
+           << ", at the round-off floor " << at_floor_ << " < " << kFloorIterations << "\n";
     return stream;
   }
 
  private:
   const UpdateNormTest &update_;
-  int stalled_ = 0;
-  double norm_f_ = 0, previous_norm_f_ = 0, correction_ = 0;
+  double roundoff_scale_;
+  int stalled_ = 0, at_floor_ = 0;
+  double norm_f_ = 0, previous_norm_f_ = 0, correction_ = 0, floor_ = 0;
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
 
@@ -501,6 +516,7 @@ void sk_newton_options_default(sk_newton_options *options) {
   options->linear_tolerance = 1e-10;
   options->verbose = 0;
   options->predicted_update = 0;
+  options->roundoff_scale = 0;
 }
 
 sk_status sk_line_search_from_name(const char *name, sk_line_search *ls) {
@@ -572,7 +588,7 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     auto finite = rcp(new NOX::StatusTest::FiniteValue);
     auto callbacks_ok = rcp(new CallbackFailureTest(state));
     auto max_iterations = rcp(new NOX::StatusTest::MaxIters(opts.max_iterations));
-    auto stagnation = rcp(new StagnationTest(*update_small));
+    auto stagnation = rcp(new StagnationTest(*update_small, opts.roundoff_scale));
     auto tests = rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));
     tests->addStatusTest(finite);
     tests->addStatusTest(callbacks_ok);
@@ -630,6 +646,16 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     if (status == NOX::StatusTest::Converged) {
       report->converged = 1;
       report->outcome = SK_NEWTON_CONVERGED;
+      if (stagnation->at_floor() && converged->getStatus() != NOX::StatusTest::Converged) {
+        report->outcome = SK_NEWTON_ROUNDOFF_FLOOR;
+        std::snprintf(report->reason, sizeof report->reason, "%s",
+                      (format("accepted at the round-off floor in iteration %d: ||F|| = %.3g (%.3g before) with "
+                              "Newton corrections at round-off (||dx|| = %.3g <= %.3g), above ",
+                              report->iterations, norm_f, stagnation->previous_norm_f(), stagnation->correction(),
+                              stagnation->floor()) +
+                       tolerances)
+                          .c_str());
+      }
       return SK_OK;
     }
     if (solution.residualFailed() || callbacks_ok->getStatus() == NOX::StatusTest::Failed ||
@@ -641,10 +667,10 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     if (stagnation->getStatus() == NOX::StatusTest::Failed)
       return fail(report, SK_NEWTON_STAGNATED,
                   format("stagnated in iteration %d: ||F|| = %.3g (%.3g before) stalls while the Newton corrections "
-                         "are at round-off (||dx|| = %.3g <= %.3g), above ",
+                         "are below the update tolerance (||dx|| = %.3g <= %.3g; round-off: %.3g), above ",
                          report->iterations, norm_f, stagnation->previous_norm_f(), stagnation->correction(),
-                         update_small->bound()) +
-                      tolerances + ": the tolerances lie below this residual's round-off floor");
+                         update_small->bound(), stagnation->floor()) +
+                      tolerances);
     if (max_iterations->getStatus() == NOX::StatusTest::Failed)
       return fail(report, SK_NEWTON_MAX_ITERATIONS,
                   format("no convergence in %d iterations (||F|| = %.3g from ||F0|| = %.3g; ", opts.max_iterations,

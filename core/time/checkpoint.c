@@ -158,6 +158,7 @@ static void remove_step(const char *folder) {
   while ((e = readdir(d))) {
     const char *n = e->d_name;
     const int ours = strcmp(n, "checkpoint.yaml") == 0 || strcmp(n, "history.csv") == 0 ||
+                     strcmp(n, "contact.csv") == 0 ||
                      (strncmp(n, "state-", 6) == 0 && strstr(n, ".bin"));
     if (!ours) continue;
     snprintf(path, sizeof path, "%s/%s", folder, n);
@@ -299,6 +300,11 @@ static sk_status write_description(const char *path, const sk_run_options *optio
     fputs("\"\n", f);
   }
   if (options->n_sets == 0) fprintf(f, "  []\n");
+  fprintf(f, "set_modes: [");
+  for (int k = 0; k < options->n_sets; ++k)
+    fprintf(f, "%s%s", k ? ", " : "",
+            options->set_modes && options->set_modes[k] == SK_CFG_REPLACE ? "replace" : "merge");
+  fprintf(f, "]\n");
   fprintf(f, "ranks: %d\ndim: %d\nnodes: %d\n", sys->n_ranks, sys->model->dim, sys->model->n_nodes_global);
   fprintf(f, "time: %.17g\nstep: %lld\nscheduled: %lld\nsubstep: %d\ndt: %.17g\n", sys->t, (long long)p->steps,
           (long long)p->scheduled, p->substep, p->dt);
@@ -342,6 +348,10 @@ sk_status sk_checkpoint_write(const sk_run_options *options, sk_system *sys, con
       snprintf(path, sizeof path, "%s/history.csv", partial);
       status = copy_file(rec->history_path, path);
     }
+    if (status == SK_OK && rec->contact_path) {
+      snprintf(path, sizeof path, "%s/contact.csv", partial);
+      status = copy_file(rec->contact_path, path);
+    }
     /* in place: a checkpoint of the same step from an earlier run is replaced */
     if (status == SK_OK && is_dir(final)) remove_step(final);
     if (status == SK_OK && rename(partial, final) != 0)
@@ -368,13 +378,15 @@ void sk_restart_free(sk_restart *r) {
   if (!r) return;
   for (int k = 0; k < r->n_sets; ++k) free(r->sets[k]);
   free(r->sets);
+  free(r->set_modes);
   free(r);
 }
 
 const char *sk_restart_scene(const sk_restart *r) { return r->scene; }
 const char *sk_restart_plugin(const sk_restart *r) { return r->plugin[0] ? r->plugin : NULL; }
-int sk_restart_sets(const sk_restart *r, const char *const **sets) {
+int sk_restart_sets(const sk_restart *r, const char *const **sets, const sk_cfg_override_mode **modes) {
   *sets = (const char *const *)r->sets;
+  *modes = r->set_modes;
   return r->n_sets;
 }
 const char *sk_restart_folder(const sk_restart *r) { return r->dir; }
@@ -470,9 +482,13 @@ static sk_status read_description(sk_restart *r) {
   const int n_sets = sets && sk_cfg_kind_of(sets) == SK_CFG_SEQ ? sk_cfg_size(sets) : 0;
   if (status == SK_OK) {
     r->sets = calloc((size_t)n_sets + 1, sizeof(char *));
-    if (!r->sets) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
+    r->set_modes = calloc((size_t)n_sets + 1, sizeof *r->set_modes);
+    if (!r->sets || !r->set_modes) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
   }
+  const sk_cfg *modes = sk_cfg_get(cfg, "set_modes"); /* absent: every value was a --set */
   for (int k = 0; k < n_sets && status == SK_OK; ++k) {
+    const char *mode = modes && k < sk_cfg_size(modes) ? sk_cfg_scalar(sk_cfg_at(modes, k)) : NULL;
+    r->set_modes[k] = mode && strcmp(mode, "replace") == 0 ? SK_CFG_REPLACE : SK_CFG_MERGE;
     const char *text = sk_cfg_scalar(sk_cfg_at(sets, k));
     r->sets[k] = strdup(text ? text : "");
     if (!r->sets[k]) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
@@ -524,9 +540,11 @@ static sk_status share(sk_restart *r, MPI_Comm comm, int rank) {
     r->progress.cuts = longs[3], r->last_vtu_step = longs[4], r->linear_solves = longs[5], r->active_set_loops = longs[6];
     r->time = doubles[0], r->progress.dt = doubles[1], r->dissipated = doubles[2];
     r->sets = calloc((size_t)ints[7] + 1, sizeof(char *));
-    if (!r->sets) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
+    r->set_modes = calloc((size_t)ints[7] + 1, sizeof *r->set_modes);
+    if (!r->sets || !r->set_modes) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
     r->n_sets = ints[7];
   }
+  if (r->n_sets > 0) MPI_Bcast(r->set_modes, (int)(sizeof *r->set_modes) * r->n_sets, MPI_BYTE, 0, comm);
   for (int k = 0; k < r->n_sets; ++k) {
     int len = rank == 0 ? (int)strlen(r->sets[k]) + 1 : 0;
     MPI_Bcast(&len, 1, MPI_INT, 0, comm);

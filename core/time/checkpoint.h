@@ -23,6 +23,7 @@ typedef struct sk_recorder_state_s {
   double dissipated;      /* accumulated dissipated energy */
   int64_t last_vtu_step;
   const char *history_path; /* rank 0: the history.csv written so far (NULL: none) */
+  const char *contact_path; /* rank 0: the contact.csv written so far (NULL: none) */
 } sk_recorder_state;
 
 /* Refuses a run with checkpoints whose plugins cannot write their history (collective). */
@@ -37,7 +38,8 @@ struct sk_restart {
   char scene[4096];        /* the scene file it was written for */
   char plugin[256];        /* its --plugin, or "" */
   int n_sets;
-  char **sets;             /* its --set values */
+  char **sets;             /* its --set and --replace values, in their order */
+  sk_cfg_override_mode *set_modes; /* per value: SK_CFG_MERGE (--set) or SK_CFG_REPLACE (--replace) */
   uint64_t scene_hash, mesh_hash;
   int ranks;               /* the number of ranks that wrote it */
   int n_nodes, dim;

@@ -1,5 +1,5 @@
-/* The recorder: the result files of a run (history.csv, contact.csv, results.pvd + .vtu, summary.json, scene.yaml) in
- * a staging folder that is swapped in at the end. It reads the system after a commit, while the state still spans
+/* The recorder: the result files of a run (history.csv, results.pvd + .vtu, summary.json, scene.yaml, and the contact
+ * files of contact_output.c) in a staging folder that is swapped in at the end. It reads the system after a commit, while the state still spans
  * the step (x, v at t); it never feeds anything back into the stepping. */
 #define _GNU_SOURCE
 #include "recorder.h"
@@ -12,22 +12,22 @@
 
 #include "../model/assemble.h"
 #include "checkpoint.h"
+#include "contact_output.h"
 #include "stickslip/output.h"
 
 /* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
 typedef enum {
   COL_TIME, COL_STEP, COL_SUBSTEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
   COL_MOMENTUM_Z, COL_ANGULAR_X, COL_ANGULAR_Y, COL_ANGULAR_Z, COL_FORCE_X, COL_FORCE_Y, COL_FORCE_Z, COL_ACTIVE,
-  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, N_FIXED_COLUMNS
+  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, COL_MATERIAL,
+  N_FIXED_COLUMNS
 } history_column;
 
 static const char *const fixed_columns[N_FIXED_COLUMNS] = {
     "time", "step", "substep", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
     "momentum_y", "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z", "contact_force_x",
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
-    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z"};
-
-enum { POINT_FIELDS = 18 };
+    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z", "material_total_energy"};
 
 struct sk_recorder {
   sk_scene *scene;
@@ -36,6 +36,7 @@ struct sk_recorder {
   double wall_start;
   sk_csv *history;
   sk_pvd *pvd;
+  sk_contact_output *contact; /* with contact pairs and --out: contact.csv and the contact fields and files */
   char dir[1100];          /* staging folder ("" when nothing is written) */
   int n_columns;
   const char **names;
@@ -49,7 +50,7 @@ struct sk_recorder {
   int wants_invariants;    /* someone reads the energies and momenta: history.csv (--out) or the progress line */
   int vtu_count;
   int64_t last_step;       /* the last converged step recorded */
-  int64_t last_vtu_step;   /* the step of the last picture written */
+  int64_t last_output_step; /* the step of the last output (pictures, contact points) */
   char restarted_from[4096]; /* the checkpoint a restarted run continues, or "" */
   /* the linear solvers that ran, by step ranges: "mumps (steps 1-12), gmres-muelu (steps 13-40)" */
   char solvers_used[1024];
@@ -71,6 +72,7 @@ void sk_recorder_free(sk_recorder *rec) {
   if (!rec) return;
   sk_csv_close(rec->history);
   sk_pvd_close(rec->pvd);
+  sk_contact_output_free(rec->contact);
   if (rec->dir[0]) sk_outdir_abort(rec->dir);
   free(rec->names);
   free(rec->name_storage);
@@ -122,122 +124,37 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
         ++c;
       }
   rec->names[c] = "wall_seconds";
-  if (!options->out_dir || m->rank != 0) return SK_OK;
-  SK_TRY(sk_outdir_begin(options->out_dir, rec->dir, sizeof rec->dir));
-  char path[1300];
-  snprintf(path, sizeof path, "%s/history.csv", rec->dir);
-  SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
-  snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
-  SK_TRY(sk_cfg_write_file(scene->cfg, path));
-  if (scene->output.write_vtu) {
-    snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
-    SK_TRY(sk_pvd_open(path, &rec->pvd));
-  }
-  return SK_OK;
-}
-
-/* ---- contact points -------------------------------------------------------------------------------------------- */
-
-typedef struct {
-  const sk_model *model;
-  double *buffer;
-  int n, cap;
-  int failed;
-} point_collector;
-
-/* The reference position of a contact point: a node's from the mesh (the slave node is one this rank holds), a Gauss
- * point's from the plugin (ABI 2.1), NaN when a plugin built against 2.0 cannot say. */
-static void reference_position(const sk_model *m, const sk_contact_point *p, int64_t node, double X[3]) {
-  const int local = node >= 0 ? sk_model_node_of(m, node) : -1;
-  for (int i = 0; i < 3; ++i)
-    X[i] = local >= 0    ? (i < m->dim ? m->X[(int64_t)local * m->dim + i] : 0.0)
-           : SK_HAS(p, X) ? p->X[i]
-                          : NAN;
-}
-
-static void collect_point(void *ctx, int pair, const sk_contact_point *p) {
-  point_collector *c = ctx;
-  if (c->failed) return;
-  if (c->n == c->cap) {
-    const int cap = 2 * c->cap + 256;
-    double *grown = realloc(c->buffer, sizeof(double) * POINT_FIELDS * (size_t)cap);
-    if (!grown) {
-      c->failed = 1;
-      return;
+  if (!options->out_dir) return SK_OK;
+  if (m->rank == 0) {
+    SK_TRY(sk_outdir_begin(options->out_dir, rec->dir, sizeof rec->dir));
+    char path[1300];
+    snprintf(path, sizeof path, "%s/history.csv", rec->dir);
+    SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
+    snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
+    SK_TRY(sk_scene_write(scene, path));
+    if (scene->output.write_vtu) {
+      snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
+      SK_TRY(sk_pvd_open(path, &rec->pvd));
     }
-    c->buffer = grown;
-    c->cap = cap;
   }
-  const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1;
-  double X[3];
-  reference_position(c->model, p, node, X);
-  const double multiplier = SK_HAS(p, multiplier) && p->has_multiplier ? p->multiplier : NAN;
-  double *r = c->buffer + POINT_FIELDS * (size_t)c->n++;
-  const double values[POINT_FIELDS] = {p->x[0], p->x[1], p->x[2], X[0], X[1], X[2], p->normal[0], p->normal[1],
-                                       p->normal[2], p->pressure, p->traction[0], p->traction[1], p->traction[2],
-                                       p->gap, (double)p->state, multiplier, (double)node, (double)pair};
-  memcpy(r, values, sizeof values);
-}
-
-/* Gathers the contact points of every pair to rank 0. Caller frees *all. */
-static sk_status gather_points(sk_recorder *rec, int initial, double **all, int *n_all) {
-  const sk_model *m = &rec->scene->model;
-  point_collector c = {.model = m};
-  sk_status status = sk_system_points(rec->sys, initial, collect_point, &c);
-  if (status == SK_OK && c.failed) status = no_memory("the contact points");
-  status = sk_system_collective(rec->sys, status);
-  if (status != SK_OK) {
-    free(c.buffer);
-    return status;
-  }
-  int count = c.n * POINT_FIELDS;
-  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
-  if (!counts || !displs) {
-    free(counts);
-    free(displs);
-    free(c.buffer);
-    return no_memory("the contact points");
-  }
-  MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
-  int total = 0;
-  for (int r = 0; r < m->n_ranks; ++r) {
-    displs[r] = total;
-    total += counts[r];
-  }
-  *all = calloc((size_t)total + 1, sizeof(double));
-  if (*all) MPI_Gatherv(c.buffer, count, MPI_DOUBLE, *all, counts, displs, MPI_DOUBLE, 0, m->comm);
-  *n_all = total / POINT_FIELDS;
-  free(counts);
-  free(displs);
-  free(c.buffer);
-  return *all ? SK_OK : no_memory("the contact points");
-}
-
-static sk_status write_contact_csv(sk_recorder *rec, const double *points, int n_points) {
-  static const char *const names[POINT_FIELDS] = {
-      "x",          "y",          "z",          "reference_x", "reference_y", "reference_z",
-      "normal_x",   "normal_y",   "normal_z",   "pressure",    "traction_x",  "traction_y",
-      "traction_z", "gap",        "state",      "multiplier",  "node",        "pair"};
-  char path[1300];
-  snprintf(path, sizeof path, "%s/contact.csv", rec->dir);
-  sk_csv *csv;
-  SK_TRY(sk_csv_open(path, POINT_FIELDS, names, &csv));
-  for (int k = 0; k < n_points; ++k) SK_TRY(sk_csv_row(csv, points + POINT_FIELDS * (size_t)k));
-  return sk_csv_close(csv);
+  const sk_output_settings *o = &scene->output;
+  if (m->n_pairs > 0 && (o->write_contact_csv || o->write_vtu))
+    SK_TRY(sk_contact_output_open(m, rec->dir, o->write_contact_csv, o->write_vtu, &rec->contact));
+  return SK_OK;
 }
 
 /* ---- VTU -------------------------------------------------------------------------------------------------------- */
 
 typedef struct {
-  double *points, *displacement, *velocity, *node_fields, *stress;
+  double *points, *displacement, *velocity, *stress;
   sk_elem_type *types;
   int *offsets, *conn;
   double *body_id, *rank_id;
 } vtu_buffers;
 
 static void free_vtu_buffers(vtu_buffers *b) {
-  void *all[] = {b->points, b->displacement, b->velocity, b->node_fields, b->stress, b->types, b->offsets, b->conn,
-                 b->body_id, b->rank_id};
+  void *all[] = {b->points, b->displacement, b->velocity, b->stress, b->types, b->offsets, b->conn, b->body_id,
+                 b->rank_id};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
 }
 
@@ -320,9 +237,12 @@ static sk_status gather_stress(const sk_model *m, const double *u, double *stres
   return status;
 }
 
-/* The mesh at displacement u and velocity v (time t, step), with stresses and contact point fields: rank 0 writes
- * the whole mesh (its copy, model.h: sk_whole_mesh; on one rank the model itself). */
-static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const double *v, double t, int64_t step) {
+enum { MAX_CONTACT_FIELDS = 16 };
+
+/* The mesh at displacement u and velocity v (time t, step), with stresses and the contact fields of the output step
+ * (sk_contact_output_step before, by mesh id): rank 0 writes the whole mesh (its copy, model.h: sk_whole_mesh; on one
+ * rank the model itself). Collective. */
+static sk_status write_vtu(sk_recorder *rec, const double *u, const double *v, double t, int64_t step) {
   const sk_model *m = &rec->scene->model;
   const int nn = m->n_nodes_global;
   int n_cells = 0;
@@ -333,28 +253,14 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
     b.points = calloc(3 * (size_t)nn + 1, sizeof(double));
     b.displacement = calloc(3 * (size_t)nn + 1, sizeof(double));
     b.velocity = calloc(3 * (size_t)nn + 1, sizeof(double));
-    b.node_fields = calloc(3 * (size_t)nn + 1, sizeof(double));
     b.stress = calloc(9 * (size_t)n_cells + 1, sizeof(double));
   }
-  int ok = !root || (b.points && b.displacement && b.velocity && b.node_fields && b.stress);
+  int ok = !root || (b.points && b.displacement && b.velocity && b.stress);
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
   sk_status status = ok ? SK_OK : no_memory("the VTU output");
   if (status == SK_OK) status = gather_stress(m, u, b.stress);
   status = sk_system_collective(rec->sys, status);
-  double *all_points = NULL;
-  int n_points = 0;
-  if (status == SK_OK) status = gather_points(rec, initial, &all_points, &n_points);
   if (status == SK_OK) status = gather_nodes(m, u, v, b.displacement, b.velocity);
-  if (status == SK_OK && root)
-    for (int k = 0; k < n_points; ++k) { /* the contact fields at slave nodes (points with a node) */
-      const double *p = all_points + POINT_FIELDS * (size_t)k;
-      const int64_t node = (int64_t)p[16];
-      if (node < 0 || node >= nn) continue;
-      b.node_fields[node] = p[9];
-      b.node_fields[nn + node] = p[13];
-      b.node_fields[2 * nn + node] = p[14];
-    }
-  free(all_points);
   if (status != SK_OK || !root) {
     free_vtu_buffers(&b);
     return status;
@@ -390,13 +296,10 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
       b.rank_id[e] = m->element_part[e];
     }
   }
-  sk_vtu_field point_fields[] = {{"displacement", 3, b.displacement},
-                                 {"velocity", 3, b.velocity},
-                                 {"contact_pressure", 1, b.node_fields},
-                                 {"contact_gap", 1, b.node_fields + nn},
-                                 {"contact_state", 1, b.node_fields + 2 * nn}};
+  sk_vtu_field point_fields[2 + MAX_CONTACT_FIELDS] = {{"displacement", 3, b.displacement},
+                                                       {"velocity", 3, b.velocity}};
+  const int n_point_fields = 2 + sk_contact_output_node_fields(rec->contact, point_fields + 2, MAX_CONTACT_FIELDS);
   sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
-  const int n_point_fields = m->n_pairs > 0 ? 5 : 2;
   char file[64], path[1400];
   snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
   snprintf(path, sizeof path, "%s/%s", rec->dir, file);
@@ -405,9 +308,18 @@ static sk_status write_vtu(sk_recorder *rec, int initial, const double *u, const
                           cell_fields);
   if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
   rec->vtu_count++;
-  rec->last_vtu_step = step;
   free_vtu_buffers(&b);
   return status;
+}
+
+/* The output of a step (or of the initial state): the contact points and, with output.vtu, the pictures. Nothing
+ * without --out. Collective. */
+static sk_status write_output_step(sk_recorder *rec, int initial, const double *u, const double *v, double t,
+                                   int64_t step) {
+  if (!rec->options->out_dir) return SK_OK;
+  rec->last_output_step = step;
+  if (rec->contact) SK_TRY(sk_contact_output_step(rec->contact, rec->sys, initial, u, t, step));
+  return rec->scene->output.write_vtu ? write_vtu(rec, u, v, t, step) : SK_OK;
 }
 
 /* ---- history ---------------------------------------------------------------------------------------------------- */
@@ -417,7 +329,13 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
                              int newton_iterations, const sk_contact_totals *contact) {
   const sk_model *m = &rec->scene->model;
   sk_invariants inv = {0};
-  if (rec->wants_invariants) SK_TRY(sk_bulk_invariants(m, u, v, &inv));
+  /* a body whose plugin scheme conserves another energy than its material's (ABI 2.5) counts with that energy; the
+   * material's of every body stays in material_total_energy */
+  double scheme[2] = {0, 0}, host[2] = {0, 0};
+  if (rec->wants_invariants) {
+    SK_TRY(sk_bulk_invariants(m, u, v, &inv));
+    SK_TRY(sk_system_scheme_energy(rec->sys, u, v, step == 0, scheme, host));
+  }
   sk_system_reactions(rec->sys, rec->reactions);
   rec->dissipated += contact->dissipated;
   double *row = rec->row;
@@ -426,9 +344,10 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   row[COL_SUBSTEP] = substep;
   row[COL_DT] = rec->sys->dt;
   row[COL_NEWTON] = newton_iterations;
-  row[COL_KINETIC] = inv.kinetic;
-  row[COL_STRAIN] = inv.strain;
-  row[COL_TOTAL] = inv.kinetic + inv.strain;
+  row[COL_KINETIC] = inv.kinetic - host[0] + scheme[0];
+  row[COL_STRAIN] = inv.strain - host[1] + scheme[1];
+  row[COL_TOTAL] = row[COL_KINETIC] + row[COL_STRAIN];
+  row[COL_MATERIAL] = inv.kinetic + inv.strain;
   for (int i = 0; i < 3; ++i) {
     row[COL_MOMENTUM_X + i] = inv.momentum[i];
     row[COL_ANGULAR_X + i] = inv.angular_momentum[i];
@@ -449,59 +368,74 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   return SK_OK;
 }
 
-static int writes_vtu(const sk_recorder *rec) { return rec->scene->output.write_vtu && rec->options->out_dir; }
-
 sk_status sk_recorder_initial(sk_recorder *rec) {
   sk_system *sys = rec->sys;
   /* the initial row reports no contact: the pairs have not stepped yet (report() is not called for it) */
   const sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   sk_status status = history_row(rec, sys->u_n, sys->v_n, sys->t_n, 0, 0, 0, &contact);
   status = sk_system_collective(sys, status);
-  if (status == SK_OK && writes_vtu(rec)) status = write_vtu(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
+  if (status == SK_OK) status = write_output_step(rec, 1, sys->u_n, sys->v_n, sys->t_n, 0);
   return status;
 }
 
-sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart) {
-  rec->dissipated = restart->dissipated;
-  rec->last_vtu_step = restart->last_vtu_step;
-  rec->last_step = restart->progress.steps;
-  snprintf(rec->restarted_from, sizeof rec->restarted_from, "%s", restart->dir);
-  if (!rec->history) return SK_OK;
-  /* the rows up to the checkpoint, as the interrupted run wrote them (%.17g: they read back exactly) */
+/* The rows of a checkpoint's table `name` (as the interrupted run wrote them, %.17g: they read back exactly) into
+ * `csv`, whose rows have `n_columns` values (row: room for them). A checkpoint of a run without --out has none. */
+static sk_status carry_rows(const sk_restart *restart, const char *name, sk_csv *csv, int n_columns, double *row) {
   char path[4200];
-  snprintf(path, sizeof path, "%s/history.csv", restart->dir);
+  snprintf(path, sizeof path, "%s/%s", restart->dir, name);
   FILE *f = fopen(path, "r");
-  if (!f) return SK_OK; /* a checkpoint of a run without --out has no rows */
+  if (!f) return SK_OK;
   char *line = NULL;
   size_t cap = 0;
   sk_status status = SK_OK;
-  int row = 0;
+  int number = 0;
   while (status == SK_OK && getline(&line, &cap, f) > 0) {
-    if (row++ == 0) continue; /* the header */
+    if (number++ == 0) continue; /* the header */
     int c = 0;
-    for (char *p = line, *end; c < rec->n_columns && *p && *p != '\n'; ++c, p = *end == ',' ? end + 1 : end) {
-      rec->row[c] = strtod(p, &end);
+    for (char *p = line, *end; c < n_columns && *p && *p != '\n'; ++c, p = *end == ',' ? end + 1 : end) {
+      row[c] = strtod(p, &end);
       if (end == p) break;
     }
-    if (c != rec->n_columns)
-      status = sk_error_set(SK_ERR_INPUT, "--restart: %s, line %d: %d columns, this scene's history has %d", path, row, c,
-                            rec->n_columns);
+    if (c != n_columns)
+      status = sk_error_set(SK_ERR_INPUT, "--restart: %s, line %d: %d columns, this scene's %s has %d", path, number,
+                            c, name, n_columns);
     else
-      status = sk_csv_row(rec->history, rec->row);
+      status = sk_csv_row(csv, row);
   }
   free(line);
   fclose(f);
   return status;
 }
 
+sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart) {
+  rec->dissipated = restart->dissipated;
+  rec->last_output_step = restart->last_vtu_step;
+  rec->last_step = restart->progress.steps;
+  snprintf(rec->restarted_from, sizeof rec->restarted_from, "%s", restart->dir);
+  if (rec->history) SK_TRY(carry_rows(restart, "history.csv", rec->history, rec->n_columns, rec->row));
+  int n_contact_columns = 0;
+  sk_csv *contact = sk_contact_output_csv(rec->contact, &n_contact_columns);
+  if (!contact) return SK_OK;
+  double *row = malloc(sizeof(double) * ((size_t)n_contact_columns + 1));
+  if (!row) return no_memory("the contact rows");
+  const sk_status status = carry_rows(restart, "contact.csv", contact, n_contact_columns, row);
+  free(row);
+  return status;
+}
+
 void sk_recorder_checkpoint_state(sk_recorder *rec, sk_recorder_state *state) {
   static char path[1300];
   state->dissipated = rec->dissipated;
-  state->last_vtu_step = rec->last_vtu_step;
-  state->history_path = NULL;
+  state->last_vtu_step = rec->last_output_step;
+  static char contact_path[1300];
+  state->history_path = state->contact_path = NULL;
   if (rec->history) {
     snprintf(path, sizeof path, "%s/history.csv", rec->dir);
     state->history_path = path;
+  }
+  if (sk_contact_output_csv(rec->contact, NULL)) {
+    snprintf(contact_path, sizeof contact_path, "%s/contact.csv", rec->dir);
+    state->contact_path = contact_path;
   }
 }
 
@@ -544,8 +478,7 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   /* vtu_every counts scheduled steps: the sub-steps of a cut step do not shift the pictures off the schedule */
   const int every = rec->scene->output.vtu_every;
   const int on_schedule = substep == 0 && every > 0 && scheduled % every == 0;
-  if (status == SK_OK && writes_vtu(rec) && (on_schedule || last))
-    status = write_vtu(rec, 0, sys->x, sys->v, sys->t, sys->step);
+  if (status == SK_OK && (on_schedule || last)) status = write_output_step(rec, 0, sys->x, sys->v, sys->t, sys->step);
   return status;
 }
 
@@ -565,7 +498,8 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_int(json, "linear_solves", sum->linear_solves);
   sk_json_int(json, "step_cuts", sum->cuts);
   sk_json_int(json, "active_set_loops", sum->active_set_loops);
-  sk_json_int(json, "dofs", m->n_dofs);
+  sk_json_int(json, "roundoff_floor_steps", sum->roundoff_floor_steps);
+  sk_json_int(json, "dofs", (int)m->n_dofs_global);
   sk_json_int(json, "unknowns", (int)sum->unknowns_max);
   sk_json_int(json, "linear_system_size", (int)sum->linear_size_max);
   sk_json_int(json, "pattern_builds", sum->pattern_builds);
@@ -594,28 +528,21 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
 sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status) {
   const sk_model *m = &rec->scene->model;
   /* results: complete files up to the last converged step, then the folder is swapped in atomically */
-  double *points = NULL;
-  int n_points = 0;
-  sk_status points_status = SK_OK;
   char message[1100];
   snprintf(message, sizeof message, "%s", sk_error_message());
-  /* A run stopped by a signal or a failed step between two pictures: its last converged state is the one a user
-   * wants to look at, so it gets a picture too (collective; the original message is kept). Not after a write or
-   * memory error: writing more would fail the same way. */
+  /* A run stopped by a signal or a failed step between two outputs: its last converged state is the one a user
+   * wants to look at, so it gets its pictures and contact points too (collective; the original message is kept).
+   * Not after a write or memory error: writing more would fail the same way. */
   const int stopped_by_the_solution = status == SK_ERR_INTERRUPTED || status == SK_ERR_DIVERGED ||
                                      status == SK_ERR_INVERTED || status == SK_ERR_LINEAR_SOLVER;
-  if (stopped_by_the_solution && summary->steps > 0 && writes_vtu(rec) && rec->last_vtu_step != rec->last_step) {
-    if (write_vtu(rec, 0, rec->sys->u_n, rec->sys->v_n, rec->sys->t_n, rec->last_step) != SK_OK && m->rank == 0)
-      fprintf(stderr, "warning: the picture of the last converged step was not written: %s\n", sk_error_message());
-    sk_error_set(status, "%s", message);
-  }
-  if (rec->options->out_dir && m->n_pairs > 0 && rec->scene->output.write_contact_csv && summary->steps > 0) {
-    points_status = gather_points(rec, 0, &points, &n_points);
+  if (stopped_by_the_solution && summary->steps > 0 && rec->last_output_step != rec->last_step) {
+    if (write_output_step(rec, 0, rec->sys->u_n, rec->sys->v_n, rec->sys->t_n, rec->last_step) != SK_OK &&
+        m->rank == 0)
+      fprintf(stderr, "warning: the output of the last converged step was not written: %s\n", sk_error_message());
     sk_error_set(status, "%s", message);
   }
   if (rec->options->out_dir && m->rank == 0 && rec->dir[0]) {
-    sk_status out_status = points_status;
-    if (out_status == SK_OK && points) out_status = write_contact_csv(rec, points, n_points);
+    sk_status out_status = sk_contact_output_close(rec->contact);
     sk_csv_close(rec->history);
     rec->history = NULL;
     sk_pvd_close(rec->pvd);
@@ -633,6 +560,5 @@ sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status
     if (status == SK_OK) status = out_status;
     else sk_error_set(status, "%s", message);
   }
-  free(points);
   return status;
 }

@@ -18,13 +18,13 @@ sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart);
 /* What a checkpoint keeps of the recorder (checkpoint.h). */
 struct sk_recorder_state_s;
 void sk_recorder_checkpoint_state(sk_recorder *rec, struct sk_recorder_state_s *state);
-/* After a commit, before the system advances: the step's row, and a VTU every vtu_every scheduled steps or at the
- * last. scheduled: the scheduled times reached; substep: 0 when the step landed on a scheduled time, else the
+/* After a commit, before the system advances: the step's row, and an output (VTU, contact points) every vtu_every
+ * scheduled steps or at the last. scheduled: the scheduled times reached; substep: 0 when the step landed on a scheduled time, else the
  * number of sub-steps (of a cut step) since the last one. */
 sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int last);
 /* The total energy of the last row (for the progress line). */
 double sk_recorder_total_energy(const sk_recorder *rec);
-/* contact.csv at the final state, summary.json, and the folder swapped in (or dropped on an output error); sets
+/* summary.json, and the folder swapped in (or dropped on an output error); sets
  * summary->results_dir to where the files are. Returns
  * `status` unless the output failed. Collective. */
 sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status);

@@ -121,6 +121,11 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
     if (status == SK_OK) {
       summary->steps++;
       steps_here++;
+      /* accepted at the residual's round-off floor: a warning for the first few, all counted in summary.json */
+      if (sys->newton.outcome == SK_NEWTON_ROUNDOFF_FLOOR && ++summary->roundoff_floor_steps <= 3 && m->rank == 0)
+        fprintf(stderr, "stickslip: warning: step %lld (t = %.6g): Newton %s%s\n", (long long)step, sys->t,
+                sys->newton.reason, summary->roundoff_floor_steps == 3 ? " (further such steps are counted in "
+                "summary.json, roundoff_floor_steps)" : "");
       if (on_schedule) {
         sys->t = target; /* t_n + (target - t_n) may differ from target in the last bit */
         scheduled++;
@@ -179,7 +184,8 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
                       (long long)step, sys->t_n, step_dt);
     }
   }
-  if (options->progress && m->rank == 0) sk_progress_end();
+  if (options->progress && m->rank == 0)
+    sk_progress_end(status == SK_OK ? NULL : status == SK_ERR_INTERRUPTED ? "interrupted" : "failed");
   fill_summary(sys, wall_start, status, summary);
   if (rec) status = sk_recorder_close(rec, summary, status);
   sk_recorder_free(rec);

@@ -126,16 +126,48 @@ void cov_metric_derivatives_eval(const sk_surface_point *pt, const cov_kinematic
 
 int cov_return_map(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
                    double p, const double *Dp, int nd, double eps_t, double *t, double *Dt, double *dissipation) {
+  return cov_return_map_held(n, trial, Dtrial, metric_inv, mu, p, Dp, nd, eps_t, NULL, t, Dt, dissipation);
+}
+
+int cov_slip_turned_back(int n, const double *trial, const double metric_inv[3][3], double limit,
+                         const double *held) {
+  if (!held) return 0;
+  /* held . trial / |held| <= mu p, in the metric of the trial */
+  double along = 0.0, held2 = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      along += held[a] * metric_inv[a][b] * trial[b];
+      held2 += held[a] * metric_inv[a][b] * held[b];
+    }
+  return held2 > 0.0 && along <= limit * sqrt(held2);
+}
+
+int cov_return_map_held(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
+                        double p, const double *Dp, int nd, double eps_t, const double *held, double *t, double *Dt,
+                        double *dissipation) {
   double norm2 = 0.0;
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b) norm2 += trial[a] * metric_inv[a][b] * trial[b];
-  double norm = sqrt(norm2), limit = mu * p;
-  if (norm <= limit) {
+  const double limit = mu * p;
+  const int state =
+      sqrt(norm2) <= limit || cov_slip_turned_back(n, trial, metric_inv, limit, held) ? COV_STICK : COV_SLIP;
+  cov_return_map_branch(state, n, trial, Dtrial, metric_inv, mu, p, Dp, nd, eps_t, t, Dt, dissipation);
+  return state;
+}
+
+void cov_return_map_branch(int state, int n, const double *trial, const double *Dtrial, const double metric_inv[3][3],
+                           double mu, double p, const double *Dp, int nd, double eps_t, double *t, double *Dt,
+                           double *dissipation) {
+  if (state == COV_STICK) {
     for (int a = 0; a < n; ++a) t[a] = trial[a];
     memcpy(Dt, Dtrial, (size_t)(n * nd) * sizeof(double));
     *dissipation = 0.0;
-    return COV_STICK;
+    return;
   }
+  double norm2 = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) norm2 += trial[a] * metric_inv[a][b] * trial[b];
+  const double norm = sqrt(norm2), limit = mu * p;
   /* Slip: t = mu p trial/|trial|. dissipation = slip increment . t = mu p (|trial| - mu p) / eps_t >= 0. */
   for (int a = 0; a < n; ++a) t[a] = limit * trial[a] / norm;
   for (int c = 0; c < nd; ++c) {
@@ -146,13 +178,12 @@ int cov_return_map(int n, const double *trial, const double *Dtrial, const doubl
       Dt[a * nd + c] = mu * Dp[c] * trial[a] / norm + limit * Dtrial[a * nd + c] / norm -
                        limit * trial[a] * dnorm2 / (2.0 * norm2 * norm);
   }
-  *dissipation = limit * (norm - limit) / eps_t;
-  return COV_SLIP;
+  *dissipation = fmax(limit * (norm - limit) / eps_t, 0.0);
 }
 
 int cov_friction(const sk_surface_point *pt, const cov_kinematics *k, const cov_metric_derivatives *d,
                  const double t_n[2], const double dxi[2], double eps_t, double mu, double p, const double *Dp,
-                 double t_cov[2], double T[3], double DT[3][COV_MAX_DOFS], double *dissipation) {
+                 const double *held, double t_cov[2], double T[3], double DT[3][COV_MAX_DOFS], double *dissipation) {
   const int pdim = k->pdim, nd = k->nd;
   /* Trial t_a = t_n,a - eps_t m_ab dxi^b. */
   double trial[2] = {0.0, 0.0}, Dtrial[2 * COV_MAX_DOFS] = {0};
@@ -169,7 +200,7 @@ int cov_friction(const sk_surface_point *pt, const cov_kinematics *k, const cov_
   for (int a = 0; a < pdim; ++a)
     for (int b = 0; b < pdim; ++b) minv[a][b] = pt->m_inv[a][b];
   double t[2] = {0.0, 0.0}, Dt[2 * COV_MAX_DOFS] = {0};
-  int state = cov_return_map(pdim, trial, Dtrial, minv, mu, p, Dp, nd, eps_t, t, Dt, dissipation);
+  int state = cov_return_map_held(pdim, trial, Dtrial, minv, mu, p, Dp, nd, eps_t, held, t, Dt, dissipation);
   if (state == COV_SLIP) {
     /* The norm also depends on q through m^ab: add -mu p trial_a/|trial|^3 * (1/2) trial . Dm^-1 . trial. */
     double norm2 = 0.0;

@@ -69,12 +69,34 @@ void cov_metric_derivatives_eval(const sk_surface_point *pt, const cov_kinematic
 int cov_return_map(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
                    double p, const double *Dp, int nd, double eps_t, double *t, double *Dt, double *dissipation);
 
+/* The branch `state` (COV_STICK or COV_SLIP) of the return map, for a caller that decides stick or slip itself (a
+ * tie-break on the cone): the outputs of cov_return_map for that branch. Slip needs |trial| > 0. */
+void cov_return_map_branch(int state, int n, const double *trial, const double *Dtrial, const double metric_inv[3][3],
+                           double mu, double p, const double *Dp, int nd, double eps_t, double *t, double *Dt,
+                           double *dissipation);
+
+/* The stick/slip switch with a memory. `held`: the traction (n components, same basis and metric as the trial) of a
+ * point that slipped where the Jacobian was last assembled (the last accepted Newton iterate), NULL when it stuck
+ * or had no friction there. Such a point keeps slipping only while its trial's component along the held traction
+ * exceeds the cone radius `limit` (its slip goes on in the held direction); otherwise it sticks (t = trial, the
+ * stick tangent), instead of slipping the other way. The return map alone sends a slipping point whose Newton step
+ * overshoots the stick zone (|trial| <= mu p, a slip of 2 mu p / eps_t across: narrow for a stiff eps_t) to the
+ * opposite slip direction, where the tangential stiffness along the slip is again zero, and Newton cycles between
+ * the two (docs/stability.md, finding 19). cov_slip_turned_back is the test; cov_return_map_held the return map
+ * with it (cov_return_map: held = NULL). A converged point must be checked against the return map alone. */
+int cov_slip_turned_back(int n, const double *trial, const double metric_inv[3][3], double limit,
+                         const double *held);
+int cov_return_map_held(int n, const double *trial, const double *Dtrial, const double metric_inv[3][3], double mu,
+                        double p, const double *Dp, int nd, double eps_t, const double *held, double *t, double *Dt,
+                        double *dissipation);
+
 /* The covariant friction of a slave point on a deformable master: the trial from the history traction t_n (covariant
  * on the current face) and the parameter increment dxi (xi - xi_n), the return map with the normal force p (and its
- * derivative Dp), and the spatial traction T = t_a a^a with its derivative DT (3 x nd). Fills t_cov (covariant
- * components) and the dissipation; returns COV_STICK or COV_SLIP. */
+ * derivative Dp) and the switch's memory `held` (covariant on the current face, or NULL: cov_return_map_held), and
+ * the spatial traction T = t_a a^a with its derivative DT (3 x nd). Fills t_cov (covariant components) and the
+ * dissipation; returns COV_STICK or COV_SLIP. */
 int cov_friction(const sk_surface_point *pt, const cov_kinematics *k, const cov_metric_derivatives *d,
                  const double t_n[2], const double dxi[2], double eps_t, double mu, double p, const double *Dp,
-                 double t_cov[2], double T[3], double DT[3][COV_MAX_DOFS], double *dissipation);
+                 const double *held, double t_cov[2], double T[3], double DT[3][COV_MAX_DOFS], double *dissipation);
 
 #endif

@@ -255,6 +255,17 @@ sk_status glue_velocity(sk_instance *inst, const sk_state *state, double *v) {
   return SK_OK;
 }
 
+/* The energy the scheme conserves (Lemma 2.1): 1/2 s.Ms + 1/2 u.Su of the committed state, or of the initial state
+ * (which the first row of history.csv asks for before any step). The host's SVK energy of the world displacement is
+ * another number: not the linear co-rotated strain energy (docs/plugins/corotational.md §8.3). */
+sk_status glue_energy(sk_instance *inst, const sk_state *state, double *kinetic, double *strain) {
+  const glue_body *b = inst->body;
+  if (state->step == 0) SK_TRY(glue_ensure_started(inst, state));
+  *kinetic = b->energy[0];
+  *strain = b->energy[1];
+  return SK_OK;
+}
+
 sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   glue_body *b = inst->body;
   load_iterate(b, state);
@@ -265,19 +276,40 @@ sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   const double *lambda = b->y + n + cw->n_border;
   for (int p = 0; p < b->contact.n; ++p)
     b->work_node[p] = cw->dt * b->contact.weight[p] * corot_dot(dim, cw->s + b->contact.node[p] * dim, lambda + p * dim);
+  /* the slip of the step: dt times the tangential part of the midpoint velocity s_p against the plane, in the world */
+  for (int p = 0; p < b->contact.n; ++p) {
+    double *slip = b->slip_increment + 3 * p, sT[3] = {0, 0, 0};
+    memset(slip, 0, 3 * sizeof *slip);
+    if (b->contact.set[p] == COROT_INACTIVE || corot_contact_mu(&b->contact, p) <= 0.0) continue;
+    const double *sp = cw->s + b->contact.node[p] * dim, *nu = b->contact.frame + 9 * p;
+    const double sn = corot_dot(dim, nu, sp);
+    for (int i = 0; i < dim; ++i) sT[i] = cw->dt * (sp[i] - sn * nu[i]);
+    corot_mul(dim, cw->Rm, sT, slip);
+    b->slip_length[p] += sqrt(corot_dot(dim, slip, slip));
+  }
   memcpy(b->Rm, cw->Rm, sizeof b->Rm);
+  double impulse, defect;
+  corot_world_momentum_balance(cw, b->y, &impulse, &defect);
   const double work = corot_world_commit(cw, b->y, &b->next);
   corot_state t = b->state;
   b->state = b->next;
   b->next = t;
-  const double E = corot_energy(&b->body, b->state.u, b->state.s, b->F);
+  SK_TRY(glue_publish_state(inst));
+  /* the scheme's record of the step (--verbose): its energy and angular momentum with the terms of their discrete
+   * balances (Lemmas 2.1, 2.2: E^{n+1} - E^n = -friction, J^{n+1} - J^n = impulse + defect), and the world centre
+   * of mass X_c + R_theta T(u) */
   const double J = corot_angular_momentum(&b->body, b->model, b->state.u, b->state.s, b->F);
+  double T[3] = {0, 0, 0}, centre[3] = {0, 0, 0}, R[9];
+  corot_mean(&b->body, b->state.u, T);
+  corot_rotation(b->body.dim, b->body.e, b->state.theta, R);
+  corot_mul(b->body.dim, R, T, centre);
+  for (int i = 0; i < 3; ++i) centre[i] += b->body.centre[i];
   inst->api->log(inst->host, 2,
                  "corotational: step %lld t %.9g theta %.17g w %.17g E %.17e J %.17e friction %.17e g/g_ref %.2e "
-                 "w-updates %d",
-                 (long long)state->step, state->t, b->state.theta, b->state.w, E, J, work,
-                 g / corot_world_g_ref(cw), b->rotation_updates);
-  return glue_publish_state(inst);
+                 "w-updates %d impulse %.17e defect %.17e centre %.17g %.17g %.17g",
+                 (long long)state->step, state->t, b->state.theta, b->state.w, b->energy[0] + b->energy[1], J, work,
+                 g / corot_world_g_ref(cw), b->rotation_updates, impulse, defect, centre[0], centre[1], centre[2]);
+  return SK_OK;
 }
 
 /* ---- results -------------------------------------------------------------------------------------------------------- */
@@ -314,21 +346,29 @@ sk_status glue_report(sk_instance *inst, const sk_state *state, sk_contact_repor
 
 sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
   const glue_body *b = inst->body;
-  if (!b->contact_ready) return SK_OK;
   const glue_pair *pair = &b->pairs[inst->pair_index];
   const sk_view *slave = pair->slave;
   const corot_contact *c = &b->contact;
-  const corot_plane *pl = &c->planes[inst->pair_index];
+  /* before the first step (the initial output) the contact is not built yet: the slave nodes against the plane */
+  const corot_plane *pl = b->contact_ready ? &c->planes[inst->pair_index] : &pair->plane;
   const int dim = slave->dim;
   for (int k = 0; k < slave->n_nodes; ++k) {
     if (!slave->owned[k]) continue;
-    const int p = b->contact_of_node[pair->body_node[k]];
+    const int p = b->contact_ready ? b->contact_of_node[pair->body_node[k]] : -1;
     const int mine = p >= 0 && c->plane[p] == inst->pair_index && state->step > 0;
     sk_contact_point pt = {.struct_size = sizeof pt, .slave_node = slave->node_id[k]};
     for (int i = 0; i < dim; ++i) {
       pt.x[i] = state->x[0][k * dim + i];
       pt.normal[i] = pl->normal[i];
       pt.gap += (pt.x[i] - pl->point[i]) * pl->normal[i];
+    }
+    if (p >= 0) { /* D_pp: the node's reference measure; its slip (friction against this plane) */
+      pt.area = c->weight[p];
+      pt.has_slip = pl->mu > 0.0;
+      if (pt.has_slip && mine) {
+        memcpy(pt.slip_increment, b->slip_increment + 3 * p, sizeof pt.slip_increment);
+        pt.slip = b->slip_length[p];
+      }
     }
     if (mine && c->set[p] != COROT_INACTIVE) {
       const double *l = c->lambda + 3 * p, *nu = c->frame + 9 * p;
@@ -337,6 +377,11 @@ sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callbac
       for (int i = 0; i < dim; ++i) lt[i] = -(l[i] - ln * nu[i]);
       pt.pressure = ln;
       corot_mul(dim, b->Rm, lt, pt.traction);
+      /* the force on the body is -R_m D_pp lambda_p: its normal part acts along -R_m nu (the co-rotated frame of the
+       * step), which differs from the plane's normal by the rotation within the step */
+      double nu_world[3] = {0, 0, 0};
+      corot_mul(dim, b->Rm, nu, nu_world);
+      for (int i = 0; i < dim; ++i) pt.normal[i] = -nu_world[i];
       pt.state = c->set[p] == COROT_STICK && corot_contact_mu(c, p) > 0.0 ? 1 : (corot_contact_mu(c, p) > 0.0 ? 2 : 1);
     }
     callback(ctx, &pt);

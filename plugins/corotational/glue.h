@@ -60,8 +60,11 @@ typedef struct {
   /* the committed step, for report() and points() */
   double Rm[9];                  /* R at the last step's midpoint */
   double *work_node;             /* per contact node: dt D_pp s_p . lambda_p of the last step */
+  double *slip_increment;        /* per contact node (3 each): dt R_m s_p,T of the last step, world (friction) */
+  double *slip_length;           /* per contact node: the accumulated length of the slip increments */
   int rotation_updates;          /* Newton updates of w in the last step */
   int rejections;                /* converged() rejections in this attempt */
+  double energy[2];              /* kinetic and strain energy of the scheme (Lemma 2.1) at the published state */
 } glue_body;
 
 struct sk_instance {
@@ -97,5 +100,6 @@ sk_status glue_report(sk_instance *inst, const sk_state *state, sk_contact_repor
 sk_status glue_points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx);
 sk_status glue_predict(sk_instance *inst, const sk_state *state, double *u);
 sk_status glue_velocity(sk_instance *inst, const sk_state *state, double *v);
+sk_status glue_energy(sk_instance *inst, const sk_state *state, double *kinetic, double *strain);
 
 #endif

@@ -131,6 +131,19 @@ static sk_status read_parameters(sk_instance *inst) {
     return api->error(host, SK_ERR_INPUT, "tolerance = %g: need 0 < tolerance < 1", b->tolerance);
   if (!(b->c_n > 0.0) || !(b->c_t > 0.0))
     return api->error(host, SK_ERR_INPUT, "c_n = %g, c_t = %g: both must be > 0", b->c_n, b->c_t);
+  /* the scene's spin must be about the axis (the velocity field v + w x (X - c) is rigid by construction): refused
+   * here, at check time, where the scene tells it (ABI 2.7); glue_ensure_started checks the field on older hosts */
+  const sk_scene_ext *scene = SK_HAS(api, get_extension) ? api->get_extension(host, SK_EXT_SCENE) : NULL;
+  if (scene) {
+    const double *w = scene->info(host)->slave->angular_velocity;
+    const double length = sqrt(corot_dot(3, b->axis, b->axis)), along = corot_dot(3, w, b->axis) / length;
+    double off = 0.0;
+    for (int i = 0; i < 3; ++i) off += (w[i] - along * b->axis[i] / length) * (w[i] - along * b->axis[i] / length);
+    if (sqrt(off) > 1e-12 * sqrt(corot_dot(3, w, w)))
+      return api->error(host, SK_ERR_INPUT, "the body's angular_velocity (%g, %g, %g) is not along the plugin's axis "
+                        "(%g, %g, %g): give axis_x, axis_y, axis_z along the spin, or a spin about the axis", w[0],
+                        w[1], w[2], b->axis[0], b->axis[1], b->axis[2]);
+  }
   if (strcmp(initial, "steady") == 0)
     b->steady = 1;
   else if (strcmp(initial, "undeformed") == 0)
@@ -195,7 +208,7 @@ void glue_destroy_body(sk_instance *inst) {
   void *arrays[] = {b->row_ptr, b->cols,    b->mass,       b->stiffness,  b->dofs,     b->contact_of_node,
                     b->y,       b->F,       b->dF,         b->dgy,        b->y2_view,  b->y2_extra,
                     b->rhs_extra, b->f_world, b->q,        b->v,          b->initial,  b->eliminated,
-                    b->index,   b->block,   b->work_node};
+                    b->index,   b->block,   b->work_node,  b->slip_increment, b->slip_length};
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
   for (int k = 0; k < b->n_pairs; ++k) free(b->pairs[k].body_node);
   free(b);
@@ -346,8 +359,10 @@ sk_status glue_build_contact(sk_instance *inst) {
   b->index = calloc(buffer, sizeof(int64_t));
   b->block = calloc(buffer, sizeof(double));
   b->work_node = calloc((size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
+  b->slip_increment = calloc(3 * (size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
+  b->slip_length = calloc((size_t)(n_contact > 0 ? n_contact : 1), sizeof(double));
   if (!b->y || !b->F || !b->dF || !b->dgy || !b->y2_view || !b->y2_extra || !b->rhs_extra || !b->initial ||
-      !b->eliminated || !b->index || !b->block || !b->work_node)
+      !b->eliminated || !b->index || !b->block || !b->work_node || !b->slip_increment || !b->slip_length)
     return glue_nomem(inst);
   b->eliminated[0] = 1; /* w: the plugin's own Newton in recover() */
   /* g's row in F: a torque / L (Model 1) or c . u_h a^2 / L (Model 2) is a force, like the body rows */
@@ -360,6 +375,7 @@ sk_status glue_build_contact(sk_instance *inst) {
 /* World displacements and velocities of the committed state, to the host (history, VTU, the next v_n). */
 sk_status glue_publish_state(sk_instance *inst) {
   glue_body *b = inst->body;
+  corot_energy_parts(&b->body, b->state.u, b->state.s, b->v, &b->energy[0], &b->energy[1]); /* b->v: scratch here */
   corot_world_state(&b->body, b->state.theta, b->state.u, b->state.s, b->q, b->v);
   for (int i = 0; i < b->body.n; ++i) b->q[i] -= b->view->X[i];
   return b->bulk->set_state(inst->host, b->q, b->v);

@@ -246,14 +246,22 @@ void corot_body_free(corot_body *body) {
   body->diag = NULL;
 }
 
-double corot_energy(const corot_body *body, const double *u, const double *s, double *work) {
+void corot_energy_parts(const corot_body *body, const double *u, const double *s, double *work, double *kinetic,
+                        double *strain) {
   corot_mass_apply(body, s, work);
-  double E = 0.5 * corot_dot(body->n, s, work), T[3];
+  *kinetic = 0.5 * corot_dot(body->n, s, work);
+  double T[3];
   corot_stiffness_apply(body, u, work);
   corot_mean(body, u, T);
+  *strain = 0.0;
   for (int a = 0; a < body->n_nodes; ++a)
-    for (int i = 0; i < body->dim; ++i) E += 0.5 * (u[a * body->dim + i] - T[i]) * work[a * body->dim + i];
-  return E;
+    for (int i = 0; i < body->dim; ++i) *strain += 0.5 * (u[a * body->dim + i] - T[i]) * work[a * body->dim + i];
+}
+
+double corot_energy(const corot_body *body, const double *u, const double *s, double *work) {
+  double kinetic, strain;
+  corot_energy_parts(body, u, s, work, &kinetic, &strain);
+  return kinetic + strain;
 }
 
 double corot_angular_momentum(const corot_body *body, corot_model model, const double *u, const double *s,

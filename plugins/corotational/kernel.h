@@ -77,6 +77,9 @@ void corot_mean(const corot_body *body, const double *v, double T[3]);
 /* E = 1/2 (s . M s + u . S u) (Lemma 2.1); J = s . M Pi r with r = x + u (Model 1) or x + T(u) (Model 2).
  * work: n scratch entries. */
 double corot_energy(const corot_body *body, const double *u, const double *s, double *work);
+/* Its kinetic part 1/2 s . M s and strain part 1/2 u . S u. */
+void corot_energy_parts(const corot_body *body, const double *u, const double *s, double *work, double *kinetic,
+                        double *strain);
 double corot_angular_momentum(const corot_body *body, corot_model model, const double *u, const double *s,
                               double *work);
 
@@ -312,5 +315,10 @@ void corot_world_predict(corot_world *cw, double *y);
 int corot_world_propose_sets(corot_world *cw, const double *y);
 /* The converged step: state_next (u^{n+1}, s^{n+1}, theta^{n+1}, w), committed sets; returns the friction work. */
 double corot_world_commit(corot_world *cw, const double *y, corot_state *state_next);
+/* The terms of the discrete angular-momentum balance of the step at y (after corot_world_kinematics(y)):
+ *   J^{n+1} - J^n = impulse + defect,   impulse = dt (f - D lambda) . Pi r_h   (Lemma 2.2 discrete, Sec. 3.2)
+ * with r_h = x + u_h (Model 1, defect 0) or x + T(u_h) (Model 2, whose lever arm leaves the defect
+ * -w c . Pi (u^{n+1} - u^n), c = M Pi x: Sec. 2.4's theta' m(Pi x, Pi(u' - T(u'))) over the step). */
+void corot_world_momentum_balance(const corot_world *cw, const double *y, double *impulse, double *defect);
 
 #endif

@@ -10,6 +10,7 @@
  * own nothing in the system: they register their slave surface, obstacle and mu with the body instance at create
  * (bodies are created first) and report their planes' share of the contact. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,7 +19,7 @@
 /* monolithic (default): w kept, NOX drives it with the rest (one dense row and column); nested: w eliminated, its
  * Newton step in recover() from a second solve with the same factorisation, the paper's outer Newton (Sec. 5.3);
  * dual: nested, with lambda condensed on the assembled operator by the host (stickslip.condense). Through this host
- * monolithic takes 3 iterations per contact step of the 6.3 ball where nested takes 4, and half the linear solves
+ * monolithic takes 2-3 iterations per contact step of the 6.3 ball where nested takes 4-5, and half the linear solves
  * (docs/plugins/corotational.md §8.1). */
 static const char *const strategies[] = {"monolithic", "nested", "dual", NULL};
 static const char *const parameters[] = {
@@ -136,7 +137,7 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
 /* ---- checkpoints (stickslip.checkpoint.v1): the body's committed state, one record ----------------------------- */
 /* The plugin runs on one rank, where its body view holds every node in a fixed order: one record (key -1) with the
  * scheme's state theta^n, w, u^n, s^n (co-rotated, view order), R_m and the contact's committed sets, slip directions,
- * multipliers (the next step's predictor) and last step's work per contact node. */
+ * multipliers (the next step's predictor), last step's work and the accumulated slip per contact node. */
 typedef struct {
   int32_t started, n, n_contact, pad;
   double theta, w, Rm[9];
@@ -144,7 +145,7 @@ typedef struct {
 
 static size_t body_record_size(const glue_body *b, int n_contact) {
   return sizeof(saved_body) + sizeof(double) * 2 * (size_t)b->body.n +
-         (size_t)n_contact * (1 + sizeof(double) * (2 + 3 + 1));
+         (size_t)n_contact * (1 + sizeof(double) * (2 + 3 + 1 + 1));
 }
 
 static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_writer *writer) {
@@ -165,6 +166,7 @@ static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_
     memcpy(at, b->contact.dir_committed, sizeof(double) * 2 * (size_t)nc), at += sizeof(double) * 2 * (size_t)nc;
     memcpy(at, b->contact.lambda, sizeof(double) * 3 * (size_t)nc), at += sizeof(double) * 3 * (size_t)nc;
     memcpy(at, b->work_node, sizeof(double) * (size_t)nc), at += sizeof(double) * (size_t)nc;
+    memcpy(at, b->slip_length, sizeof(double) * (size_t)nc), at += sizeof(double) * (size_t)nc;
   }
   writer->put(writer, -1, r, (uint32_t)(at - r));
   free(r);
@@ -200,7 +202,8 @@ static sk_status load_state(sk_instance *inst, const sk_state *state, const sk_r
     memcpy(b->contact.set_committed, at, (size_t)nc), at += nc;
     memcpy(b->contact.dir_committed, at, sizeof(double) * 2 * (size_t)nc), at += sizeof(double) * 2 * (size_t)nc;
     memcpy(b->contact.lambda, at, sizeof(double) * 3 * (size_t)nc), at += sizeof(double) * 3 * (size_t)nc;
-    memcpy(b->work_node, at, sizeof(double) * (size_t)nc);
+    memcpy(b->work_node, at, sizeof(double) * (size_t)nc), at += sizeof(double) * (size_t)nc;
+    memcpy(b->slip_length, at, sizeof(double) * (size_t)nc);
   }
   free(r);
   return SK_OK;
@@ -220,7 +223,35 @@ static const sk_integrator integrator = {
     .dynamic = 1,
     .predict = glue_predict,
     .velocity = glue_velocity,
+    .energy = glue_energy,
 };
+
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7) ----------------------------------------------------- */
+
+static sk_status check(const sk_scene_info *scene, char *reason, int size) {
+  if (scene->kind == SK_KIND_BODY) {
+    if (scene->n_ranks == 1) return SK_OK;
+    snprintf(reason, (size_t)size, "the corotational body plugin runs on one rank (this run has %d)", scene->n_ranks);
+    return SK_ERR_PLUGIN;
+  }
+  const sk_scene_side *slave = scene->slave, *master = scene->master;
+  if (strcmp(scene->scheme, integrator.name) != 0)
+    snprintf(reason, (size_t)size, "its contact acts on corotational bodies only: the body of slave surface '%s' "
+             "is integrated by '%s' (give that body `plugin: corotational`)", slave->name, scene->scheme);
+  else if (!master->rigid || master->shape != SK_SHAPE_PLANE)
+    snprintf(reason, (size_t)size, "the corotational plugin supports rigid planes only (the master of this pair is "
+             "%s '%s')", master->rigid ? "a curved obstacle" : "the deformable surface", master->name);
+  else if (master->moving)
+    snprintf(reason, (size_t)size, "the corotational plugin supports planes at rest: obstacle '%s' has a motion",
+             master->name);
+  else if (slave->cell_type == SK_TRI6 || slave->cell_type == SK_QUAD8)
+    snprintf(reason, (size_t)size, "slave surface '%s' has %s faces, whose corner nodes get no positive contact "
+             "weight; use first-order elements or hex27 (QUAD9 faces)", slave->name,
+             slave->cell_type == SK_TRI6 ? "TRI6" : "QUAD8");
+  else
+    return SK_OK;
+  return SK_ERR_PLUGIN;
+}
 
 static const sk_plugin plugin = {
     SK_TABLE_HEADER(sk_plugin),
@@ -249,6 +280,7 @@ static const sk_plugin plugin = {
     .points = points,
     .integrator = &integrator,
     .get_extension = extension,
+    .check = check,
 };
 
 __attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);

@@ -456,3 +456,32 @@ double corot_world_commit(corot_world *cw, const double *y, corot_state *next) {
   next->w = cw->w;
   return cw->dt * work;
 }
+
+void corot_world_momentum_balance(const corot_world *cw, const double *y, double *impulse, double *defect) {
+  const corot_body *body = cw->body;
+  const int dim = body->dim, n = body->n;
+  double *force = cw->work2; /* f - D lambda, co-rotated */
+  memcpy(force, cw->f, sizeof(double) * (size_t)n);
+  const corot_contact *contact = cw->contact;
+  if (contact) {
+    const double *lambda = y + n + cw->n_border;
+    for (int p = 0; p < contact->n; ++p)
+      for (int i = 0; i < dim; ++i) force[contact->node[p] * dim + i] -= contact->weight[p] * lambda[p * dim + i];
+  }
+  double sum = 0.0, lost = 0.0;
+  for (int b = 0; b < body->n_nodes; ++b) {
+    double r[3] = {0, 0, 0}, pr[3], du[3] = {0, 0, 0}, pdu[3];
+    for (int i = 0; i < dim; ++i) {
+      r[i] = body->x[b * dim + i] + (cw->model == COROT_MODEL_1 ? cw->u_h[b * dim + i] : cw->T_h[i]);
+      du[i] = cw->u1[b * dim + i] - cw->state_n->u[b * dim + i];
+    }
+    corot_pi(dim, body->e, r, pr);
+    corot_pi(dim, body->e, du, pdu);
+    for (int i = 0; i < dim; ++i) {
+      sum += force[b * dim + i] * pr[i];
+      lost += body->c[b * dim + i] * pdu[i];
+    }
+  }
+  *impulse = cw->dt * sum;
+  *defect = cw->model == COROT_MODEL_1 ? 0.0 : -cw->w * lost;
+}

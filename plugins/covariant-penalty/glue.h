@@ -35,6 +35,7 @@ typedef struct {
   int escaped;                    /* the closest face at the last point is not a candidate (select_face) */
   int last_state;
   history committed, anchor;      /* at the last commit / used during the step */
+  double slip_increment[3], slip; /* of the last commit on the scene's slave, and the accumulated slip length */
 } entity;
 
 typedef struct { /* the obstacle's signed distance at the current time, for the kernel's ray (stas) */

@@ -164,7 +164,10 @@ int cp_point_state(const cp_point *point, const cp_params *params, const cp_chan
   out->state = CP_STICK; /* frictionless points report stick: in contact, no slip to speak of */
   memcpy(e->delta, delta, sizeof e->delta);
   e->friction = params->mu > 0.0 && point->history;
+  e->slip_branch = 0;
   if (e->friction) {
+    const double dn = cp_dot3(n, delta);
+    for (int i = 0; i < 3; ++i) out->slip[i] = delta[i] - dn * n[i];
     /* Trial by parallel transport (51), (77): tau = P (t_n - eps_t Delta rho). */
     for (int i = 0; i < 3; ++i) e->tau_hat[i] = point->t_n[i] - params->eps_t * delta[i];
     double nt = cp_dot3(n, e->tau_hat);
@@ -175,12 +178,16 @@ int cp_point_state(const cp_point *point, const cp_params *params, const cp_chan
       memcpy(out->t, out->tau, sizeof out->t);
     } else {                    /* (79) slip */
       out->state = CP_SLIP;
-      for (int i = 0; i < 3; ++i) {
-        e->e[i] = out->tau[i] / e->tau_norm;
-        out->t[i] = limit * e->e[i];
-      }
+      for (int i = 0; i < 3; ++i) out->t[i] = limit * out->tau[i] / e->tau_norm;
       out->dissipation = params->weight * limit * (e->tau_norm - limit) / params->eps_t;
     }
+    /* The tangent differentiates the slip branch also on the cone to round-off: a point that slipped in the last step
+     * starts the next one there (Delta rho = 0 up to the round-off of positions, its traction transported unchanged),
+     * and the stick branch's tangent would hold it for a whole Newton iteration. Both branches give the same
+     * traction on the cone; the band is eps_t times the gaps' round-off scale. */
+    e->slip_branch = e->tau_norm > 0.0 && e->tau_norm > limit - params->eps_t * params->touch_tol;
+    if (e->slip_branch)
+      for (int i = 0; i < 3; ++i) e->e[i] = out->tau[i] / e->tau_norm;
   }
   for (int i = 0; i < 3; ++i) e->s[i] = p * n[i] + out->t[i];
   return 0;

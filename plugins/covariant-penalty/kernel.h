@@ -105,6 +105,8 @@ typedef struct {
   double x_master[3];         /* rho */
   double t[3];                /* tangential traction on the slave */
   double tau[3];              /* trial P (t_n - eps_t Delta rho) */
+  double slip[3];             /* P Delta rho (47), (48): the step's tangential relative displacement (0 without a
+                                 history) */
   double dissipation;         /* w mu p (|tau| - mu p) / eps_t when slipping */
   int nd;                     /* 3 n_local */
   double R[CP_MAX_DOFS];

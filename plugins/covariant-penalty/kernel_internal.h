@@ -16,7 +16,8 @@ typedef struct {
   int friction;               /* a trial was formed (mu > 0 and a history) */
   double tau_hat[3];          /* t_n - eps_t Delta rho, before the projection */
   double tau_norm;            /* |tau| */
-  double e[3];                /* slip direction tau/|tau| (slip only) */
+  int slip_branch;            /* the tangent differentiates the slip branch: slip, or on the cone to round-off */
+  double e[3];                /* slip direction tau/|tau| (slip branch only) */
   double s[3];                /* traction on the slave p n + t */
   cp_result result;
 } cp_eval;

@@ -39,7 +39,7 @@ void cp_paper_tangent(const cp_point *point, const cp_params *params, const cp_e
   const sk_surface_point *f = &e->frame;
   const cp_result *r = &e->result;
   const double *n = f->n, w = params->weight, p = r->p;
-  const int nl = point->n_local, slip = r->state == CP_SLIP;
+  const int nl = point->n_local, slip = e->slip_branch;
   double alpha[CP_MAX_NODES] = {0}, beta[2][CP_MAX_NODES] = {{0}}, M[3][3];
   for (int a = 0; a < point->n_slave; ++a) alpha[point->slave[a]] += point->S[a];
   for (int k = 0; k < point->master.nen; ++k) {

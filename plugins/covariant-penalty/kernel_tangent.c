@@ -110,7 +110,8 @@ int cp_point_eval(const cp_point *point, const cp_params *params, cp_form form, 
     }
     if (e.friction) {
       double t[3], dissipation;
-      cov_return_map(3, out->tau, Dtau, identity, params->mu, p, Dp, nd, params->eps_t, t, Dt, &dissipation);
+      cov_return_map_branch(e.slip_branch ? COV_SLIP : COV_STICK, 3, out->tau, Dtau, identity, params->mu, p,
+                            Dp, nd, params->eps_t, t, Dt, &dissipation);
       for (int i = 0; i < 3; ++i)
         for (int c = 0; c < nd; ++c) ds[i][c] += Dt[i * nd + c];
     }

@@ -7,9 +7,11 @@
  * owns; stas, one per Gauss point of each owned face of the deformable surface (the scene's `slave`) against the
  * obstacle. Each has its weight (reference area), its master face selection and its friction history. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "defaults.h"
 #include "glue.h"
 #include "records.h"
 
@@ -17,8 +19,10 @@
 
 static const char *const cp_strategies[] = {"none", NULL};
 static const char *const cp_parameters[] = {
-    "penalty: normal penalty eps_n > 0, pressure per length [required]",
-    "penalty_tangential: tangential penalty eps_t > 0 [penalty]",
+    "penalty: normal penalty eps_n > 0, pressure per length [computed from the scene: 10 E*/h on QUAD4/TRI3 slave "
+    "faces, 100 E*/h on QUAD9 (E*: contact modulus of the pair, h: mean edge of the slave surface); nts with "
+    "area_weighted 0: times the mean tributary area]",
+    "penalty_tangential: tangential penalty eps_t > 0 [computed from the scene: penalty]",
     "mu: Coulomb friction coefficient >= 0 [0]",
     "variant: sts (Gauss points on the slave faces) or nts (slave nodes) against a deformable master; an obstacle "
     "always gives stas [sts]",
@@ -42,14 +46,6 @@ static void cp_destroy(sk_instance *in) {
   free(in);
 }
 
-static sk_status read_positive(sk_instance *in, const char *key, int required, double dflt, double *out) {
-  SK_TRY(in->api->param_double(in->host, key, required, dflt, out));
-  if (!(*out > 0.0) || !isfinite(*out))
-    return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter '%s' must be a finite number > 0, got %g",
-                          key, *out);
-  return SK_OK;
-}
-
 /* Mean diagonal of the cells' bounding boxes in the reference configuration. */
 static double mean_face_size(const sk_view *v) {
   double sum = 0.0;
@@ -67,10 +63,18 @@ static double mean_face_size(const sk_view *v) {
   return v->n_cells > 0 ? sum / v->n_cells : 0.0;
 }
 
+/* The penalties: the scene's values, or computed from it (docs/plugins/covariant-penalty.md#defaults): eps_N =
+ * c E* / h with c = PENALTY_FACTOR[order of the slave faces], E* the pair's contact modulus and h the slave surface's
+ * mean edge; times the mean tributary area per slave node for nts with area_weighted 0 (a nodal stiffness);
+ * eps_T = eps_N. */
+static const double PENALTY_FACTOR[3] = {0.0, 10.0, 100.0};
+
+static sk_status read_penalties(sk_instance *in) {
+  return sk_defaults_penalties(in->api, in->host, PENALTY_FACTOR, in->variant == CP_NTS && !in->area_weighted, in->mu > 0.0, &in->eps_n, &in->eps_t);
+}
+
 static sk_status read_parameters(sk_instance *in) {
   const sk_host_api *api = in->api;
-  SK_TRY(read_positive(in, "penalty", 1, 0.0, &in->eps_n));
-  SK_TRY(read_positive(in, "penalty_tangential", 0, in->eps_n, &in->eps_t));
   SK_TRY(api->param_double(in->host, "mu", 0, 0.0, &in->mu));
   if (!(in->mu >= 0.0) || !isfinite(in->mu))
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'mu' must be a finite number >= 0, got %g",
@@ -116,6 +120,7 @@ static sk_status read_parameters(sk_instance *in) {
   if (in->area_weighted != 0 && in->area_weighted != 1)
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'area_weighted' must be 0 or 1, got %d",
                       in->area_weighted);
+  SK_TRY(read_penalties(in));
   SK_TRY(api->param_double(in->host, "search_margin", 0, in->master ? 0.5 * mean_face_size(in->master) : 0.0,
                            &in->margin));
   if (!(in->margin >= 0.0) || !isfinite(in->margin))
@@ -191,6 +196,28 @@ static sk_status make_entities(sk_instance *in) {
   return SK_OK;
 }
 
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
+
+static int face_supported(sk_elem_type type) { return type == SK_QUAD4 || type == SK_QUAD9 || type == SK_TRI3; }
+
+static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, sk_elem_type master,
+                         char *reason, int size) {
+  const int slave_ok = face_supported(slave);
+  if (slave_ok && (!master_name || face_supported(master))) return 0;
+  snprintf(reason, (size_t)size, "covariant-penalty supports QUAD4, QUAD9 and TRI3 faces (not TRI6 or QUAD8); %s "
+           "surface '%s' has %s faces", slave_ok ? "master" : "slave", slave_ok ? master_name : slave_name,
+           (slave_ok ? master : slave) == SK_TRI6 ? "TRI6" : (slave_ok ? master : slave) == SK_QUAD8 ? "QUAD8" : "other");
+  return 1;
+}
+
+static sk_status cp_check(const sk_scene_info *scene, char *reason, int size) {
+  const sk_scene_side *slave = scene->slave, *master = scene->master;
+  return faces_refused(slave->name, slave->cell_type, master->rigid ? NULL : master->name, master->cell_type, reason,
+                       size)
+             ? SK_ERR_PLUGIN
+             : SK_OK;
+}
+
 static sk_status cp_create_checked(sk_instance *in) {
   const sk_attach *at = in->attach;
   in->slave = at->slave;
@@ -204,12 +231,13 @@ static sk_status cp_create_checked(sk_instance *in) {
   if (at->self_contact)
     return in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty does not handle self contact");
   const sk_view *carrier = in->master ? in->master : in->slave; /* the surface whose faces carry the geometry */
-  if (cp_face_init(&in->face, carrier->cell_type, in->cs->shape, in->cs->shape_hessian) != 0 ||
-      (in->slave->cell_type != SK_QUAD4 && in->slave->cell_type != SK_QUAD9 && in->slave->cell_type != SK_TRI3))
-    return in->api->error(in->host, SK_ERR_INPUT, "%s: covariant-penalty supports QUAD4, QUAD9 and TRI3 faces; slave "
-                          "surface '%s' has %d-node faces%s%s%s (TRI6 and QUAD8 are not supported)", at->name,
-                          in->slave->name, in->slave->nen, in->master ? ", master '" : "",
-                          in->master ? in->master->name : "", in->master ? "'" : "");
+  char reason[300];
+  if (faces_refused(in->slave->name, in->slave->cell_type, in->master ? in->master->name : NULL,
+                    in->master ? in->master->cell_type : SK_POINT1, reason, sizeof reason))
+    return in->api->error(in->host, SK_ERR_INPUT, "%s: %s", at->name, reason);
+  if (cp_face_init(&in->face, carrier->cell_type, in->cs->shape, in->cs->shape_hessian) != 0)
+    return in->api->error(in->host, SK_ERR_INTERNAL, "%s: covariant-penalty: no face type for %d-node faces", at->name,
+                          carrier->nen);
   SK_TRY(read_parameters(in));
   SK_TRY(make_entities(in));
   const double size = mean_face_size(in->slave);
@@ -258,13 +286,19 @@ static int64_t entity_key(const sk_instance *in, int k) {
   return in->slave->cell_index[e->cell] * (int64_t)MAX_GAUSS + q;
 }
 
+/* An entity's record: its committed history and the slip it has accumulated (contact.csv's `slip`). */
+typedef struct {
+  history committed;
+  double slip;
+} saved_entity;
+
 static sk_status cp_save(sk_instance *in, const sk_state *st, sk_record_writer *writer) {
   (void)st;
   for (int k = 0; k < in->n_entities; ++k) {
-    history h = in->entities[k].committed;
-    if (!h.valid) continue;
-    if (in->master) h.face = (int)in->master->cell_index[h.face];
-    writer->put(writer, entity_key(in, k), &h, (uint32_t)sizeof h);
+    saved_entity r = {.committed = in->entities[k].committed, .slip = in->entities[k].slip};
+    if (!r.committed.valid && r.slip == 0.0) continue;
+    if (in->master && r.committed.valid) r.committed.face = (int)in->master->cell_index[r.committed.face];
+    writer->put(writer, entity_key(in, k), &r, (uint32_t)sizeof r);
   }
   return SK_OK;
 }
@@ -276,18 +310,22 @@ static sk_status cp_load(sk_instance *in, const sk_state *st, const sk_record_re
   sk_status status = SK_OK;
   for (int k = 0; k < in->n_entities && status == SK_OK; ++k) {
     entity *e = &in->entities[k];
-    history h;
+    saved_entity r;
     memset(&e->committed, 0, sizeof e->committed);
-    const int64_t got = reader->get(reader, entity_key(in, k), &h, (uint32_t)sizeof h);
+    e->slip = 0.0;
+    const int64_t got = reader->get(reader, entity_key(in, k), &r, (uint32_t)sizeof r);
     if (got < 0) continue;
-    if (got != (int64_t)sizeof h)
+    if (got != (int64_t)sizeof r)
       status = in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty: a history record of %lld bytes, expected %zu",
-                              (long long)got, sizeof h);
-    else if (in->master && (h.face = records_view_cell(cells, in->master, h.face)) < 0)
+                              (long long)got, sizeof r);
+    else if (in->master && r.committed.valid &&
+             (r.committed.face = records_view_cell(cells, in->master, r.committed.face)) < 0)
       status = in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty: a contact point's history lies on a master "
                               "face this rank does not hold");
-    else
-      e->committed = h;
+    else {
+      e->committed = r.committed;
+      e->slip = r.slip;
+    }
   }
   free(cells);
   return status;
@@ -326,6 +364,7 @@ static const sk_plugin cp_plugin = {
     .points = cp_points,
     .integrator = NULL,
     .get_extension = cp_extension,
+    .check = cp_check,
 };
 
 CP_EXPORT const sk_plugin *stickslip_plugin_entry(void);

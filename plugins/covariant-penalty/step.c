@@ -222,7 +222,13 @@ sk_status cp_begin_step(sk_instance *in, const sk_state *st) {
     entity *e = &in->entities[k];
     e->anchor = e->committed;
     e->last_state = CP_INACTIVE;
-    e->sel_face = -1;
+    /* The contact point of the last step starts the selection, so that its face's hysteresis (select_face) carries
+     * over: a point held on a face's extension stays there, and the step starts where the last one ended, at
+     * Delta rho = 0 (47) up to round-off, instead of on a neighbouring face's polynomial, a different point. */
+    e->sel_face = in->master && e->committed.valid ? e->committed.face : -1;
+    e->sel_xi[0] = e->committed.xi[0];
+    e->sel_xi[1] = e->committed.xi[1];
+    e->sel_beyond = 0;
     if (in->mu == 0.0 || e->anchor.valid) continue;
     history *a = &e->anchor;
     memset(a, 0, sizeof *a);
@@ -386,7 +392,12 @@ sk_status cp_commit_step(sk_instance *in, const sk_state *st) {
     history *c = &e->committed;
     SK_TRY(evaluate(in, e, st, &L, &r, 0));
     memset(c, 0, sizeof *c);
+    memset(e->slip_increment, 0, sizeof e->slip_increment);
     if (r.state == CP_INACTIVE || in->mu == 0.0) continue;
+    const double sign = in->variant == CP_STAS ? -1.0 : 1.0; /* on the scene's slave (stas: the deformable side) */
+    for (int i = 0; i < 3; ++i) e->slip_increment[i] = sign * r.slip[i];
+    e->slip += sqrt(e->slip_increment[0] * e->slip_increment[0] + e->slip_increment[1] * e->slip_increment[1] +
+                    e->slip_increment[2] * e->slip_increment[2]);
     c->valid = 1;
     memcpy(c->t, r.t, sizeof c->t);
     if (in->master) {
@@ -468,9 +479,16 @@ sk_status cp_points(sk_instance *in, const sk_state *st, sk_point_callback callb
       cp.traction[i] = sign * r.t[i];
     }
     cp.pressure = r.p;
+    /* p = eps_n <-g> is a traction on the point's reference area, or a force when nodal stiffnesses have no area */
+    cp.forces = in->variant == CP_NTS && !in->area_weighted;
+    cp.area = cp.forces ? 0.0 : e->weight;
     cp.gap = r.g;
     cp.state = r.state;
     cp.slave_node = in->variant == CP_NTS ? in->slave->node_id[e->slave[0]] : -1;
+    cp.slave_face = in->variant == CP_NTS ? -1 : in->slave->cell_index[e->cell];
+    cp.has_slip = in->mu > 0.0;
+    memcpy(cp.slip_increment, e->slip_increment, sizeof cp.slip_increment);
+    cp.slip = e->slip;
     if (in->variant == CP_STS) { /* a Gauss point's reference position, as cp.x on the reference positions */
       slave_point(e, in->slave->X, cp.X);
     } else if (in->variant == CP_STAS) {

@@ -8,6 +8,8 @@
  * The master (surface or obstacle) is ignored: this is not contact, it only shows the plumbing (parameters, views
  * and owned nodes, global indices, the declared pattern, sinks, report, points). No extra unknowns, no condensation,
  * no history. */
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,7 +27,8 @@ struct sk_instance {      /* the per-pair state; the core only ever holds a poin
 
 static const char *const strategies[] = {"none", NULL}; /* no condensation: one strategy, "none" */
 static const char *const parameters[] = {             /* shown by `stickslip plugins` */
-    "k: spring stiffness per slave node (force/length) > 0 [required]",
+    "k: spring stiffness per slave node (force/length) > 0 [computed from the scene: E h^(dim-2), E of the slave "
+    "body, h the mean edge of the slave surface]",
     "k3: cubic hardening, force/length^3 >= 0 [0]", NULL};
 
 /* ---- create / destroy: read and check parameters, allocate the instance ---------------------------------------- */
@@ -38,8 +41,24 @@ static sk_status spring_create(const sk_host_api *api, sk_host *host, const sk_a
   in->api = api;
   in->host = host;
   in->slave = attach->slave;
-  /* Reading a key marks it used; keys a plugin never reads are reported to the user as unknown. */
-  sk_status st = api->param_double(host, "k", 1, 0.0, &in->k);
+  /* Reading a key marks it used; keys a plugin never reads are reported to the user as unknown. A key whose good
+   * value depends on the scene gets its default from it (stickslip.scene.v1): read with the default NaN, and when the
+   * scene does not give it, compute it and tell the host why (--explain prints it). Here k = E h^(dim-2), the
+   * stiffness of an element of the slave body under a nodal load: E of the slave body, h the mean edge of its
+   * surface. */
+  sk_status st = api->param_double(host, "k", 0, NAN, &in->k);
+  const sk_scene_ext *scene = SK_HAS(api, get_extension) ? api->get_extension(host, SK_EXT_SCENE) : NULL;
+  if (st == SK_OK && isnan(in->k)) {
+    const sk_scene_info *info = scene ? scene->info(host) : NULL;
+    if (!info) {
+      st = api->error(host, SK_ERR_INPUT, "example-spring: give k (this stickslip cannot compute it from the scene)");
+    } else {
+      const sk_scene_side *side = info->slave;
+      in->k = side->E * (info->dim == 3 ? side->h_mean : 1.0);
+      scene->computed(host, "k", in->k, "E h^(dim-2); E = %g of slave body '%s', h = %g mean edge of slave surface "
+                      "'%s'", side->E, side->body_name, side->h_mean, side->name);
+    }
+  }
   if (st == SK_OK) st = api->param_double(host, "k3", 0, 0.0, &in->k3);
   if (st == SK_OK && !(in->k > 0.0 && in->k3 >= 0.0))
     st = api->error(host, SK_ERR_INPUT, "example-spring needs k > 0 and k3 >= 0 (got k = %g, k3 = %g)", in->k,
@@ -149,7 +168,9 @@ static sk_status spring_report(sk_instance *in, const sk_state *st, sk_contact_r
   return SK_OK;
 }
 
-/* One output point per owned slave node (contact.csv, VTU): the spring force as "traction", no pressure or gap. */
+/* One output point per owned slave node (contact.csv, VTU): the spring force as the tangential "traction", no
+ * pressure or gap. A node's spring has no area: `forces` says so, and the host divides by the node's tributary
+ * reference measure of the slave surface, so that contact.csv's traction is a traction as for every plugin. */
 static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_callback callback, void *ctx) {
   const sk_view *v = in->slave;
   for (int k = 0; k < v->n_nodes; ++k) {
@@ -159,10 +180,21 @@ static sk_status spring_points(sk_instance *in, const sk_state *st, sk_point_cal
     sk_contact_point p = {.struct_size = sizeof p}; /* every struct a plugin hands over says its size */
     for (int i = 0; i < v->dim; ++i) p.x[i] = st->x[0][k * v->dim + i];
     for (int i = 0; i < 3; ++i) p.traction[i] = -s * d[i];
+    p.forces = 1; /* ABI 2.6 */
     p.slave_node = v->node_id[k];
     callback(ctx, &p);
   }
   return SK_OK;
+}
+
+/* ---- what it cannot run (ABI 2.7): called before any instance exists ------------------------------------------- */
+/* The capabilities already say what the host checks (dimension, obstacle or master, scheme, friction). A plugin
+ * refuses here what the scene alone decides and the bits cannot say. This one runs anything it is named for, but it
+ * is no contact formulation, so it declines when the host looks for plugins that can replace another one. */
+static sk_status spring_check(const sk_scene_info *scene, char *reason, int size) {
+  if (!scene->probe) return SK_OK;
+  snprintf(reason, (size_t)size, "example-spring is a teaching example, not a contact formulation");
+  return SK_ERR_PLUGIN;
 }
 
 /* ---- the table and the one exported symbol ---------------------------------------------------------------------- */
@@ -191,6 +223,7 @@ static const sk_plugin example_spring = {
     .points = spring_points,
     .integrator = NULL,        /* not a body plugin */
     .get_extension = spring_extension,
+    .check = spring_check,     /* ABI 2.7: what it refuses before any instance exists */
 };
 
 EXPORT const sk_plugin *stickslip_plugin_entry(void);

@@ -422,18 +422,54 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
       (inst->deciding || (inst->active_set == ACTIVE_SET_SEMISMOOTH && o->flips < inst->max_flips)))
     force = -1;
   if (uncovered) force = MORTAR_INACTIVE; /* no master under the node: no contact (docs §5) */
+  /* the nested loop keeps a slipping node's direction for the Newton run (mortar_ncp_eval_dir) */
+  double dir[2] = {0, 0}, dlen = 0.0;
+  if (inst->active_set == ACTIVE_SET_NESTED && inst->friction && o->state == MORTAR_SLIP) {
+    for (int a = 0; a < nt; ++a) {
+      for (int i = 0; i < dim; ++i) dir[a] += tau[a][i] * o->slip_dir[i];
+      dlen += dir[a] * dir[a];
+    }
+    dlen = sqrt(dlen);
+    for (int a = 0; a < nt; ++a) dir[a] /= dlen > 0.0 ? dlen : 1.0;
+  }
+  const double *frozen_dir = dlen > 0.0 ? dir : NULL;
   mortar_ncp r;
-  mortar_ncp_eval(nt, zn, zt, g, s, &inst->ncp, force, &r);
+  mortar_ncp_eval_dir(nt, zn, zt, g, s, &inst->ncp, force, force == o->state ? frozen_dir : NULL, &r);
   if (ec->mode == EVAL_COMMIT) {
     o->dissipation = 0.0; /* z_t . u~_t: friction force times the weighted slip of the step */
     for (int a = 0; a < nt; ++a) o->dissipation += zt[a] * s[a] * A;
+    memset(o->slip_increment, 0, sizeof o->slip_increment);
+    if (inst->friction && r.state != MORTAR_INACTIVE) {
+      for (int a = 0; a < nt; ++a)
+        for (int i = 0; i < dim; ++i) o->slip_increment[i] += s[a] * tau[a][i];
+      o->slip_length += sqrt(o->slip_increment[0] * o->slip_increment[0] + o->slip_increment[1] * o->slip_increment[1] +
+                             o->slip_increment[2] * o->slip_increment[2]);
+    }
     return SK_OK;
   }
   if (ec->mode == EVAL_SET) {
-    if (r.state != o->state) {
+    /* at a converged point a node on the border of two branches keeps its own (mortar_ncp_branch_holds): the
+     * decision on the sign of round-off cycled Hammer's nested loop when the block of his benchmark touched the
+     * slab at the end of step 1 (g = z_n = 0 at 25 nodes; 10 outer loops, then step cuts) */
+    if (inst->deciding && !uncovered &&
+        mortar_ncp_branch_holds(nt, zn, zt, g, s, &inst->ncp, o->state, frozen_dir, inst->branch_tol))
+      return SK_OK;
+    /* a slip that turned against its frozen direction is a change as well: Newton again with the new direction */
+    if (r.state != o->state || (frozen_dir && r.state == MORTAR_SLIP)) {
       ++*changed;
       ++o->flips;
       o->state = r.state;
+    }
+    if (inst->active_set == ACTIVE_SET_NESTED && r.state == MORTAR_SLIP) {
+      /* the direction of the trial traction v = z_t + c_t s, frozen for the next Newton run */
+      double v[3] = {0, 0, 0}, vlen = 0.0;
+      for (int a = 0; a < nt; ++a) {
+        const double va = zt[a] + inst->ncp.c_t * s[a];
+        for (int i = 0; i < dim; ++i) v[i] += va * tau[a][i];
+        vlen += va * va;
+      }
+      vlen = sqrt(vlen);
+      for (int i = 0; i < 3; ++i) o->slip_dir[i] = vlen > 0.0 ? v[i] / vlen : 0.0;
     }
     return SK_OK;
   }

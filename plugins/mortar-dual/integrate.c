@@ -88,6 +88,7 @@ int mortar_along(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *x1
   double x1v[3], dv[3];
   mortar_values(dim, x1, x1v);
   mortar_values(dim, d, dv);
+  double previous = INFINITY;
   for (int it = 0; it < 40; ++it) {
     double pos[3], a[2][3], aa[2][2][3], J[9], r[3];
     mortar_face_values(mt, xm, xi, pos, a, aa);
@@ -100,9 +101,11 @@ int mortar_along(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *x1
     for (int k = 0; k < pd; ++k) xi[k] += r[k];
     *t += r[pd];
     if (!isfinite(xi[0]) || fabs(xi[0]) > 1e3 || (pd > 1 && fabs(xi[1]) > 1e3)) return -1;
-    double step = 0.0;
+    double step = 0.0, size = fabs(*t);
     for (int k = 0; k < m; ++k) step = fmax(step, fabs(r[k]));
-    if (step < 1e-14) return 0;
+    for (int k = 0; k < pd; ++k) size = fmax(size, fabs(xi[k]));
+    if (mortar_newton_done(step, previous, size)) return 0;
+    previous = step;
   }
   return -1;
 }
@@ -135,6 +138,7 @@ static int closest(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *
   const int pd = mt->pdim;
   double x1v[3];
   mortar_values(dim, x1, x1v);
+  double previous = INFINITY;
   for (int it = 0; it < 40; ++it) {
     double pos[3], a[2][3], aa[2][2][3], J[4], F[2];
     mortar_face_values(mt, xm, xi, pos, a, aa);
@@ -150,7 +154,10 @@ static int closest(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *
     if (mortar_solve_small(pd, J, F, 1) != 0) return -1;
     for (int k = 0; k < pd; ++k) xi[k] += F[k];
     if (!isfinite(xi[0]) || fabs(xi[0]) > 1e3 || (pd > 1 && fabs(xi[1]) > 1e3)) return -1;
-    if (fabs(F[0]) < 1e-14 && (pd == 1 || fabs(F[1]) < 1e-14)) return 0;
+    const double step = pd > 1 ? fmax(fabs(F[0]), fabs(F[1])) : fabs(F[0]);
+    const double size = pd > 1 ? fmax(fabs(xi[0]), fabs(xi[1])) : fabs(xi[0]);
+    if (mortar_newton_done(step, previous, size)) return 0;
+    previous = step;
   }
   return -1;
 }

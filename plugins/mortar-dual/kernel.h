@@ -190,6 +190,20 @@ typedef struct {
 } mortar_ncp;
 void mortar_ncp_eval(int n_t, double z_n, const double *z_t, double g, const double *s, const mortar_ncp_params *prm,
                      int force_state, mortar_ncp *out);
+/* The same with the slip branch's direction frozen (slip_dir, unit, n_t components; NULL: v / |v|): C_T = z_t - r d.
+ * Hammer's nested loop (Algorithm 1, sec. 6.4.1.2) keeps a slipping node's direction for the Newton run and turns it
+ * to stick at the outer update when the weighted slip reverses: with v / |v| evaluated at every iterate the slip
+ * traction jumps where the slip turns, and Newton on a frozen set does not converge there (the reversal of Hammer's
+ * benchmark: 30 iterations stalled at 0.87 of the first residual, the step cut 6 times and failed). */
+void mortar_ncp_eval_dir(int n_t, double z_n, const double *z_t, double g, const double *s,
+                         const mortar_ncp_params *prm, int force_state, const double *slip_dir, mortar_ncp *out);
+/* Whether branch `state` holds at (z_n, z_t, g, s) up to tol (a traction): its defining inequality relaxed by tol —
+ * inactive z_n - c_n g < tol; active z_n - c_n g >= -tol, and with friction |z_t + c_t s| <= r + tol (stick) or
+ * >= r - tol (slip; with a frozen direction d: along d). A converged point on the border of two branches (touching
+ * without pressure, g = z_n = 0 up to round-off; sticking at the slip limit) satisfies both: the set decided there
+ * keeps such a node in its branch instead of flipping it on the sign of round-off. */
+int mortar_ncp_branch_holds(int n_t, double z_n, const double *z_t, double g, const double *s,
+                            const mortar_ncp_params *prm, int state, const double *slip_dir, double tol);
 
 /* ---- quadrature ------------------------------------------------------------------------------------------------ */
 /* Gauss-Legendre on [-1, 1], 1 <= n <= MORTAR_MAX_RULE. */

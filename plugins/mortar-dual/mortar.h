@@ -22,6 +22,8 @@ typedef struct {
   double ref[3];            /* tangent reference direction for the attempt (3D) */
   int state, c_state;       /* NCP branch (mortar_state) now / committed */
   int flips;                /* branch changes within the attempt (semismooth) */
+  double slip_dir[3], c_slip_dir[3]; /* nested loop: the slip branch's direction (Cartesian unit vector, tangential)
+                                        frozen for a Newton run, now / committed (mortar_ncp_eval_dir) */
   int cols, n_cols;         /* its columns: inst->col[cols .. cols + n_cols), sorted */
   int hist, n_hist;         /* committed D^n (+) and M^n (-) coefficients: inst->hist_* [hist .. hist + n_hist) */
   /* values at the last evaluation */
@@ -30,6 +32,8 @@ typedef struct {
   double W[3];              /* deformable master: W_j [S1]; obstacle: the weighted jump D (x - x^n - dd) */
   double z[3];              /* z_j at the last evaluation (output) */
   double dissipation;       /* EVAL_COMMIT: z_t . u~_t, the friction work of the step */
+  double slip_increment[3]; /* EVAL_COMMIT with friction: the weighted slip u~_t / A of the step, spatial */
+  double slip_length;       /* the accumulated length of the slip increments */
 } owned_node;
 
 /* From a pair's local slots [x_s | x_m | n_s] to the global columns of the nodes involved. */
@@ -61,6 +65,8 @@ struct sk_instance {
   mortar_ncp_params ncp;
   int segment_gauss, cell_rule, face_gauss, max_flips;
   double search_margin, min_cover;
+  double branch_tol;        /* a traction: 1e-8 c_n h (h the slave's mean edge), the round-off band of a branch at a
+                               converged point (mortar_ncp_branch_holds) */
 
   mortar_face_type st, mt;
   sk_search *search;

@@ -3,9 +3,11 @@
  *   saddle-point  displacements and z (standard or dual basis): a direct solver
  *   condensed     dual basis; z eliminated by the host on the assembled operator (stickslip.condense.v1) */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "defaults.h"
 #include "mortar.h"
 #include "records.h"
 
@@ -17,8 +19,9 @@ static const char *const parameters[] = {
     "active_set: semismooth (set updated with the iterate) | nested (Hammer: frozen in Newton, updated at "
     "convergence) [semismooth]",
     "mu: Coulomb friction coefficient [0]",
-    "c_n: complementarity parameter of the normal condition, traction per length (about E / h) [1]",
-    "c_t: complementarity parameter of the tangential condition, traction per length [c_n]",
+    "c_n: complementarity parameter of the normal condition, traction per length [computed from the scene: 10 E*/h "
+    "(E*: contact modulus of the pair, h: mean edge of the slave surface)]",
+    "c_t: complementarity parameter of the tangential condition, traction per length [computed from the scene: c_n]",
     "segment_gauss: Gauss points per 2D integration segment [3]",
     "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
     "there; else 6, exact on parallelograms]",
@@ -174,6 +177,24 @@ static double mean_edge(const sk_view *v) {
   return count ? sum / count : 1.0;
 }
 
+/* c_n and c_t: the scene's values, or computed from it (docs/plugins/mortar-dual.md#defaults). A solution does not
+ * depend on them, but the semismooth Newton does: with c_t s far below mu z_n the slip branch follows the sign of
+ * the iterate z_t and the set cycles (slider-2d at dt 0.4: 5935 Newton iterations in 315 steps at c_n = 1, 336 in
+ * 29 steps at c_n = 1000 = E). The rows are tractions (divided by the tributary measure A_j), so c_n is a modulus per
+ * length: C_N_FACTOR E* / h with E* the pair's contact modulus and h the slave surface's mean edge; c_t = c_n. */
+static const double C_N_FACTOR = 10.0;
+
+static sk_status read_complementarity(sk_instance *inst) {
+  const sk_scene_ext *scene = sk_defaults_scene(inst->api, inst->host);
+  double computed = 0.0;
+  char reason[700] = "";
+  if (scene) computed = sk_defaults_stiffness(scene->info(inst->host), C_N_FACTOR, 0, reason, sizeof reason);
+  SK_TRY(sk_defaults_param(inst->api, inst->host, scene, "c_n", computed, reason, &inst->ncp.c_n));
+  /* frictionless: unused, so not reported */
+  return sk_defaults_follow(inst->api, inst->host, scene, "c_t", inst->ncp.c_n, "c_n", inst->ncp.mu > 0.0,
+                            &inst->ncp.c_t);
+}
+
 static sk_status read_parameters(sk_instance *inst) {
   const sk_host_api *api = inst->api;
   sk_host *host = inst->host;
@@ -189,16 +210,7 @@ static sk_status read_parameters(sk_instance *inst) {
   inst->normal_variant = normal == 0 ? MORTAR_NORMAL_A : MORTAR_NORMAL_M;
   SK_TRY(read_choice(inst, "active_set", sets, &inst->active_set));
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->ncp.mu));
-  SK_TRY(api->param_double(host, "c_n", 0, NAN, &inst->ncp.c_n));
-  if (isnan(inst->ncp.c_n)) {
-    /* a solution does not depend on c_n, c_t, but the semismooth Newton does: with c_t s far below mu z_n the
-     * slip branch follows the sign of the iterate z_t and the set cycles (slider-2d at dt 0.4: 5935 Newton
-     * iterations in 315 steps at c_n = 1, 336 in 29 steps at c_n = 1000 = E) */
-    inst->ncp.c_n = 1.0;
-    api->log(host, 1, "mortar-dual: c_n not given: using 1 (a traction per length); Newton converges best with c_n "
-             "near E / h of the softer body (docs/plugins/mortar-dual.md, section 10)");
-  }
-  SK_TRY(api->param_double(host, "c_t", 0, inst->ncp.c_n, &inst->ncp.c_t));
+  SK_TRY(read_complementarity(inst));
   SK_TRY(api->param_int(host, "segment_gauss", 0, 3, &inst->segment_gauss));
   /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
   const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
@@ -221,6 +233,9 @@ static sk_status read_parameters(sk_instance *inst) {
                       MORTAR_MAX_RULE, inst->ncp.mu, inst->ncp.c_n, inst->ncp.c_t, inst->search_margin,
                       inst->segment_gauss, inst->face_gauss, inst->cell_rule, inst->max_flips, inst->min_cover);
   inst->friction = inst->ncp.mu > 0.0;
+  /* c_n h is about the modulus (c_n ~ E / h): 1e-8 of it lies far below any pressure the run resolves and above the
+   * round-off of z_n and c_n g at a converged point */
+  inst->branch_tol = 1e-8 * inst->ncp.c_n * mean_edge(inst->slave);
   if (inst->strategy == STRATEGY_CONDENSED && inst->basis != MORTAR_DUAL)
     return api->error(host, SK_ERR_INPUT,
                       "mortar-dual: strategy 'condensed' eliminates z with a diagonal D: it needs basis: dual");
@@ -261,6 +276,35 @@ static void reference_measures(sk_instance *inst) {
   for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].A_ref = inst->A_node[inst->owned[oi].node];
 }
 
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7) ----------------------------------------------------- */
+
+/* Contact is enforced at t_(n+1): a scheme balancing forces elsewhere (the midpoint rule) is refused. */
+static int scheme_refused(const char *scheme, double alpha, char *reason, int size) {
+  if (alpha == 1.0) return 0;
+  snprintf(reason, (size_t)size, "the scheme '%s' balances forces at t_n + %g dt, and mortar-dual enforces contact at "
+           "t_(n+1): it supports quasi-static and backward-euler", scheme, alpha);
+  return 1;
+}
+
+static int first_order_face(sk_elem_type type) { return type == SK_LINE2 || type == SK_TRI3 || type == SK_QUAD4; }
+
+static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, int has_master,
+                         sk_elem_type master, char *reason, int size) {
+  if (first_order_face(slave) && (!has_master || first_order_face(master))) return 0;
+  snprintf(reason, (size_t)size, "mortar-dual handles first-order faces only (line2 in 2D, tri3 and quad4 in 3D); "
+           "%s surface '%s' has second-order faces (mesh.order: 2?)", first_order_face(slave) ? "master" : "slave",
+           first_order_face(slave) ? master_name : slave_name);
+  return 1;
+}
+
+static sk_status check(const sk_scene_info *scene, char *reason, int size) {
+  const sk_scene_side *slave = scene->slave, *master = scene->master;
+  if (scheme_refused(scene->scheme, scene->alpha, reason, size) ||
+      faces_refused(slave->name, slave->cell_type, master->name, !master->rigid, master->cell_type, reason, size))
+    return SK_ERR_PLUGIN;
+  return SK_OK;
+}
+
 static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *attach, sk_instance **out) {
   *out = NULL;
   sk_instance *inst = calloc(1, sizeof *inst);
@@ -275,15 +319,14 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   inst->strategy = attach->strategy;
   const sk_view *sv = inst->slave;
   sk_status st = SK_OK;
-  if (mortar_face_type_init(&inst->st, sv->cell_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
-      (inst->master &&
-       mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape,
-                             api->contact->shape_hessian) != 0))
-    st = api->error(host, SK_ERR_INPUT,
-                    "%s: mortar-dual handles first-order faces only (line2 in 2D, tri3 and quad4 in 3D); slave "
-                    "surface '%s' has %d-node faces%s%s%s",
-                    attach->name, sv->name, sv->nen, inst->master ? ", master '" : "",
-                    inst->master ? inst->master->name : "", inst->master ? "'" : "");
+  char reason[300];
+  if (faces_refused(sv->name, sv->cell_type, inst->master ? inst->master->name : "", inst->master != NULL,
+                    inst->master ? inst->master->cell_type : SK_POINT1, reason, sizeof reason))
+    st = api->error(host, SK_ERR_INPUT, "%s: %s", attach->name, reason);
+  else if (mortar_face_type_init(&inst->st, sv->cell_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
+           (inst->master && mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape,
+                                                  api->contact->shape_hessian) != 0))
+    st = api->error(host, SK_ERR_INTERNAL, "%s: mortar-dual: no face type for a first-order face", attach->name);
   if (st == SK_OK) st = read_parameters(inst);
   if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
     inst->condense = api->get_extension(host, SK_EXT_CONDENSE);
@@ -439,16 +482,15 @@ static sk_status store_history(sk_instance *inst) {
 
 /* ---- the step ---------------------------------------------------------------------------------------------------- */
 static sk_status begin_step(sk_instance *inst, const sk_state *state) {
-  if (state->alpha != 1.0)
-    return inst->api->error(inst->host, SK_ERR_INPUT,
-                            "mortar-dual: the scheme '%s' balances forces at t_n + %g dt; mortar-dual enforces contact "
-                            "at t_(n+1) and supports quasi-static and backward-euler",
-                            state->scheme, state->alpha);
+  char reason[300];
+  if (scheme_refused(state->scheme, state->alpha, reason, sizeof reason)) /* a host before ABI 2.7 skips check() */
+    return inst->api->error(inst->host, SK_ERR_INPUT, "mortar-dual: %s", reason);
   /* the attempt starts from the committed set; tangent references from the normals at t_n */
   mortar_compute_normals(inst, state->x_n[0]);
   for (int oi = 0; oi < inst->n_owned; ++oi) {
     owned_node *o = &inst->owned[oi];
     o->state = o->c_state;
+    memcpy(o->slip_dir, o->c_slip_dir, sizeof o->slip_dir);
     o->flips = 0;
     const double *n = inst->normal + 3 * o->node;
     int axis = 0;
@@ -591,7 +633,11 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].c_state = inst->owned[oi].state;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->c_state = o->state;
+    memcpy(o->c_slip_dir, o->slip_dir, sizeof o->slip_dir);
+  }
   if (state->extra)
     for (int oi = 0; oi < inst->n_owned; ++oi)
       for (int i = 0; i < inst->dim; ++i)
@@ -600,7 +646,11 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
 }
 
 static void reject_step(sk_instance *inst) {
-  for (int oi = 0; oi < inst->n_owned; ++oi) inst->owned[oi].state = inst->owned[oi].c_state;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    owned_node *o = &inst->owned[oi];
+    o->state = o->c_state;
+    memcpy(o->slip_dir, o->c_slip_dir, sizeof o->slip_dir);
+  }
 }
 
 /* ---- results ---------------------------------------------------------------------------------------------------- */
@@ -614,17 +664,20 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
     const owned_node *o = &inst->owned[oi];
     if (o->state == MORTAR_INACTIVE) continue;
     ++rep->active;
-    if (o->state == MORTAR_STICK) ++rep->stick;
-    else ++rep->slip;
+    if (inst->friction) { /* frictionless nodes are neither stuck nor slipping */
+      if (o->state == MORTAR_STICK) ++rep->stick;
+      else ++rep->slip;
+    }
     rep->dissipated += o->dissipation;
     rep->constraint_norm = fmax(rep->constraint_norm, fabs(o->gap) / o->A_ref);
   }
   return SK_OK;
 }
 
-/* Output: z_j is a traction per current measure (the slave force is D_jj z_j, D over the current surface); pressure
- * and traction are written per reference measure, z_j A_j(x) / A_j(X) (the nodal force over the reference tributary
- * measure, as penalty-nts writes them): in the patch test that is p itself, where z_j = p L_0 / L. */
+/* Output: z_j is a traction per current measure (the force on the slave is -D_jj z_j, D over the current surface, as
+ * report() sums it); pressure and traction are written per reference measure, z_j A_j(x) / A_j(X) (the nodal force
+ * over the reference tributary measure A_j(X), the point's `area`): in the patch test that is p itself, where
+ * z_j = p L_0 / L. */
 static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx) {
   if (!state->extra) mortar_compute_normals(inst, state->x[0]);
   const int dim = inst->dim;
@@ -636,15 +689,21 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     sk_contact_point pt = {.struct_size = sizeof pt};
     double zn = 0.0;
     for (int i = 0; i < dim; ++i) zn += n[i] * o->z[i];
+    /* n is the slave's outward normal and -z the traction on the slave: sk_contact_point's normal (the master's,
+     * towards the slave) and traction (on the slave) are their opposites */
     for (int i = 0; i < 3; ++i) {
       pt.x[i] = i < dim ? state->x[0][(int64_t)o->node * dim + i] : 0.0;
-      pt.normal[i] = n[i];
-      pt.traction[i] = (o->z[i] - zn * n[i]) * nominal;
+      pt.normal[i] = -n[i];
+      pt.traction[i] = -(o->z[i] - zn * n[i]) * nominal;
     }
     pt.pressure = state->extra ? zn * nominal : 0.0;
+    pt.area = o->A_ref;
+    pt.has_slip = inst->friction;
+    memcpy(pt.slip_increment, o->slip_increment, sizeof pt.slip_increment);
+    pt.slip = o->slip_length;
     pt.has_multiplier = state->extra != NULL; /* z_n, the normal part of the node's dual multiplier */
     pt.multiplier = state->extra ? zn : 0.0;
-    pt.gap = o->gap / o->A_ref;
+    pt.gap = o->cover > 0.0 ? o->gap / o->A_ref : NAN; /* NaN: no master face (or obstacle) over the node */
     pt.state = o->state == MORTAR_INACTIVE ? 0 : (o->state == MORTAR_SLIP && inst->friction ? 2 : 1);
     pt.slave_node = inst->slave->node_id[o->node];
     callback(ctx, &pt);
@@ -659,6 +718,7 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
 typedef struct {
   int32_t state, n_hist;
   double z[3];
+  double slip_length; /* the slip accumulated (contact.csv's `slip`) */
 } saved_node;
 typedef struct {
   int32_t side, node;
@@ -682,7 +742,7 @@ static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_
       buffer = grown;
       cap = bytes;
     }
-    saved_node head = {.state = o->c_state, .n_hist = n_hist};
+    saved_node head = {.state = o->c_state, .n_hist = n_hist, .slip_length = o->slip_length};
     for (int i = 0; i < inst->dim; ++i) head.z[i] = inst->z_committed[o->extra + i];
     memcpy(buffer, &head, sizeof head);
     for (int h = 0; h < n_hist; ++h) {
@@ -748,6 +808,7 @@ static sk_status load_state(sk_instance *inst, const sk_state *state, const sk_r
     memcpy(&head, buffer, sizeof head);
     (void)got;
     o->c_state = o->state = head.state;
+    o->slip_length = head.slip_length;
     for (int i = 0; i < inst->dim; ++i) inst->z_committed[o->extra + i] = head.z[i];
     o->hist = inst->n_hist;
     for (int h = 0; h < head.n_hist && status == SK_OK; ++h) {
@@ -803,6 +864,7 @@ static const sk_plugin plugin = {
     .points = points,
     .integrator = NULL,
     .get_extension = extension,
+    .check = check,
 };
 
 __attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);

@@ -146,7 +146,7 @@ sk_status mortar_step_candidates(sk_instance *inst, const sk_state *state) {
     const int h0 = inst->hit_ptr[f], nh = inst->hit_ptr[f + 1] - h0;
     if (inst->integration == INTEGRATION_SEGMENTS) {
       SK_TRY(grow(inst, &inst->cand, &inst->cand_cap, n + nh));
-      memcpy(inst->cand + n, inst->hits.faces + h0, sizeof(int) * (size_t)nh);
+      if (nh > 0) memcpy(inst->cand + n, inst->hits.faces + h0, sizeof(int) * (size_t)nh); /* cand may be NULL */
       n += nh;
       continue;
     }
@@ -199,7 +199,7 @@ sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int
     const int h0 = inst->hit_ptr[f], nh = inst->hit_ptr[f + 1] - h0;
     if (inst->integration == INTEGRATION_SEGMENTS) {
       SK_TRY(grow(inst, &inst->cand_next, &inst->cand_next_cap, n + nc + nh));
-      memcpy(inst->cand_next + n, inst->cand + c0, sizeof(int) * (size_t)nc);
+      if (nc > 0) memcpy(inst->cand_next + n, inst->cand + c0, sizeof(int) * (size_t)nc); /* either may be NULL */
       n += nc;
       for (int h = h0; h < h0 + nh; ++h) {
         const int m = inst->hits.faces[h];

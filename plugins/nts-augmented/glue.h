@@ -51,6 +51,8 @@ typedef struct {
   double f_gap[2];             /* `direct`: the last closest point of q_{n+1} (the next local Newton's start) */
   double plane_origin[3];      /* rigid obstacle: a point of the plane near the node, without its displacement */
   double gap_estimate;         /* gap seen at begin_step (for output of inactive points) */
+  double slip_increment[3];    /* a_a (f - f_start)^a of the last accepted step (friction) */
+  double slip_length;          /* the accumulated length of the slip increments */
 } slave_point;
 
 struct sk_instance {

@@ -8,9 +8,11 @@
  *                    equations, f and lambda_aug eliminated nonlinearly)
  * `reduced` and `none`, the names before these, are kept as deprecated aliases of `condensed` and `augmented`. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "defaults.h"
 #include "glue.h"
 #include "records.h"
 
@@ -21,8 +23,11 @@ static const nts_strategy alias_of[] = {NTS_CONDENSED, NTS_AUGMENTED};
 
 static const char *const parameters[] = {
     "mu: Coulomb friction coefficient [0]",
-    "epsilon_t: tangential penalty of the regularised friction law, force per unit of f (required if mu > 0)",
-    "c_n: weight of the gap in the active-set test -lambda_n - c_n g > 0 [1]",
+    "epsilon_t: tangential penalty of the regularised friction law, force per unit of f (a nodal stiffness) "
+    "[computed from the scene: 10 E*/h A (E*: contact modulus of the pair, h: mean edge and A: mean tributary "
+    "area per node of the slave surface)]",
+    "c_n: weight of the gap in the active-set test -lambda_n - c_n g > 0, force per length [computed from the "
+    "scene: E*/h A]",
     "search_margin: inflation of the search boxes (length) [half the mean master edge length]",
     "max_flips: active-set changes of one node per step before its state is frozen [4]",
     "slide_search: 1 moves a node that slid beyond its facet into the master onto that face at the converged point "
@@ -102,6 +107,60 @@ static sk_status plane_setup(sk_instance *inst) {
   return SK_OK;
 }
 
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
+
+static int first_order_face(sk_elem_type type) { return type == SK_LINE2 || type == SK_TRI3 || type == SK_QUAD4; }
+
+/* Second-order slave faces are refused: nodal constraints on them need weights that are positive under a uniform
+ * pressure, which the corners of TRI6/QUAD8 faces do not have (docs/plugins/penalty-nts.md#quadratic-faces); the
+ * facets of the augmented coordinates are first-order master faces. */
+static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, sk_elem_type master,
+                         char *reason, int size) {
+  if (!first_order_face(slave))
+    snprintf(reason, (size_t)size, "nts-augmented handles first-order slave faces only (line2 in 2D, tri3 and quad4 "
+             "in 3D); slave surface '%s' has second-order faces (mesh.order: 2?)", slave_name);
+  else if (master_name && !first_order_face(master))
+    snprintf(reason, (size_t)size, "nts-augmented handles first-order master faces only (line2 in 2D, tri3 and quad4 "
+             "in 3D); master surface '%s' has second-order faces (mesh.order: 2?)", master_name);
+  else
+    return 0;
+  return 1;
+}
+
+static sk_status check(const sk_scene_info *scene, char *reason, int size) {
+  const sk_scene_side *slave = scene->slave, *master = scene->master;
+  if (faces_refused(slave->name, slave->cell_type, master->rigid ? NULL : master->name, master->cell_type, reason,
+                    size))
+    return SK_ERR_PLUGIN;
+  if (master->rigid && master->shape != SK_SHAPE_PLANE) {
+    snprintf(reason, (size_t)size, "nts-augmented takes plane obstacles only: obstacle '%s' is curved, and the "
+             "augmented coordinates need a parametrisation of the master surface, which the contact services give "
+             "for planes only", master->name);
+    return SK_ERR_PLUGIN;
+  }
+  return SK_OK;
+}
+
+/* epsilon_t and c_n: the scene's values, or computed from it (docs/plugins/nts-augmented.md#defaults). Both are
+ * nodal stiffnesses (force per length: lambda_n is a nodal force, epsilon_t m (f - f_n) a nodal tangential force):
+ * c E* / h times the slave surface's mean tributary area (length in 2D) per node, with E* the pair's contact modulus
+ * and h the slave surface's mean edge; c = EPSILON_T_FACTOR and C_N_FACTOR. */
+static const double EPSILON_T_FACTOR = 10.0, C_N_FACTOR = 1.0;
+
+static sk_status read_stiffnesses(sk_instance *inst) {
+  const sk_scene_ext *scene = sk_defaults_scene(inst->api, inst->host);
+  const sk_scene_info *info = scene ? scene->info(inst->host) : NULL;
+  char reason[900] = "";
+  if (inst->friction.mu > 0.0) {
+    const double computed = info ? sk_defaults_stiffness(info, EPSILON_T_FACTOR, 1, reason, sizeof reason) : 0.0;
+    SK_TRY(sk_defaults_param(inst->api, inst->host, scene, "epsilon_t", computed, reason, &inst->friction.epsilon_t));
+  } else { /* frictionless: unused, so neither required nor reported */
+    SK_TRY(inst->api->param_double(inst->host, "epsilon_t", 0, 0.0, &inst->friction.epsilon_t));
+  }
+  const double computed = info ? sk_defaults_stiffness(info, C_N_FACTOR, 1, reason, sizeof reason) : 0.0;
+  return sk_defaults_param(inst->api, inst->host, scene, "c_n", computed, reason, &inst->c_n);
+}
+
 static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   const sk_host_api *api = inst->api;
   sk_host *host = inst->host;
@@ -111,29 +170,21 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   inst->stride = 1 + 2 * inst->pdim;
   if (!master && !attach->obstacle)
     return api->error(host, SK_ERR_INPUT, "%s: nts-augmented needs a master surface or a plane obstacle", inst->name);
-  /* Second-order slave faces are refused: nodal constraints on them need weights that are positive under a uniform
-   * pressure, which the corners of TRI6/QUAD8 faces do not have (docs/plugins/penalty-nts.md#quadratic-faces), and
-   * mean_edge reads the corners of first-order faces only. */
-  const sk_elem_type slave_type = slave->cell_type;
-  if (slave_type != (inst->dim == 3 ? SK_TRI3 : SK_LINE2) && slave_type != (inst->dim == 3 ? SK_QUAD4 : SK_LINE2))
-    return api->error(host, SK_ERR_INPUT,
-                      "%s: nts-augmented handles first-order slave faces only (tri3 and quad4 in 3D, line2 in 2D); "
-                      "slave surface '%s' has %d-node faces (second-order elements, mesh.order: 2?): use penalty-nts, "
-                      "covariant-penalty or a first-order mesh", inst->name, slave->name, slave->nen);
+  char reason[400];
+  if (faces_refused(slave->name, slave->cell_type, master ? master->name : NULL,
+                    master ? master->cell_type : SK_POINT1, reason, sizeof reason))
+    return api->error(host, SK_ERR_INPUT, "%s: %s", inst->name, reason);
   const sk_elem_type facet_type = master ? master->cell_type : inst->dim == 3 ? SK_QUAD4 : SK_LINE2;
-  if (nts_facet_init(&inst->facet, facet_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
-      (inst->dim == 2) != (facet_type == SK_LINE2))
-    return api->error(host, SK_ERR_INPUT,
-                      "%s: nts-augmented handles tri3 and quad4 master faces in 3D and line2 in 2D (master surface "
-                      "'%s' has %d-node faces)", inst->name, master ? master->name : "?", master ? master->nen : 0);
+  if (nts_facet_init(&inst->facet, facet_type, api->contact->shape, api->contact->shape_hessian) != 0)
+    return api->error(host, SK_ERR_INTERNAL, "%s: nts-augmented: no facet for %d-node faces", inst->name,
+                      master ? master->nen : 0);
   inst->strategy = attach->strategy < N_STRATEGIES ? (nts_strategy)attach->strategy
                                                    : alias_of[attach->strategy - N_STRATEGIES];
   if (attach->strategy >= N_STRATEGIES)
     api->log(host, 1, "%s: nts-augmented: strategy '%s' is deprecated; it is '%s' (docs/plugins/nts-augmented.md)",
              inst->name, strategies[attach->strategy], strategies[inst->strategy]);
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->friction.mu));
-  SK_TRY(api->param_double(host, "epsilon_t", inst->friction.mu > 0.0, 0.0, &inst->friction.epsilon_t));
-  SK_TRY(api->param_double(host, "c_n", 0, 1.0, &inst->c_n));
+  SK_TRY(read_stiffnesses(inst));
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_edge(master ? master : slave), &inst->search_margin));
   SK_TRY(api->param_int(host, "max_flips", 0, 4, &inst->max_flips));
   SK_TRY(api->param_int(host, "slide_search", 0, 0, &inst->slide_search));
@@ -454,6 +505,7 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     memcpy(p->c_extra, x, sizeof(double) * (size_t)inst->stride);
     memset(p->c_t, 0, sizeof p->c_t);
     memset(p->c_t_vector, 0, sizeof p->c_t_vector);
+    memset(p->slip_increment, 0, sizeof p->slip_increment);
     if (!p->c_active) {
       p->c_f[0] = p->f_frozen[0];
       p->c_f[1] = p->f_frozen[1];
@@ -484,6 +536,14 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     const double tau[2] = {(g.m[1][1] * p->c_t[0] - g.m[0][1] * p->c_t[1]) / det,
                            (-g.m[1][0] * p->c_t[0] + g.m[0][0] * p->c_t[1]) / det};
     for (int i = 0; i < 3; ++i) p->c_t_vector[i] = tau[0] * g.a[0][i] + tau[1] * g.a[1][i];
+    if (inst->friction.mu > 0.0) { /* the slave's closest point moved on the facet by f - f_start */
+      double length = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        p->slip_increment[i] = (f[0] - p->f_start[0]) * g.a[0][i] + (f[1] - p->f_start[1]) * g.a[1][i];
+        length += p->slip_increment[i] * p->slip_increment[i];
+      }
+      p->slip_length += sqrt(length);
+    }
   }
   return SK_OK;
 }
@@ -523,10 +583,12 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
     rep->moment[2] += x[0] * force[1] - x[1] * force[0];
     ++rep->active;
     const nts_friction *fr = nts_element_friction(&e);
-    if (point_state(inst, fr) == 2)
-      ++rep->slip;
-    else
-      ++rep->stick;
+    if (inst->friction.mu > 0.0) { /* frictionless points are neither stuck nor slipping */
+      if (point_state(inst, fr) == 2)
+        ++rep->slip;
+      else
+        ++rep->stick;
+    }
     if (inst->friction.mu > 0.0) {
       /* work of the tangential traction minus the change of the penalty energy */
       const nts_geometry *gh = nts_element_geometry(&e, 1);
@@ -534,8 +596,8 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
       rep->dissipated += work - (friction_energy(gh->m, fr->t_next, inst->friction.epsilon_t) -
                                  friction_energy(gh->m, p->t_start, inst->friction.epsilon_t));
     }
-    const double *phi = nts_element_constraints(&e);
-    for (int c = 0; c < 3; ++c) rep->constraint_norm = fmax(rep->constraint_norm, fabs(phi[c]));
+    /* the normal gap (a length, as every plugin reports it); the closest-point conditions Phi_aug are not */
+    rep->constraint_norm = fmax(rep->constraint_norm, fabs(nts_element_constraints(&e)[NTS_PHI_N]));
   }
   return SK_OK;
 }
@@ -546,8 +608,13 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     if (!nts_owned(inst, p)) continue;
     sk_contact_point cp = {.struct_size = sizeof cp};
     cp.slave_node = p->node;
+    cp.forces = 1; /* lambda_n is the node's force: the host divides by the node's tributary measure */
+    cp.has_slip = inst->friction.mu > 0.0;
+    memcpy(cp.slip_increment, p->slip_increment, sizeof cp.slip_increment);
+    cp.slip = p->slip_length;
     for (int i = 0; i < inst->dim; ++i) cp.x[i] = state->x[0][inst->dim * p->k + i];
-    cp.gap = p->gap_estimate;
+    /* NaN when no facet is within reach (or none searched yet: the initial output), as every plugin reports it */
+    cp.gap = p->facet >= 0 ? p->gap_estimate : NAN;
     if (p->facet >= 0 && state->extra) {
       nts_element e;
       SK_TRY(nts_element_eval(inst, k, state, &e));
@@ -580,6 +647,7 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
 typedef struct {
   int32_t facet, active, slip, pad;
   double f[2], t[2], t_vector[3], extra[NTS_MAX_STRIDE];
+  double slip_length; /* the slip accumulated (contact.csv's `slip`) */
 } saved_point;
 
 static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_writer *writer) {
@@ -587,7 +655,7 @@ static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_
   for (int k = 0; k < inst->n_points; ++k) {
     const slave_point *p = &inst->points[k];
     if (!nts_owned(inst, p)) continue;
-    saved_point r = {.facet = p->c_facet, .active = p->c_active, .slip = p->c_slip};
+    saved_point r = {.facet = p->c_facet, .active = p->c_active, .slip = p->c_slip, .slip_length = p->slip_length};
     if (inst->master && p->c_facet >= 0) r.facet = (int32_t)inst->master->cell_index[p->c_facet];
     memcpy(r.f, p->c_f, sizeof r.f);
     memcpy(r.t, p->c_t, sizeof r.t);
@@ -620,6 +688,7 @@ static sk_status load_state(sk_instance *inst, const sk_state *state, const sk_r
     p->c_facet = facet;
     p->c_active = r.active;
     p->c_slip = r.slip;
+    p->slip_length = r.slip_length;
     memcpy(p->c_f, r.f, sizeof r.f);
     memcpy(p->c_t, r.t, sizeof r.t);
     memcpy(p->c_t_vector, r.t_vector, sizeof r.t_vector);
@@ -660,6 +729,7 @@ static const sk_plugin plugin = {
     .report = report,
     .points = points,
     .get_extension = extension,
+    .check = check,
 };
 
 __attribute__((visibility("default"))) const sk_plugin *stickslip_plugin_entry(void);

@@ -16,6 +16,10 @@
  * force acts at x_s on the slave and at x_m on the master, which differ by g n).
  * Friction (rigid obstacle). The obstacle only translates, so the history is an anchor point fixed in the
  * obstacle and a spatial traction: t^trial = P (t_n - eps_t (x_s - x_anchor(t))), P = I - n n.
+ * The stick/slip switch of a Newton iteration remembers the traction of a node that slipped at the last Jacobian's
+ * point (held_friction; cov_return_map_held): such a node sticks, rather than slipping the other way, once its trial
+ * turns back, so that a stiff eps_t does not make Newton cycle between two slip directions (docs/stability.md,
+ * finding 19). At a converged point the switch must agree with the return map (pnts_converged).
  *
  * Master face. begin_step and update_active_set select one master face per slave node (the closest-point projection,
  * keeping a face selected earlier in the step while the slave stays within 10 % of a face beyond it); residual and
@@ -23,6 +27,7 @@
  *
  * Every scheme is evaluated at t_{n+1} (q, state->t): the plugin does not claim the energy-momentum capability. */
 #include <math.h>
+#include <stdio.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,6 +35,7 @@
 #include "candidates.h"
 #include "records.h"
 #include "covariant.h"
+#include "defaults.h"
 #include "stickslip/plugin.h"
 
 #define PNTS_EXPORT __attribute__((visibility("default")))
@@ -47,6 +53,14 @@ typedef struct {
   double traction[3];
 } friction_history;
 
+/* The friction state of one slave node at the last point where the Jacobian was assembled (the last accepted Newton
+ * iterate): its traction when it slipped there, the switch's memory (cov_return_map_held). */
+typedef struct {
+  int slip;             /* 0: stuck, inactive or frictionless there (the return map decides alone) */
+  int face;             /* deformable master: the face whose covariant basis t is in */
+  double t[3];          /* covariant (deformable master, pdim components) or spatial (obstacle) traction */
+} held_friction;
+
 /* Everything one evaluation of a slave node produces. */
 typedef struct {
   int found;            /* a projection exists (gap and normal are meaningful) */
@@ -58,6 +72,7 @@ typedef struct {
   double force[3];      /* total contact force on the slave node */
   double traction[3];   /* its tangential part */
   double t_cov[2];      /* covariant tangential traction (deformable master) */
+  double slip[3];       /* tangential displacement of the slave relative to the master since the step's anchor */
   double dissipation;   /* slip increment . traction of the step so far */
   int nd;               /* local dofs: slave node, then the master face nodes */
   int64_t rows[MAX_LOCAL_DOFS];
@@ -84,8 +99,12 @@ struct sk_instance {
   int *cand_start, *cand_count; /* candidate master faces of each slave node in cand (find_candidates) */
   cand_list cand;
   friction_history *committed;  /* at the last accepted step */
+  double (*slip_increment)[3];  /* of the last accepted step (points), and the accumulated slip length */
+  double *slip;
   friction_history *anchor;     /* used during the current step */
   unsigned char *last_state;    /* for after_iteration's change detection */
+  held_friction *held;          /* per slave node, the stick/slip switch's memory within the step */
+  int return_map_only;          /* 1: evaluate without the memory (pnts_converged compares the two) */
   int *sel_face;                /* master face selected for each slave node (-1: none), see select_face */
   unsigned char *sel_beyond;    /* 1: the selection lies beyond the master's border (and its extension band) */
   unsigned char *escaped;       /* 1: the closest face at the last point is not a candidate (see select_face) */
@@ -103,9 +122,11 @@ enum { REC_STRIDE = 5 };
 
 static const char *const pnts_strategies[] = {"none", NULL};
 static const char *const pnts_parameters[] = {
-    "penalty: normal penalty eps_n > 0; pressure/length when area_weighted, force/length otherwise [required]",
+    "penalty: normal penalty eps_n > 0; pressure/length when area_weighted, force/length otherwise [computed from "
+    "the scene: 10 E*/h on first-order slave faces, 100 E*/h on second-order ones (E*: contact modulus of the "
+    "pair, h: mean edge of the slave surface); times the mean tributary area when area_weighted is 0]",
     "mu: Coulomb friction coefficient >= 0 [0]",
-    "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [required when mu > 0]",
+    "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [computed from the scene: penalty]",
     "area_weighted: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
     "stiffnesses [1]",
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
@@ -247,6 +268,14 @@ static sk_status select_face(sk_instance *in, const double *const *x, int k) {
 
 /* ---- evaluation of one slave node ------------------------------------------------------------------------------- */
 
+/* The traction slave node k held while slipping at the last Jacobian's point, in the basis the evaluation on `face`
+ * uses (-1: an obstacle), or NULL: the return map decides alone (a node that stuck there, or that has changed face
+ * since, whose old covariant components would mean nothing on the new one). */
+static const double *held_traction(const sk_instance *in, int k, int face) {
+  const held_friction *h = &in->held[k];
+  return !in->return_map_only && h->slip && h->face == face ? h->t : NULL;
+}
+
 /* Evaluates slave node k at state->x and state->t: gap, forces and, when want_jacobian, the local Jacobian. The
  * covariant kinematics and friction (dxi, dn, the metric derivatives, the return map) are the shared kernel's
  * (plugins/common/covariant.h). */
@@ -270,6 +299,7 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
   memset(e->force, 0, sizeof e->force);
   memset(e->traction, 0, sizeof e->traction);
   memset(e->t_cov, 0, sizeof e->t_cov);
+  memset(e->slip, 0, sizeof e->slip);
 
   sk_surface_point pt = {.struct_size = sizeof pt};
   double g;
@@ -369,15 +399,22 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
         tn[a] = dot3(told, pt.a[a]);
       }
     }
+    for (int i = 0; i < 3; ++i)
+      for (int a = 0; a < pdim; ++a) e->slip[i] += dxi[a] * pt.a[a][i];
     cov_metric_derivatives metric;
     cov_metric_derivatives_eval(&pt, &kin, &metric);
-    e->state = cov_friction(&pt, &kin, &metric, tn, dxi, eps_t, in->mu, p, Dp, e->t_cov, T, DT, &e->dissipation);
+    e->state = cov_friction(&pt, &kin, &metric, tn, dxi, eps_t, in->mu, p, Dp, held_traction(in, k, e->face),
+                            e->t_cov, T, DT, &e->dissipation);
   } else if (in->mu > 0.0 && h->valid) {
     /* Obstacle: trial = P w, w = t_n - eps_t (x_s - x_anchor(t)), P = I - n n; D(P w) = P Dw - Dn (n.w) - n (w.Dn). */
     double d[3], w[3], nw;
     cs->obstacle_displacement(in->obstacle, st->t, d);
     for (int i = 0; i < 3; ++i) w[i] = h->traction[i] - eps_t * (xs[i] - (h->anchor[i] + d[i]));
     nw = dot3(n, w);
+    double rel[3], rel_n;
+    for (int i = 0; i < 3; ++i) rel[i] = xs[i] - (h->anchor[i] + d[i]);
+    rel_n = dot3(n, rel);
+    for (int i = 0; i < 3; ++i) e->slip[i] = rel[i] - rel_n * n[i];
     double trial[3], Dtrial[3 * MAX_LOCAL_DOFS];
     for (int i = 0; i < 3; ++i) trial[i] = w[i] - n[i] * nw;
     for (int c = 0; c < nd; ++c) {
@@ -391,7 +428,8 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
     }
     const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     double Dt[3 * MAX_LOCAL_DOFS];
-    e->state = cov_return_map(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, T, Dt, &e->dissipation);
+    e->state = cov_return_map_held(3, trial, Dtrial, identity, in->mu, p, Dp, nd, eps_t, held_traction(in, k, -1),
+                                   T, Dt, &e->dissipation);
     for (int i = 0; i < 3; ++i)
       for (int c = 0; c < nd; ++c) DT[i][c] = Dt[i * nd + c];
   }
@@ -427,6 +465,33 @@ static sk_status evaluate_point(sk_instance *in, const sk_state *st, int k, int 
 static int face_type_fits(sk_elem_type type, int dim) {
   if (dim == 2) return type == SK_LINE2 || type == SK_LINE3;
   return type == SK_TRI3 || type == SK_TRI6 || type == SK_QUAD4 || type == SK_QUAD8 || type == SK_QUAD9;
+}
+
+/* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
+
+/* A uniform pressure puts tensile consistent loads (-1/12 of the face area) on QUAD8 corners, which a penalty node
+ * cannot carry: measured on the 3D patch test with hex20, every corner opened by 4e-4 while the edge nodes
+ * penetrated 1e-6, and the pressures ranged over 6 ... 21 for p = 10. */
+static int faces_refused(const char *slave_name, sk_elem_type slave, int has_master, sk_elem_type master, int dim,
+                         char *reason, int size) {
+  if (!face_type_fits(slave, dim) || (has_master && !face_type_fits(master, dim)))
+    snprintf(reason, (size_t)size, "penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/TRI6/QUAD4/QUAD8/QUAD9 in "
+             "3D");
+  else if (slave == SK_QUAD8)
+    snprintf(reason, (size_t)size, "penalty-nts cannot use QUAD8 (hex20) slave faces (surface '%s'): their corner "
+             "nodes would need tensile contact forces under a uniform pressure. Use hex27 (QUAD9 faces: "
+             "mesh.serendipity false), or make the QUAD8 surface the master", slave_name);
+  else
+    return 0;
+  return 1;
+}
+
+static sk_status pnts_check(const sk_scene_info *scene, char *reason, int size) {
+  const sk_scene_side *master = scene->master;
+  return faces_refused(scene->slave->name, scene->slave->cell_type, !master->rigid, master->cell_type, scene->dim,
+                       reason, size)
+             ? SK_ERR_PLUGIN
+             : SK_OK;
 }
 
 /* The trap of node-to-surface on quadratic faces: integral N_I over a flat TRI6 is 0 at the corners (1/3 of the area
@@ -519,8 +584,11 @@ static void pnts_destroy(sk_instance *in) {
   free(in->cand_count);
   free(in->cand.faces);
   free(in->committed);
+  free(in->slip_increment);
+  free(in->slip);
   free(in->anchor);
   free(in->last_state);
+  free(in->held);
   free(in->sel_face);
   free(in->escaped);
   free(in->sel_beyond);
@@ -533,12 +601,14 @@ static void pnts_destroy(sk_instance *in) {
   free(in);
 }
 
-static sk_status read_positive(sk_instance *in, const char *key, int required, double dflt, double *out) {
-  SK_TRY(in->api->param_double(in->host, key, required, dflt, out));
-  if (!(*out > 0.0) || !isfinite(*out))
-    return in->api->error(in->host, SK_ERR_INPUT, "%s: penalty-nts parameter '%s' must be a finite number > 0, got %g",
-                          in->name, key, *out);
-  return SK_OK;
+/* The penalties: the scene's values, or computed from it (docs/plugins/penalty-nts.md#defaults): eps_N = c E* / h
+ * with c = PENALTY_FACTOR[order of the slave faces], E* the pair's contact modulus and h the slave surface's mean
+ * edge; times the mean tributary area per slave node when the penalty is a nodal stiffness (area_weighted 0);
+ * eps_T = eps_N. */
+static const double PENALTY_FACTOR[3] = {0.0, 10.0, 100.0};
+
+static sk_status read_penalties(sk_instance *in) {
+  return sk_defaults_penalties(in->api, in->host, PENALTY_FACTOR, !in->area_weighted, in->mu > 0.0, &in->penalty, &in->penalty_t);
 }
 
 /* Gauss rule for the tributary areas: degree 5 on lines and quads (3 points, 3x3), degree 2 on triangles (3 points):
@@ -559,33 +629,24 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
                       "obstacle", in->name);
   if (in->dim != 2 && in->dim != 3)
     return api->error(host, SK_ERR_INPUT, "%s: penalty-nts works in 2D or 3D, not %dD", in->name, in->dim);
-  if (!face_type_fits(slave->cell_type, in->dim) || (master && !face_type_fits(master->cell_type, in->dim)))
-    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts supports LINE2/LINE3 faces in 2D and TRI3/TRI6/QUAD4/"
-                      "QUAD8/QUAD9 in 3D", in->name);
-  /* A uniform pressure puts tensile consistent loads (-1/12 of the face area) on QUAD8 corners, which a penalty node
-   * cannot carry: measured on the 3D patch test with hex20, every corner opened by 4e-4 while the edge nodes
-   * penetrated 1e-6, and the pressures ranged over 6 ... 21 for p = 10. */
-  if (slave->cell_type == SK_QUAD8)
-    return api->error(host, SK_ERR_INPUT,
-                      "%s: penalty-nts cannot use QUAD8 (hex20) slave faces: their corner nodes would need tensile "
-                      "contact forces under a uniform pressure. Use hex27 (QUAD9 faces: mesh.serendipity false), or "
-                      "make the QUAD8 surface the master", in->name);
+  char reason[300];
+  if (faces_refused(slave->name, slave->cell_type, master != NULL, master ? master->cell_type : SK_POINT1, in->dim,
+                    reason, sizeof reason))
+    return api->error(host, SK_ERR_INPUT, "%s: %s", in->name, reason);
 
-  SK_TRY(read_positive(in, "penalty", 1, 0.0, &in->penalty));
+  SK_TRY(api->param_int(host, "area_weighted", 0, 1, &in->area_weighted));
+  if (in->area_weighted != 0 && in->area_weighted != 1)
+    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
+                      in->name, in->area_weighted);
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &in->mu));
   if (!(in->mu >= 0.0) || !isfinite(in->mu))
     return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'mu' must be a finite number >= 0, got %g",
                       in->name, in->mu);
-  if (in->mu > 0.0) SK_TRY(read_positive(in, "penalty_tangential", 1, 0.0, &in->penalty_t));
-  else SK_TRY(api->param_double(host, "penalty_tangential", 0, in->penalty, &in->penalty_t));
-  SK_TRY(api->param_int(host, "area_weighted", 0, 1, &in->area_weighted));
+  SK_TRY(read_penalties(in));
   SK_TRY(api->param_double(host, "master_extension", 0, 0.1, &in->extension));
   if (!(in->extension >= 0.0 && in->extension <= 0.5))
     return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'master_extension' must be in [0, 0.5], got %g",
                       in->name, in->extension);
-  if (in->area_weighted != 0 && in->area_weighted != 1)
-    return api->error(host, SK_ERR_INPUT, "%s: penalty-nts parameter 'area_weighted' must be 0 or 1, got %d",
-                      in->name, in->area_weighted);
 
   /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
   double mean_size = 0.0;
@@ -626,13 +687,17 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
   in->cand_start = calloc(ns, sizeof(int));
   in->cand_count = calloc(ns, sizeof(int));
   in->committed = calloc(ns, sizeof *in->committed);
+  in->slip_increment = calloc(ns, sizeof *in->slip_increment);
+  in->slip = calloc(ns, sizeof *in->slip);
   in->anchor = calloc(ns, sizeof *in->anchor);
   in->last_state = calloc(ns, 1);
+  in->held = calloc(ns, sizeof *in->held);
   in->sel_face = malloc(ns * sizeof(int));
   in->sel_beyond = calloc(ns, 1);
   in->escaped = calloc(ns, 1);
   in->sel_xi = calloc(ns, sizeof *in->sel_xi);
-  if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->anchor || !in->last_state ||
+  if (!in->area || !in->cand_start || !in->cand_count || !in->committed || !in->slip_increment || !in->slip ||
+      !in->anchor || !in->last_state || !in->held ||
       !in->sel_face || !in->sel_beyond || !in->escaped || !in->sel_xi)
     return api->error(host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
@@ -736,6 +801,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
     }
   }
   memset(in->last_state, 0, (size_t)in->n_slave);
+  memset(in->held, 0, sizeof *in->held * (size_t)in->n_slave);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
   if (master)
     for (int k = 0; k < in->n_slave; ++k) SK_TRY(select_face(in, st->x, k));
@@ -795,12 +861,18 @@ static sk_status pnts_residual(sk_instance *in, const sk_state *st, sk_sink *sin
   return SK_OK;
 }
 
+/* The Jacobian is assembled at the accepted Newton iterates only: its point is the memory of the stick/slip switch
+ * for the points that follow (held_friction). */
 static sk_status pnts_jacobian(sk_instance *in, const sk_state *st, sk_sink *sink) {
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
     if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 1, &e));
     if (e.nd > 0) sink->add_matrix(sink, e.nd, e.rows, e.nd, e.rows, e.K);
+    held_friction *h = &in->held[k];
+    h->slip = e.state == STATE_SLIP;
+    h->face = in->master ? e.face : -1;
+    for (int i = 0; i < 3; ++i) h->t[i] = in->master ? (i < 2 ? e.t_cov[i] : 0.0) : e.traction[i];
   }
   return SK_OK;
 }
@@ -825,6 +897,31 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
   return SK_OK;
 }
 
+/* At a converged point the switch's memory must not have kept a node stuck whose trial lies outside the cone: the
+ * return map alone decides each node again, a node where it differs forgets its memory, and the point is rejected
+ * (Newton again from it, with the return map's state there). */
+static sk_status agree_with_return_map(sk_instance *in, const sk_state *st, int *accept) {
+  if (in->mu == 0.0) return SK_OK;
+  point_eval with, without;
+  int differ = 0;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->slave->owned[k] || !in->held[k].slip) continue;
+    SK_TRY(evaluate_point(in, st, k, 0, &with));
+    in->return_map_only = 1;
+    const sk_status status = evaluate_point(in, st, k, 0, &without);
+    in->return_map_only = 0;
+    SK_TRY(status);
+    if (with.state == without.state) continue;
+    in->held[k].slip = 0;
+    ++differ;
+  }
+  if (differ == 0) return SK_OK;
+  in->api->log(in->host, 2, "%s: penalty-nts: %d slave node(s) held in stick at the converged point slip by the return "
+               "map; Newton again from it", in->name, differ);
+  *accept = 0;
+  return SK_OK;
+}
+
 /* A slave node whose closest face at the converged point is not among its candidates (it slid further within the
  * step than the predictor and the search margin reach) was held on its last face's extension: the candidates are
  * searched again over the box swept from x_n to the converged point, the faces selected there, and the point is
@@ -833,6 +930,7 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
  * the search margin). */
 static sk_status pnts_converged(sk_instance *in, const sk_state *st, int *accept) {
   *accept = 1;
+  SK_TRY(agree_with_return_map(in, st, accept));
   if (!in->master) return SK_OK;
   int escaped = 0, reached = 0;
   for (int k = 0; k < in->n_slave; ++k) escaped += in->escaped[k];
@@ -864,9 +962,12 @@ static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
   for (int k = 0; k < in->n_slave; ++k) {
     friction_history *c = &in->committed[k];
     memset(c, 0, sizeof *c);
+    memset(in->slip_increment[k], 0, sizeof in->slip_increment[k]);
     if (in->mu == 0.0) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state == STATE_INACTIVE) continue;
+    memcpy(in->slip_increment[k], e.slip, sizeof e.slip);
+    in->slip[k] += sqrt(dot3(e.slip, e.slip));
     c->valid = 1;
     if (in->master) {
       c->face = e.face;
@@ -925,7 +1026,7 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     sk_contact_point cp = {.struct_size = sizeof cp};
     memcpy(cp.x, e.x, sizeof cp.x);
     memcpy(cp.normal, e.normal, sizeof cp.normal);
-    /* Pressure eps_n <-g> (force / area) when area weighted, the nodal force otherwise. */
+    /* Pressure eps_n <-g> (force / reference area) when area weighted, the nodal force otherwise. */
     double scale = in->area_weighted && in->area[k] > 0.0 ? 1.0 / in->area[k] : 1.0;
     if (in->rec_start) {
       /* The recovered traction. An open node reports it when every edge node next to it is in contact: it lies inside
@@ -948,9 +1049,14 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     }
     cp.pressure = e.p * scale;
     for (int i = 0; i < 3; ++i) cp.traction[i] = e.traction[i] * scale;
+    cp.area = in->area_weighted ? in->area[k] : 0.0;
+    cp.forces = !in->area_weighted; /* nodal stiffnesses give nodal forces: the host divides by its own areas */
     cp.gap = e.gap; /* NaN when no master face is within the search margin */
     cp.state = e.state; /* frictionless contact points report 1 (in contact) */
     cp.slave_node = in->slave->node_id[k];
+    cp.has_slip = in->mu > 0.0;
+    memcpy(cp.slip_increment, in->slip_increment[k], sizeof cp.slip_increment);
+    cp.slip = in->slip[k];
     callback(ctx, &cp);
   }
   return SK_OK;
@@ -958,14 +1064,20 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
 
 /* ---- checkpoints (stickslip.checkpoint.v1): the committed friction history, by slave node ------------------------- */
 
+/* A slave node's record: its friction anchor and the slip it has accumulated (contact.csv's `slip`). */
+typedef struct {
+  friction_history anchor;
+  double slip;
+} saved_node;
+
 /* One record per slave node with history, under its node_index, the master face as its whole cell index. */
 static sk_status pnts_save(sk_instance *in, const sk_state *st, sk_record_writer *writer) {
   (void)st;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (!in->slave->owned[k] || !in->committed[k].valid) continue;
-    friction_history h = in->committed[k];
-    if (in->master) h.face = (int)in->master->cell_index[h.face];
-    writer->put(writer, in->slave->node_index[k], &h, (uint32_t)sizeof h);
+    if (!in->slave->owned[k] || (!in->committed[k].valid && in->slip[k] == 0.0)) continue;
+    saved_node r = {.anchor = in->committed[k], .slip = in->slip[k]};
+    if (in->master && r.anchor.valid) r.anchor.face = (int)in->master->cell_index[r.anchor.face];
+    writer->put(writer, in->slave->node_index[k], &r, (uint32_t)sizeof r);
   }
   return SK_OK;
 }
@@ -977,18 +1089,21 @@ static sk_status pnts_load(sk_instance *in, const sk_state *st, const sk_record_
   if (in->master && !cells) return in->api->error(in->host, SK_ERR_NOMEM, "penalty-nts: out of memory");
   sk_status status = SK_OK;
   for (int k = 0; k < in->n_slave && status == SK_OK; ++k) {
-    friction_history h;
+    saved_node r;
     memset(&in->committed[k], 0, sizeof in->committed[k]);
-    const int64_t got = reader->get(reader, in->slave->node_index[k], &h, (uint32_t)sizeof h);
+    in->slip[k] = 0.0;
+    const int64_t got = reader->get(reader, in->slave->node_index[k], &r, (uint32_t)sizeof r);
     if (got < 0) continue;
-    if (got != (int64_t)sizeof h)
+    if (got != (int64_t)sizeof r)
       status = in->api->error(in->host, SK_ERR_INPUT, "penalty-nts: slave node %lld: a history record of %lld bytes, "
-                              "expected %zu", (long long)in->slave->node_id[k], (long long)got, sizeof h);
-    else if (in->master && (h.face = records_view_cell(cells, in->master, h.face)) < 0)
+                              "expected %zu", (long long)in->slave->node_id[k], (long long)got, sizeof r);
+    else if (in->master && r.anchor.valid && (r.anchor.face = records_view_cell(cells, in->master, r.anchor.face)) < 0)
       status = in->api->error(in->host, SK_ERR_INPUT, "penalty-nts: slave node %lld: its friction anchor lies on a "
                               "master face this rank does not hold", (long long)in->slave->node_id[k]);
-    else
-      in->committed[k] = h;
+    else {
+      in->committed[k] = r.anchor;
+      in->slip[k] = r.slip;
+    }
   }
   free(cells);
   return status;
@@ -1024,6 +1139,7 @@ static const sk_plugin pnts_plugin = {
     .report = pnts_report,
     .points = pnts_points,
     .get_extension = pnts_extension,
+    .check = pnts_check,
 };
 
 PNTS_EXPORT const sk_plugin *stickslip_plugin_entry(void);

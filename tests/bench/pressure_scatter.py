@@ -29,7 +29,7 @@ BINS = 8
 def split_error(results, bench):
     e = errors.hertz_profile(results, bench, None, None)
     a, p0 = e["a"], e["p0"]
-    points, _ = errors.reference_positions(results, True, None)
+    points, _ = errors.reference_positions(results, True)
     inside = [(r, p, g) for r, p, g in points if r < errors.PROFILE_RANGE * a]
     bins = {}
     for r, p, _ in inside:
@@ -64,7 +64,7 @@ def main():
             if not os.path.exists(os.path.join(folder, "summary.json")):
                 subprocess.run([args.binary, "run", os.path.join(dec.ROOT, "scenes", "hertz-3d.yaml"), "--out", folder,
                                 "--quiet", "--plugin", "covariant-penalty", "--set", "output.vtu_every=0",
-                                "--set", "mesh.parameters.refine=" + args.refine, "--set", "contact.0.parameters=" +
+                                "--set", "mesh.parameters.refine=" + args.refine, "--replace", "contact.0.parameters=" +
                                 params, "--set", "solver.linear.solver=direct"], check=True)
             e, smooth, scatter, penetration = split_error(Results(folder), bench)
             print("| %s | %s | %d | %.3f | %.3f | %.3f | %.2e |" % (

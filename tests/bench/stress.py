@@ -70,7 +70,7 @@ def _expand(case, declaration, installed, subset, kind, extra_set=None, short=Fa
                 overrides = {**dec.substitute(case.set, env, case.path + ": set"), **sets}
                 args = []
                 for key, value in overrides.items():
-                    args += ["--set", "%s=%s" % (key, dec.yaml_flow(value))]
+                    args += [dec.override_option(value), "%s=%s" % (key, dec.yaml_flow(value))]
                 runs.append(dec.Run(case.name, None, None, None, dict(vals), args, CORE, case.scene))
         else:
             runs = dec.expand(case, declaration, "stress", installed, quick=False, subset=subset, short=short)
@@ -247,7 +247,7 @@ def document(case, records, notes, ladder, short=False):
         text.append("- skipped: " + n)
     if short:
         text += ["", "The short (CI) pass only, the plugins' default strategies (`python3 tests/bench/stress.py --short "
-                 "--docs %s`); the full sweep was not run in this session." % case.name]
+                 "--docs %s`); the full sweep has not been run with mortar-dual yet." % case.name]
     text += ["", "Measured at %s (CPU times of a loaded machine)." % report.commits(records)]
     report.replace_section("stability.md", "stress-" + case.name, "\n".join(text))
 

@@ -8,6 +8,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
@@ -64,11 +65,12 @@ class Case:
             f.write(text)
         return path
 
-    def run(self, *args, env=None):
+    def run(self, *args, env=None, timeout=60):
         full_env = dict(os.environ)
         full_env.pop("STICKSLIP_PLUGIN_PATH", None)
         full_env.update(env or {})
-        proc = subprocess.run([BIN, *args], capture_output=True, text=True, env=full_env, timeout=60, cwd=self.dir)
+        proc = subprocess.run([BIN, *args], capture_output=True, text=True, env=full_env, timeout=timeout,
+                              cwd=self.dir)
         self.proc = proc
         print("$ stickslip %s\nexit %d\nstdout: %s\nstderr: %s" % (" ".join(args), proc.returncode,
                                                                     proc.stdout.strip(), proc.stderr.strip()))
@@ -107,6 +109,26 @@ class Case:
         shutil.rmtree(self.dir, ignore_errors=True)
         print("%s: %d failed" % (self.name, len(self.failures)))
         return 1 if self.failures else 0
+
+
+def signal_run(c, args, out, rows, sig):
+    """Starts `stickslip run ARGS --out OUT` in the case's folder, sends `sig` once its staging folder's history.csv
+    has `rows` lines (or the run ended); returns (process, stderr)."""
+    env = dict(os.environ)
+    env.pop("STICKSLIP_PLUGIN_PATH", None)
+    proc = subprocess.Popen([BIN, "run", *args, "--out", out], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, env=env, cwd=c.dir)
+    history = os.path.join(out + ".partial-%d" % proc.pid, "history.csv")
+    deadline = time.time() + 60
+    while time.time() < deadline and proc.poll() is None:
+        if os.path.exists(history) and open(history).read().count("\n") >= rows:
+            break
+        time.sleep(0.02)
+    c.check(proc.poll() is None, "the run was still running when signalled")
+    proc.send_signal(sig)
+    _, stderr = proc.communicate(timeout=60)
+    print("exit %d\nstderr: %s" % (proc.returncode, stderr))
+    return proc, stderr
 
 
 def read_summary(folder):

@@ -46,7 +46,8 @@ def contact_points(c, scene, *args):
     c.check(c.proc.returncode == 0, "%s runs" % scene)
     points = read_table(os.path.join(c.out, "contact.csv"))
     c.check(len(points) > 0, "contact.csv has rows")
-    return points
+    last = max(p["step"] for p in points) if points else 0
+    return [p for p in points if p["step"] == last]  # the last output step
 
 
 def contact_columns(c):
@@ -80,6 +81,39 @@ def contact_columns(c):
                 abs(p["z"] - p["reference_z"]) < 1e-13 for p in points),
             "covariant Gauss points: reference on the fixed base's top y = 0, equal to the current position")
     c.check(len({(p["reference_x"], p["reference_z"]) for p in points}) == len(points), "every Gauss point once")
+
+
+def plugin_points_layouts(c):
+    """docs/plugin-abi.md §8: the host completes a plugin's points the same way whatever the plugin knows. The block
+    of the contact scene (base 1 x 1 in 2 x 2 quads: tributary areas 1/16, 1/8, 1/4) with the test plugin
+    test-points: a point in the 2.4 layout (its struct ends before `forces`, whatever lies beyond) has pressure 2 as
+    a traction, area = the node's tributary area, normal_force = 2 x area, no slip; a point with `forces` (0.5 normal,
+    0.1 tangential) is divided by the tributary area. Either way the areas sum to the base's area and the normal
+    forces to what the plugin reported."""
+    for layout in ("24", "forces"):
+        scene = replace(replace(CONTACT, "plugin: penalty-nts", "plugin: test-points"), "penalty: 1.0e4",
+                        "layout: '%s'" % layout)
+        c.run("run", c.write(scene), "--out", c.out, "--quiet", env=FAULT_ENV)
+        c.check(c.proc.returncode == 0, "layout %s: the run succeeds (%s)" % (layout, c.proc.stderr.strip()))
+        points = contact_table_last(c.out)
+        areas = sorted(round(p["area"] * 16, 9) for p in points)  # gmsh places the nodes to ~1e-13
+        c.check(areas == [1, 1, 1, 1, 2, 2, 2, 2, 4], "layout %s: the tributary areas x 16: %s" % (layout, areas))
+        if layout == "24":
+            c.check(all(p["pressure"] == 2 and abs(p["normal_force"] - 2 * p["area"]) < 1e-14 for p in points),
+                    "2.4 layout: pressure 2 kept as a traction, normal_force = 2 x area (not the 99 beyond it)")
+            c.check(all(math.isnan(p["slip"]) and p["face"] == -1 and math.isnan(p["multiplier"]) for p in points),
+                    "2.4 layout: no slip, no face, no multiplier")
+        else:
+            c.check(all(abs(p["pressure"] - 0.5 / p["area"]) < 1e-12 and p["normal_force"] == 0.5 and
+                        abs(p["traction_x"] - 0.1 / p["area"]) < 1e-12 for p in points),
+                    "forces: pressure = 0.5 / area, traction_x = 0.1 / area, normal_force = 0.5")
+        c.check(abs(sum(p["area"] for p in points) - 1) < 1e-14, "layout %s: the areas sum to the base's" % layout)
+
+
+def contact_table_last(folder):
+    points = read_table(os.path.join(folder, "contact.csv"))
+    last = max(p["step"] for p in points)
+    return [p for p in points if p["step"] == last]
 
 
 def diverging_step(c):
@@ -143,7 +177,7 @@ def smallest_step(c):
 
 
 CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin,
-                                 smallest_step]}
+                                 smallest_step, plugin_points_layouts]}
 
 if __name__ == "__main__":
     main(CASES)

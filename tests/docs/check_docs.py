@@ -3,10 +3,12 @@ writes and reads. The truth comes from the program and the code, never from a li
 - history.csv and contact.csv: the headers a real run writes (scenes/block-on-plane.yaml has a displacement
   condition, a rigid obstacle and a contact pair, so every column family appears) against the column tables of
   docs/user-guide.md (names, `a_x/_y/_z` groups, `<placeholder>` parts), in both directions and in order;
-- scene keys: every key of the tables of docs/scene-reference.md, and every key path quoted in the prose of the docs,
-  is set with `stickslip check --set KEY=VALUE` on a valid scene, and the program must not call it an unknown key
-  (it reports every key nobody read); and every key that the core reads by name (`sk_cfg_*(node, "key", ...)` in
-  core/**/*.c) must be documented in docs/scene-reference.md.
+- the contact fields of the VTU files a real run writes against the field table of docs/user-guide.md, both ways;
+- scene keys: `stickslip keys` lists the keys of docs/scene-reference.md and no others (over a few scenes that
+  together use every key), every quantity with a unit; every key of the tables of the reference, and every key path
+  quoted in the prose of the docs, is set with `stickslip check --set KEY=VALUE` on a valid scene, and the program
+  must not call it an unknown key (it reports every key nobody read); and every key that the core reads by name
+  (`sk_cfg_*(node, "key", ...)` in core/**/*.c) must be documented in docs/scene-reference.md.
 Usage: python3 check_docs.py CASE; exit code 0 when every check holds."""
 import os
 import re
@@ -102,6 +104,35 @@ def contact_columns(c):
     compare_columns(c, "contact.csv", written_headers()["contact.csv"])
 
 
+def vtu_arrays(path, section):
+    """Names of the DataArrays of a .vtu in <PointData> or <CellData>."""
+    text = open(path, "rb").read().split(b"<AppendedData")[0].decode("latin-1")
+    start, end = text.find("<%s>" % section), text.find("</%s>" % section)
+    return re.findall(r'Name="([^"]+)"', text[start:end]) if start >= 0 else []
+
+
+def vtu_contact_fields(c):
+    """The contact fields of the VTU files (the bodies' step-NNNNNN.vtu, the slave surfaces' contact-NNNNNN.vtu, the
+    obstacles') against the field table of docs/user-guide.md, both ways. mortar-dual on the block: a plugin with
+    friction and multipliers, so that every optional field is written."""
+    results, _ = run(BASE_SCENE, "--steps", "2", "--set", "contact.0.plugin=mortar-dual", "--set",
+                     "contact.0.strategy=saddle-point", "--replace", "contact.0.parameters={mu: 0.3}")
+    documented = {name for name, _ in column_table("contact.pvd and contact-NNNNNN.vtu")}
+    folder = results.folder
+    body = [n for n in vtu_arrays(os.path.join(folder, "step-000002.vtu"), "PointData") if n.startswith("contact_")]
+    points = vtu_arrays(os.path.join(folder, "contact-000002.vtu"), "PointData")
+    cells = vtu_arrays(os.path.join(folder, "contact-000002.vtu"), "CellData")
+    for where, names in (("step-000002.vtu point", body), ("contact-000002.vtu point", points),
+                         ("contact-000002.vtu cell", cells)):
+        for name in names:
+            c.check(name in documented, "%s field `%s` is documented in docs/user-guide.md" % (where, name))
+    for name in documented:
+        c.check(name in points or name in cells, "documented field `%s` is written to contact-NNNNNN.vtu" % name)
+        c.check(not name.startswith("contact_") or name in body, "documented field `%s` is on the bodies' nodes" % name)
+    obstacle = vtu_arrays(os.path.join(folder, "obstacles-000002.vtu"), "CellData")
+    c.check(obstacle == ["obstacle"], "obstacles-000002.vtu has the cell field `obstacle` (%s)" % obstacle)
+
+
 # A value of the documented type for `--set` (any value will do: a key the program knows fails, if at all, on its
 # value, and only a key nobody reads is reported as unknown).
 SAMPLE_VALUES = [("vec3", "[0, 0, 1]"), ("vecD", "[0, 0]"), ("bool", "true"), ("int", "1"), ("number", "1"),
@@ -120,6 +151,8 @@ def documented_keys():
     keys = []
     for headings, lead, rows in tables:
         section = headings.get(2, "")
+        if headings.get(3) == "Defaults computed from the scene":
+            continue  # rows of plugins and their parameters (checked by the plugins), not scene keys
         if section == "Top level":
             prefix = ""
         else:
@@ -171,7 +204,8 @@ def prose_keys():
     for path in sorted(files):
         text = re.sub(r"```.*?```", "", open(path, encoding="utf-8").read(), flags=re.S)
         for token in re.findall(r"`([^`]+)`", text):
-            key = re.split(r"[=: ]", token[6:] if token.startswith("--set ") else token)[0]
+            token = re.sub(r"^--(set|replace) ", "", token)
+            key = re.split(r"[=: ]", token)[0]
             key = re.sub(r"\[(\d+)\]", r".\1", key)
             if (re.match(r"(%s)\." % top, key) and not re.search(r"\.(h|c|csv|md|yaml|vtu|pvd|json|geo|msh)$", key)
                     and "*" not in key and ".parameters." not in key and not re.search(r"\.[A-Z]\b", key)):
@@ -205,6 +239,49 @@ def scene_keys_read_are_documented(c):
                 "scene key `%s` (read in core/) is documented in docs/scene-reference.md" % key)
 
 
+# Scenes whose keys together reach every documented key: an obstacle and histories; a resultant with `area`, a
+# rotated mesh and tractions; a mesh list, a deformable master and a strategy; a body plugin.
+KEY_SCENES = [
+    (BASE_SCENE,),
+    ("scenes/compressed-block.yaml", "--replace", "boundary.3={name: load, group: zmax, resultant: [0, 0, -1], "
+     "area: current}", "--set", "mesh.rotate={axis: [0, 0, 1], degrees: 10}"),
+    ("scenes/mortar-patch-test-3d.yaml",),
+    ("scenes/corot-ball-on-plane.yaml",),
+]
+
+
+def listed_keys():
+    """Key paths `stickslip keys` prints for KEY_SCENES, without indices, and the lines printing them."""
+    keys = {}
+    for scene, *args in KEY_SCENES:
+        proc = subprocess.run([BINARY, "keys", os.path.join(ROOT, scene), *args], capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise AssertionError("stickslip keys %s failed: %s" % (scene, proc.stderr))
+        for line in proc.stdout.splitlines()[3:]:  # two comment lines and the column heads
+            keys.setdefault(re.sub(r"\[\d+\]", "", line.split()[0]), line)
+    return keys
+
+
+def keys_listed_are_documented(c):
+    """`stickslip keys` and docs/scene-reference.md name the same keys: every key listed is documented (or lies in a
+    documented map: a plugin's or a mesh script's `parameters`, `rotate`), every documented key is listed; and
+    every quantity listed has a unit."""
+    listed = listed_keys()
+    documented = {re.sub(r"\.0(?=\.|$)", "", key) for key, _ in documented_keys()}
+    c.check(len(listed) > 60, "stickslip keys lists %d keys over %d scenes" % (len(listed), len(KEY_SCENES)))
+
+    def under(key, names):
+        parts = key.split(".")
+        return any(".".join(parts[:n]) in names for n in range(1, len(parts) + 1))
+    for key in sorted(listed):
+        c.check(under(key, documented), "listed key `%s` is documented in docs/scene-reference.md" % key)
+    for key in sorted(documented):
+        c.check(key in listed or any(k.startswith(key + ".") for k in listed),
+                "documented key `%s` is listed by stickslip keys" % key)
+    unitless = [line for line in listed.values() if re.search(r"\s\?\s", line)]
+    c.check(not unitless, "every quantity has a unit (%s)" % unitless)
+
+
 if __name__ == "__main__":
-    main([history_columns, contact_columns, scene_keys_documented_exist, scene_keys_in_prose_exist,
-          scene_keys_read_are_documented])
+    main([history_columns, contact_columns, vtu_contact_fields, scene_keys_documented_exist, scene_keys_in_prose_exist,
+          scene_keys_read_are_documented, keys_listed_are_documented])

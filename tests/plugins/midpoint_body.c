@@ -4,7 +4,7 @@
  * which is what the core's midpoint scheme does for a Hooke body (its discrete gradient of a quadratic energy is the
  * midpoint force). A free flight must then keep the same invariants as the core midpoint rule
  * (tests/plugins/test_hooks.py). Uses claim, mass_properties, apply_mass, add_mass, apply_stiffness, add_stiffness,
- * external_force, set_state and the plugin's own integrator (predict, velocity). */
+ * external_force, set_state and the plugin's own integrator (predict, velocity, energy). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,11 +17,12 @@ struct sk_instance {
   const sk_view *body;
   int n;                  /* dofs of the body view */
   double mass, center[3];
+  double energy_offset;   /* added to the reported strain energy (a test of which energy history.csv shows) */
   double *u, *u_n, *v_n, *w, *y, *f, *v;
 };
 
 static const char *const strategies[] = {"none", NULL};
-static const char *const parameters[] = {NULL};
+static const char *const parameters[] = {"energy_offset: added to the strain energy the integrator reports [0]", NULL};
 
 static void destroy(sk_instance *in) {
   if (!in) return;
@@ -51,6 +52,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
     in->bulk = api->get_extension(host, SK_EXT_BULK);
     if (!in->bulk) st = api->error(host, SK_ERR_PLUGIN, "the host offers no %s", SK_EXT_BULK);
   }
+  if (st == SK_OK) st = api->param_double(host, "energy_offset", 0, 0.0, &in->energy_offset);
   if (st == SK_OK) st = in->bulk->claim(host);
   if (st == SK_OK) st = in->bulk->mass_properties(host, &in->mass, in->center);
   if (st == SK_OK && !(in->mass > 0.0)) st = api->error(host, SK_ERR_INPUT, "body '%s' has no mass", attach->name);
@@ -85,12 +87,33 @@ static sk_status velocity(sk_instance *in, const sk_state *st, double *v) {
   return SK_OK;
 }
 
+/* ABI 2.5: the scheme's energy 1/2 v.Mv + 1/2 u.Su (this rank's part: apply_* return this rank's contributions),
+ * plus the parameter energy_offset on the strain, so that a test sees which energy history.csv carries. The committed
+ * state (commit_step keeps u and v), or the initial one for step 0. */
+static sk_status energy(sk_instance *in, const sk_state *st, double *kinetic, double *strain) {
+  if (st->step == 0) {
+    kinematics(in, st);
+    memcpy(in->v, in->v_n, sizeof(double) * (size_t)in->n);
+  }
+  SK_TRY(in->bulk->apply_mass(in->host, in->v, in->y));
+  *kinetic = 0.0;
+  for (int k = 0; k < in->n; ++k) *kinetic += 0.5 * in->v[k] * in->y[k];
+  SK_TRY(in->bulk->apply_stiffness(in->host, in->u, in->y));
+  *strain = 0.0;
+  for (int k = 0; k < in->n; ++k) *strain += 0.5 * in->u[k] * in->y[k];
+  int rank, n_ranks;
+  in->api->ranks(in->host, &rank, &n_ranks);
+  if (rank == 0) *strain += in->energy_offset;
+  return SK_OK;
+}
+
 static const sk_integrator integrator = {SK_TABLE_HEADER(sk_integrator),
                                          .name = "test-midpoint",
                                          .alpha = 0.5,
                                          .dynamic = 1,
                                          .predict = predict,
-                                         .velocity = velocity};
+                                         .velocity = velocity,
+                                         .energy = energy};
 
 static sk_status begin_step(sk_instance *in, const sk_state *st) {
   (void)in, (void)st;

@@ -3,7 +3,9 @@
 
   body_free_flight  a body plugin claims a block and integrates it itself (stickslip.bulk, its own integrator):
                     the same history as the core's midpoint rule, and the same invariants
-  body_mpi          the claimed body on 2 ranks = 1 rank
+  body_energy       the energy the plugin's integrator reports (ABI 2.5) is history.csv's total_energy; the host's
+                    energy of the world state stays in material_total_energy
+  body_mpi          the claimed body on 2 ranks = 1 rank (the reported energy summed over ranks)
   body_errors       kinds are checked: a pair plugin named by a body, a body plugin named by a pair
   tied_dual         a tied interface with dual multipliers: condensed on the assembled operator
                     (stickslip.condense) = kept (saddle point), and stickslip.linear's solve_again checked in recover
@@ -59,10 +61,37 @@ def body_free_flight(c):
     c.check(plugin.column("kinetic_energy")[-1] > 0.1, "the body moves")
 
 
+OFFSET = 7.0  # the test plugin adds it to the strain energy its integrator reports
+
+
+def body_energy(c):
+    """The test plugin's integrator reports its Hooke energy plus OFFSET: every row's total_energy is the core's
+    total plus OFFSET (the reported energy replaced the host's for body a), and material_total_energy, the host's
+    energy of the world state, is the core's total."""
+    core, _ = run(FLIGHT, "--set", "time.end=0.1")
+    plugin, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1",
+                    "--set", "bodies.0.parameters.energy_offset=%g" % OFFSET)
+    scale = max(core.column("total_energy"))
+    c.check(len(core.rows) == len(plugin.rows) == 11, "11 rows each")
+    shift = max(abs(p["total_energy"] - q["total_energy"] - OFFSET) for p, q in zip(plugin.rows, core.rows)) / scale
+    c.check(shift < 1e-12, "total_energy = the core's + the reported offset %g, from row 0 on (%.1e)" % (OFFSET, shift))
+    strain = max(abs(p["strain_energy"] - q["strain_energy"] - OFFSET) for p, q in zip(plugin.rows, core.rows)) / scale
+    kinetic = max(abs(p["kinetic_energy"] - q["kinetic_energy"]) for p, q in zip(plugin.rows, core.rows)) / scale
+    c.check(strain < 1e-12 and kinetic < 1e-12, "the offset is in strain_energy (%.1e), kinetic_energy is the core's "
+            "(%.1e)" % (strain, kinetic))
+    material = max(abs(p["material_total_energy"] - q["total_energy"]) for p, q in zip(plugin.rows, core.rows)) / scale
+    same = max(abs(q["material_total_energy"] - q["total_energy"]) for q in core.rows) / scale
+    c.check(material < 1e-12 and same == 0.0, "material_total_energy is the host's energy of the world state: the "
+            "core's total (%.1e); without a reporting plugin it is total_energy (%.1e)" % (material, same))
+
+
 def body_mpi(c):
-    """The claimed body on 2 ranks: the plugin sees owned + ghosted views, the host completes the partial sums."""
-    one, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1")
-    two, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1", np=2)
+    """The claimed body on 2 ranks: the plugin sees owned + ghosted views, the host completes the partial sums (of the
+    residual and of the energy its integrator reports)."""
+    one, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1",
+                 "--set", "bodies.0.parameters.energy_offset=%g" % OFFSET)
+    two, _ = run(FLIGHT, "--set", "bodies.0.plugin=test-midpoint-body", "--set", "time.end=0.1",
+                 "--set", "bodies.0.parameters.energy_offset=%g" % OFFSET, np=2)
     names = [n for n in one.rows[0] if n != "wall_seconds"]
     worst, where = max_difference(one, two, names)
     print("body plugin, 2 ranks vs 1: %.3e (%s)" % (worst, where))
@@ -119,7 +148,7 @@ def tied_dual_mpi(c):
 
 def reject_once(c):
     rejecting, _ = run(SPRINGS)
-    reference, _ = run(SPRINGS, "--set", "contact.0.plugin=example-spring", "--set", "contact.0.parameters={k: 5}")
+    reference, _ = run(SPRINGS, "--set", "contact.0.plugin=example-spring", "--replace", "contact.0.parameters={k: 5}")
     names = ["contact_force_x", "contact_force_y", "reaction_pull_x", "reaction_pull_y", "strain_energy"]
     worst, where = max_difference(rejecting, reference, names)
     print("reject-once vs example-spring at k_final: %.3e (%s)" % (worst, where))
@@ -133,4 +162,4 @@ def reject_once(c):
 
 
 if __name__ == "__main__":
-    main([body_free_flight, body_mpi, body_errors, tied_dual, tied_dual_mpi, reject_once])
+    main([body_free_flight, body_energy, body_mpi, body_errors, tied_dual, tied_dual_mpi, reject_once])

@@ -1,6 +1,9 @@
 """The plotting scripts on real results: scripts/plot-snapshots.sh draws the outer surface of the bodies with colours
-that follow the field, and reports bad input clearly; scripts/plot-history.sh draws history.csv.
+that follow the field, on axes common to every instant (motion shows; one picture when the bodies move apart), with
+the rigid obstacles, and the contact surfaces with --contact; it reports bad input clearly. scripts/plot-history.sh
+draws history.csv with the panels that fit the kind of run (quasi-static, dynamic, frictional). Both answer --help.
 Usage: python3 test_plot_scripts.py CASE; exit code 0 when every check holds."""
+import math
 import os
 import struct
 import subprocess
@@ -67,6 +70,21 @@ def script(name, *args):
     return subprocess.run([os.path.join(ROOT, "scripts", name), *args], capture_output=True, text=True)
 
 
+def pixels(path, test):
+    """The pixels of the left 78 % of a picture (the colour bar starts at 80 %) for which test(r, g, b) holds."""
+    width, _, rows = read_png(path)
+    return [(x, y) for y, row in enumerate(rows) for x, (r, g, b) in enumerate(row[:int(0.78 * width)])
+            if test(r, g, b)]
+
+
+def saturated(r, g, b):
+    return max(r, g, b) - min(r, g, b) > 60
+
+
+def centroid(points):
+    return (sum(p[0] for p in points) / len(points), sum(p[1] for p in points) / len(points))
+
+
 def plot_snapshots(c):
     """Compressed block (3x3x3 hex8, 5 states): 54 outer faces; the first state (u = 0) is one colour, the last
     spans the palette from the fixed base (blue) to the pressed top (red)."""
@@ -76,6 +94,7 @@ def plot_snapshots(c):
     c.check(proc.returncode == 0, "plot-snapshots exits 0 (%s)" % proc.stderr.strip())
     c.check("54 surface faces" in proc.stdout, "the 54 outer faces of the 3x3x3 block are drawn: %s" % proc.stdout)
     c.check("t = 0, 0.25, 0.75, 1" in proc.stdout, "4 instants evenly spread over the 5 states")
+    c.check("; panels" in proc.stdout, "the block stays in place: the instants side by side (%s)" % proc.stdout.strip())
     pictures = sorted(os.listdir(os.path.join(folder, "snapshots")))
     c.check(pictures == ["step-000000.png", "step-000001.png", "step-000003.png", "step-000004.png"],
             "one picture per instant: %s" % pictures)
@@ -100,15 +119,109 @@ def plot_snapshots_bad_input(c):
             "an unknown field: exit 1, the fields the files have are listed (%s)" % proc.stderr.strip())
     proc = script("plot-snapshots.sh", results.folder, "--count", "0")
     c.check(proc.returncode == 2 and "--count" in proc.stderr, "--count 0 is refused")
+    proc = script("plot-snapshots.sh", results.folder, "--contact")
+    c.check(proc.returncode == 1 and "contact.pvd" in proc.stderr and "contact pairs" in proc.stderr,
+            "--contact on a run without contact: exit 1, the missing contact.pvd named (%s)" % proc.stderr.strip())
+    for name in ("plot-snapshots.sh", "plot-history.sh"):
+        proc = script(name, "--help")
+        c.check(proc.returncode == 0 and "usage: %s" % name in proc.stdout and "RESULTS" in proc.stdout,
+                "%s --help: exit 0, the usage and what it draws" % name)
 
 
-def plot_history(c):
-    results, _ = run("scenes/compressed-block.yaml")
-    proc = script("plot-history.sh", results.folder)
-    c.check(proc.returncode == 0, "plot-history exits 0 (%s)" % proc.stderr.strip())
-    width, height, _ = read_png(os.path.join(results.folder, "history.png"))
-    c.check((width, height) == (1400, 900), "history.png is 1400 x 900 (%d x %d)" % (width, height))
+def plot_snapshots_motion(c):
+    """The two-element impact (the upper block falls obliquely onto the lower one): the instants share one frame, so
+    the falling block is drawn at different places in the pictures of the instants, and the overview draws every
+    instant in one picture (the block moves by more than a third of its size)."""
+    results, _ = run("scenes/two-elements.yaml")
+    proc = script("plot-snapshots.sh", results.folder, "--size", "600x400")
+    c.check(proc.returncode == 0 and "; overlay" in proc.stdout,
+            "one picture of every instant (%s)" % proc.stdout.strip())
+    width, height, _ = read_png(os.path.join(results.folder, "snapshots.png"))
+    c.check((width, height) == (600, 400), "the overview is one picture of 600 x 400 (%d x %d)" % (width, height))
+    pictures = sorted(os.listdir(os.path.join(results.folder, "snapshots")))
+    first, last = (centroid(pixels(os.path.join(results.folder, "snapshots", p), saturated))
+                   for p in (pictures[0], pictures[-1]))
+    shift = math.dist(first, last)  # of both blocks' pixels: the lower block stays nearly in place
+    c.check(shift > 15, "the bodies' pictures at t = 0 and t = 20 lie %.0f pixels apart on the common axes" % shift)
+
+
+def grey(r, g, b):  # the lit floor; text is drawn black (its edges grey: a few hundred pixels at most)
+    return max(r, g, b) - min(r, g, b) < 8 and 60 < r < 235
+
+
+def plot_snapshots_obstacles(c):
+    """Rigid obstacles are drawn: the plane under the 2D block as a dark line, under the 3D block as a grey floor;
+    --no-obstacles leaves them out. --contact draws the 3D block's contact face coloured by the pressure."""
+    two, _ = run("scenes/block-on-plane.yaml", "--set", "time.end=0.5", "--set", "output.vtu_every=5")
+    proc = script("plot-snapshots.sh", two.folder, "--size", "300x200", "--count", "1")
+    c.check(proc.returncode == 0 and "1 obstacle(s) drawn" in proc.stdout, "2D: the plane is drawn (%s)"
+            % proc.stdout.strip())
+    picture = os.path.join(two.folder, "snapshots.png")
+
+    def beside_the_block():  # dark pixels left and right of the block, at the height of its base
+        block = pixels(picture, saturated)
+        left, right, base = min(x for x, _ in block), max(x for x, _ in block), max(y for _, y in block)
+        return [(x, y) for x, y in pixels(picture, lambda r, g, b: max(r, g, b) < 90)
+                if (x < left - 2 or x > right + 2) and abs(y - base) <= 3]
+    line = beside_the_block()
+    c.check(len(line) > 40, "2D: %d dark pixels of the plane beside the block's base" % len(line))
+    script("plot-snapshots.sh", two.folder, "--size", "300x200", "--count", "1", "--no-obstacles")
+    c.check(not beside_the_block(), "2D: --no-obstacles leaves the plane out")
+    three, _ = run("scenes/mortar-block-on-plane-3d.yaml", "--set", "time.end=0.3", "--set", "output.vtu_every=1")
+    proc = script("plot-snapshots.sh", three.folder, "--size", "300x200", "--count", "1")
+    picture = os.path.join(three.folder, "snapshots.png")
+    floor = len(pixels(picture, grey))
+    c.check(proc.returncode == 0 and floor > 3000,
+            "3D: %d grey pixels of the floor (%s)" % (floor, proc.stdout.strip()))
+    script("plot-snapshots.sh", three.folder, "--size", "300x200", "--count", "1", "--no-obstacles")
+    rest = len(pixels(picture, grey))
+    c.check(rest < floor / 5, "3D: --no-obstacles leaves the floor out (%d grey pixels left)" % rest)
+    proc = script("plot-snapshots.sh", three.folder, "--contact", "--size", "300x200", "--count", "1")
+    c.check(proc.returncode == 0 and "contact pressure of the contact surfaces" in proc.stdout,
+            "3D --contact: %s" % proc.stdout.strip())
+    contact = os.path.join(three.folder, "snapshots-contact.png")
+    c.check(len(pixels(contact, saturated)) > 2000, "3D --contact: the contact face is drawn in colour")
+
+
+def plot_snapshots_contact_2d(c):
+    """hertz-2d --contact: the pressure along the contact surface, one curve per instant with contact."""
+    results, _ = run("scenes/hertz-2d.yaml", "--set", "output.vtu_every=2")
+    proc = script("plot-snapshots.sh", results.folder, "--contact", "--size", "600x400")
+    c.check(proc.returncode == 0 and "at t = 0.5, 1" in proc.stdout,
+            "the instants with contact (%s)" % proc.stdout.strip())
+    width, height, _ = read_png(os.path.join(results.folder, "snapshots-contact.png"))
+    c.check((width, height) == (600, 400), "snapshots-contact.png is 600 x 400 (%d x %d)" % (width, height))
+
+
+# Each kind of run gets its panels: (scene, run arguments, kind, panels, picture size).
+HISTORY_CASES = {
+    "force_driven": ("scenes/compressed-block.yaml", [], "quasi-static", "load-displacement, energy, Newton iterations",
+                     (1400, 520)),  # three panels in a row
+    "quasi_static_contact": ("scenes/hertz-2d.yaml", [], "quasi-static, contact",
+                             "load-displacement, energy, contact forces, Newton iterations", (1400, 900)),
+    "quasi_static_friction": ("scenes/block-on-plane.yaml", ["--set", "time.end=1.5"], "quasi-static, friction",
+                              "load-displacement, energy, contact forces, friction ratio", (1400, 900)),
+    "dynamic": ("scenes/free-flight-blocks.yaml", ["--set", "time.end=0.5"], "dynamic",
+                "energy, conservation, linear momentum, Newton iterations", (1400, 900)),
+    "dynamic_friction": ("scenes/two-elements.yaml", [], "dynamic, friction",
+                         "energy, conservation, linear momentum, contact forces", (1400, 900)),
+}
+
+
+def plot_history_case(name):
+    def case(c):
+        scene, args, kind, panels, size = HISTORY_CASES[name]
+        results, _ = run(scene, *args)
+        proc = script("plot-history.sh", results.folder)
+        c.check(proc.returncode == 0, "%s: plot-history exits 0 (%s)" % (scene, proc.stderr.strip()))
+        c.check("(%s): %s" % (kind, panels) in proc.stdout, "%s: %s run, panels %s (%s)" % (scene, kind, panels,
+                                                                                           proc.stdout.strip()))
+        width, height, _ = read_png(os.path.join(results.folder, "history.png"))
+        c.check((width, height) == size, "%s: history.png is %d x %d (%d x %d)" % (scene, *size, width, height))
+    case.__name__ = "plot_history_" + name
+    return case
 
 
 if __name__ == "__main__":
-    main([plot_snapshots, plot_snapshots_bad_input, plot_history])
+    main([plot_snapshots, plot_snapshots_bad_input, plot_snapshots_motion, plot_snapshots_obstacles,
+          plot_snapshots_contact_2d] + [plot_history_case(name) for name in HISTORY_CASES])

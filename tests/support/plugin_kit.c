@@ -12,6 +12,7 @@
 
 #include "../../core/model/host.h"
 #include "sk_test.h"
+#include "stickslip/fe.h"
 #include "stickslip/plugins.h"
 
 struct kit_view {
@@ -115,8 +116,24 @@ static sk_status mock_condense_pair(sk_host *host, int64_t n_groups, int block, 
 
 static const sk_condense_ext mock_condense = {SK_TABLE_HEADER(sk_condense_ext), .pair = mock_condense_pair};
 
+/* stickslip.scene.v1: the description kit_create builds from the views and kit_material, and the defaults the
+ * instance reports (kit.computed_*). */
+static const sk_scene_info *mock_scene_info(sk_host *host) { return &kit_of(host)->scene; }
+
+static void mock_computed(sk_host *host, const char *key, double value, const char *fmt, ...) {
+  kit *k = kit_of(host);
+  (void)fmt;
+  if (k->n_computed == KIT_MAX_PARAMS) return;
+  snprintf(k->computed_key[k->n_computed], sizeof k->computed_key[0], "%s", key);
+  k->computed_value[k->n_computed++] = value;
+}
+
+static const sk_scene_ext mock_scene = {SK_TABLE_HEADER(sk_scene_ext), .info = mock_scene_info,
+                                        .computed = mock_computed};
+
 static const void *mock_extension(sk_host *host, const char *id) {
   (void)host;
+  if (strcmp(id, SK_EXT_SCENE) == 0) return &mock_scene;
   return strcmp(id, SK_EXT_CONDENSE) == 0 ? &mock_condense : NULL;
 }
 
@@ -130,6 +147,7 @@ void kit_init(kit *k, int dim, int n_nodes, const double *X) {
   k->X = malloc(sizeof(double) * (size_t)k->n_dofs);
   memcpy(k->X, X, sizeof(double) * (size_t)k->n_dofs);
   k->alpha = 1.0;
+  for (int role = 0; role < 2; ++role) k->E[role] = 1.0; /* kit_material; nu 0 */
   k->api = (sk_host_api){SK_TABLE_HEADER(sk_host_api),
                          .contact = &sk_host_contact_table,
                          .ranks = mock_ranks,
@@ -219,6 +237,50 @@ void kit_obstacle(kit *k, const sk_obstacle *obstacle) {
   k->attach.obstacle = &k->obstacle;
 }
 
+void kit_material(kit *k, int role, double E, double nu) {
+  k->E[role] = E;
+  k->nu[role] = nu;
+}
+
+double kit_computed(const kit *k, const char *key) {
+  for (int i = 0; i < k->n_computed; ++i)
+    if (strcmp(k->computed_key[i], key) == 0) return k->computed_value[i];
+  return NAN;
+}
+
+/* The scene description of the kit's attachment (kit_create): sizes of the views, the materials of kit_material. */
+static void describe(kit *k) {
+  for (int role = 0; role < 2; ++role) {
+    sk_scene_side *side = &k->sides[role];
+    memset(side, 0, sizeof *side);
+    side->struct_size = sizeof *side;
+    if (role == 1 && k->attach.obstacle) {
+      side->name = side->body_name = "obstacle";
+      side->body = -1;
+      side->rigid = 1;
+      side->shape = (sk_obstacle_shape)(SK_SHAPE_PLANE + (int)k->obstacle.kind);
+      side->E = INFINITY;
+      continue;
+    }
+    if (role >= k->n_views) continue;
+    const kit_view *kv = k->views[role];
+    side->name = side->body_name = role == 0 ? "slave" : "master";
+    side->body = role;
+    side->E = k->E[role];
+    side->nu = k->nu[role];
+    side->cell_type = kv->data.view.cell_type;
+    side->order = sk_elem_order(side->cell_type);
+    sk_surface_sizes(&kv->data.local, kv->data.view.X, k->dim, &side->h_min, &side->h_mean, &side->h_max,
+                     &side->measure);
+    side->n_cells = kv->data.view.n_cells;
+    side->n_nodes = kv->data.view.n_nodes;
+  }
+  k->scene = (sk_scene_info){.struct_size = sizeof k->scene, .kind = SK_KIND_PAIR, .name = k->attach.name,
+                             .dim = k->dim, .scheme = k->alpha == 1.0 ? "quasi-static" : "midpoint",
+                             .alpha = k->alpha, .dynamic = k->dynamic, .n_ranks = 1, .strategy = k->attach.strategy,
+                             .slave = &k->sides[0], .master = &k->sides[1]};
+}
+
 void kit_integrator(kit *k, double alpha, int dynamic) {
   k->alpha = alpha;
   k->dynamic = dynamic;
@@ -246,6 +308,8 @@ sk_status kit_create(kit *k, const sk_plugin *plugin, int strategy) {
   k->state.x_n = k->x_nl;
   k->state.scheme = "test";
   k->n = k->n_dofs;
+  describe(k);
+  k->n_computed = 0;
   return plugin->create(&k->api, (sk_host *)(void *)k->host, &k->attach, &k->instance);
 }
 

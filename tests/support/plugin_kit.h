@@ -8,7 +8,8 @@
  * plugin is driven through its ABI table exactly as the host drives it; kit_fd_check compares the Jacobian the plugin
  * assembles with central differences of the residual it assembles, over every unknown, and counts Jacobian entries
  * outside the pattern the plugin declared. The mock api offers stickslip.condense.v1 and records the pairs (the
- * elimination itself is the host's, core/solver/condense.cpp). */
+ * elimination itself is the host's, core/solver/condense.cpp), and stickslip.scene.v1 (the views' sizes, the
+ * materials of kit_material, and the defaults the instance reports). */
 #ifndef STICKSLIP_PLUGIN_KIT_H
 #define STICKSLIP_PLUGIN_KIT_H
 
@@ -56,6 +57,14 @@ typedef struct kit {
   int64_t n_pairs;
   int pair_block;
   int64_t *pair_extra, *pair_row;
+  /* stickslip.scene.v1: the description of the attachment (built by kit_create) and the defaults the instance
+   * computed from it */
+  double E[2], nu[2];
+  sk_scene_side sides[2];
+  sk_scene_info scene;
+  int n_computed;
+  char computed_key[KIT_MAX_PARAMS][32];
+  double computed_value[KIT_MAX_PARAMS];
 } kit;
 
 void kit_init(kit *k, int dim, int n_nodes, const double *X);
@@ -66,6 +75,11 @@ void kit_param_text(kit *k, const char *key, const char *value);
 void kit_surface(kit *k, int role, sk_elem_type type, int nen, int n_faces, const int *conn);
 /* A rigid obstacle as the master. */
 void kit_obstacle(kit *k, const sk_obstacle *obstacle);
+/* The material of the slave (role 0) or master (role 1) body, for the scene description the mock host offers
+ * through stickslip.scene.v1 (default E 1, nu 0). */
+void kit_material(kit *k, int role, double E, double nu);
+/* The default the instance computed for `key` and reported (stickslip.scene.v1 computed()), or NaN. */
+double kit_computed(const kit *k, const char *key);
 /* The time integrator the instance sees (alpha, dynamic). */
 void kit_integrator(kit *k, double alpha, int dynamic);
 

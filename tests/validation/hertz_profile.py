@@ -1,4 +1,4 @@
-"""Errors of a Hertz run's contact pressure against Hertz's closed forms (validation.md), shared by the validation
+"""Errors of a Hertz run's contact pressure against Hertz's closed forms (docs/validation.md), shared by the validation
 tests and tests/bench/hertz. All relative, with the reference a and p0 from the load the run carries (2D:
 P = 2 |reaction_top_y|, 3D: F = 4 |reaction_top_z|), so they measure the shape of the pressure distribution, not the
 load-approach relation (that is checked in test_contact_scenes.py):
@@ -19,7 +19,7 @@ CORE_RANGE = 0.8     # ... and l2_core r < CORE_RANGE * a
 
 
 def hertz_reference(dim, results):
-    """(load, a, p0) of Hertz's solution for the load the run carries (validation.md)."""
+    """(load, a, p0) of Hertz's solution for the load the run carries (docs/validation.md)."""
     Es = e_star(1000.0, 1.0e6)
     last = results.rows[-1]
     if dim == 2:

@@ -1,16 +1,25 @@
-"""Validation of covariant-penalty (Konyukhov & Schweizerhof 2005) through the driver: the paper's examples as scenes
-(scenes/ks-*.yaml) and their checks — Newton iteration totals per tangent variant on the large-step runs, the onset
-and spreading of sliding in 6.1 run A, frame indifference of a whole run, and a stuck point carried across a master
-element edge. Usage: python3 test_covariant_scenes.py CASE; exit code 0 when every check holds. Measured numbers are
-quoted in each check's docstring and in docs/plugins/covariant-penalty.md §9."""
+"""Validation of covariant-penalty against Konyukhov & Schweizerhof (2005) through the driver: the paper's examples as
+scenes (scenes/ks-*.yaml), checked against the paper's own numbers where this code reproduces them (Table 3's and
+Table 5's iterations per sliding step, Table 4's per step, the frictionless pressure of 6.1, the estimate (110), the
+claim of Fig. 7, 6.2's rigid-body estimate); frame indifference and rank independence of a whole run. The rows
+that are not reproduced, with their causes and the commands that show them: docs/plugins/covariant-penalty.md,
+"Against the paper".
+Iterations are our Newton iterations per load step (history.csv); the paper's are FEAP's, with a criterion it does not
+state; tests/bench/covariant-penalty/iterations.py counts a run both ways (docs §9).
+Usage: python3 test_covariant_scenes.py CASE; exit code 0 when every check holds."""
+import json
 import math
 import os
 import sys
 
-from stickslip_results import ROOT, run, main
+import yaml
+
+from stickslip_results import ROOT, Results, run, main
 
 sys.path.insert(0, os.path.join(ROOT, "tests", "bench", "covariant-penalty"))
 import paths  # noqa: E402
+
+MU = 0.3
 
 
 def iterations(results, first_step=1):
@@ -24,117 +33,173 @@ def run_variant(scene, tangent, *args, form="exact"):
     return results
 
 
-def ordering(c, name, totals, paper):
-    """full <= no-curvature < main-only (the paper's claim for large steps); prints ours beside the paper's."""
-    print("%s: iterations over the large steps, ours vs the paper's:" % name)
-    for key in totals:
-        print("  %-14s %4d   (paper: %s)" % (key, totals[key], paper.get(key, "-")))
-    c.check(totals["full"] <= totals["no-curvature"] < totals["main-only"],
-            "%s: full %d <= no-curvature %d < main-only %d" % (name, totals["full"], totals["no-curvature"],
-                                                              totals["main-only"]))
-
-
-def slip_onset(results, drag_per_step, press_steps=1):
-    """(u at which |F_x/F_y| first reaches mu to 1 %, u from which no contact point sticks), F the reactions at the
-    top. u is the prescribed sideways displacement."""
-    onset = full = None
-    for r in results.rows:
-        k = int(r["step"]) - press_steps
-        if k <= 0:
-            continue
-        u = k * drag_per_step
-        ratio = r["reaction_drag_x"] / r["reaction_press_y"]
-        if onset is None and abs(abs(ratio) - 0.3) <= 0.003:
-            onset = u
-        if full is None and r["stick_points"] == 0 and r["slip_points"] > 0:
-            full = u
-    return onset, full
-
-
-def near(c, name, value, measured, rel):
-    c.check(abs(value - measured) <= rel * measured,
-            "%s: %g within %g %% of the measured %g" % (name, value, 100 * rel, measured))
+def bottom_lag(folder, step, applied):
+    """u_x - u_applied of the block's bottom nodes (reference y = 0, z = 0; the clamped base's do not move) at a
+    step, ordered by x: the paper's Fig. 7."""
+    from stickslip_results import read_vtu
+    a = read_vtu(os.path.join(folder, "step-%06d.vtu" % step))
+    rows = sorted((x - d[0], d[0] - applied) for (x, y, z), d in zip(a["Points"], a["displacement"])
+                  if abs(y - d[1]) < 1e-9 and abs(z - d[2]) < 1e-9 and d != (0.0, 0.0, 0.0))
+    return [lag for _, lag in rows]
 
 
 def ks_block_b(c):
-    """6.1 run B: 20 sliding steps of 12e-3 with each tangent variant (exact form). Measured (iterations of the 20
-    sliding steps): full 131, no-curvature 127, main-only 156 (the paper: full 66, main part only 84). The faces are
-    flat: their curvature part is of the order of their warping under load, so full and no-curvature differ only by
-    round-off in the Newton path (the paper compares full and main only here). The block slides: F_x/F_y = -0.3 to
-    1e-4 after every sliding step, also when points ahead of the leading edge come into contact. Bounds: main-only
-    above both, full within 5 % of no-curvature, each total within 5 % of the measured one (MUMPS's pivoting and the
-    line search's choices move a step by one iteration across platforms)."""
-    totals = {}
-    for tangent in ("full", "no-curvature", "main-only"):
-        results = run_variant("scenes/ks-block-b.yaml", tangent)
-        its = iterations(results)
-        totals[tangent] = sum(its[1:])
-        ratios = [r["reaction_drag_x"] / r["reaction_press_y"] for r in results.rows if r["step"] >= 2]
-        worst = max(ratios, key=lambda x: abs(x + 0.3))
-        c.check(abs(worst + 0.3) <= 1e-4, "%s: sliding, F_x/F_y = -0.3 after every sliding step (worst %+.6f)"
-                % (tangent, worst))
-    print("6.1 run B: iterations over the 20 sliding steps (paper: full 66, main part only 84): " +
-          ", ".join("%s %d" % kv for kv in totals.items()))
-    c.check(totals["main-only"] > max(totals["full"], totals["no-curvature"]),
-            "main-only %d above full %d and no-curvature %d" % (totals["main-only"], totals["full"],
-                                                             totals["no-curvature"]))
-    near(c, "6.1 run B, full against no-curvature (flat faces)", totals["full"], totals["no-curvature"], 0.05)
-    for tangent, measured in (("full", 131), ("no-curvature", 127), ("main-only", 156)):
-        near(c, "6.1 run B, %s" % tangent, totals[tangent], measured, 0.05)
+    """6.1 run B, Table 3: 20 sliding steps of 12e-3 after the pressing step (eps 2.1e5). The paper: full tangent
+    4, 6, 5, then 3 iterations per step (66); main part only 5, 6, 5, then 4 (84).
+    Measured (our criterion): full 7, 4, then 3 per step except 4 in the three steps in which base points come into
+    contact at the block's leading edge (the base is 1 longer than the block; with a base as long as the block, none
+    enters and the total is 66: docs, "Against the paper"), 68 in all; main-only 96, 4-5 per step: its linear
+    convergence (rate 2e-3 ... 2e-2, the rotational part's weight channel missing) leaves its 4th iterate at
+    |F| = 4e-8 ... 3e-7, above our 1e-8 (not reproduced: docs). Fig. 7: the bottom's lag behind the applied
+    displacement, u - u_applied, at u = 0.012, 0.048 and 0.120 (measured: -8.06e-3 ... -5.16e-3, changing by at most
+    1.0e-4 between the three states, 1.7 % of its mean, while u grows tenfold)."""
+    full, _ = run("scenes/ks-block-b.yaml", "--set", "output.vtu_every=1")
+    main_only = run_variant("scenes/ks-block-b.yaml", "main-only")
+    counts = {"full": iterations(full, 2), "main-only": iterations(main_only, 2)}
+    for name, res in (("full", full), ("main-only", main_only)):
+        ratios = [r["reaction_drag_x"] / r["reaction_press_y"] for r in res.rows if r["step"] >= 2]
+        worst = max(ratios, key=lambda x: abs(x + MU))
+        c.check(len(ratios) == 20 and abs(worst + MU) <= 1e-4,
+                "%s: 20 sliding steps, F_x/F_y = -0.3 after each (worst %+.6f)" % (name, worst))
+        print("6.1 run B, %s: %d iterations over the sliding steps: %s" % (name, sum(counts[name]), counts[name]))
+    steady = counts["full"][3:]
+    # the paper: 3 per step in steps 4-20; each step in which a base point enters contact at the leading edge takes a
+    # 4th (3 such steps measured)
+    c.check(sorted(steady)[len(steady) // 2] == 3 and steady.count(3) >= len(steady) - 3 and max(steady) <= 4,
+            "full: steps 4-20 take the paper's 3 iterations, 4 in at most 3 steps (%s)" % steady)
+    c.check(abs(sum(counts["full"]) - 66) <= 3, "full: %d iterations over the 20 steps, the paper's 66 plus at most the "
+            "3 leading-edge steps" % sum(counts["full"]))
+    c.check(all(m > f for m, f in zip(counts["main-only"][3:], steady) if f == 3),
+            "main-only takes more iterations than full in every steady step (the paper: 4 against 3)")
+    lags = [bottom_lag(full.folder, 1 + k, 0.012 * k) for k in (1, 4, 10)]
+    mean = sum(lags[0]) / len(lags[0])
+    change = max(abs(a - b) for i in range(3) for j in range(i) for a, b in zip(lags[i], lags[j]))
+    print("Fig. 7: u - u_applied of the bottom in [%.3e, %.3e] at u = 0.012; largest change to u = 0.048, 0.120: "
+          "%.2e" % (min(lags[0]), max(lags[0]), change))
+    c.check(len(lags[0]) == 41 and change <= 0.02 * abs(mean),
+            "Fig. 7: the relative displacements hardly change in large sliding (by %.2e, %.1f %% of the lag %.3e)"
+            % (change, 100 * change / abs(mean), mean))
+
+
+def critical_drag(scene):
+    """The estimate (110) of the drag at which sliding sets in, u_cr = 2 mu h / (1 - nu), from a 6.1 scene's own
+    values: mu of the contact, nu of the block, h the pressing displacement of the block's top."""
+    with open(os.path.join(ROOT, scene)) as f:
+        d = yaml.safe_load(f)
+    mu = d["contact"][0]["parameters"]["mu"]
+    nu = next(b for b in d["bodies"] if b["name"] == "block")["material"]["nu"]
+    h = abs(next(b for b in d["boundary"] if b["name"] == "press")["displacement"][1])
+    return 2 * mu * h / (1 - nu)
+
+
+def frictionless_pressure(c):
+    """6.1's pressing without friction and without the top's x-hold: the block in uniaxial stress on the rigid base,
+    p = E |v| / (b + E / eps_N) = 29.3413 (the penalty spring in series with the block). Measured F_y / (a c) =
+    29.34138 (2.3e-6 above: the base's Gauss points within master_extension beyond the block's ends carry some
+    pressure); with the x-hold (the scene as it stands) 30.84, the block's top cannot expand."""
+    E, v, b, eps, area = 2.1e4, 7.0e-3, 5.0, 2.1e6, 20.0 * 0.5
+    expected = E * v / (b + E / eps)
+    res, _ = run("scenes/ks-block-a.yaml", "--set", "time.end=1", "--set", "contact.0.parameters.mu=0",
+                 "--set", "boundary.2.displacement=[~, ~, ~]")
+    p = -res.rows[-1]["reaction_press_y"] / area
+    print("frictionless pressing, top free in x: p = %.6f, E|v|/(b + E/eps_N) = %.6f" % (p, expected))
+    c.check(abs(p - expected) <= 1e-5 * expected, "p = F_y / (a c) = %.5f is E|v|/(b + E/eps_N) = %.5f to 1e-5"
+            % (p, expected))
 
 
 def ks_block_a(c):
-    """6.1 run A (small steps of 2.5e-4, eps 2.1e6) to u = 9e-3: F_x/F_y (reactions at the top) reaches -0.3 to 1 %
-    at u = 8.0e-3 and every contact point slides from u = 8.25e-3 (measured; the paper: 7.5e-3 and 11.0e-3, the
-    estimate (110) 6.0e-3). With the block's faces z = 0, c held (plane strain) both would be 1.0e-2 (docs §9).
-    Bounds: one step either way; |F_x/F_y| never above mu; the pressing sticks in the middle."""
+    """6.1 run A (steps of 2.5e-4, eps 2.1e6) to u = 9e-3, and the frictionless pressing. The estimate (110),
+    u_cr = 2 mu |v| / (1 - nu), from the scene's values is the paper's 6.0e-3; the paper's claim that it estimates
+    the onset of sliding from below holds: the total |F_x/F_y| (reactions at the top) reaches mu to 1 % at u = 8.0e-3
+    (the paper: 7.5e-3) and no point sticks from u = 8.25e-3 (the paper: 11.0e-3). Those two are not reproduced with
+    the block's faces z = 0, c free as here (held in z, the full sliding is: ks_block_a_plane_strain; docs, "Against
+    the paper"); checked here: (110) from the scene file's mu, h, nu against the paper's 6.0e-3, |F_x/F_y| <= mu, the
+    order u_cr < onset <= all sliding, and that the pressing leaves points sticking."""
+    frictionless_pressure(c)
+    u_cr = critical_drag("scenes/ks-block-a.yaml")
+    c.check(abs(u_cr - 6.0e-3) <= 1e-15, "(110) from the scene's mu, h, nu: u_cr = %.4e, the paper's 6.0e-3" % u_cr)
     results = run_variant("scenes/ks-block-a.yaml", "full", "--set", "time.end=37")
-    onset, full = slip_onset(results, 2.5e-4)
-    print("slip onset (|F_x/F_y| within 1 %% of 0.3) at u = %s, all points sliding from u = %s" % (onset, full))
-    c.check(onset is not None and abs(onset - 8.0e-3) <= 2.5e-4 + 1e-12, "onset at u = %s (measured 8.0e-3, paper "
-            "7.5e-3)" % onset)
-    c.check(full is not None and abs(full - 8.25e-3) <= 2.5e-4 + 1e-12 and full <= 11.0e-3,
-            "all points slide from u = %s (measured 8.25e-3; the paper: by 11.0e-3)" % full)
+    onset = full = None
+    for r in results.rows:
+        k = int(r["step"]) - 1
+        if k <= 0:
+            continue
+        ratio = abs(r["reaction_drag_x"] / r["reaction_press_y"])
+        if onset is None and ratio >= 0.99 * MU:
+            onset = k * 2.5e-4
+        if full is None and r["stick_points"] == 0 and r["slip_points"] > 0:
+            full = k * 2.5e-4
+    print("run A: |F_x/F_y| within 1 %% of mu from u = %s, no point sticks from u = %s (the paper: 7.5e-3, 11.0e-3; "
+          "(110): %.1e)" % (onset, full, u_cr))
+    c.check(onset is not None and full is not None and u_cr < onset <= full,
+            "u_cr %.2e < onset %s <= all sliding %s" % (u_cr, onset, full))
     worst = max(abs(r["reaction_drag_x"] / r["reaction_press_y"]) for r in results.rows if r["step"] >= 1)
-    c.check(worst <= 0.3 + 1e-6, "|F_x/F_y| <= mu throughout (max %.7f)" % worst)
+    c.check(worst <= MU + 1e-6, "|F_x/F_y| <= mu throughout (max %.7f)" % worst)
     first = results.rows[1]
     c.check(first["stick_points"] > 0, "pressing: %d points stick, %d slide" % (first["stick_points"],
                                                                                 first["slip_points"]))
 
 
+def ks_block_a_plane_strain(c):
+    """6.1 run A with the block's faces z = 0, c held in z (plane strain, the assumption of the estimate (110); the
+    paper does not state what holds them), to u = 1.1e-2. The paper: the block slides at the full lower boundary when
+    u reaches 11.0e-3, read at the states it plots (Fig. 5: 9.0, 10.0, 11.0, 12.0e-3), so its value is known to lie in
+    (10.0e-3, 11.0e-3]: asserted there, one plotted interval (four of our load steps of 2.5e-4). Measured: no point
+    sticks from u = 1.025e-2 (step 42). Its onset (|F_x/F_y| at mu, 1.0e-2 against the paper's 7.5e-3) is not
+    reproduced (docs, "Against the paper")."""
+    with open(os.path.join(ROOT, "scenes/ks-block-a.yaml")) as f:
+        boundary = yaml.safe_load(f)["boundary"]
+    boundary.append({"name": "sides", "group": "block-sides", "displacement": [None, None, 0]})
+    results, _ = run("scenes/ks-block-a.yaml", "--set", "time.end=45", "--set", "boundary=" + json.dumps(boundary))
+    c.check(results.summary["status"] == "ok" and len(results.rows) == 46, "45 steps done, to u = 1.1e-2")
+    full = next(((int(r["step"]) - 1) * 2.5e-4 for r in results.rows
+                 if r["step"] >= 2 and r["stick_points"] == 0 and r["slip_points"] > 0), None)
+    print("run A held in z: no point sticks from u = %s (the paper: 11.0e-3, its previous plotted state 10.0e-3)"
+          % full)
+    c.check(full is not None and 10.0e-3 < full <= 11.0e-3 + 1e-12,
+            "Fig. 5: all sliding from u = %s, in the paper's (10.0e-3, 11.0e-3]" % full)
+
+
 def ks_parabolic(c):
-    """6.2, the convergence study, shortened for CI to the 7 pressing steps and the first 8 of the 20 sliding steps of
-    4e-2 (the full run: docs §9). Measured over the 8 sliding steps: full 49, no-curvature 56, main-only 107 (main
-    only climbs from 9 to 18 iterations per step; over all 20 steps it fails at step 24, the paper's climbs from 6 to
-    10); pressing 27 with every variant. The paper over 20 steps: full 86, without curvature about 88, main only 156."""
-    totals = {}
-    for tangent in ("full", "no-curvature", "main-only"):
-        results = run_variant("scenes/ks-parabolic.yaml", tangent, "--set", "time.end=15")
-        its = iterations(results)
-        totals[tangent] = sum(its[7:])
-        c.check(results.summary["status"] == "ok" and len(its) == 15, "%s: 15 steps done" % tangent)
-        c.check(sum(its[:7]) == 27, "%s: the 7 pressing steps take 27 iterations (%d)" % (tangent, sum(its[:7])))
-    ordering(c, "6.2, 8 sliding steps", totals, {"full": "86 (20 steps)", "no-curvature": "~88 (20 steps)",
-                                                 "main-only": "156 (20 steps)"})
-    for tangent, measured in (("full", 49), ("no-curvature", 56), ("main-only", 107)):
-        near(c, "6.2, %s" % tangent, totals[tangent], measured, 0.05)
+    """6.2: the 7 pressing steps (Fig. 9) and the first 8 of Table 4's 20 sliding steps of 4e-2, full tangent. The
+    paper's full tangent: 6, 5, 5, then 4 per step (steps 4-18). Measured: 7, 7, 5, then 4, 4, 4, 4, 5 (over all 20:
+    4 in 12 of the steps 4-20, 5 in the others, 92 against 86: docs). Fig. 9's stick zone |x| < ~3 with sliding
+    outside is not reproduced (after the pressing every node sticks, with any of the variants docs,
+    "Against the paper", lists); checked here is the rigid-body estimate the paper states beside it, which holds for
+    a block without Poisson expansion (nu = 0): sliding where tan(alpha) = 0.06 |x| >= mu, i.e. only the end nodes
+    |x| = 5, where tan(alpha) = mu (|t|/(mu p) = 1.00 there, 0.39 at |x| = 3)."""
+    results = run_variant("scenes/ks-parabolic.yaml", "full", "--set", "time.end=15")
+    its = iterations(results)
+    c.check(results.summary["status"] == "ok" and len(its) == 15, "15 steps done")
+    sliding = its[7:]
+    print("6.2, full: pressing %s, sliding %s (the paper: 6, 5, 5, then 4)" % (its[:7], sliding))
+    c.check(sliding[3:].count(4) >= len(sliding[3:]) - 1 and max(sliding[3:]) <= 5,
+            "steps 4-8 take the paper's 4 iterations, at most one 5 (%s)" % sliding[3:])
+    rigid, _ = run("scenes/ks-parabolic.yaml", "--set", "time.end=7", "--set", "bodies.0.material.nu=0")
+    pts = [p for p in rigid.contact_points() if p["state"] != 0]
+    slipping = [abs(p["reference_x"]) for p in pts if p["state"] == 2]
+    print("6.2 pressed, nu = 0: %d of %d nodes slip, at |x| = %s" % (len(slipping), len(pts), sorted(set(slipping))))
+    c.check(len(pts) == 123 and len(slipping) == 6 and all(abs(x - 5.0) < 1e-9 for x in slipping),
+            "pressed, nu = 0: the rigid estimate, the 6 end nodes |x| = 5 (tan(alpha) = mu) slide, no other")
 
 
 def ks_spiral(c):
-    """6.3: pressing and the first 20 spiral steps. Measured over the 20 steps: full 153, no-curvature 153 (stas has
-    no curvature part: the contact point is a fixed Gauss point), main-only 165 (the paper: without curvature 90,
-    main only 254)."""
-    totals = {}
-    for tangent in ("full", "no-curvature", "main-only"):
-        results = run_variant("scenes/ks-spiral.yaml", tangent)
-        its = iterations(results)
-        totals[tangent] = sum(its[1:])
-        c.check(results.summary["status"] == "ok" and len(its) == 21, "%s: 21 steps done" % tangent)
-    c.check(totals["full"] == totals["no-curvature"], "stas: full = no-curvature (%d, %d)" % (totals["full"],
-                                                                                            totals["no-curvature"]))
-    ordering(c, "6.3, 20 spiral steps", totals, {"no-curvature": 90, "main-only": 254})
-    for tangent, measured in (("full", 153), ("main-only", 165)):
-        near(c, "6.3, %s" % tangent, totals[tangent], measured, 0.05)
+    """6.3, Table 5: pressing and the first 20 spiral steps. Case 1 (without the curvature part; STAS has none, so the
+    full tangent): the paper 9, 8, 5, then 4 per step (90); ours 7, 5, then 3-4 (76): at most the paper's 4 from step
+    4 on (with eps 2.1e6 instead of the scene's 2.1e5, 4 in 16 of steps 4-20 and 89 in all: docs). Case 2 (only the main matrix): the paper 10, then 13 per step (254); the printed main matrix
+    (tangent_form: paper) takes 14, then 13 in every step (261): the paper's 13 in steps 2-18 (its 12 and 11 in steps
+    19, 20 are 13 here). The exact form's main part converges in 4-5 per step: it differentiates the ray through the
+    obstacle's normal, which the printed n (x) n does not (docs)."""
+    full = run_variant("scenes/ks-spiral.yaml", "full")
+    main_only = run_variant("scenes/ks-spiral.yaml", "main-only", form="paper")
+    case1, case2 = iterations(full, 2), iterations(main_only, 2)
+    for name, res in (("case 1", full), ("case 2", main_only)):
+        c.check(res.summary["status"] == "ok" and len(res.rows) == 22, "%s: 21 steps done" % name)
+    print("6.3, case 1 (full, exact): %d %s; case 2 (main, paper form): %d %s" % (sum(case1), case1, sum(case2), case2))
+    c.check(max(case1[3:]) <= 4, "case 1: steps 4-20 take at most the paper's 4 iterations (%s)" % case1[3:])
+    c.check(case2[1:18].count(13) == 17, "case 2: steps 2-18 take the paper's 13 iterations each (%s)" % case2[1:18])
+    c.check(abs(sum(case2) - 254) <= 0.03 * 254, "case 2: %d iterations over the 20 steps, the paper's 254 to 3 %% "
+            "(its first step, 10, is 14 here)" % sum(case2))
 
 
 def rotation(axis, degrees):
@@ -198,7 +263,7 @@ def ks_spiral_mpi(c):
         c.check(one.column(k) == two.column(k), "np 1 vs 2: the same %s at every step" % k)
 
 
-CASES = [ks_block_b, ks_block_a, ks_parabolic, ks_spiral, ks_spiral_rotated, ks_spiral_mpi]
+CASES = [ks_block_b, ks_block_a, ks_block_a_plane_strain, ks_parabolic, ks_spiral, ks_spiral_rotated, ks_spiral_mpi]
 
 if __name__ == "__main__":
     main(CASES)

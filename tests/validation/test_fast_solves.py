@@ -63,7 +63,7 @@ def direct_solve_refinement(c):
     with it MUMPS runs to the end like KLU. The trajectories part after many impacts (round-off of two different
     factorisations), the invariants do not: measured energy lost 0.0460440 (MUMPS) and 0.0460438 (KLU) of E0, largest
     gain per step 1.21e-12 / 1.18e-12 E0, constraint violation 5.9e-16 / 4.9e-16."""
-    scene_args = ("--set", "time.end=6", "--set", "contact.0.parameters={mu: 0}", "--set",
+    scene_args = ("--set", "time.end=6", "--replace", "contact.0.parameters={mu: 0}", "--set",
                   "contact.0.strategy=condensed", "--set", "time.dt=0.001")
     records = {}
     for solver in ("mumps", "klu"):

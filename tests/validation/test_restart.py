@@ -1,6 +1,7 @@
 """Checkpoint and restart (docs/user-guide.md, "Checkpoints and restart"): a run stopped at a checkpoint and
 continued with `--restart` equals the uninterrupted run — every history column to 1e-12 of its scale (column_scale)
-on the same number of ranks, Newton iteration counts included; to 1e-10 on another — with a friction scene (nts-augmented on two hex8, deformable master, Coulomb
+on the same number of ranks, Newton iteration counts included; to 1e-10 on another — and contact.csv likewise (its
+rows before the checkpoint carried over, the slip each point accumulated continued) — with a friction scene (nts-augmented on two hex8, deformable master, Coulomb
 mu = 0.5: committed facets, tractions and multipliers; penalty-nts on a block pressed and dragged over a plane:
 friction anchors) and a body-plugin scene (corotational, which runs on one rank: its rotation, co-rotated velocities
 and contact sets). Direct solver KLU2 throughout (it factorises on rank 0): an iterative solver reproduces a run only
@@ -91,6 +92,28 @@ def compare(checks, label, reference, result, tolerance, with_iterations=True):
     checks.check(worst <= tolerance, "%s: every history column equal to %.1e (largest difference %.2e, %s)" %
                  (label, tolerance, worst, where))
     checks.check("restarted_from" in result.summary, "%s: summary.json names the checkpoint" % label)
+    # the first run also wrote the points of the step it stopped at (a run's last step is always output), which the
+    # uninterrupted run did not: the steps both wrote are compared
+    steps = set(r["step"] for r in reference.contact_table())
+    worst, where = worst_contact_difference(reference.contact_table(),
+                                            [r for r in result.contact_table() if r["step"] in steps])
+    checks.check(worst <= tolerance, "%s: contact.csv equal to %.1e, its rows before the checkpoint carried over "
+                 "(largest difference %.2e, %s)" % (label, tolerance, worst, where))
+
+
+def worst_contact_difference(a, b):
+    """The largest difference between two contact.csv tables, each column relative to its largest |value| in `a`
+    (a missing quantity, NaN, must be missing in both; another number of rows is a difference of infinity)."""
+    if len(a) != len(b):
+        return float("inf"), "%d rows against %d" % (len(b), len(a))
+    worst, where = 0.0, None
+    for name in a[0] if a else []:
+        scale = max([abs(r[name]) for r in a if r[name] == r[name]] + [1e-300])
+        for x, y in zip((r[name] for r in a), (r[name] for r in b)):
+            d = (0.0 if (x != x) == (y != y) else float("inf")) if x != x or y != y else abs(x - y) / scale
+            if d > worst:
+                worst, where = d, name
+    return worst, where
 
 
 def restart_friction_same_ranks(checks):

@@ -170,7 +170,13 @@ typedef struct {
    * they are up to the tolerances, and the validation tests with tight energy balances (corot, two-elements
    * none vs reduced: 2.9e-10 against 1e-10) were measured with the confirming solve. */
   int predicted_update;
+  /* The size of the quantities the unknowns are measured from (the norm of the reference coordinates of the
+   * displacement unknowns; 0 for none): a Newton correction is at round-off when ||dx||_2 <= SK_NEWTON_ROUNDOFF_ULPS
+   * machine epsilons times ||x||_2 + roundoff_scale (the positions' rounding reaches the residual, not only x's). */
+  double roundoff_scale;
 } sk_newton_options;
+
+enum { SK_NEWTON_ROUNDOFF_ULPS = 1000 };
 
 enum { SK_NEWTON_HISTORY_MAX = 64 };
 
@@ -182,9 +188,15 @@ enum { SK_NEWTON_HISTORY_MAX = 64 };
  *                    admissible iterate was found: cut the step (SK_ERR_DIVERGED, or the callback's status).
  *   CALLBACK_FAILED  the Jacobian, the Newton direction (other than the linear solve itself) or after_iteration
  *                    failed: the callback's status decides (SK_ERR_DIVERGED: cut; anything else: stop).
- *   STAGNATED        ||F|| stopped decreasing while the full Newton corrections are at round-off, above both
- *                    tolerances: the residual's round-off floor lies above the tolerances at this step. Ends the
- *                    attempt after two stalled iterations instead of max_iterations; the step is cut
+ *   ROUNDOFF_FLOOR   accept the step, with a warning (returned SK_OK, converged = 1): two iterations in a row took
+ *                    full Newton corrections at round-off (||dx|| at most SK_NEWTON_ROUNDOFF_ULPS machine epsilons
+ *                    of ||x|| + roundoff_scale: x + dx equals x but for its last digits) without halving ||F||,
+ *                    which stays above both tolerances: x is the solution as far as double precision resolves it,
+ *                    and the tolerances lie below the residual's round-off floor. No iteration and no shorter
+ *                    step can lower that floor.
+ *   STAGNATED        ||F|| stopped decreasing while the full Newton corrections are below the update tolerance
+ *                    (||dx|| <= update_tolerance (1 + ||x||)) but above round-off, above both tolerances. Ends the
+ *                    attempt after four stalled iterations instead of max_iterations; the step is cut
  *                    (SK_ERR_DIVERGED, the message gives the numbers): measured, the floor of a shorter step often
  *                    lies below the tolerance (ks-parabolic step 15: ||F||/||F0|| = 4.4e-9 at dt = 1, converged
  *                    after one cut; large sliding with mortar-dual and covariant-penalty likewise).
@@ -197,7 +209,8 @@ typedef enum {
   SK_NEWTON_RESIDUAL_FAILED,
   SK_NEWTON_CALLBACK_FAILED,
   SK_NEWTON_STAGNATED,
-  SK_NEWTON_LINEAR_SOLVER
+  SK_NEWTON_LINEAR_SOLVER,
+  SK_NEWTON_ROUNDOFF_FLOOR
 } sk_newton_outcome;
 
 typedef struct {
@@ -207,7 +220,7 @@ typedef struct {
   int linear_solves;
   int n_history;
   double residual_history[SK_NEWTON_HISTORY_MAX]; /* ||F|| at the start and after each iteration */
-  char reason[384];                               /* why it failed, with the numbers */
+  char reason[384]; /* why it failed, or why it was accepted at the round-off floor, with the numbers */
 } sk_newton_report;
 
 void sk_newton_options_default(sk_newton_options *options);

@@ -32,8 +32,18 @@ void sk_cfg_free(sk_cfg *root);
 
 /* Applies one override "a.b.c=value". The value is parsed as YAML ("0.3", "true", "[1, 2, 3]", "{E: 1e9}").
  * Sequence elements are addressed by index ("contact.pairs.0.plugin=x"; "pairs[0]" works too). Missing
- * intermediate maps are created; an existing node (of any kind) at the path is replaced. */
-sk_status sk_cfg_set(sk_cfg *root, const char *assignment);
+ * intermediate maps are created. SK_CFG_MERGE (`--set`): a map landing on a map merges into it key by key (maps in
+ * it merge further down), anything else replaces what was there; SK_CFG_REPLACE (`--replace`): the value replaces
+ * the node at the path whatever it is. New nodes are reported as "--set a.b.c" ("--replace a.b.c"). */
+typedef enum { SK_CFG_MERGE, SK_CFG_REPLACE } sk_cfg_override_mode;
+sk_status sk_cfg_override(sk_cfg *root, const char *assignment, sk_cfg_override_mode mode);
+sk_status sk_cfg_set(sk_cfg *root, const char *assignment); /* sk_cfg_override(root, assignment, SK_CFG_MERGE) */
+/* Sets the scalar at `path` ("contact.0.plugin") to `text` verbatim (not parsed as YAML). The path's parents must
+ * exist. `origin` NULL: an existing scalar keeps its position (a mesh path made absolute); otherwise the node is
+ * new and reported at `origin` ("--plugin"). */
+sk_status sk_cfg_set_text(sk_cfg *root, const char *path, const char *text, const char *origin);
+/* Removes the key at `path` ("contact.0.parameters.penalty") from its map; 1 if it was there. */
+int sk_cfg_remove(sk_cfg *root, const char *path);
 
 sk_cfg_kind sk_cfg_kind_of(const sk_cfg *node);
 const char *sk_cfg_path(const sk_cfg *node);  /* "contact.pairs[0].plugin"; "" for the root */
@@ -45,8 +55,15 @@ int sk_cfg_size(const sk_cfg *node);                 /* entries of a map or sequ
 const sk_cfg *sk_cfg_at(const sk_cfg *node, int i);  /* i-th element of a seq or i-th value of a map; marks used */
 const char *sk_cfg_key_at(const sk_cfg *map, int i); /* i-th key of a map, NULL otherwise */
 const char *sk_cfg_scalar(const sk_cfg *node);       /* text of a scalar, NULL otherwise */
+/* The same as sk_cfg_get and sk_cfg_at without marking anything used or remembering the question: for looking at
+ * the tree before it is read (the overrides), so that the unknown-key check still sees every key nobody read. */
+const sk_cfg *sk_cfg_peek(const sk_cfg *map, const char *key);
+const sk_cfg *sk_cfg_peek_at(const sk_cfg *node, int i);
 /* Marks a node and everything below it as used (for subtrees handed over verbatim, e.g. plugin parameters). */
 void sk_cfg_mark_used(const sk_cfg *node);
+/* Child map `key` of `map` as sk_cfg_get gives it; when absent, an empty map that stands in for it (never written
+ * and never listed as given), so that the defaults the program reads from it are known to sk_cfg_each. */
+const sk_cfg *sk_cfg_section(const sk_cfg *map, const char *key);
 
 /* Typed getters. `map` may be NULL (an absent optional section): then every key is absent.
  * Absent key: *out = dflt and SK_OK, unless `required` (then "FILE:LINE: missing key 'a.b.key'").
@@ -76,6 +93,25 @@ sk_status sk_cfg_check_unused(const sk_cfg *root);
 
 /* `relative` resolved against the directory of the file `node` came from (absolute paths are kept). */
 sk_status sk_cfg_resolve_path(const sk_cfg *node, const char *relative, char *out, size_t out_size);
+
+/* Every key the program read and its default are remembered by the typed getters. This replaces the default of
+ * `key` in `map` as sk_cfg_each shows it: `text` a value (literal 1, "0.5") or a description (literal 0, "from the
+ * mesh: 3"), `meaning` (may be NULL) an explanation. */
+void sk_cfg_note_default(const sk_cfg *map, const char *key, const char *text, int literal, const char *meaning);
+
+typedef struct {
+  const char *path;    /* "time.dt", "contact[0].parameters.mu" */
+  const char *value;   /* given: the value as one line of YAML (collections in flow style); absent: the default */
+  int given;           /* 1: in the scene or set on the command line; 0: a default */
+  int literal;         /* the value is a value (0: a default described in words, e.g. "from the mesh") */
+  int quantity;        /* read as a number or numbers: a unit applies */
+  const char *where;   /* given: "scene.yaml:12:5", "--set time.dt"; NULL for defaults */
+  const char *meaning; /* an explanation of the default (plugin parameters), or NULL */
+} sk_cfg_entry;
+/* Calls `each` for every key of the tree: the given keys in document order (maps and sequences of maps entered,
+ * anything else one value), each map followed by the absent keys the program read from it with their defaults,
+ * then its absent sections (sk_cfg_section). */
+void sk_cfg_each(const sk_cfg *root, void (*each)(void *ctx, const sk_cfg_entry *entry), void *ctx);
 
 /* Writes the whole tree (overrides included) as YAML. */
 sk_status sk_cfg_write(const sk_cfg *root, FILE *out);

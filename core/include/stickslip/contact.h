@@ -36,6 +36,8 @@ typedef struct {
   int64_t *face_index;    /* per face: its index in the whole surface (NULL: the whole surface, the face itself) */
   int64_t *node_index;    /* per node: its index in the whole surface's sorted node list (NULL: the same) */
   int *face_owner;        /* per face: the rank owning the element it bounds (NULL: not known) */
+  int whole_sizes;        /* 1 once distributed: the whole surface's edge lengths and measure below */
+  double whole_h_min, whole_h_mean, whole_h_max, whole_measure;
 } sk_surface;
 
 /* Builds a surface from a face group, orienting each face outward with the volume elements of `body` that carry
@@ -43,6 +45,11 @@ typedef struct {
 sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_group *body, int body_index,
                            sk_surface *surface);
 void sk_surface_free(sk_surface *surface);
+/* Sizes of a surface at positions X_nodes (`stride` entries per node of the surface's numbering: 3 for the mesh's
+ * coordinates): corner-to-corner edge lengths (min, mean and max over every face's edges; a 2D face is one edge,
+ * mid-side nodes do not split it) and the total area (3D) or length (2D). The sizes stickslip.scene.v1 reports. */
+void sk_surface_sizes(const sk_surface *surface, const double *X_nodes, int stride, double *h_min, double *h_mean,
+                      double *h_max, double *measure);
 
 /* ---- covariant geometry at a surface point ------------------------------------------------------------------ */
 /* sk_surface_point (plugin_types.h, part of the plugin ABI): core functions fill every member and ignore
@@ -56,6 +63,12 @@ void sk_surface_geometry(const sk_surface *surface, int face, const double *xi, 
 /* Averaged nodal normals: for each surface node (in surface->nodes order) the normalised area-weighted mean of the
  * adjacent face normals. normals has 3 * n_nodes entries. */
 void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double *normals);
+
+/* Tributary measure of each surface node (surface->nodes order; area in 3D, length in 2D) at positions q: the
+ * integral of its shape function over the faces, which a uniform traction turns into the node's force. TRI6 and QUAD8
+ * corners, where that integral is 0 or negative, take the positive weights of the modified basis of Popp, Wohlmuth,
+ * Gee & Wall (alpha = 1/5, as penalty-nts does; docs/plugins/penalty-nts.md). */
+void sk_surface_tributary_measures(const sk_surface *surface, const double *q, double *measure);
 
 /* ---- closest-point projection (narrow phase) ---------------------------------------------------------------- */
 /* sk_projection and sk_projection_kind: plugin_types.h. */

@@ -83,7 +83,8 @@ sk_status sk_outdir_abort(const char *staging);
 /* ---- progress: one updating line on a terminal, one line per ~10% otherwise (logs) ------------------------ */
 void sk_progress_begin(const char *label, double t_end);
 void sk_progress_update(int step, double t, int newton_its, const char *extra);
-void sk_progress_end(void);
+/* The last line: "done, N steps in T", or with `stopped` ("failed", "interrupted") "<stopped> after N steps, T". */
+void sk_progress_end(const char *stopped);
 
 #ifdef __cplusplus
 }

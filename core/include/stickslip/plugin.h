@@ -128,8 +128,9 @@ typedef struct sk_host_api {
   /* The instance of THIS plugin attached to body `body` (kind "body"), or NULL: lets a pair instance of a body
    * plugin reach the body's instance (e.g. the contact of a co-rotational body). */
   sk_instance *(*body_instance)(sk_host *host, int body);
-  /* Optional core abilities by id ("stickslip.bulk.v1", "stickslip.condense.v1", "stickslip.linear.v1"); NULL if
-   * absent. Ask in create() and fail there with a clear message if an extension you need is missing. */
+  /* Optional core abilities by id ("stickslip.bulk.v1", "stickslip.condense.v1", "stickslip.linear.v1",
+   * "stickslip.scene.v1"); NULL if absent. Ask in create() and fail there with a clear message if an extension you
+   * need is missing. */
   const void *(*get_extension)(sk_host *host, const char *id);
 } sk_host_api;
 
@@ -196,7 +197,26 @@ typedef struct sk_linear_ext {
                            double *y_extra);
 } sk_linear_ext;
 
-/* ---- plugin-side extension "stickslip.checkpoint.v1": the instances' history in a checkpoint (ABI 2.5) --------- */
+/* ---- extension "stickslip.scene.v1" (ABI 2.7): the scene around an instance, and defaults computed from it ------ */
+/* A parameter whose good value depends on the scene (a penalty ~ E/h, a complementarity constant) gets its default
+ * from the scene: the plugin reads the key with param_*(..., required 0, dflt NAN, ...), and when it is absent
+ * computes the value from info() by the rule its page states, then tells the host with computed(), which
+ * `stickslip check|run --explain` prints as `contact[0].parameters.penalty = 2.3e+06 (computed: REASON)`. A value
+ * the scene gives always wins. Ask in create(); a host without the extension returns NULL (then fail there, naming
+ * the key the user has to give). */
+#define SK_EXT_SCENE "stickslip.scene.v1"
+typedef struct sk_scene_ext {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* The instance's attachment as the scene describes it: materials, obstacle, face types and orders, sizes of the
+   * whole surfaces. The same on every rank; valid for the instance's lifetime. */
+  const sk_scene_info *(*info)(sk_host *host);
+  /* Records the default computed for parameter `key` and why: the rule and its numbers, e.g. "10 E* / h; E* = 1.1e+03
+   * (slave body 'block' E 1e+03 nu 0.3, rigid obstacle), h = 0.25 mean edge of slave surface 'zmin'". */
+  void (*computed)(sk_host *host, const char *key, double value, const char *fmt, ...)
+      __attribute__((format(printf, 4, 5)));
+} sk_scene_ext;
+
+/* ---- plugin-side extension "stickslip.checkpoint.v1": the instances' history in a checkpoint (ABI 2.8) --------- */
 /* A plugin whose instances keep history from step to step (active sets, stick anchors, committed multipliers and
  * projections, a body's rotation and co-rotated velocities) returns this table from sk_plugin.get_extension, so that
  * `stickslip run --checkpoint-every N` writes the history and `stickslip run --restart DIR` gives it back, on the same
@@ -242,6 +262,13 @@ typedef struct sk_integrator {
   /* Converged step: the body's velocities at t (view numbering), for output and the next v_n (set_state of
    * stickslip.bulk overrides them). */
   sk_status (*velocity)(sk_instance *instance, const sk_state *state, double *v);
+  /* ABI 2.5 (the host reads it only when SK_HAS(integrator, energy); NULL: none): the kinetic and strain energy that
+   * the integrator's scheme conserves, or balances against its contact work, for the body at the state's time (the
+   * last committed step; for the initial output, state->step == 0, the initial state), this rank's part (the host
+   * sums over ranks). history.csv's kinetic_energy, strain_energy and total_energy carry these for the body instead
+   * of the host's (from the world state and the body's material, which stay in material_total_energy): a scheme whose
+   * energy is not the material's (a co-rotational linear energy) reports the one it conserves. */
+  sk_status (*energy)(sk_instance *instance, const sk_state *state, double *kinetic, double *strain);
 } sk_integrator;
 
 /* ---- the plugin table ------------------------------------------------------------------------------------------- */
@@ -298,6 +325,14 @@ typedef struct sk_plugin {
   const sk_integrator *integrator;
   /* Optional plugin-side interfaces by id; may be NULL. */
   const void *(*get_extension)(const char *id);
+  /* ABI 2.7, may be NULL: can the plugin run the attachment `scene` describes? Called before any instance exists, by
+   * `stickslip check` and `run` for the plugin a pair or body names, and for every plugin on the search path when
+   * the host looks for the ones that can (the error lists them). SK_OK, or SK_ERR_PLUGIN with one sentence in
+   * `reason` (e.g. "the midpoint scheme balances forces at t_n + dt/2, and mortar-dual enforces contact at
+   * t_(n+1)"). A pure function of `scene`: the capability bits are checked before it, and parameter values are
+   * create()'s to check. Everything a plugin cannot run that the scene alone decides (scheme, dimension, obstacle
+   * shape or motion, face types and orders, strategy, ranks) belongs here, not in begin_step. */
+  sk_status (*check)(const sk_scene_info *scene, char *reason, int reason_size);
 } sk_plugin;
 
 typedef const sk_plugin *(*sk_plugin_entry_fn)(void);

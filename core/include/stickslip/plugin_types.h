@@ -29,11 +29,16 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 5u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
+#define SK_ABI_MINOR 8u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
                           2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls)
                           3: sk_layout.idle also with extra unknowns (their trivial rows written by the host)
                           4: sk_layout.extra_anchor (the mesh node of each extra unknown, for the pattern margin)
-                          5: the plugin-side extension stickslip.checkpoint.v1 (history in checkpoints) */
+                          5: sk_integrator.energy (the energy a body plugin's scheme conserves, for history.csv)
+                          6: sk_contact_point forces, area, has_slip, slip_increment, slip, slave_face (one meaning
+                             of pressure for every plugin, slip over time)
+                          7: sk_scene_info / sk_scene_side, sk_plugin.check and the extension stickslip.scene.v1 (what
+                             an attachment is, for refusals at `check` and defaults computed from the scene)
+                          8: the plugin-side extension stickslip.checkpoint.v1 (history in checkpoints) */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
@@ -292,20 +297,93 @@ typedef struct sk_contact_report {
   double constraint_norm;      /* largest constraint violation among active points (e.g. |Phi|); max over ranks */
 } sk_contact_report;
 
+/* One contact point as contact.csv and the VTU files show it (docs/plugin-abi.md §8 has the conventions). Tractions
+ * are per REFERENCE measure (area in 3D, length in 2D): the normal force a point transmits is pressure x area. */
 typedef struct sk_contact_point {
   uint32_t struct_size;        /* set by the plugin */
   double x[3];                 /* point position */
-  double normal[3];
-  double pressure;             /* normal contact pressure (>= 0 in compression), or nodal force when no area */
-  double traction[3];          /* tangential traction (or force) */
-  double gap;
+  double normal[3];            /* unit normal of the master surface (obstacle) pointing towards the slave: the normal
+                                  traction on the slave is pressure x normal */
+  double pressure;             /* normal traction, >= 0 in compression (a force with `forces`) */
+  double traction[3];          /* tangential traction on the slave (a force with `forces`) */
+  double gap;                  /* signed normal gap: > 0 apart, < 0 penetrating; NaN when nothing is within reach */
   int state;                   /* 0 inactive, 1 stick (or in contact without friction), 2 slip */
   int64_t slave_node;          /* mesh node id (sk_view.node_id), or -1 for a Gauss point */
   /* ABI 2.1 (contact.csv, docs/plugin-abi.md §8): */
   double X[3];                 /* reference position of a Gauss point (a node's comes from the mesh; not read) */
   int has_multiplier;          /* 1 when `multiplier` holds the point's normal Lagrange multiplier */
   double multiplier;           /* the formulation's multiplier of the normal constraint (its own sign convention) */
+  /* ABI 2.6. Zero (as a plugin that does not know them leaves them) keeps the meaning of 2.4: */
+  int forces;                  /* 1: pressure and traction hold the node's normal and tangential FORCES (a formulation
+                                  without areas: nodal multipliers, nodal penalty stiffnesses); the host divides them
+                                  by the node's tributary reference measure of the slave surface. 0: tractions */
+  double area;                 /* the reference measure (area in 3D, length in 2D) the tractions act on: the tributary
+                                  measure of a node, weight x area element of a Gauss point; the normal force is
+                                  pressure x area. 0: unknown (the host takes a node's tributary measure) */
+  int has_slip;                /* 1 when slip_increment and slip hold the point's friction kinematics */
+  double slip_increment[3];    /* tangential displacement of the slave point relative to the master surface in the
+                                  last step (spatial, in the tangent plane; a penalty law's elastic stick included) */
+  double slip;                 /* accumulated length of the slip increments since the start */
+  int64_t slave_face;          /* read when slave_node < 0: the Gauss point's face, its index in the whole slave
+                                  surface (sk_view.cell_index) */
 } sk_contact_point;
+
+/* ---- the scene around an attachment (ABI 2.7): sk_plugin.check and the extension stickslip.scene.v1 ------------ */
+/* Plain data the host fills from the scene alone (no instance needed), the same on every rank: what sk_plugin.check
+ * decides on, and what a plugin computes its default parameters from (docs/plugin-abi.md §9.4). */
+typedef enum {
+  SK_SHAPE_NONE = 0,          /* not an obstacle: a deformable surface, or a body */
+  SK_SHAPE_PLANE,
+  SK_SHAPE_SPHERE,            /* a circle in 2D */
+  SK_SHAPE_CYLINDER,
+  SK_SHAPE_PARABOLIC_CYLINDER
+} sk_obstacle_shape;
+
+/* One side of a pair (its slave or master surface, or its rigid obstacle), or a body. */
+typedef struct sk_scene_side {
+  uint32_t struct_size;        /* set by the host */
+  const char *name;            /* the surface's, obstacle's or body's name in the scene */
+  int body;                    /* index of the body the surface bounds (or the body); -1 for a rigid obstacle */
+  const char *body_name;       /* that body's name; the obstacle's name for an obstacle */
+  int rigid;                   /* 1 for a rigid obstacle: infinitely stiff (E = INFINITY, nu = 0) */
+  sk_obstacle_shape shape;     /* the obstacle's shape; SK_SHAPE_NONE otherwise */
+  int moving;                  /* an obstacle whose `motion` moves it at some time; 0 otherwise */
+  double E, nu;                /* the body's Young's modulus and Poisson ratio (`material`) */
+  sk_elem_type cell_type;      /* faces of a surface, elements of a body; SK_POINT1 for an obstacle */
+  int order;                   /* polynomial order of the cells: 1 or 2; 0 for an obstacle */
+  /* Sizes in the reference configuration over the WHOLE surface (every rank the same values): lengths of the edges
+   * between the corner nodes of its faces (a 2D face is one edge; mid-side nodes do not split an edge, so a tet10
+   * mesh has the h of the tet4 mesh it was made from). 0 for an obstacle and for a body. */
+  double h_min, h_mean, h_max;
+  double measure;              /* total reference area of a 3D surface, length of a 2D one; 0 for an obstacle/body */
+  int64_t n_cells, n_nodes;    /* faces and nodes of the whole surface (elements and nodes of a body) */
+  double velocity[3];          /* the body's initial motion (`velocity`, `angular_velocity`, `center`): v(X) =
+                                  velocity + angular_velocity x (X - center); zero for an obstacle */
+  double angular_velocity[3];
+  double center[3];
+} sk_scene_side;
+
+/* An attachment as the scene describes it. */
+typedef struct sk_scene_info {
+  uint32_t struct_size;        /* set by the host */
+  sk_kind kind;                /* SK_KIND_PAIR or SK_KIND_BODY */
+  const char *name;            /* the pair's or body's name */
+  int dim;                     /* 2 or 3 */
+  const char *scheme;          /* the integrator of the (slave) body: "quasi-static", "backward-euler", "midpoint",
+                                  or a body plugin's own integrator name */
+  double alpha;                /* forces balance at t_n + alpha dt (sk_state.alpha) */
+  int dynamic;                 /* 1 with inertia */
+  int n_ranks;                 /* MPI ranks of the run */
+  int strategy;                /* index into sk_plugin.strategies: the scene's `strategy`; 0 (the plugin's default)
+                                  when the host asks a plugin the scene does not name */
+  int friction;                /* 1 when the parameters give mu > 0 */
+  int self_contact;            /* 1 when slave and master are the same surface */
+  const sk_scene_side *slave;  /* a pair's slave surface; a body: the body */
+  const sk_scene_side *master; /* a pair's master surface or rigid obstacle; NULL for a body */
+  int probe;                   /* 1 when the host asks a plugin the scene does not name, in its search for the plugins
+                                  that can run what the named one cannot: a plugin that is no contact formulation (a
+                                  teaching example) declines then */
+} sk_scene_info;
 
 #ifdef __cplusplus
 }

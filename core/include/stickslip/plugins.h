@@ -27,6 +27,21 @@ void sk_capabilities_string(uint64_t caps, char *out, int size);
 /* Human-readable kinds: "pair", "body" or "pair, body". */
 void sk_kinds_string(uint32_t kinds, char *out, int size);
 
+/* One line of a plugin's parameter table (sk_plugin.parameters, printed by `stickslip plugins`) as the host reads
+ * it: "key, key2: meaning [default]", ending in "(pair)" or "(body)" when the keys apply to one kind only. */
+enum { SK_PLUGIN_PARAMETER_KEYS = 8 };
+typedef struct {
+  char keys[SK_PLUGIN_PARAMETER_KEYS][64];
+  int n_keys;
+  char meaning[512]; /* the text after the colon without the default */
+  char dflt[256];    /* the text of the last [...]; "" when the line states no default */
+  uint32_t kinds;    /* SK_KIND_PAIR | SK_KIND_BODY, or one of them */
+} sk_plugin_parameter;
+/* Line k of the plugin's table, parsed; 0 past the end. */
+int sk_plugin_parameter_at(const sk_plugin *plugin, int k, sk_plugin_parameter *out);
+/* 1 when the table names `key` for an attachment of `kind`. */
+int sk_plugin_takes(const sk_plugin *plugin, const char *key, sk_kind kind);
+
 #ifdef __cplusplus
 }
 #endif

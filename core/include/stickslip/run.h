@@ -21,6 +21,7 @@ typedef struct {
   /* the scene as loaded (its file, --set values, --plugin), recorded in checkpoints to load it again */
   const char *scene_path;
   const char *const *sets;
+  const sk_cfg_override_mode *set_modes; /* per entry of sets: --set or --replace (NULL: all --set) */
   int n_sets;
   const char *plugin;
   const sk_restart *restart; /* continue from this checkpoint (sk_restart_open), or NULL */
@@ -35,6 +36,7 @@ typedef struct {
   int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */
   int pattern_builds;      /* sparsity patterns built or grown (each rebuilds the solver's matrix; solver.pattern_margin) */
   int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
+  int roundoff_floor_steps; /* steps accepted at the residual's round-off floor (bridge.h: SK_NEWTON_ROUNDOFF_FLOOR) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
   int failed;
@@ -59,7 +61,7 @@ sk_status sk_restart_open(const char *dir, MPI_Comm comm, sk_restart **restart);
 void sk_restart_free(sk_restart *restart);
 const char *sk_restart_scene(const sk_restart *restart);
 const char *sk_restart_plugin(const sk_restart *restart); /* NULL when it had none */
-int sk_restart_sets(const sk_restart *restart, const char *const **sets);
+int sk_restart_sets(const sk_restart *restart, const char *const **sets, const sk_cfg_override_mode **modes);
 /* The step folder it reads from, and the time and step it continues from. */
 const char *sk_restart_folder(const sk_restart *restart);
 double sk_restart_time(const sk_restart *restart);

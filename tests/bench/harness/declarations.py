@@ -110,6 +110,12 @@ def sweep_value(value, variables, where):
     raise DeclarationError("%s: sweep value %r must be a number or an expression" % (where, value))
 
 
+def override_option(value):
+    """`--replace` for a map (a benchmark's `parameters` or `set` value is the whole map, as declared), `--set`
+    otherwise (`--set` would merge a map into the scene's)."""
+    return "--replace" if isinstance(value, dict) else "--set"
+
+
 def yaml_flow(value):
     """A value as a YAML flow scalar or collection for `--set key=value`."""
     if value is None:
@@ -197,7 +203,7 @@ def load_benchmarks(folder="benchmarks", kind="benchmark"):
 # --- plugin declarations -------------------------------------------------------------------------------------------
 
 ENTRY_KEYS = {"parameters", "set", "sweep", "strategies", "linear_solvers", "scene", "label", "strategy_key", "notes",
-              "pressure_output", "bounds", "expect_failure", "short", "scheme_energy", "only"}
+              "bounds", "expect_failure", "short", "scheme_energy", "only"}
 DECLARATION_KEYS = ENTRY_KEYS | {"plugin", "kind", "benchmarks", "stress"}
 
 
@@ -250,6 +256,9 @@ def load_declarations():
 
 def installed_plugins(binary=BIN):
     """{name: {"strategies": [...], "capabilities": [...]}} from `stickslip plugins` (the listing users read)."""
+    if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        raise DeclarationError("no stickslip driver at %s: build it (scripts/build.sh), or name one with --binary "
+                               "or STICKSLIP_BIN" % binary)
     proc = subprocess.run([binary, "plugins"], capture_output=True, text=True)
     plugins, current = {}, None
     for line in proc.stdout.splitlines():
@@ -273,7 +282,7 @@ class Run:
 
     def __init__(self, bench, plugin, strategy, solver, values, args, label, scene, options=None):
         self.bench, self.plugin, self.strategy, self.solver = bench, plugin, strategy, solver
-        self.options = options or {}  # declaration keys the evaluators read (pressure_output)
+        self.options = options or {}  # declaration keys the evaluators read
         self.values = values          # swept variable -> value
         self.args = args              # --plugin/--set options
         self.label = label            # the curve this run belongs to
@@ -373,7 +382,7 @@ def _expand_variant(bench, declaration, section, plugins, quick, subset, short, 
                     overrides.update(substitute(entry.get("set") or {}, env2, where + ".set"))
                     overrides["solver.linear.solver"] = solver
                     for key, value in overrides.items():
-                        args += ["--set", "%s=%s" % (key, yaml_flow(value))]
+                        args += [override_option(value), "%s=%s" % (key, yaml_flow(value))]
                     label = entry.get("label") or "/".join(
                         p for p in (declaration.plugin, strategy if len(strategies) > 1 else None,
                                     solver if len(solvers) > 1 else None) if p)
@@ -400,5 +409,5 @@ def reference_run(bench):
                 overrides["contact.%d.strategy" % n] = ref["strategy"]
     overrides.update(substitute(ref.get("set") or {}, bench.variables, bench.path + ": reference.set"))
     for key, value in overrides.items():
-        args += ["--set", "%s=%s" % (key, yaml_flow(value))]
+        args += [override_option(value), "%s=%s" % (key, yaml_flow(value))]
     return Run(bench.name, None, ref.get("strategy"), None, {}, args, "reference", bench.scene)

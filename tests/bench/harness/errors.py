@@ -1,191 +1,25 @@
-"""Error evaluators of the work-precision benchmarks: each reads a finished run (and, for converged references, the
-reference run) and returns {"error": number, ...details}. A benchmark names its evaluator in `error:`; the norm of
-each is stated in its docstring and in docs/benchmarks.md."""
-import bisect
-import math
+"""Error evaluators of the work-precision benchmarks: a benchmark names one in `error:` and gives its numbers in
+`variables:`. The measures themselves are the compare tool's (tools/stickslip_compare/errors.py, one implementation
+for both); the norm of each is stated there and in docs/benchmarks.md."""
+import os
+import sys
 
-from declarations import DeclarationError
+from declarations import ROOT, DeclarationError
 
-PROFILE_RANGE = 1.25  # Hertz profile error over r < 1.25 a (as tests/validation's hertz_profile.py)
-
-
-# boundary facets of the linear VTK cells, as local node lists (2D cells: edges; 3D cells: faces)
-_FACETS = {
-    5: [(0, 1), (1, 2), (2, 0)],                                                   # triangle
-    9: [(0, 1), (1, 2), (2, 3), (3, 0)],                                           # quad
-    10: [(0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)],                              # tetra
-    12: [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)],   # hexahedron
-}
-
-
-def _facet_measure(X):
-    if len(X) == 2:
-        return math.dist(X[0], X[1])
-    area = 0.0
-    for i in range(1, len(X) - 1):  # fan of triangles (planar or slightly warped quads)
-        a = [X[i][k] - X[0][k] for k in range(3)]
-        b = [X[i + 1][k] - X[0][k] for k in range(3)]
-        area += 0.5 * math.sqrt((a[1] * b[2] - a[2] * b[1]) ** 2 + (a[2] * b[0] - a[0] * b[2]) ** 2 +
-                                (a[0] * b[1] - a[1] * b[0]) ** 2)
-    return area
-
-
-def tributary_areas(results, nodes):
-    """Reference tributary area (length in 2D) of each slave node: the boundary facets of the last .vtu's cells
-    whose nodes are all slave nodes, each shared equally among its nodes. Used to turn the nodal forces of plugins
-    that report no pressure (declaration `pressure_output: nodal-force`) into pressures."""
-    vtu = results.last_vtu()
-    X = [[p[k] - u[k] for k in range(3)] for p, u in zip(vtu["Points"], vtu["displacement"])]
-    conn = [c[0] for c in vtu["connectivity"]]
-    count = {}
-    start = 0
-    for (end,), (kind,) in zip(vtu["offsets"], vtu["types"]):
-        cell = conn[start:end]
-        start = end
-        if int(kind) not in _FACETS:
-            raise ValueError("nodal-force pressure: VTK cell type %d is not handled" % kind)
-        for facet in _FACETS[int(kind)]:
-            key = tuple(sorted(cell[i] for i in facet))
-            count[key] = (count.get(key, (0, None))[0] + 1, [cell[i] for i in facet])
-    area = dict.fromkeys(nodes, 0.0)
-    for n, facet in count.values():
-        if n == 1 and all(i in area for i in facet):
-            share = _facet_measure([X[i] for i in facet]) / len(facet)
-            for i in facet:
-                area[i] += share
-    return area
-
-
-def contact_pressures(results, run):
-    """The last state's contact points; nodal forces become pressures when the plugin declares them as such."""
-    points = results.contact_points()
-    if run is not None and run.options.get("pressure_output", "pressure") == "nodal-force":
-        area = tributary_areas(results, {int(p["node"]) for p in points})
-        for p in points:
-            a = area.get(int(p["node"]), 0.0)
-            p["pressure"] = p["pressure"] / a if a > 0 else float("nan")
-    return points
-
-
-def reference_positions(results, radial, run=None):
-    """[(r, pressure, gap)] of the last state's contact points at their reference positions: the reference_x/y/z
-    columns when contact.csv has them, else current position minus the node's displacement (.vtu), else the current
-    position (Gauss-point output without reference coordinates: Hertz's x shrinks by ~3 % there; reported)."""
-    points = contact_pressures(results, run)
-    u = None
-    out, current_only = [], 0
-    for p in points:
-        if "reference_x" in p:
-            X = [p["reference_x"], p["reference_y"], p["reference_z"]]
-        elif p["node"] >= 0:
-            if u is None:
-                u = results.last_vtu()["displacement"]
-            X = [p[c] - u[int(p["node"])][i] for i, c in enumerate("xyz")]
-        else:
-            X = [p["x"], p["y"], p["z"]]
-            current_only += 1
-        r = math.hypot(X[0], X[1]) if radial else abs(X[0])
-        out.append((r, p["pressure"], p["gap"]))
-    return sorted(out), current_only
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from stickslip_compare.errors import (EVALUATORS, PROFILE_RANGE, ErrorMeasureError,  # noqa: E402,F401
+                                      reference_positions)
 
 
 def hertz_profile(results, bench, run, reference):
-    """Relative discrete l2 error of the contact pressure against Hertz, sqrt(sum (p_i - p_H(r_i))^2 / sum
-    p_H(r_i)^2) over the slave points with r_i < 1.25 a at their reference positions; a and p0 from the load the run
-    carries (2D: P = factor |reaction|, a = sqrt(4PR/(pi E*)), p0 = 2P/(pi a); 3D: a = (3FR/(4E*))^(1/3),
-    p0 = 3F/(2 pi a^2)), so the error measures the distribution, not the load-approach relation."""
-    v = bench.variables
-    E1, E2, nu, R = v["E"], v["E_master"], v["nu"], v["R"]
-    Es = 1.0 / ((1 - nu ** 2) / E1 + (1 - nu ** 2) / E2)
-    load = v["load_factor"] * abs(results.rows[-1][v["load_column"]])
-    if v["dim"] == 2:
-        a = math.sqrt(4 * load * R / (math.pi * Es))
-        p0 = 2 * load / (math.pi * a)
-    else:
-        a = (3 * load * R / (4 * Es)) ** (1.0 / 3.0)
-        p0 = 3 * load / (2 * math.pi * a * a)
-    points, current_only = reference_positions(results, v["dim"] == 3, run)
-    num = den = 0.0
-    count = 0
-    for r, p, g in points:
-        if r < PROFILE_RANGE * a:
-            exact = p0 * math.sqrt(max(0.0, 1.0 - (r / a) ** 2))
-            num += (p - exact) ** 2
-            den += exact ** 2
-            count += 1
-    if den == 0:
-        raise ValueError("no contact points within 1.25 a = %g" % (PROFILE_RANGE * a))
-    return {"error": math.sqrt(num / den), "load": load, "a": a, "p0": p0, "profile_points": count,
-            "current_positions": current_only}
-
-
-def patch_pressure(results, bench, run, reference):
-    """Largest relative deviation of the contact pressure from uniform over the slave points in contact,
-    max_i |p_i - mean p| / mean p (max norm). Uniformity is what the patch test asks; the level depends on the
-    measure a plugin reports: the load p is nominal, so a Cauchy traction on the interface, which the lateral
-    (Poisson) expansion widens by 0.39 % at p = 10, E = 1000, is p L0 / L = 9.961 (mortar-dual), while a force per
-    reference area is p (penalty-nts). The mean is reported beside it."""
-    pressures = [q["pressure"] for q in contact_pressures(results, run) if q["state"] > 0]
-    if not pressures:
-        raise ValueError("no contact point in contact")
-    mean = sum(pressures) / len(pressures)
-    worst = max(abs(q - mean) for q in pressures) / abs(mean)
-    return {"error": worst, "points": len(pressures), "mean": mean, "min": min(pressures), "max": max(pressures)}
-
-
-def _interpolate(times, values, t):
-    i = bisect.bisect_left(times, t)
-    if i < len(times) and abs(times[i] - t) <= 1e-12 * max(1.0, abs(t)):
-        return values[i]
-    if i == 0 or i >= len(times):
-        return values[min(max(i, 0), len(values) - 1)]
-    w = (t - times[i - 1]) / (times[i] - times[i - 1])
-    return (1 - w) * values[i - 1] + w * values[i]
-
-
-def reaction_history(results, bench, run, reference):
-    """max_t |R_h(t) - R_ref(t)| / max_t |R_ref(t)| over the reference's (finer) time points: the support reaction
-    vector (the columns listed in the benchmark's `variables.columns`), the run's history interpolated linearly
-    between its steps, so that a coarse step is charged for what it misses between its points. A run that did not
-    reach the end time is an error (its history is incomplete)."""
-    if reference is None:
-        raise DeclarationError("%s: reaction_history needs a converged reference run" % bench.path)
-    columns = bench.variables["columns"]
-    t_ref = reference.column("time")
-    ref = [reference.column(c) for c in columns]
-    scale = max(math.sqrt(sum(col[i] ** 2 for col in ref)) for i in range(len(t_ref)))
-    if abs(results.rows[-1]["time"] - t_ref[-1]) > 1e-9 * max(1.0, t_ref[-1]):
-        raise ValueError("the run ended at t = %g before the reference's %g" % (results.rows[-1]["time"], t_ref[-1]))
-    times = results.column("time")
-    mine = [results.column(c) for c in columns]
-    worst, at = 0.0, 0.0
-    for i, t in enumerate(t_ref):
-        d = math.sqrt(sum((_interpolate(times, col, t) - rcol[i]) ** 2 for col, rcol in zip(mine, ref)))
-        if d > worst:
-            worst, at = d, t
-    return {"error": worst / scale, "at_time": at, "scale": scale}
-
-
-def final_positions(results, bench, run, reference):
-    """max_i |x_i(T) - x_i,ref(T)| / length: the largest nodal position difference at the end time T against the
-    converged reference (the deformed positions of the last .vtu; length = `variables.length`)."""
-    if reference is None:
-        raise DeclarationError("%s: final_positions needs a converged reference run" % bench.path)
-    T = reference.rows[-1]["time"]
-    if abs(results.rows[-1]["time"] - T) > 1e-9 * max(1.0, T):
-        raise ValueError("the run ended at t = %g, the reference at %g" % (results.rows[-1]["time"], T))
-    a, b = results.last_vtu()["Points"], reference.last_vtu()["Points"]
-    if len(a) != len(b):
-        raise ValueError("%d nodes against the reference's %d" % (len(a), len(b)))
-    worst = max(math.dist(p, q) for p, q in zip(a, b))
-    return {"error": worst / bench.variables.get("length", 1.0)}
-
-
-EVALUATORS = {f.__name__: f for f in (hertz_profile, patch_pressure, reaction_history, final_positions)}
+    return EVALUATORS["hertz_profile"](results, bench.variables, reference)
 
 
 def evaluate(bench, results, run, reference):
     if bench.error not in EVALUATORS:
         raise DeclarationError("%s: error: unknown evaluator %r (known: %s)" % (bench.path, bench.error,
                                                                                ", ".join(sorted(EVALUATORS))))
-    return EVALUATORS[bench.error](results, bench, run, reference)
+    try:
+        return EVALUATORS[bench.error](results, bench.variables, reference)
+    except ErrorMeasureError as e:
+        raise DeclarationError("%s: %s" % (bench.path, e))

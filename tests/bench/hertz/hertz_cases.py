@@ -32,8 +32,8 @@ def run_timed(scene, sets, out):
     user + system CPU seconds, peak resident memory in MiB) of that child process alone."""
     binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
     command = [binary, "run", os.path.join(ROOT, scene), "--out", out, "--quiet"]
-    for s in sets:
-        command += ["--set", s]
+    for s in sets:  # a map of parameters replaces the scene's (another plugin's) parameters
+        command += ["--replace" if s.startswith("contact.0.parameters=") else "--set", s]
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
     proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
     _, status, usage = os.wait4(proc.pid, 0)

@@ -11,20 +11,18 @@ import sys
 
 
 def main(directory):
-    points = sorted(csv.DictReader(open(os.path.join(directory, "contact.csv"))), key=lambda p: float(p["reference_x"]))
-    X = [float(p["reference_x"]) for p in points]
-    # the reference tributary length of each node of a line of LINE2 faces (the output is per reference length)
-    weight = [((X[i] - X[i - 1]) if i > 0 else 0.0) / 2 + ((X[i + 1] - X[i]) if i + 1 < len(X) else 0.0) / 2
-              for i in range(len(X))]
+    rows = list(csv.DictReader(open(os.path.join(directory, "contact.csv"))))
+    last = max(int(p["step"]) for p in rows)
+    points = [p for p in rows if int(p["step"]) == last]  # contact.csv has every output step: the last state
     normal, tangential, worst = [0.0, 0.0], [0.0, 0.0], 0.0
-    for p, w in zip(points, weight):
-        pressure = float(p["pressure"])
+    for p in points:
+        pressure, area = float(p["pressure"]), float(p["area"])
         t = (float(p["traction_x"]), float(p["traction_y"]))
         if int(p["state"]) == 2 and pressure > 0:
             worst = max(worst, math.hypot(*t) / pressure)
         for i, axis in enumerate("xy"):
-            normal[i] += w * pressure * float(p["normal_" + axis])
-            tangential[i] += w * t[i]
+            normal[i] += float(p["normal_force"]) * float(p["normal_" + axis])
+            tangential[i] += area * t[i]
     total = [normal[i] + tangential[i] for i in range(2)]
     print("slipping nodes: max |t_j| / p_j = %.6f" % worst)
     print("sum of normal forces (%.3f, %.3f), of tangential forces (%.3f, %.3f)" % (*normal, *tangential))

@@ -18,7 +18,7 @@ import sys
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tests", "validation"))
 from stickslip_results import run  # noqa: E402
-from test_mortar_scenes import hertz_2d_profile  # noqa: E402
+from test_mortar_thesis import hertz_2d_profile  # noqa: E402
 
 OUT = os.path.join(os.environ.get("STICKSLIP_BENCH_OUT", os.path.join(ROOT, "results", "bench")), "mortar-plots")
 

@@ -42,10 +42,10 @@ CASES = {
     # multiplier plugins (ABI 2.3): the host writes the inactive multipliers' trivial rows itself; nts-augmented has
     # no candidate in steps 1-31, mortar-dual (swept face boxes) in steps 1-20
     "idle_calls_nts_augmented": ("idle-calls", "ring-on-block.yaml",
-                                 ["--plugin", "nts-augmented", "--set", "contact.0.parameters={mu: 0}", "--steps", "40",
+                                 ["--plugin", "nts-augmented", "--replace", "contact.0.parameters={mu: 0}", "--steps", "40",
                                   "--verbose"]),
     "idle_calls_mortar_dual": ("idle-calls", "ring-on-block.yaml",
-                               ["--plugin", "mortar-dual", "--set", "contact.0.parameters={}", "--verbose"]),
+                               ["--plugin", "mortar-dual", "--replace", "contact.0.parameters={}", "--verbose"]),
 }
 
 # The scene's length scale where the skip changes the linear system (not only skips zeros): mortar-dual's idle rows
@@ -78,7 +78,7 @@ BENCH = {
     "stiffness_midpoint": ("stiffness-update", "two-elements-penalty.yaml", HOOKE_BLOCKS, "run"),
     "idle_calls": ("idle-calls", "ring-on-block.yaml", [], "run"),
     "idle_calls_mortar_dual": ("idle-calls", "ring-on-block.yaml",
-                               ["--plugin", "mortar-dual", "--set", "contact.0.parameters={}"], "run"),
+                               ["--plugin", "mortar-dual", "--replace", "contact.0.parameters={}"], "run"),
     "symbolic_setup": ("symbolic-setup", "hertz-3d.yaml", ["--set", "mesh.parameters.refine=2"], "run"),
     "symbolic_setup_muelu": ("symbolic-setup", "hertz-3d.yaml",
                              ["--set", "mesh.parameters.refine=2", "--set", "solver.linear.solver=gmres-muelu"], "run"),
@@ -174,9 +174,9 @@ def friction(case):
     args = ["--plugin", plugin, "--steps", "50"]
     with tempfile.TemporaryDirectory() as tmp:
         on_out, off_out = os.path.join(tmp, "on"), os.path.join(tmp, "off")
-        text_on, _ = run("run", "ring-on-block.yaml", args + ["--set", f"contact.0.parameters={frictionless}"], on_out,
+        text_on, _ = run("run", "ring-on-block.yaml", args + ["--replace", f"contact.0.parameters={frictionless}"], on_out,
                          "")
-        text_off, _ = run("run", "ring-on-block.yaml", args + ["--set", f"contact.0.parameters={forced}"], off_out, "")
+        text_off, _ = run("run", "ring-on-block.yaml", args + ["--replace", f"contact.0.parameters={forced}"], off_out, "")
         line_on, line_off = explain_line(text_on, "friction"), explain_line(text_off, "friction")
         if "skipped" not in line_on or "computed" not in line_off:
             sys.exit(f"--explain does not say friction is skipped at mu = 0 and computed at mu = 1e-300: "

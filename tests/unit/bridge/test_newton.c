@@ -332,6 +332,45 @@ static void check_stagnation(void) {
   sk_linsys_destroy(p.sys);
 }
 
+/* A residual whose floor lies at round-off of x (1e-14 per entry: Newton corrections of 1e-14 against ||x|| = 3.6)
+ * above an absolute tolerance of 1e-16: the step is accepted at the round-off floor (SK_OK, converged, outcome
+ * ROUNDOFF_FLOOR, the numbers in the reason) within two stalled iterations, not failed as stagnated. A floor of 1e-10
+ * (corrections of about 1e-11, above 1000 eps ||x|| = 1.2e-12) is not round-off of x: it stagnates, unless the
+ * positions x is measured from are large enough (roundoff_scale 1e4: 1000 eps 1e4 = 2.2e-9). */
+static void check_roundoff_floor(void) {
+  problem p;
+  problem_init(&p);
+  p.floor = 1e-14;
+  sk_newton_options options;
+  sk_newton_options_default(&options);
+  options.residual_tolerance = 1e-16;
+  options.relative_tolerance = 1e-20;
+  options.max_iterations = 50;
+  double x[N];
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  sk_newton_callbacks cb = callbacks_for(&p);
+  sk_newton_report report;
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  printf("round-off floor after %d iterations: %s\n", report.iterations, report.reason);
+  SK_CHECK(report.converged == 1 && report.outcome == SK_NEWTON_ROUNDOFF_FLOOR);
+  SK_CHECK(report.iterations <= 10); /* measured: 8 (6 to converge onto the floor, 2 at it) */
+  SK_CHECK(strstr(report.reason, "round-off floor") != NULL);
+  SK_CHECK(strstr(report.reason, "absolute tolerance 1e-16") != NULL);
+  SK_CHECK(strstr(report.reason, "e-14") != NULL || strstr(report.reason, "e-15") != NULL);
+  for (int i = 0; i < N; ++i) SK_CHECK_CLOSE(x[i], p.x_star[i], 1e-13);
+  /* a floor above round-off of x stagnates (cut by the caller) */
+  p.floor = 1e-10;
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_ERR_DIVERGED);
+  SK_CHECK(report.outcome == SK_NEWTON_STAGNATED);
+  /* the same floor at round-off of the positions x is measured from */
+  options.roundoff_scale = 1e4;
+  for (int i = 0; i < N; ++i) x[i] = 2.0 * p.x_star[i];
+  SK_CHECK(sk_newton_solve(MPI_COMM_WORLD, &options, &cb, N, x, &report) == SK_OK);
+  SK_CHECK(report.outcome == SK_NEWTON_ROUNDOFF_FLOOR);
+  sk_linsys_destroy(p.sys);
+}
+
 /* A singular Jacobian: the linear solver fails, and Newton reports that as its own status. */
 static void check_linear_solver_failure(void) {
   problem p;
@@ -379,6 +418,7 @@ int main(int argc, char **argv) {
   check_after_iteration_failure();
   check_max_iterations();
   check_stagnation();
+  check_roundoff_floor();
   check_forcing_terms();
   check_linear_solver_failure();
   const int result = sk_test_finish("bridge newton");

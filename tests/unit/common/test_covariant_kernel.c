@@ -90,7 +90,7 @@ static int outputs(const face_setup *s, const friction_setup *f, const double *q
   for (int c = 0; c < k.nd; ++c) Dp[c] = -f->eps_n * k.G[c];
   const double dxi[2] = {pt.xi[0] - f->xi_n[0], s->dim == 3 ? pt.xi[1] - f->xi_n[1] : 0.0};
   double t_cov[2], T[3], DT[3][COV_MAX_DOFS], diss;
-  int st = cov_friction(&pt, &k, &d, f->t_n, dxi, f->eps_t, f->mu, p, Dp, t_cov, T, DT, &diss);
+  int st = cov_friction(&pt, &k, &d, f->t_n, dxi, f->eps_t, f->mu, p, Dp, NULL, t_cov, T, DT, &diss);
   if (state) *state = st;
   int o = 0;
   out[o++] = g;
@@ -121,7 +121,7 @@ static int derivatives(const face_setup *s, const friction_setup *f, const doubl
   for (int c = 0; c < k.nd; ++c) Dp[c] = -f->eps_n * k.G[c];
   const double dxi[2] = {pt.xi[0] - f->xi_n[0], s->dim == 3 ? pt.xi[1] - f->xi_n[1] : 0.0};
   double t_cov[2], T[3], DT[3][COV_MAX_DOFS], diss;
-  cov_friction(&pt, &k, &d, f->t_n, dxi, f->eps_t, f->mu, p, Dp, t_cov, T, DT, &diss);
+  cov_friction(&pt, &k, &d, f->t_n, dxi, f->eps_t, f->mu, p, Dp, NULL, t_cov, T, DT, &diss);
   memset(D, 0, sizeof(double) * N_OUT * COV_MAX_DOFS);
   for (int c = 0; c < k.nd; ++c) {
     int o = 0;
@@ -280,6 +280,23 @@ static void check_return_map(void) {
   SK_CHECK(diss > 0.0);
   state = cov_return_map(2, trial, Dtrial, minv, 10.0, 4.0, Dp, 1, 10.0, t, Dt, &diss);
   SK_CHECK(state == COV_STICK && t[0] == trial[0] && t[1] == trial[1] && diss == 0.0);
+  /* With the switch's memory (mu p = 0.8, |trial| = 2.46 in the metric): a held slip traction along the trial keeps
+   * the slip; one opposite to it, or at right angles to it (its component along the held direction below mu p),
+   * sticks with the stick tangent; the held traction is read in the metric (m^-1). */
+  const double Dtrial2[2] = {1.5, -0.5};
+  const double along[2] = {0.6, -0.2}, opposite[2] = {-0.6, 0.2};
+  const double across[2] = {trial[1] * minv[1][1] + trial[0] * minv[1][0], -(trial[0] * minv[0][0] + trial[1] * minv[0][1])};
+  double t_free[2], Dt_free[2];
+  cov_return_map(2, trial, Dtrial2, minv, 0.2, 4.0, Dp, 1, 10.0, t_free, Dt_free, &diss);
+  state = cov_return_map_held(2, trial, Dtrial2, minv, 0.2, 4.0, Dp, 1, 10.0, along, t, Dt, &diss);
+  SK_CHECK(state == COV_SLIP && t[0] == t_free[0] && t[1] == t_free[1] && Dt[0] == Dt_free[0]);
+  const double *turned[2] = {opposite, across};
+  for (int c = 0; c < 2; ++c) {
+    state = cov_return_map_held(2, trial, Dtrial2, minv, 0.2, 4.0, Dp, 1, 10.0, turned[c], t, Dt, &diss);
+    SK_CHECK(state == COV_STICK && t[0] == trial[0] && t[1] == trial[1] && Dt[0] == 1.5 && Dt[1] == -0.5);
+    SK_CHECK(diss == 0.0);
+  }
+  SK_CHECK(cov_slip_turned_back(2, trial, minv, 0.8, NULL) == 0);
 }
 
 /* A rigid rotation of slave and face leaves the covariant kinematics (xi, g, m_ab) and so the trial unchanged. */

@@ -1,7 +1,7 @@
 /* sk_surface_build on hand-made meshes: faces given with the wrong orientation come out outward (normal pointing
  * away from the body), node lists sorted, adjacency across edges / end points, and errors naming group and face; on
  * second-order gmsh meshes (hex27, hex20, tet10): outward quadratic faces, full adjacency, and the curvature of the
- * sphere's tri6 faces. */
+ * sphere's tri6 faces; the sizes the scene extension reports (sk_surface_sizes: corner-to-corner edges, area). */
 #include <string.h>
 
 #include "contact_test_util.h"
@@ -48,6 +48,10 @@ static void build_2d(void) {
   double xi[1] = {0};
   sk_surface_geometry(&s, 0, xi, q, &p);
   SK_CHECK_CLOSE(p.n[1], -1.0, 1e-15);
+  /* sizes (stickslip.scene.v1): two faces of length 1 */
+  double h_min, h_mean, h_max, measure;
+  sk_surface_sizes(&s, x, 3, &h_min, &h_mean, &h_max, &measure);
+  SK_CHECK(h_min == 1.0 && h_mean == 1.0 && h_max == 1.0 && measure == 2.0);
   sk_surface_free(&s);
 
   SK_CHECK(sk_surface_build(&mesh, &groups[2], &groups[0], 0, &s) == SK_OK);
@@ -141,6 +145,14 @@ static void build_tet(void) {
   check_outward(&s, x, centroid);
   /* a closed surface: every edge has a neighbour */
   for (int k = 0; k < 12; ++k) SK_CHECK(s.face_neighbors[k] >= 0 && s.face_neighbors[k] != k / 3);
+  /* sizes: each face has its three edges counted (three of length 1, three of sqrt 2, each in two faces); area of
+   * three right triangles and the equilateral one of side sqrt 2 */
+  double h_min, h_mean, h_max, measure;
+  sk_surface_sizes(&s, x, 3, &h_min, &h_mean, &h_max, &measure);
+  SK_CHECK_CLOSE(h_min, 1.0, 1e-15);
+  SK_CHECK_CLOSE(h_max, sqrt(2.0), 1e-15);
+  SK_CHECK_CLOSE(h_mean, 0.5 + 0.5 * sqrt(2.0), 1e-15);
+  SK_CHECK_CLOSE(measure, 1.5 + sqrt(3.0) / 2.0, 1e-14);
   sk_surface_free(&s);
 }
 
@@ -176,6 +188,14 @@ static void build_quadratic_box(int serendipity) {
   SK_CHECK(s.n_nodes == 5 * 7 - (serendipity ? 6 : 0)); /* a 5 x 7 grid of nodes; quad8 has no face centres */
   SK_CHECK(border_edges(&s) == 2 * (2 + 3));
   check_outward(&s, q, centroid);
+  /* sizes between corner nodes: the quadratic faces have the edges of the 2 x 3 hex8 mesh, 1/2 and 1/3 (gmsh's
+   * coordinates are exact to about 2e-12) */
+  double h_min, h_mean, h_max, measure;
+  sk_surface_sizes(&s, mesh.x, 3, &h_min, &h_mean, &h_max, &measure);
+  SK_CHECK_CLOSE(h_min, 1.0 / 3.0, 1e-11);
+  SK_CHECK_CLOSE(h_max, 0.5, 1e-11);
+  SK_CHECK_CLOSE(h_mean, 5.0 / 12.0, 1e-11);
+  SK_CHECK_CLOSE(measure, 1.0, 1e-11);
   sk_surface_free(&s);
   const char *sides[] = {"xmin", "xmax", "ymin", "ymax", "zmin"};
   for (int k = 0; k < 5; ++k) {

@@ -299,7 +299,52 @@ static void transport_without_motion(void) {
   SK_CHECK(change < 1e-13 * max_abs(t + 6, 3));
 }
 
+/* On the cone to round-off (a point that slipped in the last step begins the next one there) the tangent is the slip
+ * branch's: equal to that of the same point a hair outside the cone, not to the stick tangent, while the traction
+ * (the reported state: stick) is the stick law's. Both forms. */
+static void tangent_on_the_cone(void) {
+  static double K_slip[CP_MAX_DOFS * CP_MAX_DOFS], K_cone[CP_MAX_DOFS * CP_MAX_DOFS];
+  const double none[3] = {0.0, 0.0, 0.0}, u[3] = {0.6, 0.8, 0.0};
+  scenario sc;
+  printf("a trial on the Coulomb cone to round-off: |K - K(slip)| / |K|, |K(stick) - K(slip)| / |K|\n");
+  for (int form = CP_FORM_EXACT; form <= CP_FORM_PAPER; ++form) {
+    build_deformable(&sc, "sts QUAD9 curved", CP_STS, SK_QUAD9, 0, none, 0.3);
+    cp_result res;
+    eval_sum(&sc, (cp_form)form, &res); /* t_n = 0: tau = -eps_t P Delta rho */
+    double base[3], e[3], tn[3];
+    memcpy(base, res.tau, sizeof base);
+    double un = u[0] * res.n[0] + u[1] * res.n[1] + u[2] * res.n[2], norm = 0.0; /* a tangent direction */
+    for (int i = 0; i < 3; ++i) norm += (u[i] - un * res.n[i]) * (u[i] - un * res.n[i]);
+    for (int i = 0; i < 3; ++i) e[i] = (u[i] - un * res.n[i]) / sqrt(norm);
+    const double limit = sc.par.mu * res.p, factors[3] = {1.0 - 1e-14, 1.0 + 1e-9, 0.9}; /* cone, slip, stick */
+    double diff[3] = {0.0, 0.0, 0.0}, scale = 0.0;
+    cp_state states[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int i = 0; i < 3; ++i) tn[i] = factors[k] * limit * e[i] - base[i]; /* tau = P t_n + base */
+      memcpy(sc.pt.t_n, tn, sizeof tn);
+      const int nd = eval_sum(&sc, (cp_form)form, &res);
+      states[k] = res.state;
+      if (k == 1) {
+        memcpy(K_slip, K_sum, sizeof(double) * (size_t)(nd * nd));
+        scale = max_abs(K_slip, nd * nd);
+      }
+      if (k == 0) memcpy(K_cone, K_sum, sizeof(double) * (size_t)(nd * nd));
+      if (k == 2)
+        for (int i = 0; i < nd * nd; ++i) {
+          diff[0] = fmax(diff[0], fabs(K_cone[i] - K_slip[i]));
+          diff[2] = fmax(diff[2], fabs(K_sum[i] - K_slip[i]));
+        }
+    }
+    printf("  %-6s states %d %d %d: on the cone %.1e, stick %.1e\n", form == CP_FORM_EXACT ? "exact" : "paper",
+           states[0], states[1], states[2], diff[0] / scale, diff[2] / scale);
+    SK_CHECK(states[0] == CP_STICK && states[1] == CP_SLIP && states[2] == CP_STICK);
+    SK_CHECK(diff[0] < 1e-7 * scale);  /* the slip branch, to the 1e-9 the comparison point lies outside */
+    SK_CHECK(diff[2] > 1e-2 * scale);  /* and not the stick tangent */
+  }
+}
+
 int main(void) {
+  tangent_on_the_cone();
   check_symmetry();
   paper_leading_order();
   frame_indifference();

@@ -423,6 +423,99 @@ static void test_special_files(void) {
   rmdir(dir);
 }
 
+/* --set merges a map into the map it lands on; --replace replaces it (issue 31: `--set solver.newton={...}` dropped
+ * the scene's other newton keys). */
+static void test_merge_and_replace(void) {
+  sk_cfg *root = NULL;
+  SK_CHECK(sk_cfg_parse_string("solver:\n  newton: {tolerance: 1e-12, line_search: backtrack, deep: {a: 1, b: 2}}\n"
+                               "list: [{x: 1, y: 2}]\n", "s.yaml", &root) == SK_OK);
+  if (!root) return;
+  const sk_cfg *newton = sk_cfg_get(sk_cfg_get(root, "solver"), "newton");
+  SK_CHECK(sk_cfg_set(root, "solver.newton={max_iterations: 40, deep: {b: 3, c: 4}}") == SK_OK);
+  newton = sk_cfg_get(sk_cfg_get(root, "solver"), "newton");
+  int iterations = 0, b = 0, a = 0, c = 0;
+  const char *line_search = NULL;
+  SK_CHECK(sk_cfg_int(newton, "max_iterations", 1, 0, &iterations) == SK_OK && iterations == 40);
+  SK_CHECK(sk_cfg_string(newton, "line_search", 1, NULL, &line_search) == SK_OK && strcmp(line_search, "backtrack") == 0);
+  const sk_cfg *deep = sk_cfg_get(newton, "deep");
+  SK_CHECK(sk_cfg_int(deep, "a", 1, 0, &a) == SK_OK && a == 1);      /* kept: maps merge further down */
+  SK_CHECK(sk_cfg_int(deep, "b", 1, 0, &b) == SK_OK && b == 3);      /* replaced */
+  SK_CHECK(sk_cfg_int(deep, "c", 1, 0, &c) == SK_OK && c == 4);      /* added */
+  SK_CHECK(strcmp(sk_cfg_where(sk_cfg_get(newton, "max_iterations")), "--set solver.newton") == 0);
+  SK_CHECK(strcmp(sk_cfg_path(sk_cfg_get(deep, "c")), "solver.newton.deep.c") == 0);
+  SK_CHECK(strcmp(sk_cfg_where(sk_cfg_get(newton, "tolerance")), "s.yaml:2:23") == 0); /* keeps its position */
+  /* a list element that is a map merges too */
+  SK_CHECK(sk_cfg_set(root, "list.0={y: 5}") == SK_OK);
+  int x = 0, y = 0;
+  SK_CHECK(sk_cfg_int(sk_cfg_at(sk_cfg_get(root, "list"), 0), "x", 1, 0, &x) == SK_OK && x == 1);
+  SK_CHECK(sk_cfg_int(sk_cfg_at(sk_cfg_get(root, "list"), 0), "y", 1, 0, &y) == SK_OK && y == 5);
+  /* --replace: the map is what was given, nothing else */
+  SK_CHECK(sk_cfg_override(root, "solver.newton={max_iterations: 7}", SK_CFG_REPLACE) == SK_OK);
+  newton = sk_cfg_get(sk_cfg_get(root, "solver"), "newton");
+  SK_CHECK(sk_cfg_size(newton) == 1 && sk_cfg_get(newton, "line_search") == NULL);
+  SK_CHECK(strcmp(sk_cfg_where(sk_cfg_get(newton, "max_iterations")), "--replace solver.newton") == 0);
+  SK_CHECK(sk_cfg_override(root, "solver.newton", SK_CFG_REPLACE) == SK_ERR_INPUT);
+  SK_CHECK(contains(sk_error_message(), "--replace 'solver.newton': expected KEY=VALUE"));
+  /* a scalar replaced by a map, a map by a scalar */
+  SK_CHECK(sk_cfg_set(root, "solver.newton=3") == SK_OK);
+  SK_CHECK(sk_cfg_kind_of(sk_cfg_get(sk_cfg_get(root, "solver"), "newton")) == SK_CFG_SCALAR);
+  /* the program's own edits: a scalar set verbatim (keeping its position, or at an origin), a key removed */
+  SK_CHECK(sk_cfg_set_text(root, "list[0].x", "a: b # not YAML", NULL) == SK_OK);
+  const sk_cfg *element = sk_cfg_at(sk_cfg_get(root, "list"), 0);
+  SK_CHECK(strcmp(sk_cfg_scalar(sk_cfg_get(element, "x")), "a: b # not YAML") == 0);
+  SK_CHECK(strcmp(sk_cfg_where(sk_cfg_get(element, "x")), "s.yaml:3:12") == 0);
+  SK_CHECK(sk_cfg_set_text(root, "list.0.z", "new", "--plugin") == SK_OK);
+  SK_CHECK(strcmp(sk_cfg_where(sk_cfg_get(element, "z")), "--plugin") == 0);
+  SK_CHECK(sk_cfg_set_text(root, "nowhere.z", "new", "--plugin") == SK_ERR_INPUT); /* parents must exist */
+  SK_CHECK(sk_cfg_remove(root, "list.0.y") == 1 && sk_cfg_get(element, "y") == NULL && sk_cfg_size(element) == 2);
+  SK_CHECK(sk_cfg_remove(root, "list.0.y") == 0);
+  sk_cfg_free(root);
+}
+
+/* The listing: given keys with their positions, the defaults of absent keys and sections the program read. */
+typedef struct {
+  char text[4096];
+} listing_text;
+
+static void list_entry(void *ctx, const sk_cfg_entry *entry) {
+  listing_text *out = ctx;
+  size_t used = strlen(out->text);
+  snprintf(out->text + used, sizeof out->text - used, "%s=%s%s%s%s;", entry->path, entry->value,
+           entry->given ? "@" : entry->literal ? " (default)" : " (described)", entry->given ? entry->where : "",
+           entry->quantity ? " #" : "");
+}
+
+static void test_listing(void) {
+  sk_cfg *root = NULL;
+  SK_CHECK(sk_cfg_parse_string("time: {dt: 0.5}\nbodies:\n  - {name: a, velocity: [1, 2, 3]}\n", "s.yaml", &root) ==
+           SK_OK);
+  if (!root) return;
+  double dt, start, tolerance, v[3];
+  int cuts;
+  const sk_cfg *time = sk_cfg_get(root, "time");
+  SK_CHECK(sk_cfg_double(time, "dt", 1, 0, &dt) == SK_OK);
+  SK_CHECK(sk_cfg_double(time, "start", 0, 0.25, &start) == SK_OK && start == 0.25);
+  SK_CHECK(sk_cfg_int(time, "max_cuts", 0, 6, &cuts) == SK_OK);
+  const sk_cfg *body = sk_cfg_at(sk_cfg_get(root, "bodies"), 0);
+  const char *name;
+  SK_CHECK(sk_cfg_string(body, "name", 1, NULL, &name) == SK_OK);
+  SK_CHECK(sk_cfg_vector(body, "velocity", 0, 3, (double[3]){0, 0, 0}, v) == SK_OK);
+  SK_CHECK(sk_cfg_vector(body, "center", 0, 3, (double[3]){0, 0, 1}, v) == SK_OK);
+  const sk_cfg *solver = sk_cfg_section(root, "solver");
+  SK_CHECK(solver != NULL && sk_cfg_section(root, "solver") == solver); /* one stand-in */
+  SK_CHECK(sk_cfg_double(sk_cfg_section(solver, "newton"), "tolerance", 0, 1e-10, &tolerance) == SK_OK);
+  sk_cfg_note_default(root, "dimension", "from the mesh", 0, NULL);
+  listing_text out = {""};
+  sk_cfg_each(root, list_entry, &out);
+  SK_CHECK(contains(out.text, "time.dt=0.5@s.yaml:1:12 #;time.start=0.25 (default) #;time.max_cuts=6 (default);"));
+  SK_CHECK(contains(out.text, "bodies[0].name=a@s.yaml:3:12;bodies[0].velocity=[1, 2, 3]@s.yaml:3:25 #;"
+                              "bodies[0].center=[0, 0, 1] (default) #;"));
+  SK_CHECK(contains(out.text, "dimension=from the mesh (described);solver.newton.tolerance=1e-10 (default) #;"));
+  /* stand-ins are not part of the scene: not written, no unknown keys */
+  SK_CHECK(sk_cfg_get(root, "solver") == NULL && sk_cfg_check_unused(root) == SK_OK);
+  sk_cfg_free(root);
+}
+
 int main(void) {
   test_parse_and_getters();
   test_unused_keys();
@@ -433,5 +526,7 @@ int main(void) {
   test_non_finite();
   test_empty_section();
   test_special_files();
+  test_merge_and_replace();
+  test_listing();
   return sk_test_finish("test_io_config");
 }

@@ -349,7 +349,7 @@ static void test_progress(void) {
   close(fd);
   sk_progress_begin("test", 1.0);
   for (int step = 1; step <= 200; ++step) sk_progress_update(step, step / 200.0, 3, "slip 0.1");
-  sk_progress_end();
+  sk_progress_end(NULL);
   fflush(stderr);
   dup2(saved, fileno(stderr));
   close(saved);

@@ -292,7 +292,7 @@ static void mock_add_matrix(sk_sink *s, int nr, const int64_t *rows, int nc, con
     }
 }
 
-static void mock_sink_init(mock_sink *s, mock_system *sys) {
+static inline void mock_sink_init(mock_sink *s, mock_system *sys) {
   memset(s, 0, sizeof *s);
   s->sink.abi_major = SK_ABI_MAJOR;
   s->sink.abi_minor = SK_ABI_MINOR;
@@ -316,7 +316,7 @@ static void mock_add_block(sk_pattern *p, int nr, const int64_t *rows, int nc, c
       if (rows[i] >= 0 && rows[i] < m->n && cols[j] >= 0 && cols[j] < m->n) m->declared[rows[i] * m->n + cols[j]] = 1;
 }
 
-static void mock_pattern_init(mock_pattern *p, int n) {
+static inline void mock_pattern_init(mock_pattern *p, int n) {
   memset(p, 0, sizeof *p);
   p->pattern.abi_major = SK_ABI_MAJOR;
   p->pattern.abi_minor = SK_ABI_MINOR;

@@ -238,13 +238,14 @@ static void check_slip_objectivity(void) {
 typedef struct {
   mortar_ncp_params prm;
   int n_t, force_state;
+  const double *slip_dir; /* a frozen slip direction (the nested loop), or NULL */
 } ncp_case;
 
 /* u = [z_n, z_t (2), g, s (2)] */
 static int eval_ncp(void *ctx, const double *u, int derivatives, fwd *out) {
   const ncp_case *c = ctx;
   mortar_ncp r;
-  mortar_ncp_eval(c->n_t, u[0], u + 1, u[3], u + 4, &c->prm, c->force_state, &r);
+  mortar_ncp_eval_dir(c->n_t, u[0], u + 1, u[3], u + 4, &c->prm, c->force_state, c->slip_dir, &r);
   for (int i = 0; i < 1 + c->n_t; ++i) {
     out[i] = fwd_const(r.C[i]);
     if (derivatives) {
@@ -262,7 +263,7 @@ static int ncp_state(const ncp_case *c, const double *u) {
 }
 
 static void check_ncp(void) {
-  ncp_case fr = {{0.3, 10.0, 5.0}, 2, -1}, fl = {{0.0, 10.0, 5.0}, 2, -1};
+  ncp_case fr = {{0.3, 10.0, 5.0}, 2, -1, NULL}, fl = {{0.0, 10.0, 5.0}, 2, -1, NULL};
   const double inactive[6] = {0.2, 0.1, -0.2, 0.05, 0.3, 0.1};   /* z_n - c_n g = -0.3 */
   const double stick[6] = {2.0, 0.1, -0.2, 0.01, 0.02, 0.01};    /* |v| = 0.2 < 0.3 * 1.9 */
   const double slip[6] = {2.0, 0.4, -0.2, 0.01, 0.3, 0.1};       /* |v| = 2.1 > 0.57 */
@@ -297,8 +298,57 @@ static void check_ncp(void) {
   SK_CHECK(fabs(r.C[1]) > 0.1);
 }
 
+/* The border of two branches at a converged point: touching without pressure (g = z_n = 0 up to round-off) satisfies
+ * inactive and active, sticking at the slip limit satisfies stick and slip; a clear state holds in its own branch
+ * only. */
+static void check_branch_holds(void) {
+  const mortar_ncp_params fr = {0.3, 10.0, 5.0}, fl = {0.0, 10.0, 5.0};
+  const double tol = 1e-8, z0[2] = {0.0, 0.0}, s0[2] = {0.0, 0.0};
+  /* touching: z_n = 1e-13, g = -1e-15 (zeta = 1.1e-13 > 0: the sign alone says active) */
+  mortar_ncp r;
+  mortar_ncp_eval(1, 1e-13, z0, -1e-15, s0, &fl, -1, &r);
+  SK_CHECK(r.state == MORTAR_SLIP);
+  SK_CHECK(mortar_ncp_branch_holds(1, 1e-13, z0, -1e-15, s0, &fl, MORTAR_INACTIVE, NULL, tol));
+  SK_CHECK(mortar_ncp_branch_holds(1, 1e-13, z0, -1e-15, s0, &fl, MORTAR_SLIP, NULL, tol));
+  SK_CHECK(mortar_ncp_branch_holds(1, -1e-13, z0, 1e-15, s0, &fr, MORTAR_STICK, NULL, tol));
+  /* the band is tol wide, no wider: tension of 2 tol is inactive, penetration of 2 tol / c_n active */
+  SK_CHECK(!mortar_ncp_branch_holds(1, -2 * tol, z0, 0.0, s0, &fl, MORTAR_SLIP, NULL, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 0.0, z0, -2 * tol / fl.c_n, s0, &fl, MORTAR_INACTIVE, NULL, tol));
+  /* clear states: open gap, pressed */
+  SK_CHECK(!mortar_ncp_branch_holds(1, 0.0, z0, 0.1, s0, &fr, MORTAR_STICK, NULL, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, z0, 0.0, s0, &fr, MORTAR_INACTIVE, NULL, tol));
+  /* at the slip limit: |z_t| = mu z_n, no slip: stick and slip both hold; below it only stick, with slip only slip */
+  const double zt_limit[2] = {0.3 * 2.0, 0.0}, zt_below[2] = {0.3, 0.0}, s_fwd[2] = {0.1, 0.0};
+  SK_CHECK(mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s0, &fr, MORTAR_STICK, NULL, tol));
+  SK_CHECK(mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s0, &fr, MORTAR_SLIP, NULL, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, zt_below, 0.0, s0, &fr, MORTAR_SLIP, NULL, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s_fwd, &fr, MORTAR_STICK, NULL, tol));
+  SK_CHECK(mortar_ncp_branch_holds(2, 2.0, zt_limit, 0.0, s_fwd, &fr, MORTAR_SLIP, NULL, tol));
+  /* a frozen slip direction (the nested loop): the slip holds along it, not once it turned */
+  const double d_fwd[2] = {1.0, 0.0}, d_back[2] = {-1.0, 0.0};
+  SK_CHECK(mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s_fwd, &fr, MORTAR_SLIP, d_fwd, tol));
+  SK_CHECK(!mortar_ncp_branch_holds(1, 2.0, zt_limit, 0.0, s_fwd, &fr, MORTAR_SLIP, d_back, tol));
+}
+
+/* The slip branch with a frozen direction d (Hammer's nested loop): C_T = z_t - mu (z_n - c_n g) d, exact
+ * derivatives, no dependence on the slip s; its root is z_t = mu z_n d whatever the slip, which the outer update then
+ * checks. */
+static void check_frozen_slip(void) {
+  static const double dir[2] = {0.6, -0.8};
+  ncp_case c = {{0.3, 10.0, 5.0}, 2, MORTAR_SLIP, dir};
+  const double u[6] = {2.0, 0.4, -0.2, 0.01, -0.3, 0.1}; /* v = (-1.1, 0.3): against d */
+  SK_CHECK(test_fd_check("NCP slip, frozen direction", eval_ncp, &c, u, 6, 3, FD_STEP) < FD_TOL);
+  mortar_ncp r;
+  const double zt[2] = {0.3 * 1.9 * 0.6, -0.3 * 1.9 * 0.8}, s[2] = {-0.3, 0.1};
+  mortar_ncp_eval_dir(2, 1.9, zt, 0.0, s, &c.prm, MORTAR_SLIP, dir, &r);
+  SK_CHECK(r.state == MORTAR_SLIP && fabs(r.C[1]) < 1e-15 && fabs(r.C[2]) < 1e-15);
+  SK_CHECK(r.dC[1][4] == 0.0 && r.dC[2][5] == 0.0); /* no slip column */
+}
+
 int main(void) {
   test_face_types();
+  check_branch_holds();
+  check_frozen_slip();
   check_face_normals();
   check_tangents();
   check_forces();

@@ -271,12 +271,25 @@ int main(void) {
   SK_CHECK(pl->abi_major == SK_ABI_MAJOR);
   for (int i = 0; i < N_STRATEGIES; ++i) SK_CHECK(strcmp(pl->strategies[i], NAME[i]) == 0);
 
-  /* epsilon_t is required with friction */
+  /* epsilon_t and c_n computed from the scene when it gives none (docs/plugins/nts-augmented.md#defaults): nodal
+   * stiffnesses 10 E* / h A and E* / h A; a given value wins */
   {
     kit k;
     make_pair(&k, 0.3, 0);
-    SK_CHECK(kit_create(&k, pl, 0) == SK_ERR_INPUT && k.instance == NULL);
-    SK_CHECK(strstr(sk_error_message(), "epsilon_t") != NULL);
+    kit_material(&k, 0, 2000.0, 0.25);
+    kit_material(&k, 1, 3000.0, 0.0);
+    SK_CHECK(kit_create(&k, pl, 0) == SK_OK);
+    const sk_scene_side *slave = k.scene.slave;
+    const double modulus = 1.0 / ((1.0 - 0.0625) / 2000.0 + 1.0 / 3000.0);
+    const double nodal = modulus / slave->h_mean * slave->measure / (double)slave->n_nodes;
+    SK_CHECK(slave->h_mean > 0.0 && slave->measure > 0.0);
+    SK_CHECK_CLOSE(kit_computed(&k, "epsilon_t"), 10.0 * nodal, 1e-12);
+    SK_CHECK_CLOSE(kit_computed(&k, "c_n"), nodal, 1e-12);
+    kit_free(&k);
+    make_pair(&k, 0.3, 0);
+    kit_param(&k, "epsilon_t", 5.0);
+    SK_CHECK(kit_create(&k, pl, 0) == SK_OK);
+    SK_CHECK(isnan(kit_computed(&k, "epsilon_t")) && kit_computed(&k, "c_n") > 0.0);
     kit_free(&k);
   }
   /* the deprecated names are the same strategies: `reduced` keeps lambda_n of every node like `condensed`, `none`

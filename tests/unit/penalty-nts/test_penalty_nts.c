@@ -143,14 +143,19 @@ static void check_residual_is_energy_gradient(scene *s, const test_step *st, dou
 
 /* The assembled Jacobian against central differences of the assembled residual (the kit's checker), inside the
  * pattern the plugin declared. */
-static void check_jacobian_is_residual_derivative(scene *s, const test_step *st, const char *label) {
+/* Central differences with step h: a stiff tangential penalty needs h * eps_t well inside the cone's radius. */
+static void check_jacobian_with_step(scene *s, const test_step *st, double h, const char *label) {
   use_step(s, st, NULL);
   double scale = 0.0;
-  const double err = kit_fd_check(&s->k, st->q, fd_step, &scale);
+  const double err = kit_fd_check(&s->k, st->q, h, &scale);
   printf("%-40s jacobian vs FD: |K| %.3e, max error %.3e\n", label, scale, err);
   SK_CHECK(scale > 0.0);
   SK_CHECK(err <= 1e-6 * scale);
   SK_CHECK(s->k.outside_pattern == 0);
+}
+
+static void check_jacobian_is_residual_derivative(scene *s, const test_step *st, const char *label) {
+  check_jacobian_with_step(s, st, fd_step, label);
 }
 
 /* Sum of the residual's nodal forces and of their moments about the origin. */
@@ -434,8 +439,8 @@ static void test_friction_2d_flat_return_map(void) {
 /* 3D warped QUAD4 with friction. Step 1 presses and shifts (history with a nonzero covariant traction), step 2
  * moves the slave nodes further: small moves stick, large ones slip. The Jacobian (consistent tangent of the
  * return map, metric and normal variations included) must match central differences; forces must balance. */
-static void quad4_friction_scene(scene *s, const double R[9], const double c[3], double q0[24], double q1[24],
-                                 double q2[24], double move) {
+static void quad4_friction_scene_eps(scene *s, const double R[9], const double c[3], double q0[24], double q1[24],
+                                     double q2[24], double move, double eps_t) {
   const double X[] = {0.0, 0.0, 0.0,  2.0, 0.0, 0.1,   2.0, 2.0, -0.05, 0.0, 2.0, 0.08,
                       0.5, 0.7, 0.02, 1.5, 0.6, 0.08,  1.2, 1.6, 0.05,  0.4, 1.5, 0.3};
   double Xr[24];
@@ -448,7 +453,7 @@ static void quad4_friction_scene(scene *s, const double R[9], const double c[3],
   scene_slave(s, SK_QUAD4, 4, 1, slave);
   scene_param(s, "penalty", 1e3);
   scene_param(s, "mu", 0.4);
-  scene_param(s, "penalty_tangential", 800.0);
+  scene_param(s, "penalty_tangential", eps_t);
   scene_param(s, "area_weighted", 0);
   /* Displacements in the unrotated frame: step 1 down by 0.08 with a small shift, step 2 sideways by `move`. */
   double u1[3] = {0.004, -0.003, -0.08}, u2[3] = {move, 0.6 * move, 0.0};
@@ -462,6 +467,11 @@ static void quad4_friction_scene(scene *s, const double R[9], const double c[3],
     }
   /* A deformed master in step 2 as well, so the metric changes. */
   for (int i = 0; i < 3; ++i) q2[3 * 2 + i] += 0.003 * R[3 * i] + 0.01 * R[3 * i + 2];
+}
+
+static void quad4_friction_scene(scene *s, const double R[9], const double c[3], double q0[24], double q1[24],
+                                 double q2[24], double move) {
+  quad4_friction_scene_eps(s, R, c, q0, q1, q2, move, 800.0);
 }
 
 static const double identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -830,9 +840,8 @@ static void expect_create_error(const char *what, const char *key, double value,
 }
 
 static void test_parameter_errors(void) {
-  expect_create_error("missing penalty", NULL, 0, NULL, 0, "penalty");
   expect_create_error("negative penalty", "penalty", -1.0, NULL, 0, "'penalty'");
-  expect_create_error("friction without tangential penalty", "penalty", 1.0, "mu", 0.2, "penalty_tangential");
+  expect_create_error("negative tangential penalty", "mu", 0.2, "penalty_tangential", -1.0, "'penalty_tangential'");
   expect_create_error("negative mu", "penalty", 1.0, "mu", -0.2, "'mu'");
   expect_create_error("bad area_weighted", "penalty", 1.0, "area_weighted", 2, "'area_weighted'");
   expect_create_error("negative margin", "penalty", 1.0, "search_margin", -1, "'search_margin'");
@@ -846,6 +855,48 @@ static void test_parameter_errors(void) {
                   SK_CAP_RIGID_OBSTACLE | SK_CAP_DEFORMABLE_MASTER;
   SK_CHECK((pl->caps & need) == need);
   SK_CHECK((pl->caps & (SK_CAP_MULTIPLIERS | SK_CAP_ENERGY_MOMENTUM)) == 0);
+}
+
+/* The penalties computed from the scene when it gives none (docs/plugins/penalty-nts.md#defaults): 10 E* / h on linear
+ * slave faces, 100 E* / h on quadratic ones, E* of the pair (a rigid obstacle adds no compliance), h the slave surface's
+ * mean edge; times the mean tributary length per node without area weighting; eps_T = eps_N; given values win. */
+static double computed_penalty(sk_elem_type slave_type, int obstacle, const char *key, double value, const char *key2,
+                               double value2, const char *which) {
+  const double X[] = {1.0, 0.0, -1.0, 0.0, 0.0, 0.1, 0.5, 0.1, 0.25, 0.1};
+  const int master[] = {0, 1}, slave[] = {2, 3, 4};
+  scene s;
+  scene_init(&s, 2, 5, X);
+  if (obstacle) {
+    sk_obstacle plane = {.kind = SK_OBSTACLE_PLANE, .normal = {0, 1, 0}};
+    scene_obstacle(&s, &plane);
+  } else {
+    scene_master(&s, SK_LINE2, 2, 1, master);
+  }
+  scene_slave(&s, slave_type, slave_type == SK_LINE3 ? 3 : 2, 1, slave);
+  kit_material(&s.k, 0, 1000.0, 0.3);
+  kit_material(&s.k, 1, 1.0e6, 0.3);
+  if (key) scene_param(&s, key, value);
+  if (key2) scene_param(&s, key2, value2);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  const double computed = kit_computed(&s.k, which);
+  scene_destroy(&s);
+  return computed;
+}
+
+static void test_computed_defaults(void) {
+  const double pair = 1.0 / (0.91 / 1000.0 + 0.91 / 1.0e6), rigid = 1000.0 / 0.91, h = 0.5;
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, NULL, 0, NULL, 0, "penalty"), 10.0 * pair / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 1, NULL, 0, NULL, 0, "penalty"), 10.0 * rigid / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE3, 0, NULL, 0, NULL, 0, "penalty"), 100.0 * pair / h, 1e-12);
+  /* a nodal stiffness: times the slave's length per node (0.5 over 2 nodes) */
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "area_weighted", 0, NULL, 0, "penalty"), 10.0 * pair / h * 0.25,
+                 1e-12);
+  /* the tangential penalty follows the normal one, computed or given; frictionless it is not reported */
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "mu", 0.3, NULL, 0, "penalty_tangential"), 10.0 * pair / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "mu", 0.3, "penalty", 5.0, "penalty_tangential"), 5.0, 1e-12);
+  SK_CHECK(isnan(computed_penalty(SK_LINE2, 0, NULL, 0, NULL, 0, "penalty_tangential")));
+  /* a given value wins and nothing is reported */
+  SK_CHECK(isnan(computed_penalty(SK_LINE2, 0, "penalty", 5.0, NULL, 0, "penalty")));
 }
 
 /* A rejected step leaves the committed history alone: redoing it gives the same tractions. */
@@ -1037,6 +1088,114 @@ static void test_quad8_slave_refused(void) {
   scene_destroy(&s);
 }
 
+/* A stiff tangential penalty (eps_t = 1e6 and 1e7, 1e3 and 1e4 x the normal penalty) keeps a consistent tangent: a
+ * slave QUAD4 pressed straight onto a flat master QUAD4 (no history traction, mu p = 12 per node), then moved
+ * sideways by 0.4 mu p / eps_t (stick) or by 0.08 with the master deformed (slip), against central differences of
+ * step 1e-9 (eps_t h <= 0.01, far inside the cone's radius 12). */
+static void test_stiff_tangential_penalty(void) {
+  const double X[] = {0.0, 0.0, 0.0,  2.0, 0.0, 0.0,  2.0, 2.0, 0.0,  0.0, 2.0, 0.0,
+                      0.5, 0.5, 0.05, 1.5, 0.5, 0.05, 1.5, 1.5, 0.05, 0.5, 1.5, 0.05};
+  const double stiff[] = {1e6, 1e7};
+  for (int e = 0; e < 2; ++e)
+    for (int slip = 0; slip <= 1; ++slip) {
+      scene s;
+      scene_init(&s, 3, 8, X);
+      const int master[] = {0, 1, 2, 3}, slave[] = {4, 7, 6, 5};
+      scene_master(&s, SK_QUAD4, 4, 1, master);
+      scene_slave(&s, SK_QUAD4, 4, 1, slave);
+      scene_param(&s, "penalty", 1e3);
+      scene_param(&s, "mu", 0.4);
+      scene_param(&s, "penalty_tangential", stiff[e]);
+      scene_param(&s, "area_weighted", 0);
+      SK_CHECK(scene_create(&s) == SK_OK);
+      double q1[24], q2[24];
+      memcpy(q1, X, sizeof q1);
+      for (int a = 4; a < 8; ++a) q1[3 * a + 2] -= 0.08;
+      run_step(&s, X, q1, 0.0, 1.0);
+      memcpy(q2, q1, sizeof q2);
+      const double move = slip ? 0.08 : 0.4 * 12.0 / (stiff[e] * hypot(1.0, 0.6));
+      for (int a = 4; a < 8; ++a) {
+        q2[3 * a] += move;
+        q2[3 * a + 1] += 0.6 * move;
+      }
+      if (slip) q2[3 * 2] += 0.003, q2[3 * 2 + 2] += 0.01;
+      test_step st = make_state(&s, q1, q2, 1.0, 2.0);
+      SK_CHECK(scene_begin(&s, &st) == SK_OK);
+      point_list list;
+      points_at(&s, &st, q2, &list);
+      SK_CHECK(count_state(&list, slip ? 2 : 1) == 4);
+      char label[80];
+      snprintf(label, sizeof label, "3D quad4 eps_t %.0e %s", stiff[e], slip ? "slip" : "stick");
+      check_jacobian_with_step(&s, &st, 1e-9, label);
+      scene_destroy(&s);
+    }
+}
+
+/* The switch's memory (cov_return_map_held). The 2D flat master with a slave node pressed in (mu p = 6,
+ * eps_t = 1e6): at q_a it slips to +x (traction -6). After the Jacobian there, a point q_b whose trial turned back
+ * (the node 0.02 to -x of its start: trial +2e4) sticks, traction = trial, where the return map alone slips the
+ * other way (+6); a point further along +x slips as before. A converged point where the memory holds a node in
+ * stick that the return map lets slip is rejected, and the node then follows the return map. */
+static void test_friction_switch_memory(void) {
+  const double X[] = {2.0, 0.0, -1.0, 0.0, 0.3, -0.01, 0.9, 0.5};
+  const double eps = 1e3, eps_t = 1e6, mu = 0.3, pressure = eps * 0.02;
+  scene s;
+  scene_init(&s, 2, 4, X);
+  const int master[] = {0, 1}, slave[] = {2, 3};
+  scene_master(&s, SK_LINE2, 2, 1, master);
+  scene_slave(&s, SK_LINE2, 2, 1, slave);
+  scene_param(&s, "penalty", eps);
+  scene_param(&s, "mu", mu);
+  scene_param(&s, "penalty_tangential", eps_t);
+  scene_param(&s, "area_weighted", 0);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  double q1[8], qa[8], qb[8], qc[8], F[MAX_DOFS], K[MAX_DOFS * MAX_DOFS];
+  memcpy(q1, X, sizeof q1);
+  q1[5] = -0.02;
+  run_step(&s, X, q1, 0.0, 1.0);
+  memcpy(qa, q1, sizeof qa);
+  memcpy(qb, q1, sizeof qb);
+  memcpy(qc, q1, sizeof qc);
+  qa[4] += 0.02;
+  qb[4] -= 0.02;
+  qc[4] += 0.05;
+  test_step st = make_state(&s, q1, qa, 1.0, 2.0);
+  SK_CHECK(scene_begin(&s, &st) == SK_OK);
+  /* the return map alone at q_b (no Jacobian yet in this step): slip to -x, traction +mu p */
+  residual_at(&s, &st, qb, F);
+  SK_CHECK_CLOSE(F[4], -mu * pressure, 1e-12);
+  jacobian_at(&s, &st, qa, K); /* q_a accepted: the node slips to +x there */
+  residual_at(&s, &st, qa, F);
+  SK_CHECK_CLOSE(F[4], mu * pressure, 1e-12);
+  residual_at(&s, &st, qb, F); /* turned back: stuck, t = trial = -eps_t (-0.02) */
+  SK_CHECK_CLOSE(F[4], -eps_t * 0.02, 1e-12);
+  point_list list;
+  points_at(&s, &st, qb, &list);
+  SK_CHECK(point_of(&list, 2) && point_of(&list, 2)->state == 1);
+  residual_at(&s, &st, qc, F); /* on along the held direction: slip as by the return map */
+  SK_CHECK_CLOSE(F[4], mu * pressure, 1e-12);
+  /* converged at q_b with the node held in stick: rejected; the node then slips to -x */
+  int accept = 1;
+  SK_CHECK(kit_converged(&s.k, qb, &accept) == SK_OK);
+  SK_CHECK(accept == 0);
+  residual_at(&s, &st, qb, F);
+  SK_CHECK_CLOSE(F[4], -mu * pressure, 1e-12);
+  accept = 0;
+  SK_CHECK(kit_converged(&s.k, qb, &accept) == SK_OK);
+  SK_CHECK(accept == 1);
+  /* The tangent follows the branch: at q_b after a Jacobian at q_a the stuck node's x row has the stick stiffness
+   * eps_t (slip: 0 along the slip on a flat master); the memory is then q_b's (stuck there), and the return map
+   * decides the points after it. */
+  jacobian_at(&s, &st, qa, K);
+  jacobian_at(&s, &st, qb, K);
+  SK_CHECK_CLOSE(K[4 * 8 + 4], eps_t, 1e-12);
+  residual_at(&s, &st, qb, F);
+  SK_CHECK_CLOSE(F[4], -mu * pressure, 1e-12);
+  jacobian_at(&s, &st, qb, K);
+  SK_CHECK(fabs(K[4 * 8 + 4]) <= 1e-9 * eps_t);
+  scene_destroy(&s);
+}
+
 int main(void) {
   test_line2_frictionless();
   test_line3_frictionless();
@@ -1052,9 +1211,12 @@ int main(void) {
   test_master_extension();
   test_kinked_master_selection();
   test_parameter_errors();
+  test_computed_defaults();
   test_reject_keeps_history();
   test_tri6_master();
   test_tri6_slave();
   test_quad8_slave_refused();
+  test_stiff_tangential_penalty();
+  test_friction_switch_memory();
   return sk_test_finish("penalty-nts");
 }

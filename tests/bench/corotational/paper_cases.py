@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""The measurements behind the rows of docs/plugins/corotational.md's "Against the paper" table that differ from
+Hauret et al., all through the driver:
+
+    python3 tests/bench/corotational/paper_cases.py two-planes     # 6.4: contacts, restitution, Models 1 vs 2 over dt
+    python3 tests/bench/corotational/paper_cases.py impact-phase   # 6.3: spin after the impact against the touch's
+                                                                   # place in the step grid (why the angle error is
+                                                                   # not monotone in dt)
+    python3 tests/bench/corotational/paper_cases.py ellipse        # 6.4: the ellipse, Models 1 vs 2
+
+Each prints a table; nothing is written. [--stickslip PATH] selects the binary (default build/bin/stickslip).
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
+LINE = re.compile(r"^corotational: step (\d+) t (\S+) theta (\S+) w (\S+) E (\S+) J (\S+) friction (\S+) "
+                  r"g/g_ref (\S+) w-updates (\d+) impulse (\S+) defect (\S+) centre (\S+) (\S+) (\S+)")
+KEYS = ("step", "t", "theta", "w", "E", "J", "friction", "g", "updates", "impulse", "defect", "x", "y", "z")
+
+
+def simulate(stickslip, scene, *sets):
+    """(history rows, plugin records) of one run with --set options."""
+    with tempfile.TemporaryDirectory() as out:
+        cmd = [stickslip, "run", os.path.join(ROOT, scene), "--out", os.path.join(out, "r"), "--verbose",
+               "--set", "output.vtu_every=0"]
+        for s in sets:
+            cmd += ["--set", s]
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        if proc.returncode != 0:
+            sys.exit("failed: %s\n%s" % (" ".join(cmd), proc.stderr[-2000:]))
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(os.path.join(out, "r",
+                                                                                             "history.csv")))]
+    records = [{k: float(v) for k, v in zip(KEYS, m.groups())} for m in map(LINE.match, proc.stderr.splitlines()) if m]
+    return rows, records
+
+
+def contacts(rows):
+    """[(t of the first contact step, t of the last, vertical velocity after)] from history.csv."""
+    mass = rows[0]["momentum_x"] / 40.0  # V_0 = (40, -40)
+    out, start = [], None
+    for a, b in zip(rows, rows[1:]):
+        if b["active_points"] > 0 and a["active_points"] == 0:
+            start = b["time"]
+        if b["active_points"] == 0 and a["active_points"] > 0:
+            out.append((start, a["time"], b["momentum_y"] / mass))
+    return out
+
+
+def vibration_share(rows, records, t):
+    """The share of the scheme's energy not in rigid motion at time t: 1 - (1/2 m V^2 + 1/2 I w^2) / E, with I from
+    the steady initial state (its strain energy, 1e-4 of E, counted as rotation)."""
+    mass = rows[0]["momentum_x"] / 40.0
+    E0 = rows[0]["total_energy"]
+    inertia = 2 * (E0 - 0.5 * mass * 3200.0) / 20.0 ** 2
+    r = min(records, key=lambda q: abs(q["t"] - t))
+    h = min(rows, key=lambda q: abs(q["time"] - t))
+    rigid = 0.5 * (h["momentum_x"] ** 2 + h["momentum_y"] ** 2) / mass + 0.5 * inertia * r["w"] ** 2
+    return 1 - rigid / r["E"]
+
+
+def two_planes(stickslip):
+    print("6.4 ball between two planes (paper: five contacts, frames t = 0.003, 0.022, 0.041, 0.07, 0.095)")
+    print("| dt | model | contacts by t = 0.1 (start, end, v_y after) | vibration share of E after the 1st |")
+    print("|---|---|---|---|")
+    runs = {}
+    for dt in (0.001, 0.0005, 0.00025):
+        for model in (1, 2):
+            rows, records = simulate(stickslip, "scenes/corot-ball-two-planes.yaml", "time.dt=%r" % dt,
+                                     "bodies.0.parameters.model=%d" % model)
+            runs[dt, model] = records
+            c = contacts(rows)
+            share = vibration_share(rows, records, c[0][1] + 0.002)
+            print("| %g | %d | %d: %s | %.3f |" % (dt, model, len(c), " ".join("%.4f-%.4f %+.1f" % e for e in c), share))
+    print("\nModels 1 vs 2: the largest difference of the centre of mass and of theta' before each contact")
+    for dt in (0.001, 0.0005, 0.00025):
+        one, two = runs[dt, 1], runs[dt, 2]
+        line = []
+        for t in (0.02, 0.04, 0.06, 0.08, 0.1):
+            pairs = [(a, b) for a, b in zip(one, two) if a["t"] <= t + 1e-12]
+            dx = max(max(abs(a["x"] - b["x"]), abs(a["y"] - b["y"])) for a, b in pairs)
+            dw = max(abs(a["w"] - b["w"]) for a, b in pairs)
+            line.append("t %.2f: %.1e / %.2f" % (t, dx, dw))
+        print("dt %g: %s" % (dt, "; ".join(line)))
+
+
+def impact_phase(stickslip):
+    print("6.3 ball, frictionless: theta' after the impact (t = 0.06) against where the touch falls in the step grid.")
+    print("The plane moved down by d: the touch at t = (0.5 + d)/40; the exact spin after the impact hardly changes")
+    print("| d | touch t | dt 0.001: theta'(0.06), first contact step | dt 0.00025 |")
+    print("|---|---|---|---|")
+    for d in (0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07):
+        cells = []
+        for dt in (0.001, 0.00025):
+            rows, records = simulate(stickslip, "scenes/corot-ball-on-plane.yaml", "time.dt=%r" % dt,
+                                     "contact.0.obstacle.point=[0, %r, 0]" % (-10.5 - d))
+            first = next(r["time"] for r in rows if r["active_points"] > 0)
+            cells.append("%.5f, ends %.5f" % (records[-1]["w"], first))
+        print("| %.2f | %.6f | %s | %s |" % (d, (0.5 + d) / 40, cells[0], cells[1]))
+
+
+def ellipse(stickslip):
+    print("6.4 ellipse (semi-axes 0.6 x 1, ours): contacts and the centre difference Models 1 - 2")
+    for dt in (0.001, 0.0005):
+        runs = {}
+        for model in (1, 2):
+            rows, records = simulate(stickslip, "scenes/corot-ellipse-two-planes.yaml", "time.dt=%r" % dt,
+                                     "time.end=0.15", "bodies.0.parameters.model=%d" % model)
+            runs[model] = records
+            print("dt %g model %d: contacts %s" % (dt, model, " ".join("%.4f-%.4f %+.1f" % e for e in contacts(rows))))
+        one, two = runs[1], runs[2]
+        print("  centre difference at t = 0.01 ... 0.15: %s" % " ".join(
+            "%.1e" % max(abs(a["x"] - b["x"]), abs(a["y"] - b["y"])) for a, b in zip(one, two)
+            if abs(a["t"] * 100 - round(a["t"] * 100)) < 1e-9))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("case", choices=("two-planes", "impact-phase", "ellipse"))
+    parser.add_argument("--stickslip", default=os.path.join(ROOT, "build", "bin", "stickslip"))
+    args = parser.parse_args()
+    {"two-planes": two_planes, "impact-phase": impact_phase, "ellipse": ellipse}[args.case](args.stickslip)
+
+
+if __name__ == "__main__":
+    main()

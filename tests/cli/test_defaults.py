@@ -1,0 +1,87 @@
+"""Defaults computed from the scene (plugin ABI 2.7, stickslip.scene.v1): `check --explain` and `run --explain` print
+each with its value and reason, the value is the plugin's rule on the scene's numbers, a value the scene gives wins,
+`stickslip plugins` states the rules, and a scene giving only mu runs with every plugin that takes it.
+
+  python3 test_defaults.py CASE"""
+import re
+
+from cli_case import CONTACT, main, replace
+
+ONLY_MU = replace(CONTACT, "parameters: {penalty: 1.0e4}", "parameters: {mu: 0.3}")
+# the block of CONTACT: E 1000, nu 0.3 on a rigid plane; its zmin face is 2 x 2 quad4 of edge 0.5 (9 nodes)
+E_STAR = 1000.0 / (1.0 - 0.3 ** 2)
+H = 0.5
+AREA = 1.0 / 9.0
+COMPUTED = re.compile(r"^  contact\[0\]\.parameters\.(\w+) = (\S+) \(computed: (.*)\)$", re.M)
+# plugin -> {key: (expected value, a fragment of the reason)}
+RULES = {
+    "penalty-nts": {"penalty": (10 * E_STAR / H, "10 E*/h; E* = 1099 (slave body 'block' E 1000 nu 0.3; rigid "
+                                                 "obstacle 'plane'), h = 0.5 (mean corner-to-corner edge of slave "
+                                                 "surface 'zmin', 4 faces of order 1)"),
+                    "penalty_tangential": (10 * E_STAR / H, "the normal penalty")},
+    "covariant-penalty": {"penalty": (10 * E_STAR / H, "10 E*/h"), "penalty_tangential": (10 * E_STAR / H, "normal")},
+    "nts-augmented": {"epsilon_t": (10 * E_STAR / H * AREA, "10 E*/h A"), "c_n": (E_STAR / H * AREA, "1 E*/h A")},
+    "mortar-dual": {"c_n": (10 * E_STAR / H, "10 E*/h"), "c_t": (10 * E_STAR / H, "c_n")},
+}
+
+
+def computed(c):
+    return {m.group(1): (float(m.group(2)), m.group(3)) for m in COMPUTED.finditer(c.proc.stdout)}
+
+
+def explain_defaults(c):
+    for plugin, rules in RULES.items():
+        c.run_scene(ONLY_MU, "--plugin", plugin, "--explain", command="check")
+        c.no_crash()
+        c.check(c.proc.returncode == 0, "%s: check passes with only mu (exit %d)" % (plugin, c.proc.returncode))
+        got = computed(c)
+        c.check(set(got) == set(rules), "%s: computes %s (got %s)" % (plugin, sorted(rules), sorted(got)))
+        for key, (value, reason) in rules.items():
+            if key in got:
+                c.check(abs(got[key][0] - value) <= 1e-5 * value, "%s: %s = %g, the rule gives %g" % (
+                    plugin, key, got[key][0], value))
+                c.check(reason in got[key][1], "%s: %s's reason has '%s' (%s)" % (plugin, key, reason, got[key][1]))
+
+
+def given_value_wins(c):
+    c.run_scene(replace(ONLY_MU, "{mu: 0.3}", "{mu: 0.3, penalty: 123}"), "--explain", command="check")
+    got = computed(c)
+    c.check("penalty" not in got, "a penalty the scene gives is not computed")
+    c.check(got.get("penalty_tangential", (0,))[0] == 123, "the tangential penalty follows the given one (%s)" % got)
+    # frictionless: the tangential penalty is unused and not reported
+    c.run_scene(replace(ONLY_MU, "{mu: 0.3}", "{}"), "--explain", command="check")
+    c.check(set(computed(c)) == {"penalty"}, "frictionless: only the penalty is computed (%s)" % computed(c))
+
+
+def run_explain(c):
+    # run --explain prints the same lines before the run, and the run with the computed values converges
+    c.run_scene(ONLY_MU, "--explain")
+    c.no_crash()
+    c.check(c.proc.returncode == 0, "the run with only mu converges (exit %d)" % c.proc.returncode)
+    c.check("penalty" in computed(c), "run --explain prints the computed penalty")
+
+
+def plugins_state_rules(c):
+    c.run("plugins")
+    c.check(c.proc.returncode == 0, "plugins exits 0")
+    for plugin, key in [("penalty-nts", "penalty"), ("covariant-penalty", "penalty"), ("nts-augmented", "epsilon_t"),
+                        ("mortar-dual", "c_n")]:
+        block = c.proc.stdout.split("\n%s  (ABI" % plugin)[1].split("\n\n")[0]
+        line = [l for l in block.splitlines() if l.strip().startswith(key + ":")]
+        c.check(bool(line) and "computed from the scene:" in line[0], "%s lists %s as computed from the scene: %s" % (
+            plugin, key, line))
+
+
+def only_mu_runs(c):
+    # the block pressed on the plane with only mu, two steps, with every contact plugin that takes a 3D obstacle;
+    # friction with a full Newton step stalls in nts-augmented at its default epsilon_t (docs/plugins/
+    # nts-augmented.md#defaults), so the run has a line search
+    for plugin in RULES:
+        c.run_scene(ONLY_MU, "--plugin", plugin, "--set", "solver.newton.line_search=backtrack")
+        c.no_crash()
+        c.check(c.proc.returncode == 0, "%s runs with only mu (exit %d)" % (plugin, c.proc.returncode))
+
+
+if __name__ == "__main__":
+    main({f.__name__: f for f in [explain_defaults, given_value_wins, run_explain, plugins_state_rules,
+                                  only_mu_runs]})

@@ -1,0 +1,9 @@
+# The contact output (contact.csv over time, the VTU contact fields) means the same for every plugin: issue 35,
+# items 3 and 12 (test_contact_output.py).
+stickslip_scene_tests(test_contact_output.py
+  contact_output_slide_penalty_nts contact_output_slide_nts_augmented contact_output_slide_covariant_penalty
+  contact_output_slide_mortar_dual contact_output_slide_corotational
+  contact_output_hertz_2d_penalty_nts contact_output_hertz_2d_nts_augmented contact_output_hertz_2d_mortar_dual
+  contact_output_hertz_3d_penalty_nts contact_output_hertz_3d_nts_augmented contact_output_hertz_3d_covariant_nts
+  contact_output_hertz_3d_covariant_sts contact_output_mpi)
+set_tests_properties(validation_contact_output_mpi PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
