@@ -50,8 +50,11 @@ static void usage_run(FILE *out, const char *command) {
   int run = strcmp(command, "run") == 0, keys = strcmp(command, "keys") == 0;
   fprintf(out,
           "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--replace key.path=value ...]\n"
-          "                      [--trust-scripts]%s%s\n%s\n",
+          "                      [--trust-scripts]%s%s\n%s%s\n",
           command, keys ? "" : " [--explain]", run ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "",
+          run ? "                      [--checkpoint-every N [--checkpoint DIR]]\n"
+                "       stickslip run [--restart DIR] [--out DIR] [--steps N] ...   (no SCENE.yaml, --plugin, --set or\n"
+                "                      --replace: the checkpoint's)\n" : "",
           keys ? "       stickslip keys --plugin NAME\n" : "");
   if (keys)
     fprintf(out,
@@ -78,8 +81,9 @@ static void usage_run(FILE *out, const char *command) {
             "  --out DIR            write history.csv, contact.csv, summary.json, scene.yaml and results.pvd/.vtu\n"
             "                       into DIR (replaced at the end as a whole; default: no files)\n"
             "  --steps N            stop after N steps\n"
-            "  --checkpoint-every N write a checkpoint every N steps (the state and the plugins' history) into\n"
-            "                       --checkpoint DIR (default DIR.checkpoint for --out DIR); the last two are kept\n"
+            "  --checkpoint-every N write a checkpoint every N steps (the state and the plugins' history); the\n"
+            "                       last two are kept\n"
+            "  --checkpoint DIR     where the checkpoints go (default DIR.checkpoint for --out DIR)\n"
             "  --restart DIR        continue from the checkpoint in DIR (its latest, or DIR/step-NNNNNNNN), on any\n"
             "                       number of ranks; no SCENE: it is the checkpoint's (docs/user-guide.md)\n"
             "  --quiet              no progress line and no information messages (warnings and errors stay; with\n"
