@@ -50,8 +50,11 @@ static void usage_run(FILE *out, const char *command) {
   int run = strcmp(command, "run") == 0, keys = strcmp(command, "keys") == 0;
   fprintf(out,
           "usage: stickslip %s SCENE.yaml [--plugin NAME] [--set key.path=value ...] [--replace key.path=value ...]\n"
-          "                      [--trust-scripts]%s%s\n%s\n",
+          "                      [--trust-scripts]%s%s\n%s%s\n",
           command, keys ? "" : " [--explain]", run ? " [--out DIR] [--steps N] [--quiet] [--verbose]" : "",
+          run ? "                      [--checkpoint-every N [--checkpoint DIR]]\n"
+                "       stickslip run [--restart DIR] [--out DIR] [--steps N] ...   (no SCENE.yaml, --plugin, --set or\n"
+                "                      --replace: the checkpoint's)\n" : "",
           keys ? "       stickslip keys --plugin NAME\n" : "");
   if (keys)
     fprintf(out,
@@ -78,6 +81,11 @@ static void usage_run(FILE *out, const char *command) {
             "  --out DIR            write history.csv, contact.csv, summary.json, scene.yaml and results.pvd/.vtu\n"
             "                       into DIR (replaced at the end as a whole; default: no files)\n"
             "  --steps N            stop after N steps\n"
+            "  --checkpoint-every N write a checkpoint every N steps (the state and the plugins' history); the\n"
+            "                       last two are kept\n"
+            "  --checkpoint DIR     where the checkpoints go (default DIR.checkpoint for --out DIR)\n"
+            "  --restart DIR        continue from the checkpoint in DIR (its latest, or DIR/step-NNNNNNNN), on any\n"
+            "                       number of ranks; no SCENE: it is the checkpoint's (docs/user-guide.md)\n"
             "  --quiet              no progress line and no information messages (warnings and errors stay; with\n"
             "                       --verbose only the progress line goes)\n"
             "  --verbose            Newton residuals per iteration, step cuts, plugin messages\n");
@@ -91,6 +99,9 @@ typedef struct {
   sk_cfg_override_mode *modes; /* per entry of `sets`: --set merges, --replace replaces */
   int n_sets;
   int steps, quiet, verbose, trust_scripts, explain;
+  int checkpoint_every;
+  const char *checkpoint, *restart;
+  char checkpoint_default[4200];
 } arguments;
 
 /* The options of the scene commands: each with the commands that take it and, if it takes one, its value's name. */
@@ -104,7 +115,9 @@ static const option scene_options[] = {
     {"--replace", "key.path=value", FOR_ALL}, {"--trust-scripts", NULL, FOR_ALL},
     {"--explain", NULL, FOR_RUN | FOR_CHECK}, {"--out", "DIR", FOR_RUN},
     {"--steps", "N", FOR_RUN},            {"--quiet", NULL, FOR_RUN},
-    {"--verbose", NULL, FOR_RUN},         {"--help", NULL, FOR_ALL},
+    {"--verbose", NULL, FOR_RUN},         {"--checkpoint-every", "N", FOR_RUN},
+    {"--checkpoint", "DIR", FOR_RUN},     {"--restart", "DIR", FOR_RUN},
+    {"--help", NULL, FOR_ALL},
 };
 enum { N_OPTIONS = sizeof scene_options / sizeof scene_options[0] };
 
@@ -200,6 +213,17 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       if (*end || end == value || errno || steps < 1 || steps > INT_MAX)
         return usage_error(command, "--steps expects a positive integer, got '%s'", value);
       args->steps = (int)steps;
+    } else if (strcmp(name, "--checkpoint-every") == 0) {
+      char *end;
+      errno = 0;
+      long every = strtol(value, &end, 10);
+      if (*end || end == value || errno || every < 1 || every > INT_MAX)
+        return usage_error(command, "--checkpoint-every expects a positive integer, got '%s'", value);
+      args->checkpoint_every = (int)every;
+    } else if (strcmp(name, "--checkpoint") == 0) {
+      args->checkpoint = value;
+    } else if (strcmp(name, "--restart") == 0) {
+      args->restart = value;
     } else if (strcmp(name, "--trust-scripts") == 0) {
       args->trust_scripts = 1;
     } else if (strcmp(name, "--explain") == 0) {
@@ -210,7 +234,16 @@ static int parse_arguments(int argc, char **argv, const char *command, arguments
       args->verbose = 1;
     }
   }
-  if (!args->scene && !(strcmp(command, "keys") == 0 && args->plugin))
+  if (args->restart && (args->scene || args->n_sets > 0 || args->plugin))
+    return usage_error(command, "--restart continues the checkpoint's scene, with its --set values and --plugin: give "
+                       "no SCENE, --set, --replace or --plugin");
+  if (args->checkpoint && !args->checkpoint_every)
+    return usage_error(command, "--checkpoint DIR needs --checkpoint-every N");
+  if (args->checkpoint_every && !args->checkpoint && args->out) {
+    snprintf(args->checkpoint_default, sizeof args->checkpoint_default, "%s.checkpoint", args->out);
+    args->checkpoint = args->checkpoint_default;
+  }
+  if (!args->scene && !args->restart && !(strcmp(command, "keys") == 0 && args->plugin))
     return usage_error(command, "which scene? (stickslip %s SCENE.yaml%s)", command,
                        strcmp(command, "keys") == 0 ? ", or stickslip keys --plugin NAME for a plugin's parameters" : "");
   return 0;
@@ -302,7 +335,7 @@ static int command_scene(int argc, char **argv, scene_command command) {
    * messages without the progress line) */
   sk_log_verbosity = args.verbose ? 1 : args.quiet ? -1 : 0;
   sk_mesh_trust_scripts(args.trust_scripts);
-  if (!args.scene) { /* keys --plugin NAME */
+  if (!args.scene && !args.restart) { /* keys --plugin NAME */
     const sk_plugin *plugin = NULL;
     sk_status status = sk_plugin_load(args.plugin, &plugin);
     if (status == SK_OK && rank_of_world() == 0) status = sk_plugin_keys(plugin, stdout);
@@ -311,9 +344,21 @@ static int command_scene(int argc, char **argv, scene_command command) {
     return status == SK_OK ? 0 : fail(status);
   }
   sk_scene scene;
-  const sk_scene_overrides overrides = {
-      .n = args.n_sets, .assignments = args.sets, .modes = args.modes, .plugin = args.plugin};
-  sk_status status = sk_scene_load_with(args.scene, &overrides, MPI_COMM_WORLD, &scene);
+  sk_restart *restart = NULL;
+  const char *const *sets = args.sets;
+  const sk_cfg_override_mode *modes = args.modes;
+  sk_status status = SK_OK;
+  if (args.restart) { /* the checkpoint's scene, as it was loaded */
+    status = sk_restart_open(args.restart, MPI_COMM_WORLD, &restart);
+    if (status == SK_OK) {
+      args.scene = sk_restart_scene(restart);
+      args.plugin = sk_restart_plugin(restart);
+      args.n_sets = sk_restart_sets(restart, &sets, &modes);
+    }
+  }
+  const sk_scene_overrides overrides = {.n = args.n_sets, .assignments = sets, .modes = modes, .plugin = args.plugin};
+  if (status == SK_OK) status = sk_scene_load_with(args.scene, &overrides, MPI_COMM_WORLD, &scene);
+  else memset(&scene, 0, sizeof scene);
   int code = 0;
   if (status != SK_OK) {
     code = fail(status);
@@ -322,16 +367,18 @@ static int command_scene(int argc, char **argv, scene_command command) {
   } else if (!run) {
     if (rank_of_world() == 0) {
       const sk_model *m = &scene.model;
+      int n_elements = 0; /* the whole mesh's, also on several ranks (each holds its part) */
+      for (int b = 0; b < m->n_bodies; ++b) n_elements += m->bodies[b].n_elems_global;
       printf("%s: ok — %dD, %d nodes, %d elements in %d bodies, %d dofs, %d contact pairs, %g to %g by %g\n",
-             args.scene, m->dim, m->n_nodes, m->n_elements, m->n_bodies, m->n_dofs, m->n_pairs, m->time.t_start,
+             args.scene, m->dim, m->n_nodes_global, n_elements, m->n_bodies, (int)m->n_dofs_global, m->n_pairs, m->time.t_start,
              m->time.t_end, m->time.dt);
       for (int b = 0; b < m->n_bodies; ++b)
-        printf("  body '%s': %d %s elements\n", m->bodies[b].name, m->bodies[b].group->n_elems,
+        printf("  body '%s': %d %s elements\n", m->bodies[b].name, m->bodies[b].n_elems_global,
                sk_elem_name(m->bodies[b].group->type));
       for (int k = 0; k < m->n_pairs; ++k)
         printf("  pair '%s': plugin %s, strategy %s, slave %s (%d nodes, %s faces), master %s\n", m->pairs[k].name,
                m->pairs[k].plugin->name, m->pairs[k].plugin->strategies[m->pairs[k].strategy],
-               m->pairs[k].slave.name, m->pairs[k].slave.n_nodes, sk_elem_name(m->pairs[k].slave.face_type),
+               m->pairs[k].slave.name, m->pairs[k].slave.n_nodes_global, sk_elem_name(m->pairs[k].slave.face_type),
                m->pairs[k].has_obstacle ? m->pairs[k].obstacle.name : m->pairs[k].master.name);
       for (int b = 0; b < m->n_bodies; ++b)
         if (m->bodies[b].plugin)
@@ -353,7 +400,15 @@ static int command_scene(int argc, char **argv, scene_command command) {
     sk_run_options options = {.out_dir = args.out,
                               .progress = !args.quiet && rank_of_world() == 0,
                               .verbose = args.verbose,
-                              .max_steps = args.steps};
+                              .max_steps = args.steps,
+                              .checkpoint_every = args.checkpoint_every,
+                              .checkpoint_dir = args.checkpoint,
+                              .scene_path = args.scene,
+                              .sets = sets,
+                              .set_modes = modes,
+                              .n_sets = args.n_sets,
+                              .plugin = args.plugin,
+                              .restart = restart};
     sk_run_summary summary;
     /* the stepper polls the signal handlers installed in main() before each step (sk_run) */
     status = sk_run(&scene, &options, &summary);
@@ -374,6 +429,7 @@ static int command_scene(int argc, char **argv, scene_command command) {
     }
   }
   sk_scene_free(&scene);
+  sk_restart_free(restart);
   free(args.sets);
   free(args.modes);
   return code;

@@ -211,6 +211,8 @@ sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_
   free(records);
   if (status == SK_OK) status = build_nodes(surface);
   if (status == SK_OK) status = build_neighbors(surface);
+  surface->n_faces_global = surface->n_faces;
+  surface->n_nodes_global = surface->n_nodes;
   if (status != SK_OK) sk_surface_free(surface);
   return status;
 }
@@ -249,7 +251,11 @@ void sk_surface_free(sk_surface *surface) {
   free(surface->conn);
   free(surface->nodes);
   free(surface->face_neighbors);
-  surface->conn = surface->nodes = surface->face_neighbors = NULL;
+  free(surface->face_index);
+  free(surface->node_index);
+  free(surface->face_owner);
+  surface->conn = surface->nodes = surface->face_neighbors = surface->face_owner = NULL;
+  surface->face_index = surface->node_index = NULL;
   surface->n_faces = surface->n_nodes = 0;
 }
 

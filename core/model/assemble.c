@@ -24,8 +24,8 @@ static void gather(int n, const int *dofs, const double *global, double *local) 
   for (int k = 0; k < n; ++k) local[k] = global[dofs[k]];
 }
 
-static sk_status inverted(const sk_body *body, int element) {
-  return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, element - body->first_element);
+static sk_status inverted(const sk_model *model, const sk_body *body, int element) {
+  return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, model->element_index[element]);
 }
 
 sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, int element, const double *geometry,
@@ -49,7 +49,7 @@ sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, i
     gather(n, dofs, model->X, X);
     status = sk_solid_internal(&body->solid, X, u, NULL, f, K);
   }
-  if (status != SK_OK) return inverted(body, element);
+  if (status != SK_OK) return inverted(model, body, element);
   *n_out = n;
   return sk_element_inertia(model, state, element, dofs, f, K);
 }
@@ -98,6 +98,7 @@ void sk_traction_add(const sk_model *model, int k, double t, double *F) {
   for (int e = 0; e < g->n_elems; ++e) {
     double X[SK_MAX_NEN * 3], f[SK_MAX_NEN * 3];
     const int *conn = g->conn + (size_t)e * (size_t)g->nen;
+    if (model->node_owner[conn[0]] != model->rank) continue; /* each face once, by the owner of its first node */
     for (int a = 0; a < g->nen; ++a)
       for (int i = 0; i < dim; ++i) X[a * dim + i] = model->X[conn[a] * dim + i];
     sk_face_traction(g->type, dim, X, traction, f);
@@ -111,9 +112,9 @@ static sk_status invariants(const sk_model *model, int only, const unsigned char
                             const double *v, sk_invariants *inv) {
   memset(inv, 0, sizeof *inv);
   int dim = model->dim;
-  /* M v per node (consistent mass), kinetic energy and momenta */
+  /* M v per owned node (consistent mass: its row is whole on its owner), kinetic energy and momenta */
   for (int a = 0; a < model->n_nodes; ++a) {
-    if (in_body && !in_body[a]) continue;
+    if (model->node_owner[a] != model->rank || (in_body && !in_body[a])) continue;
     double mv[3] = {0, 0, 0};
     for (int64_t k = model->mass_row_ptr[a]; k < model->mass_row_ptr[a + 1]; ++k) {
       int b = model->mass_cols[k];
@@ -139,10 +140,21 @@ static sk_status invariants(const sk_model *model, int only, const unsigned char
     double X[SK_MAX_NEN * 3], ue[SK_MAX_NEN * 3], W = 0.0;
     gather(n, dofs, model->X, X);
     gather(n, dofs, u, ue);
-    if (sk_solid_internal(&body->solid, X, ue, &W, NULL, NULL) != SK_OK) return inverted(body, e);
+    if (sk_solid_internal(&body->solid, X, ue, &W, NULL, NULL) != SK_OK) return inverted(model, body, e);
     strain += W;
   }
-  MPI_Allreduce(&strain, &inv->strain, 1, MPI_DOUBLE, MPI_SUM, model->comm);
+  double sums[11] = {inv->kinetic, strain};
+  for (int i = 0; i < 3; ++i) {
+    sums[2 + i] = inv->momentum[i];
+    sums[5 + i] = inv->angular_momentum[i];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums, 8, MPI_DOUBLE, MPI_SUM, model->comm);
+  inv->kinetic = sums[0];
+  inv->strain = sums[1];
+  for (int i = 0; i < 3; ++i) {
+    inv->momentum[i] = sums[2 + i];
+    inv->angular_momentum[i] = sums[5 + i];
+  }
   return SK_OK;
 }
 
@@ -171,7 +183,7 @@ sk_status sk_bulk_stress(const sk_model *model, const double *u, double *stress)
     double X[SK_MAX_NEN * 3], ue[SK_MAX_NEN * 3];
     gather(n, dofs, model->X, X);
     gather(n, dofs, u, ue);
-    if (sk_solid_cauchy(&body->solid, X, ue, stress + 9 * (size_t)e) != SK_OK) return inverted(body, e);
+    if (sk_solid_cauchy(&body->solid, X, ue, stress + 9 * (size_t)e) != SK_OK) return inverted(model, body, e);
   }
   return SK_OK;
 }

@@ -30,7 +30,7 @@ sk_status sk_element_system(const sk_model *model, const sk_bulk_state *state, i
 sk_status sk_element_inertia(const sk_model *model, const sk_bulk_state *state, int element, const int *dofs,
                              double *f, double *K);
 
-/* Adds traction load k at time t to F (F -= nodal forces), dim per node. */
+/* Adds traction load k at time t to F (F -= nodal forces), dim per node: the faces whose first node this rank owns. */
 void sk_traction_add(const sk_model *model, int k, double t, double *F);
 
 typedef struct {
@@ -38,8 +38,8 @@ typedef struct {
   double momentum[3], angular_momentum[3];
 } sk_invariants;
 
-/* Kinetic and strain energy, linear and angular momentum (about the origin) at displacement u and velocity v
- * (collective: strain energy is summed over ranks). */
+/* Kinetic and strain energy, linear and angular momentum (about the origin) at displacement u and velocity v (over
+ * the local dofs; collective: each rank sums its owned nodes and elements). */
 sk_status sk_bulk_invariants(const sk_model *model, const double *u, const double *v, sk_invariants *inv);
 /* The same for one body (collective). */
 sk_status sk_bulk_body_invariants(const sk_model *model, int body, const double *u, const double *v,

@@ -113,18 +113,20 @@ static sk_status bulk_mass_properties(sk_host *host, double *mass, double center
   const sk_model *m = host->sys->model;
   const sk_body *body = &m->bodies[host->term->body];
   const sk_group *g = body->group;
-  double total = 0.0, moment[3] = {0, 0, 0};
+  double sums[4] = {0, 0, 0, 0}; /* moment, total: this rank's elements, then summed over ranks */
   for (int e = 0; e < g->n_elems; ++e) {
+    if (m->element_part[body->first_element + e] != m->rank) continue;
     const double *M = element_mass(m, body->first_element + e);
     const int *conn = g->conn + (size_t)e * g->nen;
     for (int a = 0; a < g->nen; ++a)
       for (int b = 0; b < g->nen; ++b) {
-        total += M[a * g->nen + b];
-        for (int i = 0; i < m->dim; ++i) moment[i] += M[a * g->nen + b] * m->X[(size_t)conn[a] * m->dim + i];
+        sums[3] += M[a * g->nen + b];
+        for (int i = 0; i < m->dim; ++i) sums[i] += M[a * g->nen + b] * m->X[(size_t)conn[a] * m->dim + i];
       }
   }
-  *mass = total;
-  for (int i = 0; i < 3; ++i) center[i] = total > 0.0 ? moment[i] / total : 0.0;
+  MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, m->comm);
+  *mass = sums[3];
+  for (int i = 0; i < 3; ++i) center[i] = sums[3] > 0.0 ? sums[i] / sums[3] : 0.0;
   return SK_OK;
 }
 
@@ -225,9 +227,16 @@ static sk_status bulk_add_stiffness(sk_host *host, double scale, sk_sink *sink) 
   return SK_OK;
 }
 
-static int compare_i64(const void *a, const void *b) {
-  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-  return (x > y) - (x < y);
+/* The view node of a model node (view nodes are sorted by model node), or -1. */
+static int view_node_of(const sk_view_data *v, int node) {
+  const int dim = v->view.dim;
+  int lo = 0, hi = v->view.n_nodes;
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (v->local_dofs[(int64_t)mid * dim] / dim < node) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < v->view.n_nodes && v->local_dofs[(int64_t)lo * dim] / dim == node ? lo : -1;
 }
 
 static sk_status bulk_external_force(sk_host *host, double t, double *f) {
@@ -253,11 +262,10 @@ static sk_status bulk_external_force(sk_host *host, double t, double *f) {
         for (int i = 0; i < dim; ++i) X[a * dim + i] = m->X[(size_t)conn[a] * dim + i];
       sk_face_traction(g->type, dim, X, traction, fe);
       for (int a = 0; a < g->nen; ++a) {
-        const int64_t id = conn[a];
-        const int64_t *hit = bsearch(&id, v->node_id, (size_t)v->view.n_nodes, sizeof(int64_t), compare_i64);
-        if (!hit) return sk_error_set(SK_ERR_INTERNAL, "%s: traction node %d outside the body view", host->name,
-                                      conn[a]);
-        for (int i = 0; i < dim; ++i) f[(hit - v->node_id) * dim + i] += fe[a * dim + i];
+        const int node = view_node_of(v, conn[a]);
+        if (node < 0) return sk_error_set(SK_ERR_INTERNAL, "%s: traction node %lld outside the body view", host->name,
+                                       (long long)m->node_gid[conn[a]]);
+        for (int i = 0; i < dim; ++i) f[node * dim + i] += fe[a * dim + i];
       }
     }
   }
@@ -317,21 +325,24 @@ static sk_status linear_solve_again(sk_host *host, const double *const *b_view, 
   sk_system *sys = host->sys;
   if (!term->again_b || term->again_size < sys->n)
     return sk_error_set(SK_ERR_INTERNAL, "%s: solve_again without its buffers", host->name);
+  /* this rank's part of b (its owned nodes, the extras it holds); the system sums the parts into the owners */
   memset(term->again_b, 0, sizeof(double) * (size_t)sys->n);
   for (int v = 0; v < term->n_views; ++v) {
     const sk_view *view = term->view_list[v];
+    const int64_t *dofs = term->views[v].local_dofs;
     for (int k = 0; k < view->n_nodes; ++k)
       if (view->owned[k])
-        for (int i = 0; i < view->dim; ++i) term->again_b[view->dofs[k * view->dim + i]] += b_view[v][k * view->dim + i];
+        for (int i = 0; i < view->dim; ++i) term->again_b[dofs[k * view->dim + i]] += b_view[v][k * view->dim + i];
   }
-  for (int64_t j = 0; j < term->base.n_extra; ++j) term->again_b[term->base.extra_offset + j] += b_extra[j];
-  MPI_Allreduce(MPI_IN_PLACE, term->again_b, (int)sys->n, MPI_DOUBLE, MPI_SUM, sys->comm);
+  for (int64_t j = 0; j < term->base.n_extra; ++j)
+    if (sys->role[term->base.extra_local + j]) term->again_b[term->base.extra_local + j] += b_extra[j];
   SK_TRY(sk_system_solve_again(sys, term->again_b, term->again_y));
   for (int v = 0; v < term->n_views; ++v) {
     const sk_view *view = term->view_list[v];
-    for (int k = 0; k < view->n_nodes * view->dim; ++k) y_view[v][k] = term->again_y[view->dofs[k]];
+    const int64_t *dofs = term->views[v].local_dofs;
+    for (int k = 0; k < view->n_nodes * view->dim; ++k) y_view[v][k] = term->again_y[dofs[k]];
   }
-  for (int64_t j = 0; j < term->base.n_extra; ++j) y_extra[j] = term->again_y[term->base.extra_offset + j];
+  for (int64_t j = 0; j < term->base.n_extra; ++j) y_extra[j] = term->again_y[term->base.extra_local + j];
   return SK_OK;
 }
 

@@ -26,20 +26,22 @@ typedef struct {
   unsigned char *owned;
   double *X;
   int *cell_element;       /* bodies: the global element of each cell */
+  int64_t *local_dofs;     /* n_nodes * dim: the local unknown of each view dof (system.h) */
 } sk_view_data;
 
 /* A surface as this rank sees it: with `whole`, every face; otherwise the faces with a node this rank owns or that
  * this rank owns, and their nodes. A face is owned by the owner of the body element it bounds. */
 sk_status sk_view_surface(const sk_model *model, const sk_surface *surface, const char *name, int whole,
                           sk_view_data *view);
-/* A surface view of the faces `selected` (NULL: all) of a core surface (mesh node ids), with each face's and each
- * mesh node's ownership (NULL: all owned) and the reference positions X (dim per mesh node). */
-sk_status sk_view_fill_surface(sk_view_data *view, const sk_surface *surface, const char *name, int dim,
-                               const double *X, const unsigned char *selected, const unsigned char *face_owned,
-                               const unsigned char *node_owned);
 /* A body as this rank sees it: its elements owned by this rank or touching a node it owns, and their nodes. */
 sk_status sk_view_body(const sk_model *model, int body, sk_view_data *view);
+/* A view of a whole surface (mesh node ids indexing X, dim per node) on one rank, every face and node owned: the
+ * plugin test kit's. */
+sk_status sk_view_fill_surface(sk_view_data *view, const sk_surface *surface, const char *name, int dim,
+                               const double *X);
 void sk_view_free(sk_view_data *view);
+/* The local unknown of each of the view's dofs (after the system laid out its dofs). */
+sk_status sk_view_localize(sk_view_data *view, const sk_system *sys);
 /* The data behind an ABI view handed out by the host. */
 static inline const sk_view_data *sk_view_data_of(const sk_view *view) { return (const sk_view_data *)view; }
 

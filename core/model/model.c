@@ -27,8 +27,14 @@ static sk_status out_of_memory(const char *what) {
 }
 
 /* The node graph of the bodies' elements as a scalar CSR (sorted, unique columns): the mass matrix's pattern. */
-static sk_status build_node_graph(sk_model *model) {
+sk_status sk_model_build_graph(sk_model *model) {
   const int n = model->n_nodes;
+  free(model->mass_row_ptr);
+  free(model->mass_cols);
+  free(model->mass_values);
+  model->mass_row_ptr = NULL;
+  model->mass_cols = NULL;
+  model->mass_values = NULL;
   int64_t *count = calloc((size_t)n + 1, sizeof *count);
   int64_t *start = malloc(sizeof(int64_t) * ((size_t)n + 1));
   model->mass_row_ptr = malloc(sizeof(int64_t) * ((size_t)n + 1));
@@ -104,7 +110,8 @@ sk_status sk_model_build_mass(sk_model *model) {
       double *M = model->element_mass + model->element_mass_offset[body->first_element + e];
       sk_status status = sk_solid_mass(&body->solid, X, M);
       if (status != SK_OK)
-        return sk_error_prefix(status, "mesh %s: body '%s', element %d: ", model->mesh.source, body->name, e);
+        return sk_error_prefix(status, "mesh %s: body '%s', element %d: ", model->mesh.source, body->name,
+                               model->element_index[body->first_element + e]);
       for (int a = 0; a < g->nen; ++a) {
         int row = conn[a];
         const int *rc = model->mass_cols + model->mass_row_ptr[row];
@@ -147,9 +154,82 @@ static sk_status partition(sk_model *model) {
   return SK_OK;
 }
 
+static int compare_pairs(const void *a, const void *b) {
+  const int64_t *x = a, *y = b;
+  return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
+/* The sorted lookup table of the nodes' mesh ids. */
+sk_status sk_model_index_nodes(sk_model *model) {
+  const size_t n = (size_t)(model->n_nodes > 0 ? model->n_nodes : 1);
+  free(model->gid_sorted);
+  model->gid_sorted = malloc(2 * sizeof(int64_t) * n);
+  if (!model->gid_sorted) return out_of_memory("node ids");
+  for (int a = 0; a < model->n_nodes; ++a) {
+    model->gid_sorted[2 * a] = model->node_gid[a];
+    model->gid_sorted[2 * a + 1] = a;
+  }
+  qsort(model->gid_sorted, (size_t)model->n_nodes, 2 * sizeof(int64_t), compare_pairs);
+  return SK_OK;
+}
+
+int sk_model_node_of(const sk_model *model, int64_t gid) {
+  int lo = 0, hi = model->n_nodes;
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (model->gid_sorted[2 * mid] < gid) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < model->n_nodes && model->gid_sorted[2 * lo] == gid ? (int)model->gid_sorted[2 * lo + 1] : -1;
+}
+
 sk_status sk_model_build(sk_model *model) {
-  SK_TRY(build_node_graph(model));
+  model->n_nodes_global = model->n_nodes;
+  model->n_dofs_global = model->n_dofs;
+  free(model->node_gid);
+  free(model->element_index);
+  model->node_gid = malloc(sizeof(int64_t) * (size_t)(model->n_nodes > 0 ? model->n_nodes : 1));
+  model->element_index = malloc(sizeof(int) * (size_t)(model->n_elements > 0 ? model->n_elements : 1));
+  if (!model->node_gid || !model->element_index) return out_of_memory("node ids");
+  for (int a = 0; a < model->n_nodes; ++a) model->node_gid[a] = a;
+  for (int b = 0; b < model->n_bodies; ++b)
+    for (int e = 0; e < model->bodies[b].group->n_elems; ++e) model->element_index[model->bodies[b].first_element + e] = e;
+  for (int b = 0; b < model->n_bodies; ++b) {
+    model->bodies[b].n_elems_global = model->bodies[b].group->n_elems;
+    model->bodies[b].n_nodes_global = 0; /* sk_model_distribute counts them */
+  }
+  SK_TRY(sk_model_index_nodes(model));
   return partition(model);
+}
+
+sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
+  for (int a = 0; a < m->n_nodes; ++a) role[a] = m->node_owner[a] == m->rank ? SK_NODE_OWNED : 0;
+  /* the ghost layer: every element this rank owns or that holds a node it owns */
+  for (int b = 0; b < m->n_bodies; ++b) {
+    const sk_group *g = m->bodies[b].group;
+    for (int e = 0; e < g->n_elems; ++e) {
+      const int *conn = g->conn + (size_t)e * g->nen;
+      int held = m->element_part[m->bodies[b].first_element + e] == m->rank;
+      for (int a = 0; a < g->nen && !held; ++a) held = m->node_owner[conn[a]] == m->rank;
+      for (int a = 0; held && a < g->nen; ++a)
+        if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
+    }
+  }
+  /* master surfaces: a slave point may reach any of their faces */
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const sk_contact_pair *pair = &m->pairs[k];
+    if (pair->has_obstacle) continue;
+    for (int j = 0; j < pair->master.n_nodes; ++j)
+      if (!role[pair->master.nodes[j]]) role[pair->master.nodes[j]] = SK_NODE_GHOST;
+  }
+  /* rank 0 assembles the current-area resultant loads (each couples all nodes of its group) */
+  for (int k = 0; m->rank == 0 && k < m->n_resultants; ++k) {
+    if (!m->resultants[k].current_area) continue;
+    const sk_group *g = m->resultants[k].faces;
+    for (int64_t j = 0; j < (int64_t)g->n_elems * g->nen; ++j)
+      if (!role[g->conn[j]]) role[g->conn[j]] = SK_NODE_GHOST;
+  }
+  return SK_OK;
 }
 
 int sk_model_body_of_node(const sk_model *model, int node) {
@@ -172,9 +252,16 @@ void sk_model_free(sk_model *model) {
   free(model->dirichlet);
   free(model->tractions);
   free(model->resultants);
+  for (int b = 0; b < model->n_bodies; ++b) free(model->bodies[b].node_index);
   free(model->bodies);
+  free(model->element_index);
+  free(model->surface_ptr);
+  free(model->surface_cols);
+  sk_whole_mesh_free(model->whole);
   free(model->element_part);
   free(model->node_owner);
+  free(model->node_gid);
+  free(model->gid_sorted);
   free(model->X);
   free(model->mass_row_ptr);
   free(model->mass_cols);

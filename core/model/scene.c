@@ -608,6 +608,7 @@ static sk_status build(sk_scene *scene) {
   SK_TRY(read_boundary(root, model));
   SK_TRY(read_contact(root, scene));
   SK_TRY(sk_model_build(model));
+  SK_TRY(sk_model_distribute(model));
   /* The system of terms creates the plugin instances now, so that their parameters are validated (and read) before
    * the unknown-key check. */
   SK_TRY(sk_system_create(model, &scene->solver, &scene->system));

@@ -32,9 +32,17 @@ static void describe_surface(const sk_model *model, const sk_surface *surface, s
   describe_body_material(model, surface->body, side);
   side->cell_type = surface->face_type;
   side->order = sk_elem_order(surface->face_type);
-  sk_surface_sizes(surface, model->mesh.x, 3, &side->h_min, &side->h_mean, &side->h_max, &side->measure);
-  side->n_cells = surface->n_faces;
-  side->n_nodes = surface->n_nodes;
+  /* the whole surface's, also once the mesh is distributed (each rank then holds part of it) */
+  if (surface->whole_sizes) {
+    side->h_min = surface->whole_h_min;
+    side->h_mean = surface->whole_h_mean;
+    side->h_max = surface->whole_h_max;
+    side->measure = surface->whole_measure;
+  } else {
+    sk_surface_sizes(surface, model->mesh.x, 3, &side->h_min, &side->h_mean, &side->h_max, &side->measure);
+  }
+  side->n_cells = surface->face_index ? surface->n_faces_global : surface->n_faces;
+  side->n_nodes = surface->node_index ? surface->n_nodes_global : surface->n_nodes;
 }
 
 _Static_assert(SK_SHAPE_PLANE + SK_OBSTACLE_PARABOLIC_CYLINDER == SK_SHAPE_PARABOLIC_CYLINDER,
@@ -108,6 +116,11 @@ void sk_describe_body(const sk_model *model, int body, sk_scene_description *d) 
   describe_body_material(model, body, side);
   side->cell_type = b->group->type;
   side->order = sk_elem_order(b->group->type);
+  if (b->node_index) { /* distributed: the whole body's counts */
+    side->n_cells = b->n_elems_global;
+    side->n_nodes = b->n_nodes_global;
+    return;
+  }
   side->n_cells = b->group->n_elems;
   int *nodes = NULL, n_nodes = 0;
   if (sk_group_nodes(b->group, &nodes, &n_nodes) == SK_OK) side->n_nodes = n_nodes;

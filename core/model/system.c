@@ -28,7 +28,14 @@ static sk_status out_of_memory(const char *what, int64_t count) {
 sk_status sk_system_collective(const sk_system *sys, sk_status local) {
   int code = (int)local, worst = 0;
   MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, sys->comm);
-  if (worst != SK_OK && local == SK_OK) sk_error_set((sk_status)worst, "failure on another rank");
+  if (worst == SK_OK) return SK_OK;
+  /* every rank reports the message of the lowest rank that failed with the worst status (rank 0 prints it) */
+  int mine = local == (sk_status)worst ? sys->rank : sys->n_ranks, first = 0;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, sys->comm);
+  char message[2048]; /* the size of error.c's buffer */
+  snprintf(message, sizeof message, "%s", sk_error_message());
+  MPI_Bcast(message, (int)sizeof message, MPI_CHAR, first, sys->comm);
+  if (first != sys->rank) sk_error_set((sk_status)worst, "%s", message);
   return (sk_status)worst;
 }
 
@@ -76,6 +83,18 @@ static sk_status create_terms(sk_system *sys) {
   return add_term(sys, term);
 }
 
+/* The displacements are the bridge's nodal block (whole-node aggregates, rigid-body-mode nullspace): the reference
+ * positions of this rank's owned nodes, in the order of its nodal rows. */
+static sk_status hand_coordinates(sk_system *sys) {
+  const sk_model *m = sys->model;
+  double *X = malloc(sizeof(double) * (size_t)(sys->n_owned_dofs > 0 ? sys->n_owned_dofs : 1));
+  if (!X) return out_of_memory("the owned coordinates", sys->n_owned_dofs);
+  for (int64_t k = 0; k < sys->n_owned_dofs; ++k) X[k] = m->X[sys->owned_dofs[k]];
+  sk_status status = sk_linsys_set_coordinates(sys->linsys, (int)(sys->n_owned_dofs / m->dim), m->dim, X);
+  free(X);
+  return status;
+}
+
 sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk_system **out) {
   *out = NULL;
   sk_system *sys = calloc(1, sizeof *sys);
@@ -108,6 +127,8 @@ sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk
   }
   for (int k = 0; k < model->n_dofs; ++k) sys->q_n[k] = sys->q[k] = model->X[k];
   sk_status status = sk_linsys_create(model->comm, &solver->linear, &sys->linsys);
+  if (status == SK_OK) status = sk_system_layout_dofs(sys);
+  if (status == SK_OK) status = hand_coordinates(sys);
   if (status == SK_OK) status = create_terms(sys);
   if (status == SK_OK) status = sk_system_settle_needs(sys);
   if (status != SK_OK) {
@@ -119,15 +140,24 @@ sk_status sk_system_create(sk_model *model, const sk_solver_settings *solver, sk
 }
 
 static void free_unknown_arrays(sk_system *sys) {
-  double **arrays[] = {&sys->F_local, &sys->rhs_local, &sys->rhs, &sys->b, &sys->y, &sys->dx_elim, &sys->Jdx,
-                       &sys->set_x};
+  double **arrays[] = {&sys->F_local, &sys->rhs_local, &sys->b, &sys->y, &sys->dx_local, &sys->Jdx, &sys->set_x,
+                       &sys->owned_work, &sys->q_work};
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
     free(*arrays[k]);
     *arrays[k] = NULL;
   }
-  free(sys->kept);
-  free(sys->full_of_kept);
-  sys->kept = sys->full_of_kept = NULL;
+  free(sys->solver_of);
+  free(sys->role);
+  free(sys->owned);
+  free(sys->constraint_out);
+  free(sys->constraint_counts);
+  free(sys->constraint_displs);
+  free(sys->constraint_row);
+  free(sys->constraint_buffer);
+  sys->solver_of = sys->owned = sys->constraint_out = sys->constraint_counts = sys->constraint_displs = NULL;
+  sys->constraint_row = NULL;
+  sys->constraint_buffer = NULL;
+  sys->role = NULL;
 }
 
 sk_status sk_system_add_term(sk_system *sys, sk_term *term) {
@@ -162,7 +192,12 @@ void sk_system_destroy(sk_system *sys) {
   free(sys->row_ptr);
   free(sys->cols);
   free(sys->row_local);
-  free(sys->local_rows);
+  free(sys->bulk_ptr);
+  free(sys->bulk_cols);
+  free(sys->node_role);
+  free(sys->owned_dofs);
+  sk_exchange_free(&sys->ghost_dofs);
+  sk_exchange_free(&sys->ghost_extras);
   free(sys->elem_pos_offset);
   free(sys->elem_pos);
   free(sys->pair_z);
@@ -173,142 +208,39 @@ void sk_system_destroy(sk_system *sys) {
   free(sys);
 }
 
-/* ---- the unknowns of an attempt ---------------------------------------------------------------------------------- */
-
-/* The n-sized work arrays; x keeps its values when it grows. Called at layout time only. */
-static sk_status ensure_capacity(sk_system *sys, int64_t n) {
-  if (n <= sys->capacity && sys->kept) return SK_OK;
-  const int64_t cap = n + n / 4 + 16;
-  /* calloc of many GB succeeds lazily on Linux and the first touch gets the process killed by the OOM killer: refuse
-   * work vectors (x, two numberings, eight vectors: 80 bytes per unknown) larger than the machine's memory */
-  const double need = 80.0 * (double)cap, memory = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
-  if (memory > 0 && need > memory) {
-    const sk_term *largest = sys->terms[0];
-    for (int k = 1; k < sys->n_terms; ++k)
-      if (sys->terms[k]->n_extra > largest->n_extra) largest = sys->terms[k];
-    return sk_error_set(SK_ERR_NOMEM, "%lld unknowns (%lld displacement dofs, %lld extra unknowns of %s) need %.3g GB "
-                        "for the work vectors alone, more than this machine's %.3g GB of memory", (long long)n,
-                        (long long)sys->model->n_dofs, (long long)largest->n_extra, largest->name, need / 1e9,
-                        memory / 1e9);
-  }
-  free_unknown_arrays(sys);
-  double *x = calloc((size_t)cap, sizeof(double));
-  if (!x) return out_of_memory("the unknowns", cap);
-  if (sys->x) memcpy(x, sys->x, sizeof(double) * (size_t)sys->capacity);
-  free(sys->x);
-  sys->x = x;
-  sys->capacity = cap;
-  sys->kept = calloc((size_t)cap, sizeof(int));
-  sys->full_of_kept = calloc((size_t)cap, sizeof(int));
-  double **arrays[] = {&sys->F_local, &sys->rhs_local, &sys->rhs, &sys->b, &sys->y, &sys->dx_elim, &sys->Jdx,
-                       &sys->set_x};
-  int ok = sys->kept && sys->full_of_kept;
-  for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
-    *arrays[k] = calloc((size_t)cap, sizeof(double));
-    ok = ok && *arrays[k];
-  }
-  if (!ok) {
-    free_unknown_arrays(sys);
-    return out_of_memory("the work vectors", cap);
-  }
-  return SK_OK;
-}
-
-/* Numbers the attempt's unknowns from the terms' layouts; *changed when the kept numbering differs from before.
- * again: a layout after a rejected converged point (docs/plugin-abi.md, converged): the extras keep their values at
- * x and their number must not change; only what the plugins eliminate may. */
-static sk_status layout_unknowns(sk_system *sys, int again, int *changed) {
-  sk_model *m = sys->model;
-  int64_t n = m->n_dofs;
-  sys->n_pairs = 0;
-  for (int k = 0; k < sys->n_terms; ++k) {
-    sk_term *term = sys->terms[k];
-    term->extra_offset = n;
-    term->n_extra = 0;
-    term->initial = NULL;
-    term->eliminated = NULL;
-    term->anchor = NULL;
-    term->recover_needs_jdx = 0;
-    if (!term->ops->layout) continue;
-    sk_status status = term->ops->layout(term, sys);
-    if (status != SK_OK) return sk_error_prefix(status, "%s: layout: ", term->name);
-    if (term->n_extra < 0) return sk_error_set(SK_ERR_PLUGIN, "%s: negative layout", term->name);
-    n += term->n_extra;
-  }
-  if (again && n != sys->n)
-    return sk_error_set(SK_ERR_PLUGIN, "the number of extra unknowns changed from %lld to %lld within a step "
-                        "attempt (a layout after converged() may change only what is eliminated)",
-                        (long long)(sys->n - m->n_dofs), (long long)(n - m->n_dofs));
-  /* the bridge and NOX count unknowns in int */
-  if (n > INT_MAX - 16)
-    return sk_error_set(SK_ERR_INPUT, "%lld unknowns exceed the %d the linear solvers can number", (long long)n,
-                        INT_MAX - 16);
-  const int64_t old_n = sys->n, old_kept = sys->n_kept;
-  int *old = NULL;
-  if (old_n > 0) {
-    old = malloc(sizeof(int) * (size_t)old_n);
-    if (!old) return out_of_memory("the unknowns' numbering", old_n);
-    memcpy(old, sys->kept, sizeof(int) * (size_t)old_n);
-  }
-  sk_status status = ensure_capacity(sys, n);
-  if (status != SK_OK) {
-    free(old);
-    return status;
-  }
-  sys->n = n;
-  int kept = 0;
-  for (int64_t i = 0; i < m->n_dofs; ++i) {
-    sys->kept[i] = kept;
-    sys->full_of_kept[kept++] = (int)i;
-  }
-  for (int k = 0; k < sys->n_terms; ++k) {
-    const sk_term *term = sys->terms[k];
-    for (int64_t j = 0; j < term->n_extra; ++j) {
-      const int64_t i = term->extra_offset + j;
-      if (term->eliminated && term->eliminated[j]) {
-        sys->kept[i] = -1;
-      } else {
-        sys->kept[i] = kept;
-        sys->full_of_kept[kept++] = (int)i;
-      }
-      if (!again) sys->x[i] = term->initial ? term->initial[j] : 0.0;
-    }
-  }
-  sys->n_kept = kept;
-  if (sys->n_ranks > 1 && n > m->n_dofs) {
-    /* each rank gives the starting values of its owned entities (zero elsewhere): the sum is the whole layout */
-    if (!again)
-      MPI_Allreduce(MPI_IN_PLACE, sys->x + m->n_dofs, (int)(n - m->n_dofs), MPI_DOUBLE, MPI_SUM, sys->comm);
-    int64_t counts[2] = {kept, -kept};
-    MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_MAX, sys->comm);
-    if (counts[0] != -counts[1]) {
-      free(old);
-      return sk_error_set(SK_ERR_PLUGIN, "the eliminated unknowns differ between ranks (layout().eliminated must "
-                          "describe the whole layout on every rank)");
-    }
-  }
-  *changed = old_n != n || old_kept != kept || (old && memcmp(old, sys->kept, sizeof(int) * (size_t)n) != 0);
-  free(old);
-  if (sys->unknowns_max < n) sys->unknowns_max = n;
-  return SK_OK;
-}
-
 /* ---- state from an iterate --------------------------------------------------------------------------------------- */
 
-static void set_iterate(sk_system *sys, const double *x) {
+/* 1 when every rank's owned unknowns equal `owned` (collective: the ranks take the same branch). */
+static int same_everywhere(const sk_system *sys, const double *reference, const double *owned) {
+  int same = 1;
+  for (int64_t k = 0; k < sys->n_owned && same; ++k) same = memcmp(&reference[sys->owned[k]], &owned[k], sizeof(double)) == 0;
+  MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, sys->comm);
+  return same;
+}
+
+void sk_system_update_ghost_dofs(sk_system *sys, double *dofs) { sk_exchange_forward(&sys->ghost_dofs, dofs); }
+
+/* The ghosts from their owners and the positions, after the owned unknowns of x changed. */
+static void refresh_iterate(sk_system *sys) {
   sk_model *m = sys->model;
-  if (x != sys->x) {
-    if (memcmp(x, sys->x, sizeof(double) * (size_t)sys->n) == 0) return;
-    memcpy(sys->x, x, sizeof(double) * (size_t)sys->n);
-  }
+  sk_exchange_forward(&sys->ghost_dofs, sys->x);
+  sk_exchange_forward(&sys->ghost_extras, sys->x);
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
 }
 
+/* x from NOX's owned unknowns (collective). */
+static void set_iterate(sk_system *sys, const double *owned) {
+  if (same_everywhere(sys, sys->x, owned)) return;
+  for (int64_t k = 0; k < sys->n_owned; ++k) sys->x[sys->owned[k]] = owned[k];
+  refresh_iterate(sys);
+}
+
 /* update_active_set once at every new point, before the first residual or Jacobian evaluated there. */
 static sk_status update_active_set(sk_system *sys) {
-  if (sys->set_valid && memcmp(sys->set_x, sys->x, sizeof(double) * (size_t)sys->n) == 0) return SK_OK;
-  memcpy(sys->set_x, sys->x, sizeof(double) * (size_t)sys->n);
+  for (int64_t k = 0; k < sys->n_owned; ++k) sys->owned_work[k] = sys->x[sys->owned[k]];
+  if (sys->set_valid && same_everywhere(sys, sys->set_x, sys->owned_work)) return SK_OK;
+  for (int64_t k = 0; k < sys->n_owned; ++k) sys->set_x[sys->owned[k]] = sys->owned_work[k];
   sys->set_valid = 1;
   sk_status status = SK_OK;
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
@@ -333,12 +265,15 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   sys->step = step;
   sys->set_valid = 0;
   sys->worst_row = -1;
-  if (!sys->x) SK_TRY(ensure_capacity(sys, m->n_dofs));
+  if (!sys->x) SK_TRY(sk_system_ensure_capacity(sys, m->n_dofs));
   memcpy(sys->x, sys->u_n, sizeof(double) * (size_t)m->n_dofs);
   sk_status status = SK_OK;
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
     if (sys->terms[k]->ops->predict) status = sys->terms[k]->ops->predict(sys->terms[k], sys);
   SK_TRY(sk_system_collective(sys, status));
+  /* the predictors write the dofs of their bodies' elements; the ghosts outside them (master surface nodes held for
+   * contact) get their owners' predicted values */
+  sk_exchange_forward(&sys->ghost_dofs, sys->x);
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
   for (int k = 0; k < sys->n_terms; ++k) {
@@ -381,26 +316,39 @@ static sk_status drop_fixed_pairs(sk_system *sys) {
   return SK_OK;
 }
 
-/* The attempt's unknowns, pattern and condensation pairs from the terms' layouts (again: see layout_unknowns). */
+/* The attempt's unknowns, pattern and condensation pairs from the terms' layouts (again: see
+ * sk_system_layout_unknowns). */
 static sk_status lay_out(sk_system *sys, int again) {
   sk_model *m = sys->model;
   int changed = 0;
-  sk_status status = sk_system_collective(sys, layout_unknowns(sys, again, &changed));
+  sk_status status = sk_system_collective(sys, sk_system_layout_unknowns(sys, again, &changed));
   if (status != SK_OK) return status;
   sys->x_version++; /* the extras got their starting values */
+  /* the condensation pairs (ABI indices from the plugins) as local unknowns of this rank */
+  for (int64_t k = 0; k < sys->n_pairs && status == SK_OK; ++k) {
+    const int64_t z = sk_system_local_of(sys, sys->pair_z[k]), row = sk_system_local_of(sys, sys->pair_row[k]);
+    if (z < 0 || row < 0 || row >= m->n_dofs)
+      status = sk_error_set(SK_ERR_PLUGIN, "stickslip.condense: pair (unknown %lld, row %lld) outside this rank's "
+                            "unknowns, or the row not a displacement row", (long long)sys->pair_z[k],
+                            (long long)sys->pair_row[k]);
+    sys->pair_z[k] = z;
+    sys->pair_row[k] = row;
+  }
+  SK_TRY(sk_system_collective(sys, status));
   SK_TRY(sk_system_settle_pattern(sys, changed));
   sys->condensing = 0;
   SK_TRY(sk_system_collective(sys, drop_fixed_pairs(sys)));
   int64_t pairs_anywhere = 0;
   MPI_Allreduce(&sys->n_pairs, &pairs_anywhere, 1, MPI_INT64_T, MPI_SUM, sys->comm);
   if (pairs_anywhere > 0) {
-    /* the pairs in the linear system's (kept) numbering */
+    /* the pairs in the linear system's numbering */
     for (int64_t k = 0; k < sys->n_pairs; ++k) {
-      const int z = sys->kept[sys->pair_z[k]], row = sys->kept[sys->pair_row[k]];
+      const int z = sys->solver_of[sys->pair_z[k]], row = sys->solver_of[sys->pair_row[k]];
       if (z < 0 || row < 0 || sys->pair_row[k] >= m->n_dofs)
         status = sk_error_set(SK_ERR_PLUGIN, "stickslip.condense: pair %lld (unknown %lld, row %lld): the multiplier "
                               "is eliminated by the plugin or the row is not a displacement row", (long long)k,
-                              (long long)sys->pair_z[k], (long long)sys->pair_row[k]);
+                              (long long)sk_system_abi_of(sys, sys->pair_z[k]),
+                              (long long)sk_system_abi_of(sys, sys->pair_row[k]));
       sys->pair_z[k] = z;
       sys->pair_row[k] = row;
     }
@@ -428,24 +376,31 @@ static sk_status note_fatal(sk_system *sys, sk_status status) {
   return status;
 }
 
-/* Remembers the largest |F| entry (the first non-finite one wins): where a step that cannot be solved fails. */
-static void note_worst(sk_system *sys, const double *F) {
+/* Remembers where |F| is largest over the owned unknowns of all ranks (the first non-finite one wins): where a step
+ * that cannot be solved fails. sys->worst_row is the ABI index of that unknown on the rank holding it, else -1. */
+static void note_worst(sk_system *sys, const double *F_owned) {
   int64_t worst = -1;
   double largest = -1.0;
-  for (int64_t i = 0; i < sys->n; ++i) {
-    const double a = fabs(F[i]);
+  for (int64_t k = 0; k < sys->n_owned; ++k) {
+    const double a = fabs(F_owned[k]);
     if (!isfinite(a)) {
-      worst = i;
-      largest = a;
+      worst = k;
+      largest = INFINITY;
       break;
     }
     if (a > largest) {
-      worst = i;
+      worst = k;
       largest = a;
     }
   }
-  sys->worst_row = worst;
-  sys->worst_residual = F && worst >= 0 ? F[worst] : 0.0;
+  struct {
+    double value;
+    int rank;
+  } mine = {largest, sys->rank}, best;
+  MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MAXLOC, sys->comm);
+  sys->worst_rank = best.rank;
+  sys->worst_row = best.rank == sys->rank && worst >= 0 ? sk_system_abi_of(sys, sys->owned[worst]) : -1;
+  sys->worst_residual = best.rank == sys->rank && worst >= 0 ? F_owned[worst] : 0.0;
 }
 
 static sk_status cb_residual(void *ctx, const double *x, double *F) {
@@ -465,10 +420,15 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
   }
   status = note_fatal(sys, sk_system_collective(sys, status));
   sys->worst_row = -1; /* a residual that cannot be evaluated names its own culprit (an element, a plugin) */
+  sys->worst_rank = -1;
   if (status != SK_OK) return status;
-  MPI_Allreduce(sys->F_local, F, (int)sys->n, MPI_DOUBLE, MPI_SUM, sys->comm);
+  /* the ghosts' rows summed into their owners */
+  sk_exchange_reverse(&sys->ghost_dofs, sys->F_local);
+  sk_exchange_reverse(&sys->ghost_extras, sys->F_local);
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
-    if (sys->terms[k]->ops->finish_residual) status = sys->terms[k]->ops->finish_residual(sys->terms[k], sys, F);
+    if (sys->terms[k]->ops->finish_residual)
+      status = sys->terms[k]->ops->finish_residual(sys->terms[k], sys, sys->F_local);
+  for (int64_t k = 0; k < sys->n_owned; ++k) F[k] = sys->F_local[sys->owned[k]];
   note_worst(sys, F);
   return status;
 }
@@ -493,9 +453,10 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
     if (sys->terms[k]->ops->finish_jacobian) status = sys->terms[k]->ops->finish_jacobian(sys->terms[k], sys);
   status = note_fatal(sys, sk_system_collective(sys, status));
   if (status != SK_OK) return status;
-  MPI_Allreduce(sys->rhs_local, sys->rhs, (int)sys->n, MPI_DOUBLE, MPI_SUM, sys->comm);
+  sk_exchange_reverse(&sys->ghost_dofs, sys->rhs_local);
+  sk_exchange_reverse(&sys->ghost_extras, sys->rhs_local);
   for (int k = 0; k < sys->n_terms; ++k)
-    if (sys->terms[k]->ops->finish_rhs) sys->terms[k]->ops->finish_rhs(sys->terms[k], sys, sys->rhs);
+    if (sys->terms[k]->ops->finish_rhs) sys->terms[k]->ops->finish_rhs(sys->terms[k], sys, sys->rhs_local);
   const double t0 = now_seconds();
   status = sys->condensing ? sk_condenser_assemble(sys->condenser, sys->linsys) : sk_linsys_assemble(sys->linsys);
   sys->t_assembly += now_seconds() - t0;
@@ -516,10 +477,11 @@ static sk_status solve_once(sk_system *sys, const double *b, double *y, sk_linea
                          : sk_linsys_solve(sys->linsys, b, y, report);
 }
 
-/* The kept system J_c dy = b; with stickslip.condense pairs through the condenser (reduced solve + recovery).
- * A Krylov solver the scene chose that misses its tolerance is replaced by the direct solver for the rest of the run
- * and the system solved again: a shorter step would not change its behaviour on this system (bridge.h,
- * sk_linear_failure). `auto` falls back by itself; a singular matrix fails for every solver and is reported. */
+/* The kept system J_c dy = b over the linear system's owned rows; with stickslip.condense pairs through the
+ * condenser (reduced solve + recovery). A Krylov solver the scene chose that misses its tolerance is replaced by the
+ * direct solver for the rest of the run and the system solved again: a shorter step would not change its behaviour
+ * on this system (bridge.h, sk_linear_failure). `auto` falls back by itself; a singular matrix fails for every
+ * solver and is reported. */
 static sk_status linear_solve(sk_system *sys, const double *b, double *y) {
   sk_linear_report report = {0};
   const double t0 = now_seconds();
@@ -541,49 +503,75 @@ static sk_status linear_solve(sk_system *sys, const double *b, double *y) {
   return status;
 }
 
+/* A vector over the owned unknowns (NOX's) into the local unknowns, ghosts from their owners. */
+static void owned_to_local(sk_system *sys, const double *owned, double *local) {
+  for (int64_t k = 0; k < sys->n_owned; ++k) local[sys->owned[k]] = owned[k];
+  sk_exchange_forward(&sys->ghost_dofs, local);
+  sk_exchange_forward(&sys->ghost_extras, local);
+}
+
 static sk_status cb_solve(void *ctx, const double *x, const double *F, double *dx) {
   sk_system *sys = ctx;
   (void)x;
-  for (int64_t k = 0; k < sys->n_kept; ++k) {
-    const int i = sys->full_of_kept[k];
-    sys->b[k] = -F[i] + sys->rhs[i];
-  }
+  /* b = -F + rhs over the local unknowns (owned entries), then on the linear system's rows */
+  double *local = sys->dx_local;
+  for (int64_t k = 0; k < sys->n_owned; ++k) local[sys->owned[k]] = -F[k] + sys->rhs_local[sys->owned[k]];
+  SK_TRY(sk_system_to_rows(sys, local, sys->b));
   SK_TRY(linear_solve(sys, sys->b, sys->y));
-  int any_eliminated = sys->n_kept < sys->n, any_jdx = 0;
-  for (int64_t i = 0; i < sys->n; ++i) dx[i] = sys->kept[i] >= 0 ? sys->y[sys->kept[i]] : 0.0;
+  int any_jdx = 0, any_recover = 0;
+  for (int k = 0; k < sys->n_terms; ++k) {
+    any_jdx |= sys->terms[k]->recover_needs_jdx;
+    any_recover |= sys->terms[k]->ops->recover != NULL && sys->terms[k]->n_extra > 0;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &any_recover, 1, MPI_INT, MPI_MAX, sys->comm);
+  memset(local, 0, sizeof(double) * (size_t)sys->n);
+  SK_TRY(sk_system_from_rows(sys, sys->y, local));
+  /* |dx . F| over the kept unknowns (FEAP's energy norm, --verbose), each owned entry once */
   double energy = 0.0;
-  for (int64_t i = 0; i < sys->n; ++i) energy += dx[i] * F[i];
+  for (int64_t k = 0; k < sys->n_owned; ++k) energy += local[sys->owned[k]] * F[k];
+  MPI_Allreduce(MPI_IN_PLACE, &energy, 1, MPI_DOUBLE, MPI_SUM, sys->comm);
   sys->newton_energy = fabs(energy);
-  for (int k = 0; k < sys->n_terms; ++k) any_jdx |= sys->terms[k]->recover_needs_jdx;
-  if (any_jdx) {
-    /* J dx with the assembled (uncondensed) operator, on the kept unknowns */
-    SK_TRY(sk_linsys_apply(sys->linsys, sys->y, sys->b));
-    memset(sys->Jdx, 0, sizeof(double) * (size_t)sys->n);
-    for (int64_t k = 0; k < sys->n_kept; ++k) sys->Jdx[sys->full_of_kept[k]] = sys->b[k];
+  sk_exchange_forward(&sys->ghost_dofs, local);
+  sk_exchange_forward(&sys->ghost_extras, local);
+  if (any_recover) {
+    if (any_jdx) {
+      /* J dx with the assembled (uncondensed) operator, on the kept unknowns */
+      SK_TRY(sk_linsys_apply(sys->linsys, sys->y, sys->b));
+      memset(sys->Jdx, 0, sizeof(double) * (size_t)sys->n);
+      SK_TRY(sk_system_from_rows(sys, sys->b, sys->Jdx));
+      sk_exchange_forward(&sys->ghost_dofs, sys->Jdx);
+      sk_exchange_forward(&sys->ghost_extras, sys->Jdx);
+    }
+    /* F over the local unknowns (the recover hooks read it at their views' nodes and extras) */
+    double *F_local = sys->q_work;
+    owned_to_local(sys, F, F_local);
+    sk_status status = SK_OK;
+    for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
+      sk_term *term = sys->terms[k];
+      if (!term->ops->recover) continue;
+      status = term->ops->recover(term, sys, F_local, local);
+      if (status != SK_OK) sk_error_prefix(status, "%s: recover: ", term->name);
+    }
+    SK_TRY(note_fatal(sys, sk_system_collective(sys, status)));
+    /* each rank recovered its own entities' eliminated unknowns; the sum over the ranks holding them completes dx */
+    double *eliminated = sys->q_work;
+    for (int64_t i = 0; i < sys->n; ++i) eliminated[i] = i >= sys->model->n_dofs && sys->solver_of[i] < 0 ? local[i] : 0.0;
+    sk_exchange_reverse(&sys->ghost_extras, eliminated);
+    for (int64_t i = sys->model->n_dofs; i < sys->n; ++i)
+      if (sys->solver_of[i] < 0 && sys->role[i] == SK_NODE_OWNED) local[i] = eliminated[i];
   }
-  sk_status status = SK_OK;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
-    if (!term->ops->recover) continue;
-    status = term->ops->recover(term, sys, F, dx);
-    if (status != SK_OK) sk_error_prefix(status, "%s: recover: ", term->name);
-  }
-  status = note_fatal(sys, sk_system_collective(sys, status));
-  if (status != SK_OK || !any_eliminated || sys->n_ranks == 1) return status;
-  /* each rank recovered its own entities' eliminated unknowns; the sum over ranks completes dx */
-  int n_elim = 0;
-  for (int64_t i = 0; i < sys->n; ++i)
-    if (sys->kept[i] < 0) sys->dx_elim[n_elim++] = dx[i];
-  MPI_Allreduce(MPI_IN_PLACE, sys->dx_elim, n_elim, MPI_DOUBLE, MPI_SUM, sys->comm);
-  n_elim = 0;
-  for (int64_t i = 0; i < sys->n; ++i)
-    if (sys->kept[i] < 0) dx[i] = sys->dx_elim[n_elim++];
+  for (int64_t k = 0; k < sys->n_owned; ++k) dx[k] = local[sys->owned[k]];
   return SK_OK;
 }
 
 sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y) {
-  /* b, y in the full numbering; the kept part is solved, eliminated entries stay 0 */
-  for (int64_t k = 0; k < sys->n_kept; ++k) sys->b[k] = b[sys->full_of_kept[k]];
+  /* b over the local unknowns: each rank's part, summed into the owners; the kept part is solved, eliminated entries
+   * stay 0 */
+  double *local = sys->q_work;
+  memcpy(local, b, sizeof(double) * (size_t)sys->n);
+  sk_exchange_reverse(&sys->ghost_dofs, local);
+  sk_exchange_reverse(&sys->ghost_extras, local);
+  SK_TRY(sk_system_to_rows(sys, local, sys->b));
   sk_linear_report report = {0};
   const double t0 = now_seconds();
   sk_status status = sys->condensing ? sk_condenser_solve_again(sys->condenser, sys->linsys, sys->b, sys->y, &report)
@@ -592,7 +580,12 @@ sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y) {
   sys->linear_solves++;
   if (report.solved) sys->step_solvers |= 1u << report.solver;
   SK_TRY(status);
-  for (int64_t i = 0; i < sys->n; ++i) y[i] = sys->kept[i] >= 0 ? sys->y[sys->kept[i]] : 0.0;
+  memset(y, 0, sizeof(double) * (size_t)sys->n);
+  SK_TRY(sk_system_from_rows(sys, sys->y, y));
+  for (int64_t i = 0; i < sys->n; ++i)
+    if (sys->solver_of[i] < 0) y[i] = 0.0;
+  sk_exchange_forward(&sys->ghost_dofs, y);
+  sk_exchange_forward(&sys->ghost_extras, y);
   return SK_OK;
 }
 
@@ -625,19 +618,24 @@ sk_status sk_system_solve(sk_system *sys) {
   sk_newton_options options = sys->solver->newton;
   if (sys->backtracking) options.line_search = SK_LINE_SEARCH_BACKTRACK;
   double xx = 0.0;
-  for (int64_t k = 0; k < sys->model->n_dofs; ++k) xx += sys->model->X[k] * sys->model->X[k];
+  for (int64_t k = 0; k < sys->model->n_dofs; ++k)
+    if (sys->role[k] == SK_NODE_OWNED) xx += sys->model->X[k] * sys->model->X[k];
+  MPI_Allreduce(MPI_IN_PLACE, &xx, 1, MPI_DOUBLE, MPI_SUM, sys->comm);
   options.roundoff_scale = sqrt(xx);
   for (int loop = 0;; ++loop) {
     sk_newton_report report;
     sys->fatal = SK_OK;
-    sk_status status = sk_newton_solve(sys->comm, &options, &callbacks, (int)sys->n, sys->x, &report);
+    double *owned = sys->owned_work;
+    for (int64_t k = 0; k < sys->n_owned; ++k) owned[k] = sys->x[sys->owned[k]];
+    sk_status status = sk_newton_solve(sys->comm, &options, &callbacks, (int)sys->n_owned, owned, &report);
     if (status != SK_OK && sys->fatal != SK_OK) status = sk_error_set(sys->fatal, "%s", sys->fatal_message);
     const int iterations = sys->newton.iterations + report.iterations;
     const int solves = sys->newton.linear_solves + report.linear_solves;
     sys->newton = report;
     sys->newton.iterations = iterations;
     sys->newton.linear_solves = solves;
-    set_iterate(sys, sys->x);
+    for (int64_t k = 0; k < sys->n_owned; ++k) sys->x[sys->owned[k]] = owned[k];
+    refresh_iterate(sys);
     if (status != SK_OK) return status;
     /* every term accepts the converged point, or Newton runs again from it (outer active-set loop) */
     int accept = 1;
@@ -677,7 +675,10 @@ sk_status sk_system_commit(sk_system *sys) {
     status = term->ops->commit(term, sys);
     if (status != SK_OK) sk_error_prefix(status, "%s: commit: ", term->name);
   }
-  return sk_system_collective(sys, status);
+  status = sk_system_collective(sys, status);
+  /* the velocities of ghosts outside this rank's elements (which no term computes here) from their owners */
+  if (status == SK_OK) sk_exchange_forward(&sys->ghost_dofs, sys->v);
+  return status;
 }
 
 void sk_system_reject(sk_system *sys) {
@@ -709,11 +710,10 @@ sk_status sk_system_condense_pairs(sk_system *sys, int64_t n_groups, int block, 
     sys->cap_pairs = cap;
   }
   for (int64_t k = 0; k < n_groups * block; ++k) {
-    sys->pair_z[sys->n_pairs] = z[k];
+    sys->pair_z[sys->n_pairs] = z[k]; /* ABI indices until the layout is known (lay_out) */
     sys->pair_row[sys->n_pairs] = rows[k];
     sys->pair_block[sys->n_pairs] = block;
     sys->n_pairs++;
   }
   return SK_OK;
 }
-

@@ -3,8 +3,10 @@
  * element graph plus the couplings the terms declare), the linear solve with its condensation stages, and the NOX
  * callbacks. The stepper (core/time/run.c) drives it; the recorder (core/time/recorder.c) reads it.
  *
- * Parallel model (docs/design.md): the vector of unknowns is replicated; each rank evaluates its own elements and
- * entities; residuals are summed with one Allreduce, the matrix in the bridge (contributions to owners). */
+ * Parallel model (docs/design.md): each rank holds its local unknowns — the dofs of the nodes it owns, then of its
+ * ghost nodes, then each term's block of extra unknowns — evaluates its own elements and entities into them, and
+ * sums the ghost rows into their owners (exchange.h); NOX sees the owned unknowns; the matrix is assembled in the
+ * bridge from the rows each rank writes. */
 #ifndef STICKSLIP_SYSTEM_H
 #define STICKSLIP_SYSTEM_H
 
@@ -14,6 +16,7 @@
 #include "stickslip/bridge.h"
 #include "stickslip/model.h"
 #include "stickslip/scene.h"
+#include "exchange.h"
 #include "term.h"
 
 typedef struct sk_condenser sk_condenser;
@@ -38,7 +41,16 @@ struct sk_system {
   sk_term **body_plugin;   /* per body: the plugin term attached to it, or NULL */
   unsigned char *claimed;  /* per body: 1 when a body plugin claimed it (no bulk term acts on it) */
 
-  /* time of the attempt and the committed state (displacement dofs, replicated) */
+  /* Local numbering (docs/design.md): the model's dofs (node * dim + i, owned and ghost nodes; the model holds this
+   * rank's nodes), then each term's extra unknowns as one block of its n_extra (extra_local). The plugins' (ABI)
+   * numbering is the mesh node id * dim + i and, for extras, term->extra_offset + j. */
+  unsigned char *node_role;  /* per model node: SK_NODE_OWNED, SK_NODE_GHOST or 0 (not held by this rank) */
+  int64_t n_owned_dofs;
+  int *owned_dofs;           /* local dofs this rank owns, in the order of its nodal rows in the linear system */
+  int64_t first_row;         /* the linear system's row of owned_dofs[0]; n_nodal rows over all ranks */
+  int64_t n_nodal;
+
+  /* time of the attempt and the committed state (the local dofs) */
   double t_n, t, dt;
   int64_t step;
   double *u_n, *v_n;       /* at t_n */
@@ -46,35 +58,50 @@ struct sk_system {
   double *v;               /* at t after commit */
   double *q_n;             /* positions X + u_n */
 
-  /* the attempt's unknowns (n of them; n_kept in the linear system) */
-  int64_t n, n_kept, capacity;
-  int *kept;               /* n: index in the linear system, or -1 (eliminated by a plugin) */
-  int *full_of_kept;       /* n_kept */
+  /* the attempt's unknowns: n local ones (dofs, then the extras blocks) */
+  int64_t n, capacity;
+  int64_t extra_shift;     /* local index of the ABI extra unknown e: e + extra_shift */
+  int *solver_of;          /* n: the unknown's row / column in the linear system, or -1 (eliminated, not held) */
+  unsigned char *role;     /* n: SK_NODE_OWNED, SK_NODE_GHOST (kept up to date from its owner) or 0 (not held) */
+  int64_t n_owned;         /* NOX's unknowns: the owned ones */
+  int *owned;              /* n_owned local indices: the owned dofs, then the owned extras */
+  int64_t n_kept;          /* the linear system's size (all ranks) */
+  sk_exchange ghost_dofs;  /* the ghost nodes' dofs (planned once) */
+  sk_exchange ghost_extras;/* the ghost extra unknowns (planned when their owners change) */
+  int owned_known;         /* the extras' plan and the ghost dofs' rows are made */
+  /* the kept extras are the linear system's constraint rows, all on the last rank: each rank's owned kept extras go
+   * there (b) and come back (x) */
+  int n_constraint_out;    /* this rank's owned kept extras */
+  int *constraint_out;     /* their local indices */
+  int *constraint_counts, *constraint_displs; /* per rank (the last rank's gather) */
+  int *constraint_row;     /* last rank: the row (minus n_nodal) of each gathered value */
+  double *constraint_buffer;
+  int n_rows_owned;        /* rows of the linear system this rank owns */
   double *x;               /* the current iterate (capacity) */
   double *q;               /* positions X + x of the displacement dofs */
   uint64_t x_version;      /* bumped whenever x changes: terms refresh their views lazily */
   double *set_x;           /* the point of the last update_active_set */
   int set_valid;
 
-  /* assembly */
-  double *F_local, *rhs_local, *rhs, *b, *y, *dx_elim, *Jdx;
+  /* assembly: F_local, rhs_local over the local unknowns; b, y over the owned rows of the linear system */
+  double *F_local, *rhs_local, *b, *y, *dx_local, *Jdx, *owned_work, *q_work;
   sk_system_sink sink;
 
-  /* sparsity */
-  int64_t *declared;       /* (row * n_kept + col) keys declared by this rank this attempt */
+  /* sparsity: the rows this rank writes (local unknowns), CSR with the linear system's global column indices */
+  int64_t *declared;       /* (local row, global column) pairs declared by this rank this attempt, as row * n_cols + col */
   int64_t n_declared, cap_declared;
-  int64_t *extra_keys;     /* sorted keys beyond the bulk graph in the current pattern (all ranks' declarations) */
+  int64_t *extra_keys;     /* sorted keys beyond the bulk graph in the current pattern (this rank's declarations) */
   int64_t n_extra_keys;
-  int64_t *row_ptr;
+  int64_t key_columns;     /* the column count the keys are encoded with (n_kept of the numbering they belong to) */
+  int64_t *row_ptr;        /* n + 1: the local rows' entries (empty rows for unknowns this rank does not write) */
   int *cols;
-  unsigned char *row_local; /* n_kept: rows this rank may write matrix entries into */
-  int *local_rows;
-  int n_local_rows;
+  unsigned char *row_local; /* n: rows this rank may write matrix entries into */
   int64_t pattern_n;       /* n_kept of the current pattern, -1 before the first */
+  int *bulk_ptr, *bulk_cols; /* per local node: the local nodes its owned elements couple it with (sorted) */
   int64_t *elem_pos_offset;/* per element: its entries' positions in elem_pos (own elements only) */
   int64_t *elem_pos;
   sk_linear_system *linsys;
-  double *values;          /* this rank's contributions over the pattern */
+  double *values;          /* this rank's contributions over its local rows */
 
   /* condensation on the assembled operator (stickslip.condense): pairs of the attempt */
   int64_t n_pairs, cap_pairs;
@@ -96,7 +123,8 @@ struct sk_system {
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
   int forget_setup;    /* test switch STICKSLIP_NO_SKIP=symbolic-setup: every solve sets up as on a new pattern */
   /* the largest residual entry of the attempt's last evaluation (-1: none yet), for the message of a failed step */
-  int64_t worst_row;
+  int64_t worst_row;       /* ABI index of the largest residual, on the rank holding it (worst_rank); else -1 */
+  int worst_rank;
   double worst_residual;
   /* a plugin, internal or memory error inside Newton ends the run (NOX reports every failure as divergence) */
   sk_status fatal;
@@ -126,20 +154,37 @@ sk_status sk_system_settle_needs(sk_system *sys);
 /* Prints every term's declared needs and what the scene computes or skips, with the reasons (--explain). */
 void sk_system_explain(const sk_system *sys, FILE *out);
 
-/* Declares couplings for the attempt (from a term's pattern stage); indices in the full numbering. */
+/* Internal to system*.c: the layout of the unknowns (system_layout.c). */
+sk_status sk_system_layout_dofs(sk_system *sys);
+sk_status sk_system_ensure_capacity(sk_system *sys, int64_t n);
+sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed);
+/* A vector over the local unknowns to the linear system's owned rows (the owned dofs, and on the last rank the
+ * constraint rows gathered from their owners), and back (collective). */
+sk_status sk_system_to_rows(sk_system *sys, const double *local, double *rows);
+sk_status sk_system_from_rows(sk_system *sys, const double *rows, double *local);
+/* Declares couplings for the attempt (from a term's pattern stage); indices in the ABI numbering. */
 sk_status sk_system_declare(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols);
+/* The same with local unknowns (core terms). */
+sk_status sk_system_declare_local(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols);
 /* A status agreed by all ranks: the worst, with a message on every rank. */
 sk_status sk_system_collective(const sk_system *sys, sk_status local);
 /* Internal to system*.c: the plugins' sink; the attempt's pattern from the terms' declarations (system_pattern.c). */
 void sk_system_sink_init(sk_system *sys);
 sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);
-/* Position of (row, col) (kept numbering) in the pattern, or -1. */
-int64_t sk_system_position(const sk_system *sys, int row, int col);
+/* Position of (row, col) (local unknowns) in this rank's contributions (sys->values), or -1. */
+int64_t sk_system_position(const sk_system *sys, int64_t row, int64_t col);
+/* The local index of an unknown in the plugins' (ABI) numbering, or -1 when this rank does not hold it. */
+int64_t sk_system_local_of(const sk_system *sys, int64_t abi);
+/* The ABI index of a local unknown. */
+int64_t sk_system_abi_of(const sk_system *sys, int64_t local);
+/* Copies the owners' values of the local dofs into their ghosts (collective). */
+void sk_system_update_ghost_dofs(sk_system *sys, double *dofs);
 /* Sets up a plugin term's view of a surface or body (term_plugin.c) — see views.h. */
 
 /* Pairs of stickslip.condense for the attempt (from a term's layout): n_groups groups of `block`. */
 sk_status sk_system_condense_pairs(sk_system *sys, int64_t n_groups, int block, const int64_t *z, const int64_t *rows);
-/* Solves J y = b again with the operator of the last solve (stickslip.linear), full numbering, replicated. */
+/* Solves J y = b again with the operator of the last solve (stickslip.linear); b, y over the local unknowns, b
+ * summed into the owners (each rank gives its part), y on owned and ghost unknowns. */
 sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y);
 
 /* Sum of this rank's contact reports of the plugin terms (initial: the initial row): force, counts, dissipation,
@@ -164,7 +209,8 @@ sk_status sk_system_points(sk_system *sys, int initial, void (*callback)(void *c
 /* Where the last residual of the attempt was largest ("node 12 (y) of body 'block': |F| = 3.1e+02", or an extra
  * unknown of a term), for the message of a step that cannot be solved; "" before any residual. */
 void sk_system_describe_worst(const sk_system *sys, char *text, size_t size);
-/* The support reactions of every Dirichlet condition, 3 per condition (summed), from the last residual. */
+/* The support reactions of every Dirichlet condition, 3 per condition (summed over ranks), from the last residual
+ * (collective). */
 void sk_system_reactions(const sk_system *sys, double *sums);
 
 #endif

@@ -120,21 +120,28 @@ sk_status sk_system_points(sk_system *sys, int initial,
 
 void sk_system_describe_worst(const sk_system *sys, char *text, size_t size) {
   text[0] = '\0';
+  char mine[256] = "";
   const int64_t row = sys->worst_row;
-  if (row < 0 || row >= sys->n) return;
   const sk_model *m = sys->model;
-  if (row < m->n_dofs) {
-    const int node = (int)(row / m->dim), body = sk_model_body_of_node(m, node);
-    snprintf(text, size, "largest residual at node %d (%c) of body '%s': F = %.3g", node, "xyz"[row % m->dim],
-             body >= 0 ? m->bodies[body].name : "?", sys->worst_residual);
-    return;
-  }
-  for (int k = 0; k < sys->n_terms; ++k) {
-    const sk_term *term = sys->terms[k];
-    if (row >= term->extra_offset && row < term->extra_offset + term->n_extra) {
-      snprintf(text, size, "largest residual at extra unknown %lld of %s: F = %.3g",
-               (long long)(row - term->extra_offset), term->name, sys->worst_residual);
-      return;
+  if (sys->worst_rank == sys->rank && row >= 0) {
+    const int64_t local = sk_system_local_of(sys, row);
+    if (row < m->n_dofs_global && local >= 0) {
+      const int node = (int)(local / m->dim), body = sk_model_body_of_node(m, node);
+      snprintf(mine, sizeof mine, "largest residual at node %lld (%c) of body '%s': F = %.3g",
+               (long long)m->node_gid[node], "xyz"[row % m->dim], body >= 0 ? m->bodies[body].name : "?",
+               sys->worst_residual);
+    } else {
+      for (int k = 0; k < sys->n_terms; ++k) {
+        const sk_term *term = sys->terms[k];
+        if (row >= term->extra_offset && row < term->extra_offset + term->n_extra) {
+          snprintf(mine, sizeof mine, "largest residual at extra unknown %lld of %s: F = %.3g",
+                   (long long)(row - term->extra_offset), term->name, sys->worst_residual);
+          break;
+        }
+      }
     }
   }
+  /* the rank holding it says it to all (the message of the failed step is every rank's) */
+  if (sys->worst_rank >= 0) MPI_Bcast(mine, (int)sizeof mine, MPI_CHAR, sys->worst_rank, sys->comm);
+  snprintf(text, size, "%s", mine);
 }

@@ -80,10 +80,13 @@ typedef struct sk_term_ops {
 struct sk_term {
   const sk_term_ops *ops;
   char name[96];                   /* for messages: "body 'disk'", "contact pair 'floor'" */
-  /* the extra unknowns of the current attempt (layout) */
-  int64_t extra_offset, n_extra;
+  /* the extra unknowns of the current attempt (layout): ABI indices extra_offset + j, local extra_local + j */
+  int64_t extra_offset, n_extra, extra_local;
   const double *initial;
   const unsigned char *eliminated;
+  /* n_extra: the rank owning each extra (that of its entity) when this rank holds it, -1 when it does not; NULL:
+   * every rank holds every extra and rank 0 owns them (global scalars, or a plugin that gives no extra_anchor) */
+  const int *extra_owner;
   const int64_t *anchor;           /* n_extra: an unknown of the mesh node each extra belongs to, or -1; NULL: none
                                       (the same on every rank; widens the pattern's growth, system_pattern.c) */
   int recover_needs_jdx;
@@ -101,6 +104,12 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **te
 /* 1 for a plugin term of a pair with a rigid obstacle; the pair index of a plugin term (-1 for a body). */
 int sk_term_plugin_has_obstacle(const sk_term *term);
 int sk_term_plugin_pair(const sk_term *term);
+/* Checkpoints (plugin.h: stickslip.checkpoint.v1): for a plugin term, 1 when its plugin offers the extension and
+ * *plugin its name, 0 when it does not; -1 for other terms. save: the history after a commit (the state of report);
+ * load: before the first step of a restarted run (the state at t_n). */
+int sk_term_plugin_checkpointable(const sk_term *term, const char **plugin);
+sk_status sk_term_plugin_save(sk_term *term, sk_system *sys, sk_record_writer *writer);
+sk_status sk_term_plugin_load(sk_term *term, sk_system *sys, const sk_record_reader *reader);
 /* A plugin term that claimed its body and whose integrator reports the energy its scheme conserves (ABI 2.5): *body
  * is that body and energy[0], energy[1] its kinetic and strain energy, this rank's part (initial: of the initial
  * state); *body = -1 and zeros for any other term. */

@@ -231,7 +231,7 @@ static sk_status constant_stiffness(bulk_term *term, const sk_model *m, const sk
     if (m->element_part[e] != m->rank) continue;
     reference_coordinates(m, e, dofs, X);
     if (sk_solid_internal(&body->solid, X, zero, NULL, NULL, term->K_const + nd2 * own++) != SK_OK)
-      return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, e - body->first_element);
+      return sk_error_prefix(SK_ERR_INVERTED, "body '%s', element %d: ", body->name, m->element_index[e]);
   }
   return SK_OK;
 }
@@ -321,11 +321,10 @@ static void traction_destroy(sk_term *base) {
   free(term);
 }
 
-/* Dead loads at the time where the bodies' integrator balances forces; added once (rank 0). */
+/* Dead loads at the time where the bodies' integrator balances forces; each face by the owner of its first node. */
 static sk_status traction_residual(sk_term *base, sk_system *sys) {
   traction_term *term = (traction_term *)base;
   const sk_model *m = sys->model;
-  if (m->rank != 0) return SK_OK;
   for (int k = 0; k < m->n_tractions; ++k) {
     const int b = term->body[k];
     if (b >= 0 && sys->claimed[b]) continue;

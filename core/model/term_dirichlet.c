@@ -1,8 +1,9 @@
 /* The Dirichlet term: prescribed displacement components (the scene's `boundary: displacement`). Its stages are a
  * row transformation of the assembled system, the one place Dirichlet conditions are handled:
- *   predict          x_k = value_k(t) at every fixed dof;
- *   finish_residual  the support reaction R_k = F_k (summed over ranks) is kept, then F_k = x_k - value_k(t);
- *   finish_jacobian  row k of this rank's contributions is zeroed and rank 0 puts 1 on the diagonal;
+ *   predict          x_k = value_k(t) at every fixed dof this rank holds;
+ *   finish_residual  at the dofs it owns, the support reaction R_k = F_k (summed over ranks) is kept, then
+ *                    F_k = x_k - value_k(t);
+ *   finish_jacobian  row k of this rank's contributions is zeroed and its owner puts 1 on the diagonal;
  *   finish_rhs       no right-hand-side correction in row k.
  * Other terms add to fixed rows like to any other and need no special case. */
 #include <stdlib.h>
@@ -12,9 +13,9 @@
 
 typedef struct {
   sk_term base;
-  unsigned char *is_fixed; /* n_dofs */
+  unsigned char *is_fixed; /* n_dofs (local) */
   double *value;           /* n_dofs, at t */
-  double *reaction;        /* n_dofs: the residual at fixed dofs before replacement */
+  double *reaction;        /* n_dofs: the residual at the owned fixed dofs before replacement */
 } dirichlet_term;
 
 static void dirichlet_destroy(sk_term *base) {
@@ -40,19 +41,18 @@ static sk_status dirichlet_predict(sk_term *base, sk_system *sys) {
   return SK_OK;
 }
 
-/* rank 0 writes the unit diagonals */
+/* the owners write the unit diagonals */
 static sk_status dirichlet_pattern(sk_term *base, sk_system *sys, unsigned char *rows) {
   dirichlet_term *term = (dirichlet_term *)base;
-  if (sys->rank != 0) return SK_OK;
   for (int k = 0; k < sys->model->n_dofs; ++k)
-    if (term->is_fixed[k]) rows[k] = 1;
+    if (term->is_fixed[k] && sys->role[k] == SK_NODE_OWNED) rows[k] = 1;
   return SK_OK;
 }
 
 static sk_status dirichlet_finish_residual(sk_term *base, sk_system *sys, double *F) {
   dirichlet_term *term = (dirichlet_term *)base;
   for (int k = 0; k < sys->model->n_dofs; ++k)
-    if (term->is_fixed[k]) {
+    if (term->is_fixed[k] && sys->role[k] == SK_NODE_OWNED) {
       term->reaction[k] = F[k];
       F[k] = sys->x[k] - term->value[k];
     }
@@ -62,9 +62,9 @@ static sk_status dirichlet_finish_residual(sk_term *base, sk_system *sys, double
 static sk_status dirichlet_finish_jacobian(sk_term *base, sk_system *sys) {
   dirichlet_term *term = (dirichlet_term *)base;
   for (int k = 0; k < sys->model->n_dofs; ++k) {
-    if (!term->is_fixed[k] || !sys->row_local[k]) continue;
+    if (!term->is_fixed[k]) continue;
     for (int64_t p = sys->row_ptr[k]; p < sys->row_ptr[k + 1]; ++p) sys->values[p] = 0.0;
-    if (sys->rank == 0) sys->values[sk_system_position(sys, k, k)] += 1.0;
+    if (sys->role[k] == SK_NODE_OWNED) sys->values[sk_system_position(sys, k, k)] += 1.0;
   }
   return SK_OK;
 }
@@ -116,9 +116,12 @@ void sk_system_reactions(const sk_system *sys, double *sums) {
     const dirichlet_term *term = (const dirichlet_term *)sys->terms[t];
     for (int k = 0; k < m->n_dirichlet; ++k) {
       const sk_dirichlet *bc = &m->dirichlet[k];
-      for (int j = 0; j < bc->n_nodes; ++j)
+      for (int j = 0; j < bc->n_nodes; ++j) {
+        if (sys->node_role[bc->nodes[j]] != SK_NODE_OWNED) continue;
         for (int i = 0; i < m->dim; ++i)
           if (bc->fixed[i]) sums[3 * k + i] += term->reaction[bc->nodes[j] * m->dim + i];
+      }
     }
   }
+  if (m->n_dirichlet > 0) MPI_Allreduce(MPI_IN_PLACE, sums, 3 * m->n_dirichlet, MPI_DOUBLE, MPI_SUM, sys->comm);
 }

@@ -13,10 +13,11 @@ static double *zeros(int64_t n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(
 
 static int dof_count(const sk_view *view) { return view->n_nodes * view->dim; }
 
-/* x = X + u at the view's nodes, from a vector over the displacement dofs. */
-static void gather(const sk_view *view, const double *global, double *local) {
+/* A vector over the local dofs at the view's nodes. */
+static void gather(const sk_view *view, const double *local, double *out) {
+  const int64_t *dofs = sk_view_data_of(view)->local_dofs;
   const int n = dof_count(view);
-  for (int k = 0; k < n; ++k) local[k] = global[view->dofs[k]];
+  for (int k = 0; k < n; ++k) out[k] = local[dofs[k]];
 }
 
 void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial) {
@@ -34,14 +35,14 @@ void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial) {
     else if (term->x_version != sys->x_version) gather(view, sys->q, term->x[v]);
   }
   term->x_version = initial ? 0 : sys->x_version;
-  st->extra = initial ? NULL : sys->x + term->base.extra_offset;
+  st->extra = initial ? NULL : sys->x + term->base.extra_local;
   st->n_extra = initial ? 0 : term->base.n_extra;
   st->extra_offset = term->base.extra_offset;
 }
 
 /* Within Newton only the iterate changes: positions only. */
 static void refresh_x(plugin_term *term, sk_system *sys) {
-  term->state.extra = sys->x + term->base.extra_offset;
+  term->state.extra = sys->x + term->base.extra_local;
   term->state.n_extra = term->base.n_extra;
   term->state.extra_offset = term->base.extra_offset;
   if (term->x_version == sys->x_version) return;
@@ -77,30 +78,25 @@ static void plugin_destroy(sk_term *base) {
   }
   free(term->pending_u);
   free(term->pending_v);
-  free(term->body_buffer);
   free(term->scratch_K);
   free(term->anchor);
+  free(term->extra_owner);
+  free(term->in_view);
   free(term->again_b);
   free(term->again_y);
   free(term);
 }
 
-/* Values over the body view (owned nodes) made whole over ranks, into `target` at the body's dofs. */
+/* Values over the body view (owned nodes) into `target` (a vector over the local unknowns) at their dofs; the ghosts
+ * of every node from their owners (collective). */
 static void scatter_body(plugin_term *term, sk_system *sys, const double *values, double *target) {
   const sk_view *view = term->view_list[0];
+  const int64_t *dofs = term->views[0].local_dofs;
   const int dim = view->dim;
-  memset(term->body_buffer, 0, sizeof(double) * (size_t)sys->model->n_dofs);
   for (int k = 0; k < view->n_nodes; ++k)
     if (view->owned[k])
-      for (int i = 0; i < dim; ++i) term->body_buffer[view->dofs[k * dim + i]] = values[k * dim + i];
-  MPI_Allreduce(MPI_IN_PLACE, term->body_buffer, sys->model->n_dofs, MPI_DOUBLE, MPI_SUM, sys->comm);
-  const sk_body *body = &sys->model->bodies[term->body];
-  const sk_group *g = body->group;
-  for (int64_t k = 0; k < (int64_t)g->n_elems * g->nen; ++k)
-    for (int i = 0; i < dim; ++i) {
-      const int64_t dof = (int64_t)g->conn[k] * dim + i;
-      target[dof] = term->body_buffer[dof];
-    }
+      for (int i = 0; i < dim; ++i) target[dofs[k * dim + i]] = values[k * dim + i];
+  sk_system_update_ghost_dofs(sys, target);
 }
 
 static sk_status plugin_predict(sk_term *base, sk_system *sys) {
@@ -133,48 +129,70 @@ static int extras_trivial(const sk_layout *layout, int64_t condense_pairs) {
 }
 
 /* The rows of an idle instance's extras: F = extra - 0, J = 1 on the diagonal (rows the sink skips, the eliminated
- * ones, need none: their correction stays 0 without recover). Added once, by rank 0; every rank holds extra rows. */
+ * ones, need none: their correction stays 0 without recover). Added once, by each extra's owner. */
 enum { IDLE_CHUNK = 256 };
 static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobian) {
-  if (sys->rank != 0) return;
   int64_t rows[IDLE_CHUNK];
   double values[IDLE_CHUNK];
   for (int64_t first = 0; first < term->base.n_extra; first += IDLE_CHUNK) {
-    const int n = (int)(term->base.n_extra - first < IDLE_CHUNK ? term->base.n_extra - first : IDLE_CHUNK);
-    for (int k = 0; k < n; ++k) {
-      rows[k] = term->base.extra_offset + first + k;
-      values[k] = jacobian ? 1.0 : sys->x[rows[k]];
+    const int64_t end = term->base.n_extra - first < IDLE_CHUNK ? term->base.n_extra : first + IDLE_CHUNK;
+    int n = 0;
+    for (int64_t j = first; j < end; ++j) {
+      if (sys->role[term->base.extra_local + j] != SK_NODE_OWNED) continue;
+      rows[n] = term->base.extra_offset + j;
+      values[n++] = jacobian ? 1.0 : sys->x[term->base.extra_local + j];
     }
     if (!jacobian) sys->sink.abi.add_vector(&sys->sink.abi, n, rows, values);
     for (int k = 0; jacobian && k < n; ++k) sys->sink.abi.add_matrix(&sys->sink.abi, 1, rows + k, 1, rows + k, values);
   }
 }
 
-/* sk_layout.extra_anchor (ABI 2.4) of every rank combined (a rank gives -1 for nodes it does not see), so that the
- * pattern's widening is the same on every rank; only read when the scene widens (solver.pattern_margin > 0). */
+/* sk_layout.extra_anchor (ABI 2.4) of every rank combined (a rank gives -1 for nodes it does not see), and the
+ * owner of each extra this rank holds: an extra belongs to its entity, so to the owner of its anchor node, and this
+ * rank holds it when that node is in one of the instance's views; without anchors (global scalars) rank 0 owns every
+ * extra and every rank holds them (docs/design.md, "Who owns what"). The combination runs when the anchors change. */
 static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
   const sk_layout *layout = &term->layout;
+  const sk_model *m = sys->model;
   const int64_t n = layout->n_extra;
   term->base.anchor = NULL;
-  if (!sys->solver || sys->solver->pattern_margin <= 0) return SK_OK; /* the same on every rank */
+  term->base.extra_owner = NULL;
   int given = SK_HAS(layout, extra_anchor) && layout->extra_anchor && n > 0, everywhere = 0;
   MPI_Allreduce(&given, &everywhere, 1, MPI_INT, MPI_MIN, sys->comm);
   if (!everywhere) return SK_OK;
+  int changed = n != term->anchor_count;
   if (n > term->anchor_size) {
     int64_t *grown = realloc(term->anchor, sizeof(int64_t) * (size_t)n);
-    if (!grown) return sk_error_set(SK_ERR_NOMEM, "out of memory for the anchors of %lld extra unknowns", (long long)n);
-    term->anchor = grown;
+    if (grown) term->anchor = grown;
+    int *owners = realloc(term->extra_owner, sizeof(int) * (size_t)n);
+    if (owners) term->extra_owner = owners;
+    if (!grown || !owners)
+      return sk_error_set(SK_ERR_NOMEM, "out of memory for the anchors of %lld extra unknowns", (long long)n);
     term->anchor_size = n;
+    changed = 1;
   }
-  for (int64_t k = 0; k < n; ++k) {
+  for (int64_t k = 0; k < n && !changed; ++k) {
     const int64_t a = layout->extra_anchor[k];
-    term->anchor[k] = a >= 0 && a < sys->model->n_dofs ? a : -1;
+    changed = a >= 0 && a < m->n_dofs_global && term->anchor[k] != a;
   }
-  for (int64_t first = 0; first < n; first += INT_MAX / 2) {
-    const int chunk = (int)(n - first < INT_MAX / 2 ? n - first : INT_MAX / 2);
-    MPI_Allreduce(MPI_IN_PLACE, term->anchor + first, chunk, MPI_INT64_T, MPI_MAX, sys->comm);
+  MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, sys->comm);
+  if (changed) {
+    for (int64_t k = 0; k < n; ++k) {
+      const int64_t a = layout->extra_anchor[k];
+      term->anchor[k] = a >= 0 && a < m->n_dofs_global ? a : -1;
+    }
+    for (int64_t first = 0; first < n; first += INT_MAX / 2) {
+      const int chunk = (int)(n - first < INT_MAX / 2 ? n - first : INT_MAX / 2);
+      MPI_Allreduce(MPI_IN_PLACE, term->anchor + first, chunk, MPI_INT64_T, MPI_MAX, sys->comm);
+    }
+    for (int64_t k = 0; k < n; ++k) {
+      const int node = term->anchor[k] >= 0 ? sk_model_node_of(m, term->anchor[k] / m->dim) : -1;
+      term->extra_owner[k] = term->anchor[k] < 0 ? 0 : node >= 0 && term->in_view[node] ? m->node_owner[node] : -1;
+    }
+    term->anchor_count = n;
   }
   term->base.anchor = term->anchor;
+  term->base.extra_owner = term->extra_owner;
   return SK_OK;
 }
 
@@ -228,7 +246,7 @@ static sk_status plugin_pattern(sk_term *base, sk_system *sys, unsigned char *ro
   plugin_term *term = (plugin_term *)base;
   for (int v = 0; v < term->n_views; ++v) {
     const sk_view *view = term->view_list[v];
-    for (int k = 0; k < dof_count(view); ++k) rows[view->dofs[k]] = 1;
+    for (int k = 0; k < dof_count(view); ++k) rows[term->views[v].local_dofs[k]] = 1;
   }
   if (term->wants_linear && term->again_size < sys->n) {
     free(term->again_b);
@@ -284,11 +302,11 @@ static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, 
   }
   sk_vectors vectors = {.struct_size = sizeof vectors,
                         .F_view = term->F_list,
-                        .F_extra = F + base->extra_offset,
+                        .F_extra = F + base->extra_local,
                         .dx_view = term->dx_list,
-                        .dx_extra = dx + base->extra_offset,
+                        .dx_extra = dx + base->extra_local,
                         .Jdx_view = base->recover_needs_jdx ? term->Jdx_list : NULL,
-                        .Jdx_extra = base->recover_needs_jdx ? sys->Jdx + base->extra_offset : NULL};
+                        .Jdx_extra = base->recover_needs_jdx ? sys->Jdx + base->extra_local : NULL};
   return PLUGIN_CALL(term, recover, term->instance, &term->state, &vectors);
 }
 
@@ -364,6 +382,37 @@ int sk_term_plugin_has_obstacle(const sk_term *base) {
   return ((const plugin_term *)base)->attach.obstacle != NULL;
 }
 
+static const sk_checkpoint_ext *checkpoint_ext(const plugin_term *term) {
+  if (!term->table.get_extension) return NULL;
+  const sk_checkpoint_ext *ext = term->table.get_extension(SK_EXT_CHECKPOINT);
+  return ext && ext->abi_major == SK_ABI_MAJOR ? ext : NULL;
+}
+
+int sk_term_plugin_checkpointable(const sk_term *base, const char **plugin) {
+  if (base->ops != &plugin_ops) return -1;
+  const plugin_term *term = (const plugin_term *)base;
+  if (plugin) *plugin = term->plugin->name;
+  return checkpoint_ext(term) != NULL;
+}
+
+sk_status sk_term_plugin_save(sk_term *base, sk_system *sys, sk_record_writer *writer) {
+  plugin_term *term = (plugin_term *)base;
+  const sk_checkpoint_ext *ext = checkpoint_ext(term);
+  if (!ext || !SK_HAS(ext, save) || !ext->save) return SK_OK;
+  sk_plugin_term_refresh(term, sys, 0);
+  sk_error_clear();
+  return said(term, "checkpoint save", ext->save(term->instance, &term->state, writer));
+}
+
+sk_status sk_term_plugin_load(sk_term *base, sk_system *sys, const sk_record_reader *reader) {
+  plugin_term *term = (plugin_term *)base;
+  const sk_checkpoint_ext *ext = checkpoint_ext(term);
+  if (!ext || !SK_HAS(ext, load) || !ext->load) return SK_OK;
+  sk_plugin_term_refresh(term, sys, 1);
+  sk_error_clear();
+  return said(term, "checkpoint load", ext->load(term->instance, &term->state, reader));
+}
+
 int sk_term_plugin_pair(const sk_term *base) {
   if (base->ops != &plugin_ops) return -1;
   return ((const plugin_term *)base)->pair;
@@ -389,12 +438,17 @@ sk_status sk_term_plugin_scheme_energy(sk_term *base, sk_system *sys, int initia
 
 /* ---- creation --------------------------------------------------------------------------------------------------- */
 
-static sk_status add_view(plugin_term *term, const sk_model *m, const sk_surface *surface, const char *name,
-                          int whole, int body) {
+static sk_status add_view(plugin_term *term, sk_system *sys, const sk_surface *surface, const char *name, int whole,
+                          int body) {
+  const sk_model *m = sys->model;
   const int v = term->n_views;
   sk_view_data *data = &term->views[v];
   SK_TRY(surface ? sk_view_surface(m, surface, name, whole, data) : sk_view_body(m, body, data));
   term->view_list[v] = &data->view;
+  SK_TRY(sk_view_localize(data, sys));
+  if (!term->in_view) term->in_view = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
+  if (!term->in_view) return sk_error_set(SK_ERR_NOMEM, "out of memory for the view of '%s'", name);
+  for (int k = 0; k < data->view.n_nodes; ++k) term->in_view[data->local_dofs[(int64_t)k * m->dim] / m->dim] = 1;
   const int n = dof_count(&data->view);
   term->x[v] = zeros(n);
   term->x_n[v] = zeros(n);
@@ -435,10 +489,10 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
     attach->name = pair->name;
     attach->strategy = pair->strategy;
     /* the slave as this rank sees it; the master whole (every face a slave point could reach) */
-    SK_TRY(add_view(term, m, &pair->slave, pair->slave.name, 0, -1));
+    SK_TRY(add_view(term, sys, &pair->slave, pair->slave.name, 0, -1));
     attach->slave = term->view_list[0];
     if (!pair->has_obstacle) {
-      SK_TRY(add_view(term, m, &pair->master, pair->master.name, 1, -1));
+      SK_TRY(add_view(term, sys, &pair->master, pair->master.name, 1, -1));
       attach->master = term->view_list[1];
     } else {
       attach->obstacle = &pair->obstacle;
@@ -453,14 +507,13 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
     attach->kind = SK_KIND_BODY;
     attach->name = b->name;
     attach->strategy = b->strategy;
-    SK_TRY(add_view(term, m, NULL, b->name, 0, body));
+    SK_TRY(add_view(term, sys, NULL, b->name, 0, body));
     attach->body = term->view_list[0];
     sk_describe_body(m, body, &term->scene);
-    term->body_buffer = zeros(m->n_dofs);
     term->pending_u = zeros(dof_count(attach->body));
     term->pending_v = zeros(dof_count(attach->body));
     term->scratch_K = zeros((int64_t)(SK_MAX_NEN * 3) * (SK_MAX_NEN * 3));
-    if (!term->body_buffer || !term->pending_u || !term->pending_v || !term->scratch_K)
+    if (!term->pending_u || !term->pending_v || !term->scratch_K)
       return sk_error_set(SK_ERR_NOMEM, "body '%s': out of memory", b->name);
   }
   attach->n_views = term->n_views;

@@ -34,7 +34,9 @@ typedef struct plugin_term {
   sk_layout layout;
   int idle; /* this attempt: the plugin said sk_layout.idle on every rank, so its calls are skipped */
   int64_t *anchor;                 /* sk_layout.extra_anchor combined over ranks (n_extra), or NULL */
-  int64_t anchor_size;
+  int *extra_owner;                /* the owner of each extra this rank holds, else -1 (n_extra) */
+  int64_t anchor_size, anchor_count;
+  unsigned char *in_view;          /* per model node: 1 when it is a node of one of the views */
   /* recover: the solve's vectors in the instance's layout */
   double *F_view[PLUGIN_MAX_VIEWS], *dx_view[PLUGIN_MAX_VIEWS], *Jdx_view[PLUGIN_MAX_VIEWS];
   const double *F_list[PLUGIN_MAX_VIEWS], *dx_list[PLUGIN_MAX_VIEWS], *Jdx_list[PLUGIN_MAX_VIEWS];
@@ -43,7 +45,6 @@ typedef struct plugin_term {
   const sk_integrator *integrator; /* its own integrator when claimed */
   double *pending_u, *pending_v;   /* set_state() of this commit (view layout), applied by the host */
   int has_pending_state;
-  double *body_buffer;             /* n_dofs: scatter of body values over ranks */
   double *scratch_K;               /* one element stiffness (stickslip.bulk add_stiffness, inside Newton) */
   /* stickslip.linear: solve_again's full vectors (allocated at layout, used inside Newton) */
   int wants_linear;

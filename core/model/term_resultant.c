@@ -6,7 +6,8 @@
  * are taken at the configuration where the integrator balances forces, q_alpha = X + u_n + alpha (u - u_n), and
  *   d f_a / d u_bj = alpha R (dW_a/dq_bj / A - W_a dA/dq_bj / A^2),   dA/dq_bj = sum_a dW_a/dq_bj,            (2)
  * whose second part couples every node of the group with every other (a dense block of (n dim)^2 entries, declared
- * in the pattern). Assembled on rank 0 (the unknowns are replicated). */
+ * in the pattern). Over the reference area each node's owner adds its force; over the current area rank 0 assembles
+ * the whole group (its nodes are rank 0's ghosts, model.c: sk_model_node_roles). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,7 +25,7 @@ typedef struct {
   double *ratio;          /* reference area: W_a / A, fixed */
   double *dA;             /* current area: dA/dq (n dofs) */
   double *q;              /* current area: q_alpha (mesh numbering, the group's nodes written) */
-  int64_t *dofs;          /* n dofs: the global dof of each (node, component) */
+  int64_t *dofs;          /* n dofs: the local dof of each (node, component) */
   double *K;              /* current area: the dense block (n dofs)^2 */
 } resultant_term;
 
@@ -46,8 +47,11 @@ static const sk_time_integrator *integrator_of(const sk_system *sys, int body) {
   return body >= 0 ? sys->model->bodies[body].integrator : sys->integrator;
 }
 
-/* W_a and, when dW is not NULL, dW_a/dq over the group at positions q (mesh numbering, dim per node); returns A. */
-static double group_weights(const resultant_term *term, const sk_model *m, const double *q, double *W, double *dW) {
+/* W_a and, when dW is not NULL, dW_a/dq over the group's faces this rank holds at positions q (model numbering, dim per
+ * node); returns their area A, or with owned_area the area of the faces whose first node this rank owns (each face on
+ * one rank: the sum over ranks is the group's). */
+static double group_weights(const resultant_term *term, const sk_model *m, const double *q, double *W, double *dW,
+                            int owned_area) {
   const sk_group *g = m->resultants[term->k].faces;
   const int dim = m->dim, nd = term->n_nodes * dim, fd = g->nen * dim;
   memset(W, 0, sizeof(double) * (size_t)term->n_nodes);
@@ -59,9 +63,10 @@ static double group_weights(const resultant_term *term, const sk_model *m, const
     for (int a = 0; a < g->nen; ++a)
       for (int i = 0; i < dim; ++i) X[a * dim + i] = q[(size_t)conn[a] * dim + i];
     sk_face_weights(g->type, dim, X, w, dW ? dw : NULL);
+    const int counted = !owned_area || m->node_owner[conn[0]] == m->rank;
     for (int a = 0; a < g->nen; ++a) {
       W[local[a]] += w[a];
-      area += w[a];
+      if (counted) area += w[a];
       for (int b = 0; dW && b < g->nen; ++b)
         for (int j = 0; j < dim; ++j) dW[(size_t)local[a] * nd + local[b] * dim + j] += dw[a * fd + b * dim + j];
     }
@@ -85,21 +90,23 @@ static const double *force_configuration(const resultant_term *term, const sk_sy
 static sk_status resultant_residual(sk_term *base, sk_system *sys) {
   resultant_term *term = (resultant_term *)base;
   const sk_model *m = sys->model;
-  if (m->rank != 0) return SK_OK;
   const sk_resultant *load = &m->resultants[term->k];
+  if (m->rank != 0 && load->current_area) return SK_OK;
   const sk_time_integrator *integrator = integrator_of(sys, term->body);
   const double scale = sk_history_value(&load->history, integrator->force_time(sys->t_n, sys->t));
   const double *ratio = term->ratio;
   if (load->current_area) {
-    const double area = group_weights(term, m, force_configuration(term, sys, integrator->alpha), term->W, NULL);
+    const double area = group_weights(term, m, force_configuration(term, sys, integrator->alpha), term->W, NULL, 0);
     if (!(area > 0.0))
       return sk_error_set(SK_ERR_DIVERGED, "resultant load '%s': the current area of its faces is %g", load->name,
                           area);
     for (int a = 0; a < term->n_nodes; ++a) term->W[a] /= area;
     ratio = term->W;
   }
-  for (int a = 0; a < term->n_nodes; ++a)
+  for (int a = 0; a < term->n_nodes; ++a) {
+    if (!load->current_area && m->node_owner[term->nodes[a]] != m->rank) continue;
     for (int i = 0; i < m->dim; ++i) sys->F_local[term->dofs[a * m->dim + i]] -= scale * load->resultant[i] * ratio[a];
+  }
   return SK_OK;
 }
 
@@ -109,9 +116,8 @@ static sk_status resultant_pattern(sk_term *base, sk_system *sys, unsigned char 
   const sk_model *m = sys->model;
   if (m->rank != 0 || !m->resultants[term->k].current_area) return SK_OK;
   const int nd = term->n_nodes * m->dim;
-  for (int r = 0; r < nd; ++r)
-    if (sys->kept[term->dofs[r]] >= 0) rows[sys->kept[term->dofs[r]]] = 1;
-  return sk_system_declare(sys, nd, term->dofs, nd, term->dofs);
+  for (int r = 0; r < nd; ++r) rows[term->dofs[r]] = 1;
+  return sk_system_declare_local(sys, nd, term->dofs, nd, term->dofs);
 }
 
 static sk_status resultant_jacobian(sk_term *base, sk_system *sys) {
@@ -122,7 +128,7 @@ static sk_status resultant_jacobian(sk_term *base, sk_system *sys) {
   const sk_time_integrator *integrator = integrator_of(sys, term->body);
   const double scale = sk_history_value(&load->history, integrator->force_time(sys->t_n, sys->t));
   const int dim = m->dim, nd = term->n_nodes * dim;
-  const double area = group_weights(term, m, force_configuration(term, sys, integrator->alpha), term->W, term->dW);
+  const double area = group_weights(term, m, force_configuration(term, sys, integrator->alpha), term->W, term->dW, 0);
   if (!(area > 0.0))
     return sk_error_set(SK_ERR_DIVERGED, "resultant load '%s': the current area of its faces is %g", load->name, area);
   /* dA/dq_c = sum_a dW_a/dq_c, then (2); K = dF/du = -df/du */
@@ -142,12 +148,12 @@ static sk_status resultant_jacobian(sk_term *base, sk_system *sys) {
       }
     }
   for (int r = 0; r < nd; ++r) {
-    const int row = sys->kept[term->dofs[r]];
-    if (row < 0) continue;
+    const int64_t row = term->dofs[r];
+    if (sys->solver_of[row] < 0) continue;
     for (int c = 0; c < nd; ++c) {
-      const int col = sys->kept[term->dofs[c]];
+      const int64_t col = term->dofs[c];
       const double v = term->K[(size_t)r * nd + c];
-      if (col < 0 || v == 0.0) continue;
+      if (sys->solver_of[col] < 0 || v == 0.0) continue;
       const int64_t p = sk_system_position(sys, row, col);
       if (p < 0)
         return sk_error_set(SK_ERR_INTERNAL, "resultant load '%s': entry (%lld, %lld) outside its pattern", load->name,
@@ -180,10 +186,14 @@ sk_status sk_term_resultant_create(sk_system *sys, int k, sk_term **out) {
   term->base.ops = &resultant_ops;
   snprintf(term->base.name, sizeof term->base.name, "resultant load '%s'", load->name);
   term->k = k;
-  term->body = g->n_elems > 0 ? sk_model_body_of_node(m, g->conn[0]) : -1;
+  /* the group's body and whether it has faces: from the ranks that hold some */
+  int found[2] = {g->n_elems > 0 ? sk_model_body_of_node(m, g->conn[0]) : -1, g->n_elems};
+  MPI_Allreduce(MPI_IN_PLACE, found, 2, MPI_INT, MPI_MAX, m->comm);
+  term->body = found[0];
+  const int dense = load->current_area && m->rank == 0; /* rank 0 assembles the current area's dense block */
   sk_status status = SK_OK;
-  if (g->n_elems == 0) status = sk_error_set(SK_ERR_INPUT, "resultant load '%s': group '%s' has no faces",
-                                             load->name, g->name);
+  if (found[1] == 0) status = sk_error_set(SK_ERR_INPUT, "resultant load '%s': group '%s' has no faces",
+                                           load->name, g->name);
   else if (term->body >= 0 && m->bodies[term->body].plugin)
     status = sk_error_set(SK_ERR_INPUT, "resultant load '%s': body '%s' is handled by the body plugin %s, which "
                           "receives tractions only; use `traction` on it", load->name, m->bodies[term->body].name,
@@ -195,17 +205,18 @@ sk_status sk_term_resultant_create(sk_system *sys, int k, sk_term **out) {
     term->W = calloc(n, sizeof(double));
     term->ratio = calloc(n, sizeof(double));
     term->dofs = malloc(nd * sizeof(int64_t));
-    if (load->current_area) {
+    if (dense) {
       term->dW = malloc(n * nd * sizeof(double));
       term->K = malloc(nd * nd * sizeof(double));
       term->dA = malloc(nd * sizeof(double));
       term->q = malloc((size_t)m->n_nodes * (size_t)dim * sizeof(double));
     }
     if (!term->local_of_face || !term->W || !term->ratio || !term->dofs ||
-        (load->current_area && (!term->dW || !term->K || !term->dA || !term->q)))
+        (dense && (!term->dW || !term->K || !term->dA || !term->q)))
       status = sk_error_set(SK_ERR_NOMEM, "out of memory for resultant load '%s' (%d nodes)", load->name,
                             term->n_nodes);
   }
+  status = sk_system_collective(sys, status); /* the area below is summed over ranks */
   if (status == SK_OK) {
     for (size_t s = 0; s < slots; ++s) {
       const int *hit = bsearch(&g->conn[s], term->nodes, n, sizeof(int), compare_int);
@@ -213,7 +224,8 @@ sk_status sk_term_resultant_create(sk_system *sys, int k, sk_term **out) {
     }
     for (size_t a = 0; a < n; ++a)
       for (int i = 0; i < dim; ++i) term->dofs[a * dim + i] = (int64_t)term->nodes[a] * dim + i;
-    const double area = group_weights(term, m, m->X, term->W, NULL);
+    double area = group_weights(term, m, m->X, term->W, NULL, 1);
+    MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, m->comm);
     if (!(area > 0.0))
       status = sk_error_set(SK_ERR_INPUT, "resultant load '%s': the faces of group '%s' have area %g", load->name,
                             g->name, area);

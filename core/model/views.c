@@ -1,5 +1,6 @@
 /* Views (host.h, plugin_types.h): a surface or body as one rank sees it, owned cells and nodes plus ghosts, in a
  * local numbering. Built once per instance at scene load. */
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,6 +29,7 @@ void sk_view_free(sk_view_data *v) {
   free(v->owned);
   free(v->X);
   free(v->cell_element);
+  free(v->local_dofs);
   memset(v, 0, sizeof *v);
 }
 
@@ -36,10 +38,12 @@ static sk_status no_memory(sk_view_data *v, const char *name) {
   return sk_error_set(SK_ERR_NOMEM, "out of memory for the view of '%s'", name);
 }
 
-/* Fills the node arrays of a view from the sorted mesh ids of its nodes: their index in the whole surface/body (the
- * sorted list `all`), ownership (node_owned by mesh id, NULL: all owned), dofs and reference positions X. */
-static sk_status fill_nodes(sk_view_data *v, int dim, const double *X, const unsigned char *node_owned,
-                            const int *nodes, int n, const int *all, int n_all, const char *name) {
+/* Fills the node arrays of a view from its nodes (model nodes, sorted): their index in the whole surface/body
+ * (whole_index per model node, or per position in `all` when it is NULL: an index into the sorted list `all`),
+ * mesh id, ownership, ABI dofs and reference positions X. */
+static sk_status fill_nodes(sk_view_data *v, const sk_model *m, const int *nodes, int n, const int64_t *whole_index,
+                            const int *all, int n_all, int n_global, const char *name) {
+  const int dim = m->dim;
   const size_t nn = (size_t)(n > 0 ? n : 1);
   v->local_nodes = malloc(sizeof(int) * nn);
   v->node_index = malloc(sizeof(int64_t) * nn);
@@ -49,19 +53,20 @@ static sk_status fill_nodes(sk_view_data *v, int dim, const double *X, const uns
   v->X = malloc(sizeof(double) * nn * (size_t)dim);
   if (!v->local_nodes || !v->node_index || !v->node_id || !v->owned || !v->dofs || !v->X) return no_memory(v, name);
   for (int k = 0; k < n; ++k) {
+    const int a = nodes[k];
     v->local_nodes[k] = k;
-    v->node_index[k] = index_in(all, n_all, nodes[k]);
-    v->node_id[k] = nodes[k];
-    v->owned[k] = node_owned ? node_owned[nodes[k]] : 1;
+    v->node_index[k] = whole_index ? whole_index[k] : index_in(all, n_all, a);
+    v->node_id[k] = m->node_gid[a];
+    v->owned[k] = m->node_owner[a] == m->rank;
     for (int i = 0; i < dim; ++i) {
-      v->dofs[(size_t)k * dim + i] = (int64_t)nodes[k] * dim + i;
-      v->X[(size_t)k * dim + i] = X[(size_t)nodes[k] * dim + i];
+      v->dofs[(size_t)k * dim + i] = m->node_gid[a] * dim + i;
+      v->X[(size_t)k * dim + i] = m->X[(size_t)a * dim + i];
     }
   }
   sk_view *view = &v->view;
   view->dim = dim;
   view->n_nodes = n;
-  view->n_nodes_global = n_all;
+  view->n_nodes_global = n_global;
   view->node_index = v->node_index;
   view->node_id = v->node_id;
   view->owned = v->owned;
@@ -88,59 +93,9 @@ static int *collect_nodes(const int *conn, int nen, const unsigned char *selecte
   return nodes;
 }
 
-/* The rank owning each face of a surface: the part of the body element whose face it is. */
-static sk_status face_owners(const sk_model *m, const sk_surface *s, int *owner) {
-  const sk_body *body = &m->bodies[s->body];
-  const sk_group *g = body->group;
-  /* elements incident to each surface node */
-  int *count = calloc((size_t)s->n_nodes + 1, sizeof(int));
-  if (!count) return sk_error_set(SK_ERR_NOMEM, "out of memory for the faces of '%s'", s->name);
-  for (int e = 0; e < g->n_elems; ++e)
-    for (int a = 0; a < g->nen; ++a) {
-      const int64_t k = index_in(s->nodes, s->n_nodes, g->conn[(size_t)e * g->nen + a]);
-      if (k >= 0) count[k + 1]++;
-    }
-  for (int k = 0; k < s->n_nodes; ++k) count[k + 1] += count[k];
-  int *incident = malloc(sizeof(int) * (size_t)(count[s->n_nodes] > 0 ? count[s->n_nodes] : 1));
-  int *fill = calloc((size_t)s->n_nodes + 1, sizeof(int));
-  if (!incident || !fill) {
-    free(count);
-    free(incident);
-    free(fill);
-    return sk_error_set(SK_ERR_NOMEM, "out of memory for the faces of '%s'", s->name);
-  }
-  for (int e = 0; e < g->n_elems; ++e)
-    for (int a = 0; a < g->nen; ++a) {
-      const int64_t k = index_in(s->nodes, s->n_nodes, g->conn[(size_t)e * g->nen + a]);
-      if (k >= 0) incident[count[k] + fill[k]++] = e;
-    }
-  for (int f = 0; f < s->n_faces; ++f) {
-    const int *fc = s->conn + (size_t)f * s->nen;
-    const int64_t k = index_in(s->nodes, s->n_nodes, fc[0]);
-    owner[f] = 0;
-    for (int j = count[k]; j < count[k + 1]; ++j) {
-      const int *ec = g->conn + (size_t)incident[j] * g->nen;
-      int all = 1;
-      for (int a = 0; a < s->nen && all; ++a) {
-        int found = 0;
-        for (int b = 0; b < g->nen && !found; ++b) found = ec[b] == fc[a];
-        all = found;
-      }
-      if (all) {
-        owner[f] = m->element_part[body->first_element + incident[j]];
-        break;
-      }
-    }
-  }
-  free(count);
-  free(incident);
-  free(fill);
-  return SK_OK;
-}
-
-sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char *name, int dim, const double *X,
-                               const unsigned char *selected, const unsigned char *face_owned,
-                               const unsigned char *node_owned) {
+/* A surface view of the faces `selected` (NULL: all) of a (distributed) core surface, in model numbering. */
+static sk_status fill_surface(sk_view_data *v, const sk_model *m, const sk_surface *s, const char *name,
+                              const unsigned char *selected) {
   memset(v, 0, sizeof *v);
   v->is_surface = 1;
   const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
@@ -156,14 +111,22 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
   int n_cells = 0;
   for (int f = 0; f < s->n_faces; ++f) local_face[f] = selected[f] ? n_cells++ : -1;
   int n_nodes = 0, *nodes = collect_nodes(s->conn, s->nen, selected, s->n_faces, &n_nodes);
+  /* each view node's index in the whole surface */
+  int64_t *whole = malloc(sizeof(int64_t) * (size_t)(n_nodes > 0 ? n_nodes : 1));
+  for (int k = 0; whole && nodes && k < n_nodes; ++k) {
+    const int64_t at = index_in(s->nodes, s->n_nodes, nodes[k]);
+    whole[k] = s->node_index ? s->node_index[at] : at;
+  }
   const size_t nc = (size_t)(n_cells > 0 ? n_cells : 1);
   v->conn = malloc(sizeof(int) * nc * (size_t)s->nen);
   v->cell_owned = malloc(nc);
   v->cell_index = malloc(sizeof(int64_t) * nc);
   v->neighbors = malloc(sizeof(int) * nc * (size_t)s->n_edges);
-  sk_status status = nodes && v->conn && v->cell_owned && v->cell_index && v->neighbors
-                         ? fill_nodes(v, dim, X, node_owned, nodes, n_nodes, s->nodes, s->n_nodes, name)
+  sk_status status = nodes && whole && v->conn && v->cell_owned && v->cell_index && v->neighbors
+                         ? fill_nodes(v, m, nodes, n_nodes, whole, NULL, 0,
+                                      s->n_nodes_global > 0 ? s->n_nodes_global : s->n_nodes, name)
                          : no_memory(v, name);
+  free(whole);
   if (status != SK_OK) {
     free(all);
     free(local_face);
@@ -175,8 +138,8 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
     if (c < 0) continue;
     for (int a = 0; a < s->nen; ++a)
       v->conn[(size_t)c * s->nen + a] = (int)index_in(nodes, n_nodes, s->conn[(size_t)f * s->nen + a]);
-    v->cell_owned[c] = face_owned ? face_owned[f] : 1;
-    v->cell_index[c] = f;
+    v->cell_owned[c] = s->face_owner ? s->face_owner[f] == m->rank : 1;
+    v->cell_index[c] = s->face_index ? s->face_index[f] : f;
     for (int e = 0; e < s->n_edges; ++e) {
       const int other = s->face_neighbors[(size_t)f * s->n_edges + e];
       v->neighbors[(size_t)c * s->n_edges + e] = other >= 0 ? local_face[other] : -1;
@@ -188,7 +151,7 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
   sk_view *view = &v->view;
   view->struct_size = sizeof *view;
   view->name = name;
-  view->dim = dim;
+  view->dim = m->dim;
   view->body = s->body;
   view->cell_type = s->face_type;
   view->nen = s->nen;
@@ -196,7 +159,7 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
   view->conn = v->conn;
   view->cell_owned = v->cell_owned;
   view->cell_index = v->cell_index;
-  view->n_cells_global = s->n_faces;
+  view->n_cells_global = s->n_faces_global > 0 ? s->n_faces_global : s->n_faces;
   view->n_edges = s->n_edges;
   view->neighbors = v->neighbors;
   /* the core surface in view numbering, for the contact services */
@@ -212,29 +175,38 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
   local->face_neighbors = v->neighbors;
   local->n_edges = s->n_edges;
   local->body = s->body;
+  local->n_faces_global = n_cells;
+  local->n_nodes_global = n_nodes;
   return SK_OK;
+}
+
+sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char *name, int dim, const double *X) {
+  /* a model of the surface's nodes alone, all on rank 0 */
+  const int n_nodes = s->n_nodes > 0 ? s->nodes[s->n_nodes - 1] + 1 : 1;
+  sk_model m = {.dim = dim, .n_nodes = n_nodes, .X = (double *)(uintptr_t)X, .rank = 0};
+  m.node_gid = malloc(sizeof(int64_t) * (size_t)n_nodes);
+  m.node_owner = calloc((size_t)n_nodes, sizeof(int));
+  sk_status status = m.node_gid && m.node_owner ? SK_OK : no_memory(v, name);
+  for (int a = 0; status == SK_OK && a < n_nodes; ++a) m.node_gid[a] = a;
+  if (status == SK_OK) status = fill_surface(v, &m, s, name, NULL);
+  free(m.node_gid);
+  free(m.node_owner);
+  return status;
 }
 
 sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *name, int whole, sk_view_data *v) {
   memset(v, 0, sizeof *v);
   const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
-  int *owner = malloc(sizeof(int) * nf);
-  unsigned char *selected = malloc(nf), *face_owned = malloc(nf);
-  unsigned char *node_owned = malloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1));
-  sk_status status = owner && selected && face_owned && node_owned ? face_owners(m, s, owner) : SK_ERR_NOMEM;
-  for (int a = 0; a < m->n_nodes && status == SK_OK; ++a) node_owned[a] = m->node_owner[a] == m->rank;
-  for (int f = 0; f < s->n_faces && status == SK_OK; ++f) {
-    int take = whole || owner[f] == m->rank;
-    for (int a = 0; a < s->nen && !take; ++a) take = node_owned[s->conn[(size_t)f * s->nen + a]];
+  unsigned char *selected = malloc(nf);
+  if (!selected) return no_memory(v, name);
+  /* every face this rank owns or with a node it owns (with `whole`, every face it holds) */
+  for (int f = 0; f < s->n_faces; ++f) {
+    int take = whole || (s->face_owner && s->face_owner[f] == m->rank);
+    for (int a = 0; a < s->nen && !take; ++a) take = m->node_owner[s->conn[(size_t)f * s->nen + a]] == m->rank;
     selected[f] = (unsigned char)take;
-    face_owned[f] = owner[f] == m->rank;
   }
-  if (status == SK_OK) status = sk_view_fill_surface(v, s, name, m->dim, m->X, selected, face_owned, node_owned);
-  else if (status == SK_ERR_NOMEM) status = no_memory(v, name);
-  free(owner);
+  const sk_status status = fill_surface(v, m, s, name, selected);
   free(selected);
-  free(face_owned);
-  free(node_owned);
   return status;
 }
 
@@ -259,13 +231,16 @@ sk_status sk_view_body(const sk_model *m, int b, sk_view_data *v) {
   }
   int n_nodes = 0, n_all = 0;
   int *nodes = collect_nodes(g->conn, g->nen, selected, g->n_elems, &n_nodes);
-  int *all = collect_nodes(g->conn, g->nen, everything, g->n_elems, &n_all);
-  unsigned char *node_owned = malloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1));
-  for (int a = 0; node_owned && a < m->n_nodes; ++a) node_owned[a] = m->node_owner[a] == m->rank;
-  sk_status status = nodes && all && node_owned
-                         ? fill_nodes(v, m->dim, m->X, node_owned, nodes, n_nodes, all, n_all, body->name)
-                         : SK_ERR_NOMEM;
-  free(node_owned);
+  int *all = body->node_index ? NULL : collect_nodes(g->conn, g->nen, everything, g->n_elems, &n_all);
+  int64_t *whole = NULL;
+  if (body->node_index && nodes) {
+    whole = malloc(sizeof(int64_t) * (size_t)(n_nodes > 0 ? n_nodes : 1));
+    for (int k = 0; whole && k < n_nodes; ++k) whole[k] = body->node_index[nodes[k]];
+  }
+  const int n_global = body->node_index ? body->n_nodes_global : n_all;
+  sk_status status = nodes && (all || whole) ? fill_nodes(v, m, nodes, n_nodes, whole, all, n_all, n_global, body->name)
+                                             : SK_ERR_NOMEM;
+  free(whole);
   const size_t nc = (size_t)(n_cells > 0 ? n_cells : 1);
   if (status == SK_OK) {
     v->conn = malloc(sizeof(int) * nc * (size_t)g->nen);
@@ -280,7 +255,7 @@ sk_status sk_view_body(const sk_model *m, int b, sk_view_data *v) {
       for (int a = 0; a < g->nen; ++a)
         v->conn[(size_t)c * g->nen + a] = (int)index_in(nodes, n_nodes, g->conn[(size_t)e * g->nen + a]);
       v->cell_owned[c] = m->element_part[body->first_element + e] == m->rank;
-      v->cell_index[c] = e;
+      v->cell_index[c] = m->element_index ? m->element_index[body->first_element + e] : e;
       v->cell_element[c] = body->first_element + e;
       ++c;
     }
@@ -300,6 +275,20 @@ sk_status sk_view_body(const sk_model *m, int b, sk_view_data *v) {
   view->conn = v->conn;
   view->cell_owned = v->cell_owned;
   view->cell_index = v->cell_index;
-  view->n_cells_global = g->n_elems;
+  view->n_cells_global = body->n_elems_global > 0 ? body->n_elems_global : g->n_elems;
+  return SK_OK;
+}
+
+sk_status sk_view_localize(sk_view_data *v, const sk_system *sys) {
+  const int64_t n = (int64_t)v->view.n_nodes * v->view.dim;
+  free(v->local_dofs);
+  v->local_dofs = malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
+  if (!v->local_dofs) return sk_error_set(SK_ERR_NOMEM, "out of memory for the view of '%s'", v->view.name);
+  for (int64_t k = 0; k < n; ++k) {
+    v->local_dofs[k] = sk_system_local_of(sys, v->dofs[k]);
+    if (v->local_dofs[k] < 0)
+      return sk_error_set(SK_ERR_INTERNAL, "view '%s': node %lld is not held by rank %d", v->view.name,
+                          (long long)v->node_id[k / v->view.dim], sys->rank);
+  }
   return SK_OK;
 }

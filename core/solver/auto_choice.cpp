@@ -59,7 +59,7 @@ int index_of(sk_linear_solver_kind kind) {
 
 double exponent(sk_linear_solver_kind kind) { return is_direct(kind) ? kDirectExponent : kIterativeExponent; }
 
-double entries(const sk_linear_system *sys) { return static_cast<double>(sys->row_ptr[sys->n]); }
+double entries(const sk_linear_system *sys) { return static_cast<double>(sys->global_entries); }
 
 bool measured_here(const AutoMemory::Candidate &c, double size) {
   return c.cost_coefficient > 0 && size <= kMeasuredRange * static_cast<double>(c.entries_measured) &&
@@ -73,13 +73,12 @@ double predicted_seconds(const AutoMemory::Candidate &c, sk_linear_solver_kind k
 // A zero (or absent) diagonal in the nodal block, on any rank (collective).
 bool nodal_diagonal_deficient(const sk_linear_system *sys) {
   int deficient = 0;
-  const int first_row = sys->row_offsets[sys->rank];
-  const int end = std::min(sys->row_offsets[sys->rank + 1], sys->n_nodal);
-  for (int row = first_row; row < end && !deficient; ++row) {
-    const int64_t d = sys->owned_diagonal[row - first_row];
+  const int end = nodal_row_end(sys) - sys->first_row;
+  for (int i = 0; i < end && !deficient; ++i) {
+    const int64_t d = sys->owned_diagonal[i];
     double largest = 0;
-    for (int64_t k = sys->row_ptr[row]; k < sys->row_ptr[row + 1]; ++k)
-      largest = std::max(largest, std::fabs(sys->owned_values[k - sys->owned_value_begin]));
+    for (int64_t k = sys->row_ptr[i]; k < sys->row_ptr[i + 1]; ++k)
+      largest = std::max(largest, std::fabs(sys->owned_values[k]));
     deficient = d < 0 || !(std::fabs(sys->owned_values[d]) > kZeroDiagonal * largest);
   }
   int any = 0;

@@ -37,15 +37,14 @@ inline std::string format(const char *fmt, ...) {
   return text;
 }
 
-// A read-only look at a linear system's replicated pattern and this rank's summed rows, for the condensation stage
-// (condense.cpp) which works on the assembled operator. Valid until the pattern changes.
+// A read-only look at a linear system's owned rows (merged over ranks) and their summed values, for the condensation
+// stage (condense.cpp) which works on the assembled operator. Valid until the pattern changes.
 struct system_rows {
-  int n = 0;
-  const int64_t *row_ptr = nullptr;
-  const int *cols = nullptr;
+  int n = 0, n_nodal = 0;
+  const int64_t *row_ptr = nullptr;        // owned rows, local index i = global row first_row + i
+  const int *cols = nullptr;               // global, sorted within rows
   int first_row = 0, n_owned = 0;          // this rank's contiguous block of rows
   const double *owned_values = nullptr;    // their summed values (CSR order), after sk_linsys_assemble
-  int64_t owned_value_begin = 0;           // row_ptr[first_row]
   const int *row_offsets = nullptr;        // size + 1 entries: rank r owns [row_offsets[r], row_offsets[r+1])
 };
 system_rows rows_of(const sk_linear_system *sys);

@@ -15,7 +15,7 @@
 //
 // Parallel layout: the constraint rows all live on the last rank (linear_system.cpp), so S~ is a serial matrix
 // there. The diagonal blocks and B rows of the nodes that C couples to are gathered to it once per solve (one
-// MPI_Gatherv, planned per pattern from the replicated pattern).
+// MPI_Gatherv, planned per pattern: the owner names the nodes, their owners send the rows' structure).
 #include <algorithm>
 #include <cmath>
 
@@ -158,42 +158,69 @@ void build_constraint_block(sk_linear_system *sys) {
   block->n_constraints = n - n_nodal;
   block->owner = sys->size - 1;
   const bool owner = sys->rank == block->owner;
-  const int first_row = sys->row_offsets[sys->rank];
+  const int first_row = sys->first_row;
   block->constraint_map =
       rcp(new Map(static_cast<Tpetra::global_size_t>(block->n_constraints),
                   static_cast<size_t>(owner ? block->n_constraints : 0), 0, sys->tcomm));
   block->coupling = build_submatrix(sys, first_row, nodal_row_end(sys), n_nodal, n, sys->nodal_map,
                                     block->constraint_map, sys->nodal_map);
 
-  // the nodes C couples to (from the replicated pattern, so every rank knows them)
-  std::vector<char> needed(static_cast<size_t>(n_nodal / dim), 0);
-  for (int row = n_nodal; row < n; ++row)
-    for (int64_t k = sys->row_ptr[row]; k < sys->row_ptr[row + 1]; ++k)
-      if (sys->cols[k] < n_nodal) needed[sys->cols[k] / dim] = 1;
-  for (int node = 0; node < n_nodal / dim; ++node)
-    if (needed[node]) block->needed_nodes.push_back(node);
+  // the nodes C couples to, from the owner's constraint rows, told to every rank
+  const int constraint_local = n_nodal - first_row;  // the owner's first constraint row, local index
+  if (owner) {
+    std::vector<int> nodes;
+    for (int i = 0; i < block->n_constraints; ++i)
+      for (int64_t k = sys->row_ptr[constraint_local + i]; k < sys->row_ptr[constraint_local + i + 1]; ++k)
+        if (sys->cols[k] < n_nodal) nodes.push_back(sys->cols[k] / dim);
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    block->needed_nodes = nodes;
+  }
+  int n_needed = static_cast<int>(block->needed_nodes.size());
+  MPI_Bcast(&n_needed, 1, MPI_INT, block->owner, sys->comm);
+  block->needed_nodes.resize(static_cast<size_t>(n_needed));
+  MPI_Bcast(block->needed_nodes.data(), n_needed, MPI_INT, block->owner, sys->comm);
 
   // what each rank sends: its needed rows' selected entries, in row order (owners hold increasing row blocks, so
-  // the owner receives them in global row order)
-  block->recv_counts.assign(sys->size, 0);
-  block->recv_displs.assign(sys->size, 0);
+  // the owner receives them in global row order), with each row's entry count and columns once per pattern
+  std::vector<int> row_counts, row_cols;
   for (int node : block->needed_nodes) {
+    if (node * dim < first_row || node * dim >= nodal_row_end(sys)) continue;
     for (int c = 0; c < dim; ++c) {
-      const int row = node * dim + c;
-      const int row_owner = static_cast<int>(std::upper_bound(sys->row_offsets.begin(), sys->row_offsets.end(), row) -
-                                             sys->row_offsets.begin()) - 1;
-      if (owner) block->needed_row_begin.push_back(static_cast<int64_t>(block->selected_cols.size()));
-      for (int64_t k = sys->row_ptr[row]; k < sys->row_ptr[row + 1]; ++k) {
+      const int local = node * dim + c - first_row;
+      int count = 0;
+      for (int64_t k = sys->row_ptr[local]; k < sys->row_ptr[local + 1]; ++k) {
         if (!is_selected(sys->cols[k], node, dim, n_nodal)) continue;
-        ++block->recv_counts[row_owner];
-        if (row_owner == sys->rank) block->send_positions.push_back(k - sys->owned_value_begin);
-        if (owner) block->selected_cols.push_back(sys->cols[k]);
+        block->send_positions.push_back(k);
+        row_cols.push_back(sys->cols[k]);
+        ++count;
       }
+      row_counts.push_back(count);
     }
   }
-  if (owner) block->needed_row_begin.push_back(static_cast<int64_t>(block->selected_cols.size()));
-  for (int r = 1; r < sys->size; ++r) block->recv_displs[r] = block->recv_displs[r - 1] + block->recv_counts[r - 1];
   block->send_values.assign(block->send_positions.size(), 0.0);
+  // the owner gathers the rows' counts (dim per needed node, by rank) and columns
+  std::vector<int> rows_per_rank(sys->size, 0), row_displs(sys->size, 0);
+  for (int node : block->needed_nodes)
+    rows_per_rank[static_cast<int>(std::upper_bound(sys->row_offsets.begin(), sys->row_offsets.end(), node * dim) -
+                                   sys->row_offsets.begin()) - 1] += dim;
+  for (int r = 1; r < sys->size; ++r) row_displs[r] = row_displs[r - 1] + rows_per_rank[r - 1];
+  std::vector<int> all_row_counts(owner ? static_cast<size_t>(n_needed) * dim : 0);
+  MPI_Gatherv(row_counts.data(), static_cast<int>(row_counts.size()), MPI_INT, all_row_counts.data(),
+              rows_per_rank.data(), row_displs.data(), MPI_INT, block->owner, sys->comm);
+  block->recv_counts.assign(sys->size, 0);
+  block->recv_displs.assign(sys->size, 0);
+  if (owner) {
+    for (int r = 0; r < sys->size; ++r)
+      for (int k = row_displs[r]; k < row_displs[r] + rows_per_rank[r]; ++k) block->recv_counts[r] += all_row_counts[k];
+    for (int r = 1; r < sys->size; ++r) block->recv_displs[r] = block->recv_displs[r - 1] + block->recv_counts[r - 1];
+    block->needed_row_begin.assign(all_row_counts.size() + 1, 0);
+    for (size_t k = 0; k < all_row_counts.size(); ++k)
+      block->needed_row_begin[k + 1] = block->needed_row_begin[k] + all_row_counts[k];
+    block->selected_cols.assign(static_cast<size_t>(block->needed_row_begin.back()), 0);
+  }
+  MPI_Gatherv(row_cols.data(), static_cast<int>(row_cols.size()), MPI_INT, block->selected_cols.data(),
+              block->recv_counts.data(), block->recv_displs.data(), MPI_INT, block->owner, sys->comm);
   if (!owner) return;
   block->received.assign(block->selected_cols.size(), 0.0);
   block->node_inverse.assign(block->needed_nodes.size() * static_cast<size_t>(dim * dim), 0.0);
@@ -203,7 +230,7 @@ void build_constraint_block(sk_linear_system *sys) {
   std::vector<std::vector<int>> rows(static_cast<size_t>(nl));
   for (int i = 0; i < nl; ++i) {
     auto &cols = rows[i];
-    for (int64_t k = sys->row_ptr[n_nodal + i]; k < sys->row_ptr[n_nodal + i + 1]; ++k) {
+    for (int64_t k = sys->row_ptr[constraint_local + i]; k < sys->row_ptr[constraint_local + i + 1]; ++k) {
       const int col = sys->cols[k];
       if (col >= n_nodal) {
         cols.push_back(col - n_nodal);
@@ -242,7 +269,7 @@ sk_status update_constraint_block(sk_linear_system *sys, ConstraintBlock &block)
   sk_status status = SK_OK;
   if (sys->rank == block.owner) {
     const int dim = block.dim, n_nodal = sys->n_nodal;
-    const int64_t constraint_begin = sys->row_ptr[n_nodal] - sys->owned_value_begin;
+    const int constraint_local = n_nodal - sys->first_row;
     // diag_dim(K)^-1 of every needed node
     for (size_t a = 0; a < block.needed_nodes.size() && status == SK_OK; ++a) {
       double k_aa[9] = {0};
@@ -262,12 +289,11 @@ sk_status update_constraint_block(sk_linear_system *sys, ConstraintBlock &block)
     };
     std::fill(block.schur_values.begin(), block.schur_values.end(), 0.0);
     for (int i = 0; i < block.n_constraints && status == SK_OK; ++i) {
-      const int row = n_nodal + i;
-      int64_t k = sys->row_ptr[row];
-      const int64_t end = sys->row_ptr[row + 1];
+      int64_t k = sys->row_ptr[constraint_local + i];
+      const int64_t end = sys->row_ptr[constraint_local + i + 1];
       while (k < end) {
         const int col = sys->cols[k];
-        const double c_value = sys->owned_values[constraint_begin + (k - sys->row_ptr[n_nodal])];
+        const double c_value = sys->owned_values[k];
         if (col >= n_nodal) {
           add(i, col - n_nodal, c_value);
           ++k;
@@ -277,7 +303,7 @@ sk_status update_constraint_block(sk_linear_system *sys, ConstraintBlock &block)
         const int node = col / dim;
         double c_a[3] = {0, 0, 0};
         for (; k < end && sys->cols[k] < n_nodal && sys->cols[k] / dim == node; ++k)
-          c_a[sys->cols[k] - node * dim] = sys->owned_values[constraint_begin + (k - sys->row_ptr[n_nodal])];
+          c_a[sys->cols[k] - node * dim] = sys->owned_values[k];
         const size_t a = static_cast<size_t>(
             std::lower_bound(block.needed_nodes.begin(), block.needed_nodes.end(), node) - block.needed_nodes.begin());
         const double *inverse = &block.node_inverse[a * dim * dim];
@@ -292,7 +318,7 @@ sk_status update_constraint_block(sk_linear_system *sys, ConstraintBlock &block)
     }
     if (status == SK_OK) {
       try {
-        replace_values(*block.schur, block.schur_row_ptr, 0, 0, block.n_constraints, block.schur_values.data(),
+        replace_values(*block.schur, block.schur_row_ptr, 0, block.n_constraints, block.schur_values.data(),
                        block.schur_slots);
         if (block.schur_solver.is_null()) {
           block.schur_solver = Amesos2::create<Matrix, MultiVector>("KLU2", block.schur);

@@ -27,15 +27,13 @@ const char *amesos_backend_name(sk_linear_solver_kind kind) { return kind == SK_
 // graph, and the table from owned CSR entries to Epetra's (column-map ordered) value storage.
 void build_epetra(sk_linear_system *sys) {
   if (sys->epetra_comm.is_null()) sys->epetra_comm = rcp(new Epetra_MpiComm(sys->comm));
-  const int first_row = sys->row_offsets[sys->rank];
-  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
+  const int first_row = sys->first_row, n_owned = sys->n_owned;
   sys->epetra_map = rcp(new Epetra_Map(sys->n, n_owned, 0, *sys->epetra_comm));
   std::vector<int> entries(static_cast<size_t>(n_owned));
-  for (int i = 0; i < n_owned; ++i)
-    entries[i] = static_cast<int>(sys->row_ptr[first_row + i + 1] - sys->row_ptr[first_row + i]);
+  for (int i = 0; i < n_owned; ++i) entries[i] = static_cast<int>(sys->row_ptr[i + 1] - sys->row_ptr[i]);
   Epetra_CrsGraph graph(Epetra_DataAccess::Copy, *sys->epetra_map, entries.data(), true);
   for (int i = 0; i < n_owned; ++i) {
-    if (graph.InsertGlobalIndices(first_row + i, entries[i], sys->cols.data() + sys->row_ptr[first_row + i]) < 0)
+    if (graph.InsertGlobalIndices(first_row + i, entries[i], sys->cols.data() + sys->row_ptr[i]) < 0)
       throw std::runtime_error("Epetra_CrsGraph::InsertGlobalIndices failed");
   }
   if (graph.FillComplete() != 0 || graph.OptimizeStorage() != 0)
@@ -52,7 +50,7 @@ void build_epetra(sk_linear_system *sys) {
     row.clear();
     for (int p = offsets[i]; p < offsets[i + 1]; ++p) row.emplace_back(sys->epetra_matrix->GCID(indices[p]), p);
     std::sort(row.begin(), row.end());  // CSR columns are sorted: the k-th smallest column is the k-th CSR entry
-    const int64_t base = sys->row_ptr[first_row + i] - sys->owned_value_begin;
+    const int64_t base = sys->row_ptr[i];
     if (static_cast<int64_t>(row.size()) != static_cast<int64_t>(entries[i]))
       throw std::runtime_error("Epetra matrix row length differs from the pattern");
     for (size_t k = 0; k < row.size(); ++k) sys->epetra_slots[static_cast<size_t>(base) + k] = row[k].second;
@@ -62,11 +60,9 @@ void build_epetra(sk_linear_system *sys) {
   sys->epetra_problem = rcp(new Epetra_LinearProblem(sys->epetra_matrix.get(), sys->epetra_x.get(), sys->epetra_b.get()));
 }
 
-// Forward and backward substitution with the current Amesos factorisation; x replicated on every rank.
+// Forward and backward substitution with the current Amesos factorisation; b and x over the owned rows.
 sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
-  const int first_row = sys->row_offsets[sys->rank];
-  const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
-  std::copy(b + first_row, b + first_row + n_owned, sys->epetra_b->Values());
+  std::copy(b, b + sys->n_owned, sys->epetra_b->Values());
   int code = sys->amesos->Solve(), worst = 0;
   code = code < 0 ? code : -code;
   MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MIN, sys->comm);  // MUMPS's codes are global; agree anyway
@@ -75,12 +71,7 @@ sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk
     return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): solve failed (error %d)",
                         amesos_backend_name(sys->amesos_kind), worst);
   }
-  std::vector<int> counts(sys->size), displs(sys->size);
-  for (int r = 0; r < sys->size; ++r) {
-    displs[r] = sys->row_offsets[r];
-    counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
-  }
-  MPI_Allgatherv(sys->epetra_x->Values(), n_owned, MPI_DOUBLE, x, counts.data(), displs.data(), MPI_DOUBLE, sys->comm);
+  std::copy(sys->epetra_x->Values(), sys->epetra_x->Values() + sys->n_owned, x);
   return SK_OK;
 }
 
@@ -94,26 +85,25 @@ constexpr int kMaxRefinements = 4;
 
 sk_status refine_solution(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
   Vector xv(sys->row_map), bv(sys->row_map), r(sys->row_map);
-  scatter_to(sys, b, bv);
+  copy_to(b, bv);
+  const size_t n = static_cast<size_t>(sys->n_owned);
   auto residual = [&]() {
-    scatter_to(sys, x, xv);
+    copy_to(x, xv);
     return relative_residual(sys, bv, xv, &r);
   };
   report->relative_residual = residual();
   if (!(report->relative_residual > kRefineAbove) || !std::isfinite(report->relative_residual)) return SK_OK;
-  const int first_row = sys->row_offsets[sys->rank];
-  std::vector<double> correction_rhs(static_cast<size_t>(sys->n), 0.0), correction(static_cast<size_t>(sys->n));
-  std::vector<double> best(x, x + sys->n);
+  std::vector<double> correction_rhs(n), correction(n);
+  std::vector<double> best(x, x + n);
   double best_residual = report->relative_residual;
   for (int k = 0; k < kMaxRefinements && best_residual > kRefineAbove; ++k) {
-    auto owned = r.getData();
-    std::copy(owned.getRawPtr(), owned.getRawPtr() + owned.size(), correction_rhs.begin() + first_row);
+    copy_from(r, correction_rhs.data());
     SK_TRY(solve_factorised(sys, correction_rhs.data(), correction.data(), report));
-    for (int i = 0; i < sys->n; ++i) x[i] += correction[i];
+    for (size_t i = 0; i < n; ++i) x[i] += correction[i];
     const double refined = residual();
     if (!(refined < 0.5 * best_residual)) break;  // no longer converging: keep the best
     best_residual = refined;
-    std::copy(x, x + sys->n, best.begin());
+    std::copy(x, x + n, best.begin());
     ++report->refinements;
   }
   std::copy(best.begin(), best.end(), x);
@@ -139,6 +129,7 @@ void release_direct(sk_linear_system *sys) {
   sys->direct = Teuchos::null;
   sys->serial_matrix = Teuchos::null;
   sys->serial_map = Teuchos::null;
+  sys->serial_slots.clear();
 }
 
 // Direct solve. KLU2 always runs on one process: the distributed matrix itself on one rank, the serial copy on
@@ -147,9 +138,13 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
   const bool gathered = sys->size > 1;
   int status = SK_OK;
   char message[256] = "";
+  std::vector<double> whole_b(sys->rank == 0 ? static_cast<size_t>(sys->n) : 0);
+  std::vector<double> whole_x(whole_b.size());
   if (gathered) {
-    MPI_Gatherv(sys->owned_values.data(), sys->gather_counts[sys->rank], MPI_DOUBLE, sys->gathered_values.data(),
-                sys->gather_counts.data(), sys->gather_displs.data(), MPI_DOUBLE, 0, sys->comm);
+    gather_to_root(sys);
+    gather_vector(sys, b, whole_b.data());
+  } else {
+    std::copy(b, b + sys->n, whole_b.begin());
   }
   if (sys->rank == 0) {
     try {
@@ -159,10 +154,10 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
         if (sys->serial_matrix.is_null()) {
           sys->serial_map = rcp(new Map(static_cast<Tpetra::global_size_t>(sys->n), 0,
                                         rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF))));
-          sys->serial_matrix = build_matrix(sys->serial_map, sys->serial_map, sys->row_ptr, sys->cols, 0,
+          sys->serial_matrix = build_matrix(sys->serial_map, sys->serial_map, sys->full_row_ptr, sys->full_cols, 0,
                                             sys->serial_slots);
         }
-        replace_values(*sys->serial_matrix, sys->row_ptr, 0, 0, sys->n, sys->gathered_values.data(),
+        replace_values(*sys->serial_matrix, sys->full_row_ptr, 0, sys->n, sys->gathered_values.data(),
                        sys->serial_slots);
         a = sys->serial_matrix;
         map = sys->serial_map;
@@ -174,13 +169,11 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
       }
       sys->direct->numericFactorization();
       Vector xs(map), bs(map);
-      auto bd = bs.getDataNonConst();
-      std::copy(b, b + sys->n, bd.getRawPtr());
+      copy_to(whole_b.data(), bs);
       sys->direct->solve(Teuchos::ptr<MultiVector>(&xs), Teuchos::ptr<const MultiVector>(&bs));
-      auto xd = xs.getData();
-      std::copy(xd.getRawPtr(), xd.getRawPtr() + sys->n, x);
+      copy_from(xs, whole_x.data());
       for (int i = 0; i < sys->n; ++i) {
-        if (!std::isfinite(x[i])) {
+        if (!std::isfinite(whole_x[i])) {
           status = SK_ERR_LINEAR_SOLVER;
           std::snprintf(message, sizeof message, "direct solve (KLU2): non-finite solution (singular matrix)");
           break;
@@ -197,15 +190,17 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
     MPI_Bcast(&status, 1, MPI_INT, 0, sys->comm);
     MPI_Bcast(message, sizeof message, MPI_CHAR, 0, sys->comm);
     MPI_Bcast(&report->refactored_symbolic, 1, MPI_INT, 0, sys->comm);
-    if (status == SK_OK) MPI_Bcast(x, sys->n, MPI_DOUBLE, 0, sys->comm);
+    if (status == SK_OK) scatter_vector(sys, whole_x.data(), x);
+  } else if (status == SK_OK) {
+    std::copy(whole_x.begin(), whole_x.end(), x);
   }
   if (status != SK_OK) {
     report->failure = SK_LINEAR_FAILURE_SINGULAR;
     return sk_error_set(static_cast<sk_status>(status), "%s", message);
   }
   Vector xv(sys->row_map), bv(sys->row_map);
-  scatter_to(sys, x, xv);
-  scatter_to(sys, b, bv);
+  copy_to(x, xv);
+  copy_to(b, bv);
   report->relative_residual = relative_residual(sys, bv, xv);
   if (!(report->relative_residual <= kDirectResidualLimit)) {
     report->failure = SK_LINEAR_FAILURE_SINGULAR;

@@ -61,21 +61,25 @@ RCP<Teuchos::ParameterList> muelu_parameters(const sk_linear_system *sys) {
   return p;
 }
 
-// Rigid-body modes on this rank's nodal rows (coordinates centred, so the rotations are well scaled against the
-// translations): 2D (1,0) (0,1) (-y,x); 3D adds (0,0,1) and the rotations about x, y, z.
+// Rigid-body modes on this rank's nodal rows (coordinates centred on the centre of all ranks' nodes, so the rotations
+// are well scaled against the translations and the same on every rank): 2D (1,0) (0,1) (-y,x); 3D adds (0,0,1) and
+// the rotations about x, y, z.
 RCP<MultiVector> rigid_body_modes(const sk_linear_system *sys) {
   const int dim = sys->coordinate_dim;
   const int n_modes = dim == 2 ? 3 : 6;
   const size_t n_nodes = sys->coordinates.size() / static_cast<size_t>(dim);
-  double centre[3] = {0, 0, 0};
+  double sums[4] = {0, 0, 0, static_cast<double>(n_nodes)};
   for (size_t node = 0; node < n_nodes; ++node)
-    for (int c = 0; c < dim; ++c) centre[c] += sys->coordinates[node * dim + c] / static_cast<double>(n_nodes);
+    for (int c = 0; c < dim; ++c) sums[c] += sys->coordinates[node * dim + c];
+  MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, sys->comm);
+  double centre[3] = {0, 0, 0};
+  for (int c = 0; c < dim; ++c) centre[c] = sums[3] > 0 ? sums[c] / sums[3] : 0.0;
   auto modes = rcp(new MultiVector(sys->nodal_map, static_cast<size_t>(n_modes)));
-  const int first_row = sys->row_offsets[sys->rank], n_owned = nodal_row_end(sys) - first_row;
+  const int n_owned = nodal_row_end(sys) - sys->first_row;
   for (int m = 0; m < n_modes; ++m) {
     auto data = modes->getDataNonConst(static_cast<size_t>(m));
     for (int i = 0; i < n_owned; ++i) {
-      const int row = first_row + i, node = row / dim, c = row % dim;
+      const int node = i / dim, c = i % dim;
       const double x = sys->coordinates[node * dim] - centre[0], y = sys->coordinates[node * dim + 1] - centre[1];
       const double z = dim == 3 ? sys->coordinates[node * dim + 2] - centre[2] : 0.0;
       double v = m == c ? 1.0 : 0.0;  // translations
@@ -92,10 +96,12 @@ RCP<MultiVector> rigid_body_modes(const sk_linear_system *sys) {
 // The nodal map (persistent while its layout holds, so preconditioners built on it stay usable), the nodal block
 // K and the constraint block of the current pattern.
 void prepare_blocks(sk_linear_system *sys) {
-  const int first_row = sys->row_offsets[sys->rank];
+  const int first_row = sys->first_row;
   const size_t n_owned = static_cast<size_t>(nodal_row_end(sys) - first_row);
-  if (sys->nodal_map.is_null() || sys->nodal_map->getGlobalNumElements() != static_cast<size_t>(sys->n_nodal) ||
-      sys->nodal_map->getNodeNumElements() != n_owned) {
+  int stale = sys->nodal_map.is_null() || sys->nodal_map->getGlobalNumElements() != static_cast<size_t>(sys->n_nodal) ||
+              sys->nodal_map->getNodeNumElements() != n_owned;
+  MPI_Allreduce(MPI_IN_PLACE, &stale, 1, MPI_INT, MPI_MAX, sys->comm);
+  if (stale) {
     release_iterative(sys);
     sys->nodal_map = sys->n_nodal == sys->n ? sys->row_map
                                             : RCP<const Map>(rcp(new Map(static_cast<Tpetra::global_size_t>(sys->n_nodal),
@@ -227,7 +233,7 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
     return sys->constraints ? constraint_preconditioner(sys, *sys->constraints, p.op()) : p.op();
   };
   RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
-  scatter_to(sys, b, *bv);
+  copy_to(b, *bv);
   GmresResult result = run_gmres(sys, preconditioner(), bv, xv);
   int iterations = result.iterations;
   if (!result.converged && !fresh) {
@@ -245,7 +251,7 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
     }
   }
   report->iterations = iterations;
-  gather_from(sys, *xv, x);
+  copy_from(*xv, x);
   report->relative_residual = relative_residual(sys, *bv, *xv);
   if (!result.converged || !std::isfinite(report->relative_residual)) {
     report->failure = SK_LINEAR_FAILURE_NOT_CONVERGED;

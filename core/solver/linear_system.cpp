@@ -1,11 +1,11 @@
 // stickslip — sk_linsys_*: the distributed Tpetra matrix, its assembly, and the dispatch to the solvers.
 //
-// Assembly. Each rank writes into a values array laid over the replicated CSR pattern. At set_pattern time the
-// ranks agree (once) which of their local rows go to which owner; sk_linsys_assemble then moves the values of
-// those rows with one MPI_Alltoallv, sums them into the owner's CSR-ordered `owned_values`, and replaces the
-// values of the static-graph Tpetra matrix in place. Because row ownership is in contiguous blocks, the owners'
-// `owned_values` concatenated over ranks are exactly the full CSR values array: the direct solver's gather to
-// rank 0 is a single MPI_Gatherv.
+// Layout. Rank r owns a contiguous block of rows: its nodal rows (as many as the caller owns, in whole nodes) and,
+// on the last rank, the constraint rows after every nodal row. Nobody holds the whole pattern: each rank gives the
+// rows it writes (owned or not), and sk_linsys_set_pattern merges them on their owners (one exchange of the
+// non-owned rows' columns per pattern), builds the static-graph Tpetra matrix of the owned rows and plans the
+// assembly: sk_linsys_assemble adds the owned contributions in place and sends the others to their owners, point to
+// point between neighbours, where they are added at planned positions. Vectors are the owned rows' parts.
 #include "linear_system.hpp"
 
 #include <algorithm>
@@ -34,87 +34,182 @@ void release_pattern(sk_linear_system *sys) {
   sys->matrix = Teuchos::null;
   sys->row_map = Teuchos::null;
   sys->assembled = false;
+  sys->gathered_pattern = false;
+  sys->full_row_ptr.clear();
+  sys->full_cols.clear();
+  sys->gathered_values.clear();
 }
 
-sk_status check_pattern(int n, const int64_t *row_ptr, const int *cols, int n_local_rows, const int *local_rows) {
-  if (n < 0) return sk_error_set(SK_ERR_INPUT, "linear system: negative size %d", n);
-  if (!row_ptr || (n > 0 && !cols)) return sk_error_set(SK_ERR_INPUT, "linear system: missing CSR arrays");
+sk_status check_pattern(int n, int n_rows, const int *rows, const int64_t *row_ptr, const int *cols) {
+  if (n_rows < 0) return sk_error_set(SK_ERR_INPUT, "linear system: negative number of local rows %d", n_rows);
+  if (!row_ptr || (n_rows > 0 && (!rows || !cols)))
+    return sk_error_set(SK_ERR_INPUT, "linear system: missing CSR arrays");
   if (row_ptr[0] != 0) return sk_error_set(SK_ERR_INPUT, "linear system: row_ptr[0] = %lld, expected 0", (long long)row_ptr[0]);
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n_rows; ++i) {
+    if (rows[i] < 0 || rows[i] >= n)
+      return sk_error_set(SK_ERR_INPUT, "linear system: local row %d is outside [0, %d)", rows[i], n);
     if (row_ptr[i + 1] < row_ptr[i])
-      return sk_error_set(SK_ERR_INPUT, "linear system: row_ptr decreases at row %d", i);
+      return sk_error_set(SK_ERR_INPUT, "linear system: row_ptr decreases at local row %d", i);
     for (int64_t k = row_ptr[i]; k < row_ptr[i + 1]; ++k) {
       if (cols[k] < 0 || cols[k] >= n)
-        return sk_error_set(SK_ERR_INPUT, "linear system: column %d of row %d is outside [0, %d)", cols[k], i, n);
+        return sk_error_set(SK_ERR_INPUT, "linear system: column %d of row %d is outside [0, %d)", cols[k], rows[i], n);
       if (k > row_ptr[i] && cols[k] <= cols[k - 1])
-        return sk_error_set(SK_ERR_INPUT, "linear system: columns of row %d are not sorted and unique", i);
+        return sk_error_set(SK_ERR_INPUT, "linear system: columns of row %d are not sorted and unique", rows[i]);
     }
   }
-  if (n_local_rows < 0 || (n_local_rows > 0 && !local_rows))
-    return sk_error_set(SK_ERR_INPUT, "linear system: bad local rows (%d)", n_local_rows);
-  for (int i = 0; i < n_local_rows; ++i) {
-    if (local_rows[i] < 0 || local_rows[i] >= n || (i > 0 && local_rows[i] <= local_rows[i - 1]))
-      return sk_error_set(SK_ERR_INPUT, "linear system: local rows must be sorted, unique and in [0, %d)", n);
-  }
+  std::vector<int> sorted(rows, rows + n_rows);
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    return sk_error_set(SK_ERR_INPUT, "linear system: local row %d is given twice",
+                        *std::adjacent_find(sorted.begin(), sorted.end()));
   return SK_OK;
 }
 
-// Row blocks: the nodal rows split by node count (whole nodes per rank), the constraint rows on the last rank.
-void distribute_rows(sk_linear_system *sys) {
-  const int block = sys->coordinate_dim > 0 ? sys->coordinate_dim : sys->block_size;
-  const int nodes = sys->n_nodal / block;
-  sys->row_offsets.assign(sys->size + 1, 0);
-  for (int r = 0; r < sys->size; ++r) {
-    const int nodes_r = nodes / sys->size + (r < nodes % sys->size ? 1 : 0);
-    sys->row_offsets[r + 1] = sys->row_offsets[r] + nodes_r * block;
-  }
-  sys->row_offsets[sys->size] = sys->n;
+int owner_of(const sk_linear_system *sys, int row) {
+  return static_cast<int>(std::upper_bound(sys->row_offsets.begin(), sys->row_offsets.end(), row) -
+                          sys->row_offsets.begin()) - 1;
 }
 
-// The once-per-pattern plan of sk_linsys_assemble: local rows grouped by owner (already sorted, and owners hold
-// increasing row blocks).
-void plan_exchange(sk_linear_system *sys) {
-  const int64_t *row_ptr = sys->row_ptr.data();
-  std::vector<int> send_row_counts(sys->size, 0), recv_row_counts(sys->size, 0);
-  sys->send_counts.assign(sys->size, 0);
-  sys->send_rows = sys->local_rows;
-  for (int row : sys->local_rows) {
-    const int owner = static_cast<int>(std::upper_bound(sys->row_offsets.begin(), sys->row_offsets.end(), row) -
-                                       sys->row_offsets.begin()) - 1;
-    ++send_row_counts[owner];
-    sys->send_counts[owner] += static_cast<int>(row_ptr[row + 1] - row_ptr[row]);
+// Counts per rank exchanged, then the payloads (set-up only: O(ranks) per pattern).
+std::vector<int> exchange_ints(MPI_Comm comm, int size, const std::vector<int> &send_counts,
+                               const std::vector<int> &send, std::vector<int> &recv_counts) {
+  recv_counts.assign(size, 0);
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm);
+  std::vector<int> send_displs(size, 0), recv_displs(size, 0);
+  for (int r = 1; r < size; ++r) {
+    send_displs[r] = send_displs[r - 1] + send_counts[r - 1];
+    recv_displs[r] = recv_displs[r - 1] + recv_counts[r - 1];
   }
-  MPI_Alltoall(send_row_counts.data(), 1, MPI_INT, recv_row_counts.data(), 1, MPI_INT, sys->comm);
-  std::vector<int> send_row_displs(sys->size, 0), recv_row_displs(sys->size, 0);
-  for (int r = 1; r < sys->size; ++r) {
-    send_row_displs[r] = send_row_displs[r - 1] + send_row_counts[r - 1];
-    recv_row_displs[r] = recv_row_displs[r - 1] + recv_row_counts[r - 1];
-  }
-  sys->recv_rows.assign(static_cast<size_t>(recv_row_displs[sys->size - 1] + recv_row_counts[sys->size - 1]), 0);
-  MPI_Alltoallv(sys->send_rows.data(), send_row_counts.data(), send_row_displs.data(), MPI_INT,
-                sys->recv_rows.data(), recv_row_counts.data(), recv_row_displs.data(), MPI_INT, sys->comm);
-  sys->recv_counts.assign(sys->size, 0);
-  for (int r = 0, k = 0; r < sys->size; ++r) {
-    for (int i = 0; i < recv_row_counts[r]; ++i, ++k)
-      sys->recv_counts[r] += static_cast<int>(row_ptr[sys->recv_rows[k] + 1] - row_ptr[sys->recv_rows[k]]);
-  }
-  sys->send_displs.assign(sys->size, 0);
-  sys->recv_displs.assign(sys->size, 0);
-  for (int r = 1; r < sys->size; ++r) {
-    sys->send_displs[r] = sys->send_displs[r - 1] + sys->send_counts[r - 1];
-    sys->recv_displs[r] = sys->recv_displs[r - 1] + sys->recv_counts[r - 1];
-  }
-  sys->send_buffer.assign(static_cast<size_t>(sys->send_displs[sys->size - 1] + sys->send_counts[sys->size - 1]), 0);
-  sys->recv_buffer.assign(static_cast<size_t>(sys->recv_displs[sys->size - 1] + sys->recv_counts[sys->size - 1]), 0);
+  std::vector<int> recv(static_cast<size_t>(recv_displs[size - 1] + recv_counts[size - 1]));
+  MPI_Alltoallv(send.data(), send_counts.data(), send_displs.data(), MPI_INT, recv.data(), recv_counts.data(),
+                recv_displs.data(), MPI_INT, comm);
+  return recv;
+}
 
-  // the direct solver's gather: each rank's owned values, CSR-ordered, land at their place in the full array
-  sys->gather_counts.assign(sys->size, 0);
-  sys->gather_displs.assign(sys->size, 0);
-  for (int r = 0; r < sys->size; ++r) {
-    sys->gather_displs[r] = static_cast<int>(row_ptr[sys->row_offsets[r]]);
-    sys->gather_counts[r] = static_cast<int>(row_ptr[sys->row_offsets[r + 1]] - row_ptr[sys->row_offsets[r]]);
+// The owned rows as the union of every rank's local rows, and the assembly plan (see the top of this file).
+void merge_rows(sk_linear_system *sys) {
+  const int size = sys->size, n_local = static_cast<int>(sys->local_rows.size());
+  // non-owned local rows, grouped by owner: [row, length, columns...]
+  std::vector<std::vector<int>> to(size);
+  std::vector<std::vector<int>> to_rows(size);  // local row indices sent to each owner, in order
+  for (int i = 0; i < n_local; ++i) {
+    const int row = sys->local_rows[i], owner = owner_of(sys, row);
+    if (owner == sys->rank) continue;
+    std::vector<int> &out = to[owner];
+    out.push_back(row);
+    out.push_back(static_cast<int>(sys->local_row_ptr[i + 1] - sys->local_row_ptr[i]));
+    out.insert(out.end(), sys->local_cols.begin() + sys->local_row_ptr[i], sys->local_cols.begin() + sys->local_row_ptr[i + 1]);
+    to_rows[owner].push_back(i);
   }
-  if (sys->size > 1 && sys->rank == 0) sys->gathered_values.assign(static_cast<size_t>(row_ptr[sys->n]), 0.0);
+  std::vector<int> send_counts(size), send;
+  for (int r = 0; r < size; ++r) {
+    send_counts[r] = static_cast<int>(to[r].size());
+    send.insert(send.end(), to[r].begin(), to[r].end());
+  }
+  std::vector<int> recv_counts;
+  const std::vector<int> recv = exchange_ints(sys->comm, size, send_counts, send, recv_counts);
+
+  // owned rows: own local rows plus the received ones
+  std::vector<std::vector<int>> owned(static_cast<size_t>(sys->n_owned));
+  for (int i = 0; i < n_local; ++i) {
+    const int row = sys->local_rows[i];
+    if (owner_of(sys, row) != sys->rank) continue;
+    std::vector<int> &out = owned[static_cast<size_t>(row - sys->first_row)];
+    out.insert(out.end(), sys->local_cols.begin() + sys->local_row_ptr[i], sys->local_cols.begin() + sys->local_row_ptr[i + 1]);
+  }
+  for (size_t k = 0; k < recv.size();) {
+    const int row = recv[k], len = recv[k + 1];
+    std::vector<int> &out = owned[static_cast<size_t>(row - sys->first_row)];
+    out.insert(out.end(), recv.begin() + static_cast<int64_t>(k) + 2, recv.begin() + static_cast<int64_t>(k) + 2 + len);
+    k += 2 + static_cast<size_t>(len);
+  }
+  sys->row_ptr.assign(static_cast<size_t>(sys->n_owned) + 1, 0);
+  sys->cols.clear();
+  for (int i = 0; i < sys->n_owned; ++i) {
+    std::vector<int> &out = owned[static_cast<size_t>(i)];
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    sys->cols.insert(sys->cols.end(), out.begin(), out.end());
+    sys->row_ptr[i + 1] = static_cast<int64_t>(sys->cols.size());
+  }
+  sys->owned_values.assign(sys->cols.size(), 0.0);
+  auto slot = [sys](int row, int col) {
+    const int i = row - sys->first_row;
+    const auto begin = sys->cols.begin() + sys->row_ptr[i], end = sys->cols.begin() + sys->row_ptr[i + 1];
+    return static_cast<int64_t>(std::lower_bound(begin, end, col) - sys->cols.begin());
+  };
+  // own local entries: their slots; the others: sent
+  sys->local_slot.assign(sys->local_cols.size(), -1);
+  for (int i = 0; i < n_local; ++i) {
+    const int row = sys->local_rows[i];
+    if (owner_of(sys, row) != sys->rank) continue;
+    for (int64_t k = sys->local_row_ptr[i]; k < sys->local_row_ptr[i + 1]; ++k) sys->local_slot[k] = slot(row, sys->local_cols[k]);
+  }
+  sys->send_ranks.clear();
+  sys->send_ptr.assign(1, 0);
+  sys->send_entries.clear();
+  sys->send_row_ptr.assign(1, 0);
+  sys->send_row_index.clear();
+  for (int r = 0; r < size; ++r) {
+    if (to_rows[r].empty()) continue;
+    sys->send_ranks.push_back(r);
+    for (int i : to_rows[r]) {
+      for (int64_t k = sys->local_row_ptr[i]; k < sys->local_row_ptr[i + 1]; ++k) sys->send_entries.push_back(k);
+      sys->send_row_index.push_back(i);
+    }
+    sys->send_ptr.push_back(static_cast<int>(sys->send_entries.size()));
+    sys->send_row_ptr.push_back(static_cast<int>(sys->send_row_index.size()));
+  }
+  sys->recv_ranks.clear();
+  sys->recv_ptr.assign(1, 0);
+  sys->recv_slot.clear();
+  sys->recv_row_ptr.assign(1, 0);
+  sys->recv_row_index.clear();
+  for (int r = 0, k = 0; r < size; ++r) {
+    if (recv_counts[r] == 0) continue;
+    sys->recv_ranks.push_back(r);
+    const int end = k + recv_counts[r];
+    while (k < end) {
+      const int row = recv[k], len = recv[k + 1];
+      for (int j = 0; j < len; ++j) sys->recv_slot.push_back(slot(row, recv[k + 2 + j]));
+      sys->recv_row_index.push_back(row - sys->first_row);
+      k += 2 + len;
+    }
+    sys->recv_ptr.push_back(static_cast<int>(sys->recv_slot.size()));
+    sys->recv_row_ptr.push_back(static_cast<int>(sys->recv_row_index.size()));
+  }
+  sys->send_buffer.assign(sys->send_entries.size(), 0.0);
+  sys->recv_buffer.assign(sys->recv_slot.size(), 0.0);
+  sys->row_send_buffer.assign(sys->send_row_index.size(), 0.0);
+  sys->row_recv_buffer.assign(sys->recv_row_index.size(), 0.0);
+  sys->owned_diagonal.assign(static_cast<size_t>(sys->n_owned), -1);
+  for (int i = 0; i < sys->n_owned; ++i) {
+    const int row = sys->first_row + i;
+    const auto begin = sys->cols.begin() + sys->row_ptr[i], end = sys->cols.begin() + sys->row_ptr[i + 1];
+    const auto found = std::lower_bound(begin, end, row);
+    if (found != end && *found == row) sys->owned_diagonal[i] = found - sys->cols.begin();
+  }
+  int64_t entries = static_cast<int64_t>(sys->cols.size());
+  MPI_Allreduce(&entries, &sys->global_entries, 1, MPI_INT64_T, MPI_SUM, sys->comm);
+}
+
+// Sends send_buffer / row_send_buffer-style arrays to the neighbours and receives theirs (point to point).
+void neighbour_exchange(sk_linear_system *sys, const std::vector<int> &send_ptr, const double *send,
+                        const std::vector<int> &recv_ptr, double *recv) {
+  std::vector<MPI_Request> requests;
+  requests.reserve(sys->send_ranks.size() + sys->recv_ranks.size());
+  for (size_t k = 0; k < sys->recv_ranks.size(); ++k) {
+    requests.emplace_back();
+    MPI_Irecv(recv + recv_ptr[k], recv_ptr[k + 1] - recv_ptr[k], MPI_DOUBLE, sys->recv_ranks[k], 0, sys->comm,
+              &requests.back());
+  }
+  for (size_t k = 0; k < sys->send_ranks.size(); ++k) {
+    requests.emplace_back();
+    MPI_Isend(send + send_ptr[k], send_ptr[k + 1] - send_ptr[k], MPI_DOUBLE, sys->send_ranks[k], 0, sys->comm,
+              &requests.back());
+    sys->bytes_sent += static_cast<int64_t>(sizeof(double)) * (send_ptr[k + 1] - send_ptr[k]);
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
 }
 
 sk_status solve_with(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
@@ -140,22 +235,56 @@ sk_status solve_with(sk_linear_system *sys, sk_linear_solver_kind kind, const do
 
 }  // namespace
 
-void scatter_to(const sk_linear_system *sys, const double *replicated, Vector &v) {
+void copy_to(const double *owned, Vector &v) {
   auto data = v.getDataNonConst();
-  const int begin = sys->row_offsets[sys->rank];
-  for (size_t i = 0; i < static_cast<size_t>(data.size()); ++i) data[i] = replicated[begin + static_cast<int>(i)];
+  std::copy(owned, owned + data.size(), data.getRawPtr());
 }
 
-// Every rank receives the whole vector (row blocks are contiguous, so this is an Allgatherv).
-void gather_from(const sk_linear_system *sys, const Vector &v, double *replicated) {
+void copy_from(const Vector &v, double *owned) {
   auto data = v.getData();
-  std::vector<int> counts(sys->size), displs(sys->size);
-  for (int r = 0; r < sys->size; ++r) {
-    displs[r] = sys->row_offsets[r];
-    counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+  std::copy(data.getRawPtr(), data.getRawPtr() + data.size(), owned);
+}
+
+void gather_to_root(sk_linear_system *sys) {
+  if (!sys->gathered_pattern) {
+    const int size = sys->size;
+    sys->row_counts.assign(size, 0);
+    sys->gather_counts.assign(size, 0);
+    sys->gather_displs.assign(size, 0);
+    const int entries = static_cast<int>(sys->cols.size());
+    MPI_Gather(&entries, 1, MPI_INT, sys->gather_counts.data(), 1, MPI_INT, 0, sys->comm);
+    for (int r = 0; r < size; ++r) sys->row_counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+    for (int r = 1; r < size; ++r) sys->gather_displs[r] = sys->gather_displs[r - 1] + sys->gather_counts[r - 1];
+    std::vector<int> lengths(static_cast<size_t>(sys->n_owned));
+    for (int i = 0; i < sys->n_owned; ++i) lengths[i] = static_cast<int>(sys->row_ptr[i + 1] - sys->row_ptr[i]);
+    std::vector<int> all_lengths(sys->rank == 0 ? static_cast<size_t>(sys->n) : 0);
+    MPI_Gatherv(lengths.data(), sys->n_owned, MPI_INT, all_lengths.data(), sys->row_counts.data(),
+                sys->row_offsets.data(), MPI_INT, 0, sys->comm);
+    if (sys->rank == 0) {
+      sys->full_row_ptr.assign(static_cast<size_t>(sys->n) + 1, 0);
+      for (int i = 0; i < sys->n; ++i) sys->full_row_ptr[i + 1] = sys->full_row_ptr[i] + all_lengths[i];
+      sys->full_cols.assign(static_cast<size_t>(sys->full_row_ptr[sys->n]), 0);
+      sys->gathered_values.assign(sys->full_cols.size(), 0.0);
+    }
+    MPI_Gatherv(sys->cols.data(), entries, MPI_INT, sys->full_cols.data(), sys->gather_counts.data(),
+                sys->gather_displs.data(), MPI_INT, 0, sys->comm);
+    sys->gathered_pattern = true;
   }
-  MPI_Allgatherv(data.getRawPtr(), counts[sys->rank], MPI_DOUBLE, replicated, counts.data(), displs.data(),
-                 MPI_DOUBLE, sys->comm);
+  MPI_Gatherv(sys->owned_values.data(), static_cast<int>(sys->owned_values.size()), MPI_DOUBLE,
+              sys->gathered_values.data(), sys->gather_counts.data(), sys->gather_displs.data(), MPI_DOUBLE, 0,
+              sys->comm);
+}
+
+void gather_vector(const sk_linear_system *sys, const double *owned, double *whole) {
+  std::vector<int> counts(sys->size);
+  for (int r = 0; r < sys->size; ++r) counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+  MPI_Gatherv(owned, sys->n_owned, MPI_DOUBLE, whole, counts.data(), sys->row_offsets.data(), MPI_DOUBLE, 0, sys->comm);
+}
+
+void scatter_vector(const sk_linear_system *sys, const double *whole, double *owned) {
+  std::vector<int> counts(sys->size);
+  for (int r = 0; r < sys->size; ++r) counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
+  MPI_Scatterv(whole, counts.data(), sys->row_offsets.data(), MPI_DOUBLE, owned, sys->n_owned, MPI_DOUBLE, 0, sys->comm);
 }
 
 double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual) {
@@ -180,13 +309,14 @@ sk_status agree(MPI_Comm comm, sk_status local, const char *what) {
 }
 
 // Writes the values of a fill-complete static-graph matrix straight into its local CRS value array: entry e of the
-// CSR rows [first_row, first_row + n_rows) goes to slot[e]. The matrix stays fill-complete (no resumeFill /
-// fillComplete, which cost 10 % of a full two-tori contact step with the row-wise replaceLocalValues it replaces).
-void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int64_t value_begin, int first_row,
-                    int n_rows, const double *values, const std::vector<LocalOrdinal> &slot) {
+// CSR rows [first_row, first_row + n_rows) (values aligned with row_ptr) goes to slot[e]. The matrix stays
+// fill-complete (no resumeFill / fillComplete, which cost 10 % of a full two-tori contact step with the row-wise
+// replaceLocalValues it replaces).
+void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int first_row, int n_rows,
+                    const double *values, const std::vector<LocalOrdinal> &slot) {
   const auto stored = matrix.getLocalValuesView();  // host memory: Kokkos is built for Serial only
   const int64_t n_entries = row_ptr[first_row + n_rows] - row_ptr[first_row];
-  const int64_t offset = row_ptr[first_row] - value_begin;
+  const int64_t offset = row_ptr[first_row];
   for (int64_t e = 0; e < n_entries; ++e) stored(slot[static_cast<size_t>(e)]) = values[offset + e];
 }
 
@@ -198,15 +328,12 @@ RCP<Graph> build_graph(const RCP<const Map> &row_map, const RCP<const Map> &doma
                        const int64_t *row_ptr, const GlobalOrdinal *cols, std::vector<LocalOrdinal> &slots) {
   const size_t n_rows = row_map->getNodeNumElements();
   const size_t n_entries = static_cast<size_t>(row_ptr[n_rows] - row_ptr[0]);
-  // the column map: the domain's own columns first (in order), then the others by owning rank (Tpetra's layout);
-  // a dense table from global column to local index (the domain is at most the replicated system's size)
-  std::vector<LocalOrdinal> local_of(domain_map->getGlobalNumElements(), -1);
-  for (size_t e = 0; e < n_entries; ++e) local_of[static_cast<size_t>(cols[e])] = 0;
+  // the column map: the domain's own columns first (in order), then the others by owning rank (Tpetra's layout)
+  std::vector<GlobalOrdinal> used(cols, cols + n_entries);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
   std::vector<GlobalOrdinal> own, remote;
-  for (size_t g = 0; g < local_of.size(); ++g) {
-    if (local_of[g] < 0) continue;
-    (domain_map->isNodeGlobalElement(static_cast<GlobalOrdinal>(g)) ? own : remote).push_back(static_cast<GlobalOrdinal>(g));
-  }
+  for (GlobalOrdinal g : used) (domain_map->isNodeGlobalElement(g) ? own : remote).push_back(g);
   std::vector<int> owners(remote.size());
   domain_map->getRemoteIndexList(Teuchos::ArrayView<const GlobalOrdinal>(remote.data(), remote.size()),
                                  Teuchos::ArrayView<int>(owners.data(), owners.size()));
@@ -215,7 +342,11 @@ RCP<Graph> build_graph(const RCP<const Map> &row_map, const RCP<const Map> &doma
   std::sort(by_owner.begin(), by_owner.end());
   std::vector<GlobalOrdinal> column_gids(own);
   for (const auto &entry : by_owner) column_gids.push_back(entry.second);
-  for (size_t c = 0; c < column_gids.size(); ++c) local_of[static_cast<size_t>(column_gids[c])] = static_cast<LocalOrdinal>(c);
+  // the column-map index of each used global column, in the order of `used`
+  std::vector<LocalOrdinal> local_of(used.size());
+  for (size_t c = 0; c < column_gids.size(); ++c)
+    local_of[static_cast<size_t>(std::lower_bound(used.begin(), used.end(), column_gids[c]) - used.begin())] =
+        static_cast<LocalOrdinal>(c);
   auto col_map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
                              Teuchos::ArrayView<const GlobalOrdinal>(column_gids.data(), column_gids.size()), 0,
                              row_map->getComm()));
@@ -227,8 +358,10 @@ RCP<Graph> build_graph(const RCP<const Map> &row_map, const RCP<const Map> &doma
   for (size_t i = 0; i < n_rows; ++i) {
     const size_t b = graph_row_ptr[i], e = graph_row_ptr[i + 1];
     row.clear();
-    for (size_t k = b; k < e; ++k)
-      row.emplace_back(local_of[static_cast<size_t>(cols[k])], static_cast<LocalOrdinal>(k - b));
+    for (size_t k = b; k < e; ++k) {
+      const size_t u = static_cast<size_t>(std::lower_bound(used.begin(), used.end(), cols[k]) - used.begin());
+      row.emplace_back(local_of[u], static_cast<LocalOrdinal>(k - b));
+    }
     std::sort(row.begin(), row.end());
     for (size_t p = 0; p < row.size(); ++p) {
       graph_cols[b + p] = row[p].first;
@@ -240,7 +373,7 @@ RCP<Graph> build_graph(const RCP<const Map> &row_map, const RCP<const Map> &doma
   return graph;
 }
 
-// The static-graph matrix of rows [first_row, first_row + map's local count) and the CSR -> CRS value slot table.
+// The static-graph matrix of CSR rows [first_row, first_row + map's local count) and the CSR -> CRS value slot table.
 RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
                          const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,
                          std::vector<LocalOrdinal> &slots) {
@@ -261,10 +394,10 @@ SubMatrix build_submatrix(const sk_linear_system *sys, int row_begin, int row_en
   block.row_ptr.assign(static_cast<size_t>(n_rows) + 1, 0);
   std::vector<GlobalOrdinal> block_cols;
   for (int i = 0; i < n_rows; ++i) {
-    const int row = row_begin + i;
-    for (int64_t k = sys->row_ptr[row]; k < sys->row_ptr[row + 1]; ++k) {
+    const int local = row_begin + i - sys->first_row;
+    for (int64_t k = sys->row_ptr[local]; k < sys->row_ptr[local + 1]; ++k) {
       if (sys->cols[k] < col_begin || sys->cols[k] >= col_end) continue;
-      block.source.push_back(k - sys->owned_value_begin);
+      block.source.push_back(k);
       block_cols.push_back(sys->cols[k] - col_begin);
     }
     block.row_ptr[i + 1] = static_cast<int64_t>(block.source.size());
@@ -412,62 +545,76 @@ sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size) {
 }
 
 sk_status sk_linsys_set_coordinates(sk_linear_system *sys, int n_nodes, int dim, const double *coordinates) {
-  if ((dim != 2 && dim != 3) || n_nodes < 0 || (n_nodes > 0 && !coordinates))
+  int bad = (dim != 2 && dim != 3) || n_nodes < 0 || (n_nodes > 0 && !coordinates);
+  const size_t count = bad ? 0 : static_cast<size_t>(n_nodes) * dim;
+  int changed = bad || dim != sys->coordinate_dim || count != sys->coordinates.size() ||
+                !std::equal(coordinates, coordinates + count, sys->coordinates.begin());
+  int flags[2] = {bad, changed};
+  MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_INT, MPI_MAX, sys->comm);
+  if (bad)
     return sk_error_set(SK_ERR_INPUT, "linear system: coordinates need dim 2 or 3 (got %d) and %d nodes", dim,
                         n_nodes);
-  const size_t count = static_cast<size_t>(n_nodes) * dim;
-  if (dim != sys->coordinate_dim || count != sys->coordinates.size() ||
-      !std::equal(coordinates, coordinates + count, sys->coordinates.begin()))
-    release_iterative(sys);  // the nullspace changed
+  if (flags[0]) return sk_error_set(SK_ERR_INPUT, "linear system: bad coordinates on another rank");
+  if (flags[1]) release_iterative(sys);  // the nullspace changed (on some rank: the hierarchy is collective)
   sys->coordinate_dim = dim;
   sys->coordinates.assign(coordinates, coordinates + count);
   return SK_OK;
 }
 
-sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n, const int64_t *row_ptr, const int *cols,
-                                int n_local_rows, const int *local_rows) {
-  sk_status status = check_pattern(n, row_ptr, cols, n_local_rows, local_rows);
+sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n_nodal_owned, int n_constraints, int n_rows,
+                                const int *rows, const int64_t *row_ptr, const int *cols) {
+  // the layout first: every rank's nodal count, then the global size
+  std::vector<int> nodal_counts(sys->size, 0);
+  MPI_Allgather(&n_nodal_owned, 1, MPI_INT, nodal_counts.data(), 1, MPI_INT, sys->comm);
+  int64_t n_nodal = 0;
+  for (int c : nodal_counts) n_nodal += c;
+  int constraint_range[2] = {n_constraints, -n_constraints};
+  MPI_Allreduce(MPI_IN_PLACE, constraint_range, 2, MPI_INT, MPI_MAX, sys->comm);
+  sk_status status = SK_OK;
+  const int64_t n = n_nodal + n_constraints;
+  const int block = sys->coordinate_dim > 0 ? sys->coordinate_dim : sys->block_size;
+  if (n_nodal_owned < 0 || n_constraints < 0 || constraint_range[0] != -constraint_range[1])
+    status = sk_error_set(SK_ERR_INPUT, "linear system: %d nodal rows and %d constraint rows (the same on every rank)",
+                          n_nodal_owned, n_constraints);
+  else if (n > INT32_MAX - 16)
+    status = sk_error_set(SK_ERR_INPUT, "linear system: %lld unknowns exceed the int numbering", (long long)n);
+  else if (sys->coordinate_dim > 0 && static_cast<size_t>(n_nodal_owned) != sys->coordinates.size())
+    status = sk_error_set(SK_ERR_INPUT, "linear system: the coordinates give %zu nodal unknowns on this rank, the "
+                          "layout %d", sys->coordinates.size(), n_nodal_owned);
+  else if (sys->coordinate_dim == 0 && (n_nodal_owned % block != 0 || (sys->rank == sys->size - 1 && n_constraints % block != 0)))
+    status = sk_error_set(SK_ERR_INPUT, "linear system: %d unknowns are not a multiple of the block size %d",
+                          n_nodal_owned, block);
+  else
+    status = check_pattern(static_cast<int>(n), n_rows, rows, row_ptr, cols);
   status = agree(sys->comm, status, "linear system pattern check");
   if (status != SK_OK) return status;
-  const int n_nodal = sys->coordinate_dim > 0 ? static_cast<int>(sys->coordinates.size()) : n;
-  if (n_nodal > n)
-    return sk_error_set(SK_ERR_INPUT, "linear system: the coordinates give %d nodal unknowns, the system has only %d",
-                        n_nodal, n);
-  if (sys->coordinate_dim == 0 && n % sys->block_size != 0)
-    return sk_error_set(SK_ERR_INPUT, "linear system: %d unknowns are not a multiple of the block size %d", n,
-                        sys->block_size);
   try {
+    const int previous_n_owned = sys->n_owned, previous_n = sys->n, previous_nodal = sys->n_nodal;
     release_pattern(sys);
     ++sys->pattern_generation;
-    sys->n = n;
-    sys->n_nodal = n_nodal;
-    sys->row_ptr.assign(row_ptr, row_ptr + n + 1);
-    sys->cols.assign(cols, cols + row_ptr[n]);
-    sys->local_rows.assign(local_rows, local_rows + n_local_rows);
-    sys->values.assign(static_cast<size_t>(row_ptr[n]), 0.0);
-
-    distribute_rows(sys);
-    const int first_row = sys->row_offsets[sys->rank];
-    const int n_owned = sys->row_offsets[sys->rank + 1] - first_row;
-    sys->owned_value_begin = row_ptr[first_row];
-    sys->owned_values.assign(static_cast<size_t>(row_ptr[first_row + n_owned] - row_ptr[first_row]), 0.0);
-    sys->owned_diagonal.assign(static_cast<size_t>(n_owned), -1);
-    for (int i = 0; i < n_owned; ++i) {
-      const int row = first_row + i;
-      const int *found = std::lower_bound(cols + row_ptr[row], cols + row_ptr[row + 1], row);
-      if (found != cols + row_ptr[row + 1] && *found == row) sys->owned_diagonal[i] = (found - cols) - row_ptr[first_row];
-    }
-    plan_exchange(sys);
+    sys->n = static_cast<int>(n);
+    // without coordinates the whole system is one block (the constraint rows are nodal ones of the last rank)
+    sys->n_nodal = sys->coordinate_dim > 0 ? static_cast<int>(n_nodal) : sys->n;
+    sys->row_offsets.assign(sys->size + 1, 0);
+    for (int r = 0; r < sys->size; ++r) sys->row_offsets[r + 1] = sys->row_offsets[r] + nodal_counts[r];
+    sys->row_offsets[sys->size] = sys->n;
+    sys->first_row = sys->row_offsets[sys->rank];
+    sys->n_owned = sys->row_offsets[sys->rank + 1] - sys->first_row;
+    sys->local_rows.assign(rows, rows + n_rows);
+    sys->local_row_ptr.assign(row_ptr, row_ptr + n_rows + 1);
+    sys->local_cols.assign(cols, cols + row_ptr[n_rows]);
+    sys->values.assign(static_cast<size_t>(row_ptr[n_rows]), 0.0);
+    merge_rows(sys);
 
     // without constraint rows the row map is the nodal map: keep its object while the layout holds, so the
     // preconditioners built on it stay usable on the new pattern (iterative_solvers.cpp)
-    const bool same_nodal = n_nodal == n && !sys->nodal_map.is_null() &&
-                            sys->nodal_map->getGlobalNumElements() == static_cast<size_t>(n) &&
-                            sys->nodal_map->getNodeNumElements() == static_cast<size_t>(n_owned);
-    sys->row_map = same_nodal ? sys->nodal_map
-                              : RCP<const Map>(rcp(new Map(static_cast<Tpetra::global_size_t>(n),
-                                                           static_cast<size_t>(n_owned), 0, sys->tcomm)));
-    sys->matrix = build_matrix(sys->row_map, sys->row_map, sys->row_ptr, sys->cols, first_row, sys->owned_slots);
+    int same = sys->n_nodal == sys->n && !sys->nodal_map.is_null() && previous_n == sys->n &&
+               previous_nodal == sys->n_nodal && previous_n_owned == sys->n_owned;
+    MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, sys->comm);
+    sys->row_map = same ? sys->nodal_map
+                        : RCP<const Map>(rcp(new Map(static_cast<Tpetra::global_size_t>(sys->n),
+                                                     static_cast<size_t>(sys->n_owned), 0, sys->tcomm)));
+    sys->matrix = build_matrix(sys->row_map, sys->row_map, sys->row_ptr, sys->cols, 0, sys->owned_slots);
     status = SK_OK;
   } catch (...) {
     release_pattern(sys);
@@ -476,39 +623,50 @@ sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n, const int64_t *row
   return agree(sys->comm, status, "sk_linsys_set_pattern");
 }
 
+int sk_linsys_owned_rows(const sk_linear_system *sys, int *first) {
+  if (first) *first = sys->first_row;
+  return sys->n_owned;
+}
+
 double *sk_linsys_values(sk_linear_system *sys) { return sys->values.empty() ? nullptr : sys->values.data(); }
 
 void sk_linsys_zero(sk_linear_system *sys) { std::fill(sys->values.begin(), sys->values.end(), 0.0); }
+
+int64_t sk_linsys_bytes_sent(const sk_linear_system *sys) { return sys->bytes_sent; }
 
 sk_status sk_linsys_assemble(sk_linear_system *sys) {
   if (sys->matrix.is_null()) return sk_error_set(SK_ERR_INTERNAL, "sk_linsys_assemble: no pattern set");
   sk_status status = SK_OK;
   try {
-    size_t k = 0;
-    for (int row : sys->send_rows) {
-      const double *begin = sys->values.data() + sys->row_ptr[row];
-      const double *end = sys->values.data() + sys->row_ptr[row + 1];
-      std::copy(begin, end, sys->send_buffer.data() + k);
-      k += static_cast<size_t>(end - begin);
-    }
-    MPI_Alltoallv(sys->send_buffer.data(), sys->send_counts.data(), sys->send_displs.data(), MPI_DOUBLE,
-                  sys->recv_buffer.data(), sys->recv_counts.data(), sys->recv_displs.data(), MPI_DOUBLE, sys->comm);
+    for (size_t k = 0; k < sys->send_entries.size(); ++k)
+      sys->send_buffer[k] = sys->values[static_cast<size_t>(sys->send_entries[k])];
     std::fill(sys->owned_values.begin(), sys->owned_values.end(), 0.0);
-    k = 0;
-    for (int row : sys->recv_rows) {
-      double *target = sys->owned_values.data() + (sys->row_ptr[row] - sys->owned_value_begin);
-      const int64_t count = sys->row_ptr[row + 1] - sys->row_ptr[row];
-      for (int64_t j = 0; j < count; ++j) target[j] += sys->recv_buffer[k + static_cast<size_t>(j)];
-      k += static_cast<size_t>(count);
-    }
-    const int first_row = sys->row_offsets[sys->rank];
-    replace_values(*sys->matrix, sys->row_ptr, sys->owned_value_begin, first_row,
-                   sys->row_offsets[sys->rank + 1] - first_row, sys->owned_values.data(), sys->owned_slots);
+    for (size_t e = 0; e < sys->local_slot.size(); ++e)
+      if (sys->local_slot[e] >= 0) sys->owned_values[static_cast<size_t>(sys->local_slot[e])] += sys->values[e];
+    neighbour_exchange(sys, sys->send_ptr, sys->send_buffer.data(), sys->recv_ptr, sys->recv_buffer.data());
+    for (size_t k = 0; k < sys->recv_slot.size(); ++k)
+      sys->owned_values[static_cast<size_t>(sys->recv_slot[k])] += sys->recv_buffer[k];
+    replace_values(*sys->matrix, sys->row_ptr, 0, sys->n_owned, sys->owned_values.data(), sys->owned_slots);
     sys->assembled = true;
   } catch (...) {
     status = status_from_exception(SK_ERR_INTERNAL, "sk_linsys_assemble", std::current_exception());
   }
   return agree(sys->comm, status, "sk_linsys_assemble");
+}
+
+sk_status sk_linsys_sum_rows(sk_linear_system *sys, const double *local, double *owned) {
+  if (sys->matrix.is_null()) return sk_error_set(SK_ERR_INTERNAL, "sk_linsys_sum_rows: no pattern set");
+  std::fill(owned, owned + sys->n_owned, 0.0);
+  for (size_t i = 0; i < sys->local_rows.size(); ++i) {
+    const int row = sys->local_rows[i];
+    if (row >= sys->first_row && row < sys->first_row + sys->n_owned) owned[row - sys->first_row] += local[i];
+  }
+  for (size_t k = 0; k < sys->send_row_index.size(); ++k)
+    sys->row_send_buffer[k] = local[static_cast<size_t>(sys->send_row_index[k])];
+  neighbour_exchange(sys, sys->send_row_ptr, sys->row_send_buffer.data(), sys->recv_row_ptr,
+                     sys->row_recv_buffer.data());
+  for (size_t k = 0; k < sys->recv_row_index.size(); ++k) owned[sys->recv_row_index[k]] += sys->row_recv_buffer[k];
+  return SK_OK;
 }
 
 sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
@@ -519,9 +677,10 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
   dump_system(sys, b);
   const double start = now_seconds();
   double norm_b = 0;
-  for (int i = 0; i < sys->n; ++i) norm_b += b[i] * b[i];
+  for (int i = 0; i < sys->n_owned; ++i) norm_b += b[i] * b[i];
+  MPI_Allreduce(MPI_IN_PLACE, &norm_b, 1, MPI_DOUBLE, MPI_SUM, sys->comm);
   if (norm_b == 0) {  // x = 0 exactly; Krylov solvers divide by ||b||
-    std::fill(x, x + sys->n, 0.0);
+    std::fill(x, x + sys->n_owned, 0.0);
     report->solver = sys->options.kind == SK_LINEAR_DIRECT ? SK_LINEAR_DIRECT_MUMPS : sys->options.kind;
     return SK_OK;
   }
@@ -576,9 +735,9 @@ sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y) {
   if (!sys->assembled) return sk_error_set(SK_ERR_INTERNAL, "sk_linsys_apply: matrix not assembled");
   try {
     Vector xv(sys->row_map), yv(sys->row_map);
-    scatter_to(sys, x, xv);
+    copy_to(x, xv);
     sys->matrix->apply(xv, yv);
-    gather_from(sys, yv, y);
+    copy_from(yv, y);
     return SK_OK;
   } catch (...) {
     return status_from_exception(SK_ERR_INTERNAL, "sk_linsys_apply", std::current_exception());
@@ -611,12 +770,12 @@ namespace stickslip::bridge {
 system_rows rows_of(const sk_linear_system *sys) {
   system_rows rows;
   rows.n = sys->n;
+  rows.n_nodal = sys->n_nodal;
   rows.row_ptr = sys->row_ptr.data();
   rows.cols = sys->cols.data();
-  rows.first_row = sys->row_offsets.empty() ? 0 : sys->row_offsets[sys->rank];
-  rows.n_owned = sys->row_offsets.empty() ? 0 : sys->row_offsets[sys->rank + 1] - rows.first_row;
+  rows.first_row = sys->first_row;
+  rows.n_owned = sys->n_owned;
   rows.owned_values = sys->owned_values.data();
-  rows.owned_value_begin = sys->owned_value_begin;
   rows.row_offsets = sys->row_offsets.data();
   return rows;
 }

@@ -63,8 +63,8 @@ inline double cpu_seconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-// A static-graph Tpetra matrix over a block of the owned rows and columns of the replicated pattern, refilled in
-// place from the owned CSR values: entry e of the block takes owned_values[source[e]].
+// A static-graph Tpetra matrix over a block of the owned rows and columns of the pattern, refilled in place from the
+// owned CSR values: entry e of the block takes owned_values[source[e]].
 struct SubMatrix {
   RCP<Matrix> matrix;
   std::vector<int64_t> row_ptr;              // local rows of the block, into source / slots
@@ -124,43 +124,63 @@ struct sk_linear_system {
   sk_linear_options options{};
   int block_size = 1;
   int coordinate_dim = 0;            // 0: no coordinates (translations-only nullspace, no constraint block)
-  std::vector<double> coordinates;   // replicated, node-major
+  std::vector<double> coordinates;   // of the owned nodes, node-major in row order
   RCP<const Teuchos::Comm<int>> tcomm;
   int pattern_generation = 0;        // counts set_pattern calls: `auto` remembers failures per pattern
 
-  // replicated pattern and this rank's contributions
+  // Layout: rank r owns the rows [row_offsets[r], row_offsets[r+1]) — its nodal rows (whole nodes, the count the
+  // caller gives) and, on the last rank, the constraint rows [n_nodal, n) after every nodal row.
   int n = 0;
   int n_nodal = 0;                   // unknowns [0, n_nodal) are nodal (block_size per node); the rest: constraints
+  std::vector<int> row_offsets;
+  int first_row = 0, n_owned = 0;    // this rank's block
+
+  // the owned rows, merged over every rank's contributions: local row i is global row first_row + i, its columns
+  // (global, sorted) cols[row_ptr[i] .. row_ptr[i+1]), their summed values owned_values (CSR order)
   std::vector<int64_t> row_ptr;
   std::vector<int> cols;
-  std::vector<int> local_rows;
-  std::vector<double> values;
-
-  // contiguous row blocks: rank r owns rows [row_offsets[r], row_offsets[r+1]); nodal rows in whole nodes, split
-  // by node count alone (so the nodal distribution, and the AMG hierarchy on it, survive contact pattern changes),
-  // constraint rows all on the last rank
-  std::vector<int> row_offsets;
-  int64_t owned_value_begin = 0;  // row_ptr[first owned row]
   std::vector<double> owned_values;
   std::vector<LocalOrdinal> owned_slots;  // position of each owned CSR entry in the matrix's CRS values
-  std::vector<int64_t> owned_diagonal;         // index of each owned row's diagonal in owned_values, -1 if absent
+  std::vector<int64_t> owned_diagonal;    // index of each owned row's diagonal in owned_values, -1 if absent
+  int64_t global_entries = 0;             // stored entries over all ranks
 
-  // the once-per-pattern exchange plan of sk_linsys_assemble (counts in values, per rank)
-  std::vector<int> send_counts, send_displs, recv_counts, recv_displs;
-  std::vector<int> send_rows;  // local rows in send order (sorted; grouped by owner)
-  std::vector<int> recv_rows;  // rows received, in receive order
+  // this rank's contributions: the rows it writes (owned or not, global ids), CSR with global sorted columns, and
+  // their values (sk_linsys_values)
+  std::vector<int> local_rows;
+  std::vector<int64_t> local_row_ptr;
+  std::vector<int> local_cols;
+  std::vector<double> values;
+  std::vector<int64_t> local_slot;   // per local entry: its place in owned_values, or -1 when it is sent
+
+  // the once-per-pattern plan of sk_linsys_assemble: the values of non-owned local rows go to their owners
+  // (neighbours only, point to point), which add them at recv_slot
+  std::vector<int> send_ranks, send_ptr;   // per neighbour: a range of send_entries
+  std::vector<int64_t> send_entries;       // indices into values
+  std::vector<int> recv_ranks, recv_ptr;   // per neighbour: a range of recv_slot
+  std::vector<int64_t> recv_slot;          // indices into owned_values
   std::vector<double> send_buffer, recv_buffer;
+  // the same plan by rows, for right-hand sides over the local rows (sk_linsys_sum_rows)
+  std::vector<int> send_row_ptr, recv_row_ptr;  // per neighbour: a range of send_row_index / recv_row_index
+  std::vector<int> send_row_index;         // indices into local_rows
+  std::vector<int> recv_row_index;         // owned local row
+  std::vector<double> row_send_buffer, row_recv_buffer;
+  int64_t bytes_sent = 0;                  // by sk_linsys_assemble and sk_linsys_sum_rows (sk_linsys_bytes_sent)
 
   RCP<const Map> row_map;
   RCP<Matrix> matrix;
   bool assembled = false;
 
-  // direct, KLU2: on one rank the distributed matrix itself; on more, a serial copy on rank 0
+  // direct, KLU2: on one rank the distributed matrix itself; on more, a serial copy on rank 0 from the gathered
+  // owned rows (built on first use, sk_linsys_gather)
   RCP<const Map> serial_map;
   RCP<Matrix> serial_matrix;
   std::vector<LocalOrdinal> serial_slots;
-  std::vector<int> gather_counts, gather_displs;
+  std::vector<int> gather_counts, gather_displs;  // values per rank (their owned entries)
+  std::vector<int> row_counts;                     // rows per rank
+  std::vector<int64_t> full_row_ptr;               // rank 0: the whole pattern
+  std::vector<int> full_cols;
   std::vector<double> gathered_values;
+  bool gathered_pattern = false;
   RCP<stickslip::bridge::DirectSolver> direct;
 
   // Amesos v1 (Epetra) direct solvers, MUMPS or KLU: on the same contiguous row blocks as the Tpetra matrix.
@@ -192,16 +212,23 @@ struct sk_linear_system {
 namespace stickslip::bridge {
 
 // linear_system.cpp
-void scatter_to(const sk_linear_system *sys, const double *replicated, Vector &v);
-void gather_from(const sk_linear_system *sys, const Vector &v, double *replicated);
+// Vectors over this rank's owned rows in and out of Tpetra.
+void copy_to(const double *owned, Vector &v);
+void copy_from(const Vector &v, double *owned);
+// The whole matrix on rank 0 (KLU2 on several ranks, the dump): the pattern gathered once per pattern, the values
+// at every call into sys->gathered_values (collective).
+void gather_to_root(sk_linear_system *sys);
+// b over the owned rows gathered to rank 0 (whole on rank 0), and back (collective).
+void gather_vector(const sk_linear_system *sys, const double *owned, double *whole);
+void scatter_vector(const sk_linear_system *sys, const double *whole, double *owned);
 // ||b - A x|| / ||b|| (||b - A x|| when b = 0); the residual b - A x into *residual when given
 double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual = nullptr);
 sk_status agree(MPI_Comm comm, sk_status local, const char *what);
 RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
                          const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,
                          std::vector<LocalOrdinal> &slots);
-void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int64_t value_begin, int first_row,
-                    int n_rows, const double *values, const std::vector<LocalOrdinal> &slots);
+void replace_values(Matrix &matrix, const std::vector<int64_t> &row_ptr, int first_row, int n_rows,
+                    const double *values, const std::vector<LocalOrdinal> &slots);
 // The block of owned rows [row_begin, row_end) (global, within this rank's rows) and columns [col_begin, col_end),
 // its columns renumbered from col_begin; its matrix has the given row, domain and range maps.
 SubMatrix build_submatrix(const sk_linear_system *sys, int row_begin, int row_end, int col_begin, int col_end,

@@ -1,7 +1,8 @@
 // stickslip — sk_newton_solve: NOX's line-search Newton over the driver's C callbacks.
 //
-// NOX sees a replicated vector (std::vector<double>, identical on every rank: norms need no communication) and a
-// group whose computeF / computeJacobian / computeNewton call the callbacks. A residual callback that fails (for
+// NOX sees a distributed vector (this rank's owned unknowns; norms and inner products are sums over the ranks, so
+// every rank takes the same decisions) and a group whose computeF / computeJacobian / computeNewton call the
+// callbacks. A residual callback that fails (for
 // instance an inverted element) does not surface as a NOX error, which NOX turns into `throw "NOX Error"`:
 // the group reports F = +inf instead, so a backtracking line search shortens the step and the FiniteValue test
 // stops a full-step Newton cleanly. The callback's message is kept and reported with SK_ERR_DIVERGED.
@@ -44,6 +45,7 @@ constexpr double kFailedResidualNorm = 1e50;
 
 // What the callbacks share across the groups NOX clones: the callbacks, the first failure and the counters.
 struct NewtonState {
+  MPI_Comm comm = MPI_COMM_NULL;
   sk_newton_callbacks callbacks{};
   int linear_solves = 0;
   // which x the driver's Jacobian was last assembled at (groups carry the version of their x)
@@ -88,16 +90,23 @@ struct NewtonState {
   }
 };
 
-// A replicated vector: every rank holds the same n values.
-class ReplicatedVector : public NOX::Abstract::Vector {
+// This rank's part of a distributed vector: its n owned values; reductions over the ranks of comm.
+class OwnedVector : public NOX::Abstract::Vector {
  public:
-  explicit ReplicatedVector(size_t n) : values_(n, 0.0) {}
-  ReplicatedVector(const double *data, size_t n) : values_(data, data + n) {}
-  ReplicatedVector(const ReplicatedVector &) = default;
+  OwnedVector(MPI_Comm comm, size_t n) : comm_(comm), values_(n, 0.0) {}
+  OwnedVector(MPI_Comm comm, const double *data, size_t n) : comm_(comm), values_(data, data + n) {}
+  OwnedVector(const OwnedVector &) = default;
   // the implicit one would call the base's pure operator= non-virtually
-  ReplicatedVector &operator=(const ReplicatedVector &y) {
+  OwnedVector &operator=(const OwnedVector &y) {
     values_ = y.values_;
+    comm_ = y.comm_;
     return *this;
+  }
+  MPI_Comm comm() const { return comm_; }
+  // the sum over the ranks
+  double sum(double local) const {
+    MPI_Allreduce(MPI_IN_PLACE, &local, 1, MPI_DOUBLE, MPI_SUM, comm_);
+    return local;
   }
 
   std::vector<double> &values() { return values_; }
@@ -107,9 +116,11 @@ class ReplicatedVector : public NOX::Abstract::Vector {
     std::fill(values_.begin(), values_.end(), gamma);
     return *this;
   }
-  // Deterministic (same seed on every rank keeps the copies identical); NOX only uses it in some line searches.
+  // Deterministic (each rank's seed from the given one and its rank); NOX only uses it in some line searches.
   NOX::Abstract::Vector &random(bool use_seed, int seed) override {
-    unsigned long state = use_seed ? static_cast<unsigned long>(seed) : 12345UL;
+    int rank = 0;
+    MPI_Comm_rank(comm_, &rank);
+    unsigned long state = (use_seed ? static_cast<unsigned long>(seed) : 12345UL) + 7919UL * static_cast<unsigned long>(rank);
     for (double &v : values_) {
       state = state * 6364136223846793005UL + 1442695040888963407UL;
       v = static_cast<double>(state >> 11) / static_cast<double>(1UL << 53) * 2.0 - 1.0;
@@ -152,7 +163,7 @@ class ReplicatedVector : public NOX::Abstract::Vector {
     return *this;
   }
   RCP<NOX::Abstract::Vector> clone(NOX::CopyType type) const override {
-    auto copy = rcp(new ReplicatedVector(values_.size()));
+    auto copy = rcp(new OwnedVector(comm_, values_.size()));
     if (type == NOX::DeepCopy) copy->values_ = values_;
     return copy;
   }
@@ -161,42 +172,48 @@ class ReplicatedVector : public NOX::Abstract::Vector {
     switch (type) {
       case NOX::Abstract::Vector::MaxNorm:
         for (double v : values_) result = std::max(result, std::fabs(v));
+        MPI_Allreduce(MPI_IN_PLACE, &result, 1, MPI_DOUBLE, MPI_MAX, comm_);
         return result;
       case NOX::Abstract::Vector::OneNorm:
         for (double v : values_) result += std::fabs(v);
-        return result;
+        return sum(result);
       case NOX::Abstract::Vector::TwoNorm:
       default:
         for (double v : values_) result += v * v;
-        return std::sqrt(result);
+        return std::sqrt(sum(result));
     }
   }
   double norm(const NOX::Abstract::Vector &weights) const override {
     const auto &w = cast(weights);
     double result = 0;
     for (size_t i = 0; i < values_.size(); ++i) result += w[i] * values_[i] * values_[i];
-    return std::sqrt(result);
+    return std::sqrt(sum(result));
   }
   double innerProduct(const NOX::Abstract::Vector &y) const override {
     const auto &o = cast(y);
     double result = 0;
     for (size_t i = 0; i < values_.size(); ++i) result += values_[i] * o[i];
-    return result;
+    return sum(result);
   }
-  NOX::size_type length() const override { return static_cast<NOX::size_type>(values_.size()); }
+  NOX::size_type length() const override {
+    long long n = static_cast<long long>(values_.size());
+    MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_LONG_LONG, MPI_SUM, comm_);
+    return static_cast<NOX::size_type>(n);
+  }
 
  private:
   static const std::vector<double> &cast(const NOX::Abstract::Vector &v) {
-    return dynamic_cast<const ReplicatedVector &>(v).values_;
+    return dynamic_cast<const OwnedVector &>(v).values_;
   }
+  MPI_Comm comm_;
   std::vector<double> values_;
 };
 
 class CallbackGroup : public NOX::Abstract::Group {
  public:
   CallbackGroup(const std::shared_ptr<NewtonState> &state, const double *x, size_t n)
-      : state_(state), x_(rcp(new ReplicatedVector(x, n))), f_(rcp(new ReplicatedVector(n))),
-        newton_(rcp(new ReplicatedVector(n))), version_(state->next_version++) {}
+      : state_(state), x_(rcp(new OwnedVector(state->comm, x, n))), f_(rcp(new OwnedVector(state->comm, n))),
+        newton_(rcp(new OwnedVector(state->comm, n))), version_(state->next_version++) {}
 
   CallbackGroup(const CallbackGroup &) = delete;
   CallbackGroup &operator=(const CallbackGroup &source) {
@@ -239,7 +256,7 @@ class CallbackGroup : public NOX::Abstract::Group {
       ++state_->residual_failures;
       state_->residual_status = status;
       state_->residual_message = sk_error_message();
-      f_->init(kFailedResidualNorm / std::sqrt(static_cast<double>(x_->values().size())));
+      f_->init(kFailedResidualNorm / std::sqrt(static_cast<double>(f_->length())));
       norm_f_ = kFailedResidualNorm;
     } else {
       norm_f_ = f_->norm(NOX::Abstract::Vector::TwoNorm);
@@ -310,7 +327,7 @@ class CallbackGroup : public NOX::Abstract::Group {
   }
 
   std::shared_ptr<NewtonState> state_;
-  RCP<ReplicatedVector> x_, f_, newton_;
+  RCP<OwnedVector> x_, f_, newton_;
   long version_;
   bool f_valid_ = false, f_failed_ = false, newton_valid_ = false;
   double norm_f_ = 0;
@@ -329,13 +346,16 @@ class UpdateNormTest : public NOX::StatusTest::Generic {
     if (solver.getNumIterations() == 0) return status_;
     const auto &group = solver.getSolutionGroup();
     const auto &previous = solver.getPreviousSolutionGroup();
-    const auto &x = dynamic_cast<const ReplicatedVector &>(group.getX()).values();
-    const auto &x_old = dynamic_cast<const ReplicatedVector &>(previous.getX()).values();
-    double ss = 0, xx = 0;
+    const auto &xv = dynamic_cast<const OwnedVector &>(group.getX());
+    const auto &x = xv.values();
+    const auto &x_old = dynamic_cast<const OwnedVector &>(previous.getX()).values();
+    double sums[2] = {0, 0};  // ||s||^2, ||x||^2 over the ranks
     for (size_t i = 0; i < x.size(); ++i) {
-      ss += (x[i] - x_old[i]) * (x[i] - x_old[i]);
-      xx += x[i] * x[i];
+      sums[0] += (x[i] - x_old[i]) * (x[i] - x_old[i]);
+      sums[1] += x[i] * x[i];
     }
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, xv.comm());
+    const double ss = sums[0], xx = sums[1];
     step_ = std::sqrt(ss);
     predicted_ = step_;
     if (use_prediction_ && previous.isNewton() && previous.getNormF() > 0)
@@ -529,13 +549,17 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
   }
   if (!callbacks || !callbacks->residual || !callbacks->jacobian || !callbacks->solve)
     return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: residual, jacobian and solve callbacks are required");
-  if (n <= 0 || !x) return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: empty problem (n = %d)", n);
+  long long total = n;  // a rank may own no unknowns; the problem may not be empty
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  if (n < 0 || (n > 0 && !x) || total <= 0)
+    return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: empty problem (n = %d)", n);
   if (opts.max_iterations < 1)
     return sk_error_set(SK_ERR_INPUT, "sk_newton_solve: max_iterations %d must be >= 1", opts.max_iterations);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
 
   auto state = std::make_shared<NewtonState>();
+  state->comm = comm;
   state->callbacks = *callbacks;
   try {
     auto group = rcp(new CallbackGroup(state, x, static_cast<size_t>(n)));

@@ -5,8 +5,13 @@
  * Every column means the same for every plugin (docs/user-guide.md, docs/plugin-abi.md §8): the points a plugin
  * reports are completed here. A plugin that knows only forces (sk_contact_point.forces) gets them divided by the
  * node's tributary reference measure of the slave surface; a plugin that reports tractions gets its normal force as
- * pressure x area. The node and face fields are summed over ranks (each point is reported by the rank that owns
- * it); only contact.csv's rows are gathered, to the rank that writes them. */
+ * pressure x area.
+ *
+ * On several ranks each holds its part of the slave surfaces (docs/design.md, "What each rank holds"): the contact
+ * nodes and faces are numbered over the whole surfaces (nodes by mesh id, faces by their whole index), each point is
+ * reported by the rank that owns its entity, and the node and face fields, the contact nodes' positions and the
+ * surfaces' connectivity are sums over ranks to rank 0, which writes the files; contact.csv's rows (the points) are
+ * gathered to it and written in an order that does not depend on the partition (pair, node, face). */
 #define _GNU_SOURCE
 #include "contact_output.h"
 
@@ -56,9 +61,10 @@ static const field_info vtu_fields[] = {
 enum { N_VTU_FIELDS = sizeof vtu_fields / sizeof vtu_fields[0], VTU_COMPONENTS = 15 /* theirs together */ };
 
 typedef struct {
-  const sk_surface *surface; /* the pair's slave surface */
-  int first_face;            /* its faces in the face arrays (pairs on one surface share them) */
-  double *tributary;         /* reference tributary measure per surface node (surface->nodes order) */
+  const sk_surface *surface; /* the pair's slave surface (this rank's part) */
+  int first_face;            /* its whole faces in the face arrays (pairs on one surface share them) */
+  double *tributary;         /* reference tributary measure per held surface node (surface->nodes order; right at
+                                the nodes this rank owns, whose faces it all holds) */
 } pair_info;
 
 struct sk_contact_output {
@@ -67,15 +73,17 @@ struct sk_contact_output {
   int write_csv, write_vtu;
   int with_friction, with_multipliers; /* the optional VTU fields: some pair's plugin has friction / multipliers */
   pair_info *pairs;
-  int n_cnodes;              /* contact nodes: the nodes of every slave surface */
-  int *cnode_of_node;        /* n_nodes: index among the contact nodes, or -1 */
-  int *node_of_cnode;
-  int n_faces;               /* faces of every distinct slave surface */
-  sk_elem_type *face_type;
+  int n_cnodes;              /* contact nodes: the nodes of every whole slave surface */
+  int64_t *cnode_gid;        /* their mesh ids, sorted (every rank) */
+  int *cnode_of_node;        /* per node this rank holds: index among the contact nodes, or -1 */
+  int n_faces;               /* faces of every distinct whole slave surface */
+  sk_elem_type *face_type;   /* rank 0, as the four below */
   int *face_offsets, *face_conn; /* the faces as cells over contact nodes */
   double *face_pair;         /* the pair of each face (the first one on a shared surface) */
   double *face_index;        /* its index in its slave surface (contact.csv's `face`) */
   double *cnode_id;          /* the mesh node id of each contact node */
+  double *cnode_X;           /* rank 0: the contact nodes' reference positions, 3 each */
+  double *cnode_u_local, *cnode_u; /* their displacements: this rank's owned ones, the sum on rank 0 */
   double *node_local, *node_sum; /* n_cnodes x N_FIELD */
   double *face_local, *face_sum; /* n_faces x N_FIELD */
   double *records;           /* this rank's points of the step, N_RECORD each */
@@ -97,11 +105,17 @@ void sk_contact_output_free(sk_contact_output *co) {
   sk_pvd_close(co->obstacle_pvd);
   sk_obstacle_output_free(co->obstacles);
   for (int k = 0; co->pairs && k < co->model->n_pairs; ++k) free(co->pairs[k].tributary);
-  void *all[] = {co->pairs,     co->cnode_of_node, co->node_of_cnode, co->face_type,  co->face_offsets,
-                 co->face_conn, co->face_pair,     co->face_index,    co->cnode_id,   co->node_local,
-                 co->node_sum,  co->face_local,    co->face_sum,      co->records,    co->node_fields};
+  void *all[] = {co->pairs,        co->cnode_gid,  co->cnode_of_node, co->face_type,     co->face_offsets,
+                 co->face_conn,    co->face_pair,  co->face_index,    co->cnode_id,      co->cnode_X,
+                 co->cnode_u_local, co->cnode_u,   co->node_local,    co->node_sum,      co->face_local,
+                 co->face_sum,     co->records,    co->node_fields};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
   free(co);
+}
+
+sk_csv *sk_contact_output_csv(const sk_contact_output *co, int *n_columns) {
+  if (n_columns) *n_columns = 2 + N_RECORD;
+  return co ? co->csv : NULL;
 }
 
 sk_status sk_contact_output_close(sk_contact_output *co) {
@@ -114,13 +128,84 @@ sk_status sk_contact_output_close(sk_contact_output *co) {
   return status;
 }
 
-/* The contact nodes and the faces of the distinct slave surfaces, as cells over them. */
+static int compare_int64(const void *a, const void *b) {
+  const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* The contact node of mesh id `gid`, or -1. */
+static int cnode_of_gid(const sk_contact_output *co, int64_t gid) {
+  const int64_t *at = bsearch(&gid, co->cnode_gid, (size_t)co->n_cnodes, sizeof(int64_t), compare_int64);
+  return at ? (int)(at - co->cnode_gid) : -1;
+}
+
+static int owns_node(const sk_model *m, int node) { return m->node_owner[node] == m->rank; }
+
+/* 1 when pair k's slave surface is an earlier pair's (they share its faces). */
+static int surface_seen(const sk_contact_output *co, int k) {
+  for (int j = 0; j < k; ++j)
+    if (co->pairs[j].first_face == co->pairs[k].first_face) return 1;
+  return 0;
+}
+
+/* The contact nodes (the mesh ids of the whole slave surfaces, from the ranks that own them; every rank gets the
+ * list, which is surface-sized) and this rank's lookup from its nodes. Collective. */
+static sk_status number_contact_nodes(sk_contact_output *co) {
+  const sk_model *m = co->model;
+  int n_mine = 0;
+  for (int k = 0; k < m->n_pairs; ++k) n_mine += m->pairs[k].slave.n_nodes;
+  int64_t *mine = malloc(sizeof(int64_t) * ((size_t)n_mine + 1));
+  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
+  int ok = mine && counts && displs;
+  n_mine = 0;
+  for (int k = 0; ok && k < m->n_pairs; ++k) {
+    const sk_surface *s = &m->pairs[k].slave;
+    for (int i = 0; i < s->n_nodes; ++i)
+      if (owns_node(m, s->nodes[i])) mine[n_mine++] = m->node_gid ? m->node_gid[s->nodes[i]] : s->nodes[i];
+  }
+  if (ok) { /* one entry per mesh id from this rank: fewer to send */
+    qsort(mine, (size_t)n_mine, sizeof(int64_t), compare_int64);
+    int unique = 0;
+    for (int i = 0; i < n_mine; ++i)
+      if (unique == 0 || mine[i] != mine[unique - 1]) mine[unique++] = mine[i];
+    n_mine = unique;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  if (!ok) {
+    free(mine), free(counts), free(displs);
+    return no_memory("the contact output");
+  }
+  MPI_Allgather(&n_mine, 1, MPI_INT, counts, 1, MPI_INT, m->comm);
+  int total = 0;
+  for (int r = 0; r < m->n_ranks; ++r) {
+    displs[r] = total;
+    total += counts[r];
+  }
+  co->cnode_gid = malloc(sizeof(int64_t) * ((size_t)total + 1));
+  co->cnode_of_node = malloc(sizeof(int) * ((size_t)m->n_nodes + 1));
+  ok = co->cnode_gid && co->cnode_of_node;
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  if (ok) MPI_Allgatherv(mine, n_mine, MPI_INT64_T, co->cnode_gid, counts, displs, MPI_INT64_T, m->comm);
+  free(mine), free(counts), free(displs);
+  if (!ok) return no_memory("the contact output");
+  /* each node has one owner: the list has each mesh id once; sorted for the lookups */
+  qsort(co->cnode_gid, (size_t)total, sizeof(int64_t), compare_int64);
+  co->n_cnodes = total;
+  for (int a = 0; a < m->n_nodes; ++a) co->cnode_of_node[a] = -1;
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const sk_surface *s = &m->pairs[k].slave;
+    for (int i = 0; i < s->n_nodes; ++i)
+      co->cnode_of_node[s->nodes[i]] = cnode_of_gid(co, m->node_gid ? m->node_gid[s->nodes[i]] : s->nodes[i]);
+  }
+  return SK_OK;
+}
+
+/* The contact nodes and the faces of the distinct whole slave surfaces, as cells over them (rank 0), from the
+ * faces and nodes each rank owns. Collective. */
 static sk_status build_surfaces(sk_contact_output *co) {
   const sk_model *m = co->model;
-  co->cnode_of_node = malloc(sizeof(int) * ((size_t)m->n_nodes + 1));
-  co->node_of_cnode = malloc(sizeof(int) * ((size_t)m->n_nodes + 1));
-  if (!co->cnode_of_node || !co->node_of_cnode) return no_memory("the contact output");
-  for (int a = 0; a < m->n_nodes; ++a) co->cnode_of_node[a] = -1;
+  const int root = m->rank == 0;
+  SK_TRY(number_contact_nodes(co));
   size_t n_conn = 0;
   for (int k = 0; k < m->n_pairs; ++k) {
     const sk_surface *s = &m->pairs[k].slave;
@@ -132,47 +217,72 @@ static sk_status build_surfaces(sk_contact_output *co) {
     p->tributary = malloc(sizeof(double) * ((size_t)s->n_nodes + 1));
     if (!p->tributary) return no_memory("the contact output");
     sk_surface_tributary_measures(s, m->X, p->tributary);
-    for (int i = 0; i < s->n_nodes; ++i)
-      if (co->cnode_of_node[s->nodes[i]] < 0) {
-        co->node_of_cnode[co->n_cnodes] = s->nodes[i];
-        co->cnode_of_node[s->nodes[i]] = co->n_cnodes++;
-      }
     if (p->first_face >= 0) continue;
     p->first_face = co->n_faces;
-    co->n_faces += s->n_faces;
-    n_conn += (size_t)s->n_faces * (size_t)s->nen;
+    co->n_faces += s->n_faces_global;
+    n_conn += (size_t)s->n_faces_global * (size_t)s->nen;
   }
-  co->face_type = malloc(sizeof(sk_elem_type) * ((size_t)co->n_faces + 1));
+  /* the connectivity over contact nodes: each face filled by its owner, summed to rank 0 (as the positions) */
+  int *conn_local = calloc(n_conn + 1, sizeof(int));
+  double *X_local = calloc(3 * (size_t)co->n_cnodes + 1, sizeof(double));
+  co->face_conn = root ? calloc(n_conn + 1, sizeof(int)) : NULL;
+  co->cnode_X = root ? calloc(3 * (size_t)co->n_cnodes + 1, sizeof(double)) : NULL;
   co->face_offsets = malloc(sizeof(int) * ((size_t)co->n_faces + 1));
-  co->face_conn = malloc(sizeof(int) * (n_conn + 1));
-  co->face_pair = malloc(sizeof(double) * ((size_t)co->n_faces + 1));
-  co->face_index = malloc(sizeof(double) * ((size_t)co->n_faces + 1));
-  co->cnode_id = malloc(sizeof(double) * ((size_t)co->n_cnodes + 1));
-  if (!co->face_type || !co->face_offsets || !co->face_conn || !co->face_pair || !co->face_index || !co->cnode_id)
+  int ok = conn_local && X_local && co->face_offsets && (!root || (co->face_conn && co->cnode_X));
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  if (!ok) {
+    free(conn_local), free(X_local);
     return no_memory("the contact output");
-  for (int a = 0; a < co->n_cnodes; ++a) co->cnode_id[a] = co->node_of_cnode[a];
+  }
   co->face_offsets[0] = 0;
   for (int k = 0; k < m->n_pairs; ++k) {
     const sk_surface *s = co->pairs[k].surface;
     const int first = co->pairs[k].first_face;
-    if (k > 0 && first < co->pairs[k - 1].first_face + co->pairs[k - 1].surface->n_faces) continue; /* shared */
+    if (surface_seen(co, k)) continue;
+    for (int f = 0; f < s->n_faces_global; ++f) co->face_offsets[first + f + 1] = co->face_offsets[first + f] + s->nen;
     for (int f = 0; f < s->n_faces; ++f) {
-      const int c = first + f;
-      co->face_type[c] = s->face_type;
-      co->face_pair[c] = k;
-      co->face_index[c] = f;
-      co->face_offsets[c + 1] = co->face_offsets[c] + s->nen;
+      if ((s->face_owner ? s->face_owner[f] : 0) != m->rank) continue;
+      const int64_t c = first + (s->face_index ? s->face_index[f] : f);
       for (int a = 0; a < s->nen; ++a)
-        co->face_conn[co->face_offsets[c] + a] = co->cnode_of_node[s->conn[(size_t)f * s->nen + a]];
+        conn_local[co->face_offsets[c] + a] = co->cnode_of_node[s->conn[(size_t)f * s->nen + a]];
     }
   }
+  for (int a = 0; a < m->n_nodes; ++a)
+    if (co->cnode_of_node[a] >= 0 && owns_node(m, a))
+      for (int i = 0; i < m->dim; ++i) X_local[3 * (size_t)co->cnode_of_node[a] + i] = m->X[(int64_t)a * m->dim + i];
+  MPI_Reduce(conn_local, co->face_conn, (int)n_conn, MPI_INT, MPI_SUM, 0, m->comm);
+  MPI_Reduce(X_local, co->cnode_X, 3 * co->n_cnodes, MPI_DOUBLE, MPI_SUM, 0, m->comm);
+  free(conn_local);
+  free(X_local);
+  co->cnode_u_local = malloc(sizeof(double) * (3 * (size_t)co->n_cnodes + 1));
+  co->cnode_u = root ? malloc(sizeof(double) * (3 * (size_t)co->n_cnodes + 1)) : NULL;
   const size_t node_values = (size_t)N_FIELD * ((size_t)co->n_cnodes + 1);
   const size_t face_values = (size_t)N_FIELD * ((size_t)co->n_faces + 1);
   co->node_local = malloc(sizeof(double) * node_values);
   co->node_sum = malloc(sizeof(double) * node_values);
   co->face_local = malloc(sizeof(double) * face_values);
   co->face_sum = malloc(sizeof(double) * face_values);
-  if (!co->node_local || !co->node_sum || !co->face_local || !co->face_sum) return no_memory("the contact output");
+  ok = co->cnode_u_local && (!root || co->cnode_u) && co->node_local && co->node_sum && co->face_local && co->face_sum;
+  if (ok && root) {
+    co->face_type = malloc(sizeof(sk_elem_type) * ((size_t)co->n_faces + 1));
+    co->face_pair = malloc(sizeof(double) * ((size_t)co->n_faces + 1));
+    co->face_index = malloc(sizeof(double) * ((size_t)co->n_faces + 1));
+    co->cnode_id = malloc(sizeof(double) * ((size_t)co->n_cnodes + 1));
+    ok = co->face_type && co->face_pair && co->face_index && co->cnode_id;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  if (!ok) return no_memory("the contact output");
+  if (!root) return SK_OK;
+  for (int a = 0; a < co->n_cnodes; ++a) co->cnode_id[a] = (double)co->cnode_gid[a];
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const int first = co->pairs[k].first_face;
+    if (surface_seen(co, k)) continue;
+    for (int f = 0; f < co->pairs[k].surface->n_faces_global; ++f) {
+      co->face_type[first + f] = co->pairs[k].surface->face_type;
+      co->face_pair[first + f] = k;
+      co->face_index[first + f] = f;
+    }
+  }
   return SK_OK;
 }
 
@@ -193,6 +303,7 @@ sk_status sk_contact_output_open(const sk_model *model, const char *dir, int wri
     co->with_multipliers |= (caps & SK_CAP_MULTIPLIERS) != 0;
   }
   SK_TRY(build_surfaces(co));
+  if (write_vtu) SK_TRY(sk_obstacle_output_open(model, &co->obstacles)); /* collective: the mesh's box */
   if (!co->dir[0]) return SK_OK;
   char path[1300];
   if (write_csv) {
@@ -202,7 +313,6 @@ sk_status sk_contact_output_open(const sk_model *model, const char *dir, int wri
   if (!write_vtu) return SK_OK;
   snprintf(path, sizeof path, "%s/contact.pvd", co->dir);
   SK_TRY(sk_pvd_open(path, &co->contact_pvd));
-  SK_TRY(sk_obstacle_output_open(model, &co->obstacles));
   if (sk_obstacle_output_count(co->obstacles) > 0) {
     snprintf(path, sizeof path, "%s/obstacles.pvd", co->dir);
     SK_TRY(sk_pvd_open(path, &co->obstacle_pvd));
@@ -212,8 +322,9 @@ sk_status sk_contact_output_open(const sk_model *model, const char *dir, int wri
 
 /* ---- the points of a step ---------------------------------------------------------------------------------------- */
 
-/* The tributary measure of mesh node `node` on pair k's slave surface, NaN when it is not a node of it. */
-static double tributary_of(const sk_contact_output *co, int pair, int64_t node) {
+/* The tributary measure of the node this rank holds as `node` on pair k's slave surface, NaN when it is not a node
+ * of it. */
+static double tributary_of(const sk_contact_output *co, int pair, int node) {
   if (pair < 0 || pair >= co->model->n_pairs || node < 0) return NAN;
   const pair_info *p = &co->pairs[pair];
   int lo = 0, hi = p->surface->n_nodes - 1;
@@ -230,19 +341,22 @@ static double tributary_of(const sk_contact_output *co, int pair, int64_t node) 
  * gave (docs/plugin-abi.md §8). */
 static void complete_point(const sk_contact_output *co, int pair, const sk_contact_point *p, double *r) {
   const sk_model *m = co->model;
-  const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1;
-  const int at_node = node >= 0 && node < m->n_nodes;
+  const int64_t node = SK_HAS(p, slave_node) ? p->slave_node : -1; /* a mesh id */
+  const int local = node >= 0 ? sk_model_node_of(m, node) : -1;    /* held: the point's owner holds its node */
+  const int at_node = local >= 0;
   r[R_PAIR] = pair;
   r[R_NODE] = at_node ? (double)node : -1.0;
   r[R_FACE] = !at_node && SK_HAS(p, slave_face) ? (double)p->slave_face : -1.0;
   for (int i = 0; i < 3; ++i) {
     r[R_X + i] = p->x[i];
-    r[R_REFERENCE + i] = at_node ? (i < m->dim ? m->X[node * m->dim + i] : 0.0) : SK_HAS(p, X) ? p->X[i] : NAN;
+    r[R_REFERENCE + i] = at_node        ? (i < m->dim ? m->X[(int64_t)local * m->dim + i] : 0.0)
+                         : SK_HAS(p, X) ? p->X[i]
+                                        : NAN;
     r[R_NORMAL + i] = p->normal[i];
   }
   r[R_GAP] = p->gap;
   r[R_STATE] = p->state;
-  const double tributary = at_node ? tributary_of(co, pair, node) : NAN;
+  const double tributary = at_node ? tributary_of(co, pair, local) : NAN;
   const int forces = SK_HAS(p, forces) && p->forces;
   const double area = SK_HAS(p, area) && p->area > 0.0 && !forces ? p->area : tributary;
   /* a plugin's forces become tractions over the tributary measure; tractions give forces over their measure */
@@ -300,14 +414,15 @@ static void accumulate(sk_contact_output *co) {
     point_fields(r, f);
     const int node = (int)r[R_NODE], face = (int)r[R_FACE], pair = (int)r[R_PAIR];
     if (node >= 0) {
-      if (co->cnode_of_node[node] < 0) continue; /* not on the pair's slave surface: contact.csv only */
-      double *to = co->node_local + N_FIELD * (size_t)co->cnode_of_node[node];
+      const int cnode = cnode_of_gid(co, node);
+      if (cnode < 0) continue; /* not on a slave surface: contact.csv only */
+      double *to = co->node_local + N_FIELD * (size_t)cnode;
       const int replaces = to[F_WEIGHT] == 0.0 || f[F_STATE] > to[F_STATE] ||
                            (f[F_STATE] == to[F_STATE] && f[F_GAP] < to[F_GAP]);
       if (!replaces) continue;
       memcpy(to, f, sizeof(double) * F_WEIGHT);
       to[F_WEIGHT] = 1.0;
-    } else if (face >= 0 && pair >= 0 && pair < co->model->n_pairs && face < co->pairs[pair].surface->n_faces) {
+    } else if (face >= 0 && pair >= 0 && pair < co->model->n_pairs && face < co->pairs[pair].surface->n_faces_global) {
       double *to = co->face_local + N_FIELD * (size_t)(co->pairs[pair].first_face + face);
       const double w = isfinite(r[R_AREA]) && r[R_AREA] > 0.0 ? r[R_AREA] : 1.0;
       for (int i = 0; i < F_WEIGHT; ++i)
@@ -361,7 +476,21 @@ static void complete_fields(sk_contact_output *co) {
   }
 }
 
-/* contact.csv's rows of the step: every rank's points, gathered to rank 0 in rank order. */
+typedef struct {
+  double pair, node, face;
+  int index;
+} row_key;
+
+static int compare_rows(const void *a, const void *b) {
+  const row_key *x = a, *y = b;
+  if (x->pair != y->pair) return x->pair < y->pair ? -1 : 1;
+  if (x->node != y->node) return x->node < y->node ? -1 : 1;
+  if (x->face != y->face) return x->face < y->face ? -1 : 1;
+  return (x->index > y->index) - (x->index < y->index); /* a face's Gauss points in their plugin's order */
+}
+
+/* contact.csv's rows of the step: every rank's points, gathered to rank 0 and written by pair, node and face, so
+ * that the file does not depend on the number of ranks. */
 static sk_status write_rows(sk_contact_output *co, double t, int64_t step) {
   const sk_model *m = co->model;
   int count = co->n_records * N_RECORD;
@@ -382,15 +511,24 @@ static sk_status write_rows(sk_contact_output *co, double t, int64_t step) {
   MPI_Bcast(&ok, 1, MPI_INT, 0, m->comm);
   sk_status status = ok ? SK_OK : no_memory("the contact points");
   if (ok) MPI_Gatherv(co->records, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
-  if (ok && co->csv) {
+  const int n_rows = total / N_RECORD;
+  row_key *order = ok && co->csv ? malloc(sizeof(row_key) * ((size_t)n_rows + 1)) : NULL;
+  if (ok && co->csv && !order) status = no_memory("the contact points");
+  if (order) {
+    for (int k = 0; k < n_rows; ++k) {
+      const double *r = all + N_RECORD * (size_t)k;
+      order[k] = (row_key){r[R_PAIR], r[R_NODE], r[R_FACE], k};
+    }
+    qsort(order, (size_t)n_rows, sizeof(row_key), compare_rows);
     double row[2 + N_RECORD];
     row[0] = (double)step;
     row[1] = t;
-    for (int k = 0; k < total / N_RECORD && status == SK_OK; ++k) {
-      memcpy(row + 2, all + N_RECORD * (size_t)k, sizeof(double) * N_RECORD);
+    for (int k = 0; k < n_rows && status == SK_OK; ++k) {
+      memcpy(row + 2, all + N_RECORD * (size_t)order[k].index, sizeof(double) * N_RECORD);
       status = sk_csv_row(co->csv, row);
     }
   }
+  free(order);
   free(all);
   free(counts);
   free(displs);
@@ -402,9 +540,10 @@ static int field_wanted(const sk_contact_output *co, const field_info *f) {
          (f->needs == NEEDS_MULTIPLIERS && co->with_multipliers);
 }
 
-/* Rank 0: the fields over every mesh node for the bodies' VTU, field after field (0 away from the contact). */
+/* Rank 0: the fields over every mesh node (by mesh id) for the bodies' VTU, field after field (0 away from the
+ * contact). */
 static sk_status spread_node_fields(sk_contact_output *co) {
-  const int nn = co->model->n_nodes;
+  const int nn = co->model->n_nodes_global;
   if (!co->node_fields && !(co->node_fields = malloc(sizeof(double) * VTU_COMPONENTS * ((size_t)nn + 1))))
     return no_memory("the VTU output");
   memset(co->node_fields, 0, sizeof(double) * VTU_COMPONENTS * (size_t)nn);
@@ -414,7 +553,7 @@ static sk_status spread_node_fields(sk_contact_output *co) {
     const field_info *f = &vtu_fields[k];
     if (!field_wanted(co, f)) continue;
     for (int a = 0; a < co->n_cnodes; ++a)
-      memcpy(values + (size_t)f->components * co->node_of_cnode[a], co->node_sum + N_FIELD * (size_t)a + f->offset,
+      memcpy(values + (size_t)f->components * co->cnode_gid[a], co->node_sum + N_FIELD * (size_t)a + f->offset,
              sizeof(double) * (size_t)f->components);
     co->node_field_list[co->n_node_fields++] = (sk_vtu_field){f->name, f->components, values};
     values += (size_t)f->components * nn;
@@ -428,10 +567,10 @@ int sk_contact_output_node_fields(const sk_contact_output *co, sk_vtu_field *fie
   return n;
 }
 
-/* contact-NNNNNN.vtu: the slave surfaces at displacement u with the contact fields on their nodes and faces. */
-static sk_status write_surfaces(sk_contact_output *co, const double *u, double t, int64_t step) {
-  const sk_model *m = co->model;
-  const int dim = m->dim, n_points = co->n_cnodes, n_cells = co->n_faces;
+/* contact-NNNNNN.vtu: the slave surfaces at the displacement of the step (cnode_u) with the contact fields on their
+ * nodes and faces (rank 0). */
+static sk_status write_surfaces(sk_contact_output *co, double t, int64_t step) {
+  const int n_points = co->n_cnodes, n_cells = co->n_faces;
   double *points = calloc(3 * (size_t)n_points + 1, sizeof(double));
   double *point_values = malloc(sizeof(double) * VTU_COMPONENTS * ((size_t)n_points + 1));
   double *cell_values = malloc(sizeof(double) * VTU_COMPONENTS * ((size_t)n_cells + 1));
@@ -439,11 +578,7 @@ static sk_status write_surfaces(sk_contact_output *co, const double *u, double t
   sk_vtu_field point_list[N_VTU_FIELDS + 1], cell_list[N_VTU_FIELDS + 2];
   int n_point_fields = 0, n_cell_fields = 0;
   if (status == SK_OK) {
-    for (int a = 0; a < n_points; ++a)
-      for (int i = 0; i < dim; ++i) {
-        const int node = co->node_of_cnode[a];
-        points[3 * a + i] = m->X[node * dim + i] + u[node * dim + i];
-      }
+    for (int k = 0; k < 3 * n_points; ++k) points[k] = co->cnode_X[k] + co->cnode_u[k];
     double *pv = point_values, *cv = cell_values;
     for (int k = 0; k < N_VTU_FIELDS; ++k) {
       const field_info *f = &vtu_fields[k];
@@ -487,13 +622,20 @@ sk_status sk_contact_output_step(sk_contact_output *co, sk_system *sys, int init
   if (co->write_csv) SK_TRY(sk_system_collective(sys, write_rows(co, t, step)));
   if (!co->write_vtu) return SK_OK;
   accumulate(co);
+  /* the contact nodes' displacements, each from its owner */
+  memset(co->cnode_u_local, 0, sizeof(double) * 3 * (size_t)co->n_cnodes);
+  for (int a = 0; a < m->n_nodes; ++a)
+    if (co->cnode_of_node[a] >= 0 && owns_node(m, a))
+      for (int i = 0; i < m->dim; ++i)
+        co->cnode_u_local[3 * (size_t)co->cnode_of_node[a] + i] = u[(int64_t)a * m->dim + i];
+  MPI_Reduce(co->cnode_u_local, co->cnode_u, 3 * co->n_cnodes, MPI_DOUBLE, MPI_SUM, 0, m->comm);
   MPI_Reduce(co->node_local, co->node_sum, N_FIELD * co->n_cnodes, MPI_DOUBLE, MPI_SUM, 0, m->comm);
   MPI_Reduce(co->face_local, co->face_sum, N_FIELD * co->n_faces, MPI_DOUBLE, MPI_SUM, 0, m->comm);
   status = SK_OK;
   if (m->rank == 0) {
     complete_fields(co);
     status = spread_node_fields(co);
-    if (status == SK_OK && co->dir[0]) status = write_surfaces(co, u, t, step);
+    if (status == SK_OK && co->dir[0]) status = write_surfaces(co, t, step);
     if (status == SK_OK && co->dir[0] && co->obstacle_pvd) {
       char file[64], path[1400];
       snprintf(file, sizeof file, "obstacles-%06lld.vtu", (long long)step);

@@ -20,6 +20,9 @@ sk_status sk_contact_output_step(sk_contact_output *co, sk_system *sys, int init
 /* The contact fields on the mesh nodes of the last sk_contact_output_step for the bodies' VTU (rank 0; 0 at nodes
  * that are no contact points): writes up to `max` fields into `fields`, returns how many. */
 int sk_contact_output_node_fields(const sk_contact_output *co, sk_vtu_field *fields, int max);
+/* contact.csv (rank 0, when written) and its number of columns, for the rows a restarted run carries over; NULL
+ * otherwise. */
+sk_csv *sk_contact_output_csv(const sk_contact_output *co, int *n_columns);
 /* Closes the files (contact.csv, the collections). */
 sk_status sk_contact_output_close(sk_contact_output *co);
 void sk_contact_output_free(sk_contact_output *co);

@@ -193,6 +193,9 @@ sk_status sk_obstacle_output_open(const sk_model *model, sk_obstacle_output **ou
       hi[i] = fmax(hi[i], model->X[a * model->dim + i]);
     }
   }
+  /* the whole mesh's box: each rank holds its part of the nodes */
+  MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, model->comm);
+  MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, model->comm);
   double diagonal = 0.0;
   for (int i = 0; i < 3; ++i) diagonal += (hi[i] - lo[i]) * (hi[i] - lo[i]);
   for (int i = 0; i < model->dim; ++i) { /* widened, so that the obstacle reaches beyond the bodies */

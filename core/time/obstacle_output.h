@@ -8,7 +8,7 @@ typedef struct sk_obstacle_output sk_obstacle_output;
 
 /* Tessellates every obstacle of the model's pairs over the region of the mesh (its reference bounding box, widened
  * by half its diagonal): planes and parabolic cylinders as patches, cylinders as sections, spheres whole; in 2D as
- * curves in z = 0. */
+ * curves in z = 0. Collective (the box is the whole mesh's). */
 sk_status sk_obstacle_output_open(const sk_model *model, sk_obstacle_output **out);
 int sk_obstacle_output_count(const sk_obstacle_output *obstacles);
 /* A .vtu of the obstacles at time t (moved by their `motion`), with the cell field `obstacle` (index among them). */

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "../model/assemble.h"
+#include "checkpoint.h"
 #include "contact_output.h"
 #include "stickslip/output.h"
 
@@ -50,6 +51,7 @@ struct sk_recorder {
   int vtu_count;
   int64_t last_step;       /* the last converged step recorded */
   int64_t last_output_step; /* the step of the last output (pictures, contact points) */
+  char restarted_from[4096]; /* the checkpoint a restarted run continues, or "" */
   /* the linear solvers that ran, by step ranges: "mumps (steps 1-12), gmres-muelu (steps 13-40)" */
   char solvers_used[1024];
   unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
@@ -144,79 +146,168 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
 /* ---- VTU -------------------------------------------------------------------------------------------------------- */
 
 typedef struct {
-  double *points, *displacement, *velocity, *stress, *stress_sum;
+  double *points, *displacement, *velocity, *stress;
   sk_elem_type *types;
   int *offsets, *conn;
   double *body_id, *rank_id;
 } vtu_buffers;
 
 static void free_vtu_buffers(vtu_buffers *b) {
-  void *all[] = {b->points, b->displacement, b->velocity, b->stress, b->stress_sum, b->types, b->offsets, b->conn,
-                 b->body_id, b->rank_id};
+  void *all[] = {b->points, b->displacement, b->velocity, b->stress, b->types, b->offsets, b->conn, b->body_id,
+                 b->rank_id};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
+}
+
+/* The owned nodes' values of two vectors over the local dofs, into whole-mesh arrays on rank 0 (3 per node, by mesh
+ * id; collective). */
+static sk_status gather_nodes(const sk_model *m, const double *u, const double *v, double *u_all, double *v_all) {
+  const int dim = m->dim;
+  int n_owned = 0;
+  for (int a = 0; a < m->n_nodes; ++a) n_owned += m->node_owner[a] == m->rank;
+  const int width = 1 + 2 * dim;
+  double *mine = malloc(sizeof(double) * (size_t)(width * n_owned + 1));
+  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
+  double *all = m->rank == 0 ? malloc(sizeof(double) * (size_t)(width * m->n_nodes_global + 1)) : NULL;
+  int ok = mine && counts && displs && (m->rank != 0 || all);
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  if (!ok) {
+    free(mine), free(counts), free(displs), free(all);
+    return no_memory("the VTU output");
+  }
+  for (int a = 0, k = 0; a < m->n_nodes; ++a) {
+    if (m->node_owner[a] != m->rank) continue;
+    double *r = mine + (size_t)width * k++;
+    r[0] = (double)m->node_gid[a];
+    for (int i = 0; i < dim; ++i) {
+      r[1 + i] = u[a * dim + i];
+      r[1 + dim + i] = v[a * dim + i];
+    }
+  }
+  const int count = width * n_owned;
+  MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
+  for (int r = 1; r < m->n_ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
+  if (m->rank == 0)
+    for (int k = 0; k < m->n_nodes_global; ++k) {
+      const double *r = all + (size_t)width * k;
+      const int64_t id = (int64_t)r[0];
+      for (int i = 0; i < dim; ++i) {
+        u_all[3 * id + i] = r[1 + i];
+        v_all[3 * id + i] = r[1 + dim + i];
+      }
+    }
+  free(mine), free(counts), free(displs), free(all);
+  return SK_OK;
+}
+
+/* The Cauchy stress of this rank's elements, 9 per whole-mesh cell on rank 0 (collective). */
+static sk_status gather_stress(const sk_model *m, const double *u, double *stress_all) {
+  double *local = calloc(9 * (size_t)m->n_elements + 1, sizeof(double));
+  int n_own = 0;
+  for (int e = 0; e < m->n_elements; ++e) n_own += m->element_part[e] == m->rank;
+  double *mine = malloc(sizeof(double) * 10 * (size_t)(n_own + 1));
+  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
+  int total_cells = 0;
+  for (int b = 0; b < m->n_bodies; ++b) total_cells += m->bodies[b].n_elems_global;
+  double *all = m->rank == 0 ? malloc(sizeof(double) * 10 * (size_t)(total_cells + 1)) : NULL;
+  sk_status status = local && mine && counts && displs && (m->rank != 0 || all) ? SK_OK : no_memory("the stresses");
+  if (status == SK_OK) status = sk_bulk_stress(m, u, local);
+  int bad = status != SK_OK;
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, m->comm);
+  if (!bad) {
+    /* (whole cell index, stress) of each own element; cells numbered body by body */
+    int k = 0;
+    for (int b = 0, base = 0; b < m->n_bodies; base += m->bodies[b].n_elems_global, ++b)
+      for (int e = m->bodies[b].first_element; e < m->bodies[b].first_element + m->bodies[b].group->n_elems; ++e) {
+        if (m->element_part[e] != m->rank) continue;
+        mine[10 * k] = base + m->element_index[e];
+        memcpy(mine + 10 * k + 1, local + 9 * (size_t)e, 9 * sizeof(double));
+        ++k;
+      }
+    const int count = 10 * k;
+    MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
+    for (int r = 1; r < m->n_ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
+    if (m->rank == 0)
+      for (int j = 0; j < total_cells; ++j)
+        memcpy(stress_all + 9 * (size_t)all[10 * j], all + 10 * j + 1, 9 * sizeof(double));
+  }
+  free(local), free(mine), free(counts), free(displs), free(all);
+  if (bad && status == SK_OK) status = sk_error_set(SK_ERR_INVERTED, "an inverted element on another rank");
+  return status;
 }
 
 enum { MAX_CONTACT_FIELDS = 16 };
 
 /* The mesh at displacement u and velocity v (time t, step), with stresses and the contact fields of the output step
- * (sk_contact_output_step before). Collective. */
+ * (sk_contact_output_step before, by mesh id): rank 0 writes the whole mesh (its copy, model.h: sk_whole_mesh; on one
+ * rank the model itself). Collective. */
 static sk_status write_vtu(sk_recorder *rec, const double *u, const double *v, double t, int64_t step) {
   const sk_model *m = &rec->scene->model;
-  const int dim = m->dim, nn = m->n_nodes;
+  const int nn = m->n_nodes_global;
+  int n_cells = 0;
+  for (int b = 0; b < m->n_bodies; ++b) n_cells += m->bodies[b].n_elems_global;
+  const int root = m->rank == 0;
   vtu_buffers b = {0};
-  b.points = calloc(3 * (size_t)nn, sizeof(double));
-  b.displacement = calloc(3 * (size_t)nn, sizeof(double));
-  b.velocity = calloc(3 * (size_t)nn, sizeof(double));
-  b.stress = calloc(9 * (size_t)m->n_elements, sizeof(double));
-  b.stress_sum = calloc(9 * (size_t)m->n_elements, sizeof(double));
-  sk_status status =
-      b.points && b.displacement && b.velocity && b.stress && b.stress_sum ? SK_OK : no_memory("the VTU output");
-  if (status == SK_OK) status = sk_bulk_stress(m, u, b.stress);
+  if (root) {
+    b.points = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.displacement = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.velocity = calloc(3 * (size_t)nn + 1, sizeof(double));
+    b.stress = calloc(9 * (size_t)n_cells + 1, sizeof(double));
+  }
+  int ok = !root || (b.points && b.displacement && b.velocity && b.stress);
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
+  sk_status status = ok ? SK_OK : no_memory("the VTU output");
+  if (status == SK_OK) status = gather_stress(m, u, b.stress);
   status = sk_system_collective(rec->sys, status);
-  if (status != SK_OK) {
+  if (status == SK_OK) status = gather_nodes(m, u, v, b.displacement, b.velocity);
+  if (status != SK_OK || !root) {
     free_vtu_buffers(&b);
     return status;
   }
-  MPI_Reduce(b.stress, b.stress_sum, 9 * m->n_elements, MPI_DOUBLE, MPI_SUM, 0, m->comm);
-  if (m->rank == 0) {
-    for (int a = 0; a < nn; ++a)
-      for (int i = 0; i < dim; ++i) {
-        b.displacement[3 * a + i] = u[a * dim + i];
-        b.velocity[3 * a + i] = v[a * dim + i];
-        b.points[3 * a + i] = m->X[a * dim + i] + u[a * dim + i];
-      }
-    const int n_cells = m->n_elements;
-    b.types = calloc((size_t)n_cells + 1, sizeof(sk_elem_type));
-    b.offsets = calloc((size_t)n_cells + 1, sizeof(int));
-    b.conn = calloc((size_t)n_cells * SK_MAX_NEN + 1, sizeof(int));
-    b.body_id = calloc((size_t)n_cells + 1, sizeof(double));
-    b.rank_id = calloc((size_t)n_cells + 1, sizeof(double));
-    if (!b.types || !b.offsets || !b.conn || !b.body_id || !b.rank_id) status = no_memory("the VTU output");
-    for (int e = 0; e < n_cells && status == SK_OK; ++e) {
+  /* the whole mesh: rank 0's copy, or the model on one rank */
+  const sk_whole_mesh *w = m->whole;
+  for (int a = 0; a < nn; ++a)
+    for (int i = 0; i < 3; ++i) {
+      const double X = w ? w->X[3 * a + i] : (i < m->dim ? m->X[a * m->dim + i] : 0.0);
+      b.points[3 * a + i] = X + b.displacement[3 * a + i];
+    }
+  b.types = calloc((size_t)n_cells + 1, sizeof(sk_elem_type));
+  b.offsets = calloc((size_t)n_cells + 1, sizeof(int));
+  b.conn = calloc((size_t)n_cells * SK_MAX_NEN + 1, sizeof(int));
+  b.body_id = calloc((size_t)n_cells + 1, sizeof(double));
+  b.rank_id = calloc((size_t)n_cells + 1, sizeof(double));
+  if (!b.types || !b.offsets || !b.conn || !b.body_id || !b.rank_id) status = no_memory("the VTU output");
+  for (int e = 0; e < n_cells && status == SK_OK; ++e) {
+    if (w) {
+      b.types[e] = w->types[e];
+      b.offsets[e + 1] = w->offsets[e + 1];
+      memcpy(b.conn + w->offsets[e], w->conn + w->offsets[e], sizeof(int) * (size_t)(w->offsets[e + 1] - w->offsets[e]));
+      b.body_id[e] = w->body[e];
+      b.rank_id[e] = w->part[e];
+    } else {
       const sk_body *body;
       const int *ec;
-      int dofs[SK_MAX_NEN * 3];
-      sk_element_dofs(m, e, dofs, &body, &ec);
+      sk_element_dofs(m, e, NULL, &body, &ec);
       b.types[e] = body->group->type;
       b.offsets[e + 1] = b.offsets[e] + body->group->nen;
       memcpy(b.conn + b.offsets[e], ec, sizeof(int) * (size_t)body->group->nen);
       b.body_id[e] = (double)(body - m->bodies);
       b.rank_id[e] = m->element_part[e];
     }
-    sk_vtu_field point_fields[2 + MAX_CONTACT_FIELDS] = {{"displacement", 3, b.displacement},
-                                                         {"velocity", 3, b.velocity}};
-    const int n_point_fields =
-        2 + sk_contact_output_node_fields(rec->contact, point_fields + 2, MAX_CONTACT_FIELDS);
-    sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress_sum}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
-    char file[64], path[1400];
-    snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
-    snprintf(path, sizeof path, "%s/%s", rec->dir, file);
-    if (status == SK_OK)
-      status = sk_vtu_write(path, nn, b.points, n_cells, b.types, b.offsets, b.conn, n_point_fields, point_fields, 3,
-                            cell_fields);
-    if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
-    rec->vtu_count++;
   }
+  sk_vtu_field point_fields[2 + MAX_CONTACT_FIELDS] = {{"displacement", 3, b.displacement},
+                                                       {"velocity", 3, b.velocity}};
+  const int n_point_fields = 2 + sk_contact_output_node_fields(rec->contact, point_fields + 2, MAX_CONTACT_FIELDS);
+  sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
+  char file[64], path[1400];
+  snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
+  snprintf(path, sizeof path, "%s/%s", rec->dir, file);
+  if (status == SK_OK)
+    status = sk_vtu_write(path, nn, b.points, n_cells, b.types, b.offsets, b.conn, n_point_fields, point_fields, 3,
+                          cell_fields);
+  if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
+  rec->vtu_count++;
   free_vtu_buffers(&b);
   return status;
 }
@@ -287,6 +378,67 @@ sk_status sk_recorder_initial(sk_recorder *rec) {
   return status;
 }
 
+/* The rows of a checkpoint's table `name` (as the interrupted run wrote them, %.17g: they read back exactly) into
+ * `csv`, whose rows have `n_columns` values (row: room for them). A checkpoint of a run without --out has none. */
+static sk_status carry_rows(const sk_restart *restart, const char *name, sk_csv *csv, int n_columns, double *row) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/%s", restart->dir, name);
+  FILE *f = fopen(path, "r");
+  if (!f) return SK_OK;
+  char *line = NULL;
+  size_t cap = 0;
+  sk_status status = SK_OK;
+  int number = 0;
+  while (status == SK_OK && getline(&line, &cap, f) > 0) {
+    if (number++ == 0) continue; /* the header */
+    int c = 0;
+    for (char *p = line, *end; c < n_columns && *p && *p != '\n'; ++c, p = *end == ',' ? end + 1 : end) {
+      row[c] = strtod(p, &end);
+      if (end == p) break;
+    }
+    if (c != n_columns)
+      status = sk_error_set(SK_ERR_INPUT, "--restart: %s, line %d: %d columns, this scene's %s has %d", path, number,
+                            c, name, n_columns);
+    else
+      status = sk_csv_row(csv, row);
+  }
+  free(line);
+  fclose(f);
+  return status;
+}
+
+sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart) {
+  rec->dissipated = restart->dissipated;
+  rec->last_output_step = restart->last_vtu_step;
+  rec->last_step = restart->progress.steps;
+  snprintf(rec->restarted_from, sizeof rec->restarted_from, "%s", restart->dir);
+  if (rec->history) SK_TRY(carry_rows(restart, "history.csv", rec->history, rec->n_columns, rec->row));
+  int n_contact_columns = 0;
+  sk_csv *contact = sk_contact_output_csv(rec->contact, &n_contact_columns);
+  if (!contact) return SK_OK;
+  double *row = malloc(sizeof(double) * ((size_t)n_contact_columns + 1));
+  if (!row) return no_memory("the contact rows");
+  const sk_status status = carry_rows(restart, "contact.csv", contact, n_contact_columns, row);
+  free(row);
+  return status;
+}
+
+void sk_recorder_checkpoint_state(sk_recorder *rec, sk_recorder_state *state) {
+  static char path[1300];
+  state->dissipated = rec->dissipated;
+  state->last_vtu_step = rec->last_output_step;
+  static char contact_path[1300];
+  state->history_path = state->contact_path = NULL;
+  if (rec->history) {
+    snprintf(path, sizeof path, "%s/history.csv", rec->dir);
+    state->history_path = path;
+  }
+  if (sk_contact_output_csv(rec->contact, NULL)) {
+    snprintf(contact_path, sizeof contact_path, "%s/contact.csv", rec->dir);
+    state->contact_path = contact_path;
+  }
+}
+
 /* Appends the open range of steps that used the same linear solvers to solvers_used. */
 static void close_solver_range(sk_recorder *rec) {
   if (rec->range_first == 0) return;
@@ -339,6 +491,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_string(json, "status", sum->interrupted ? "interrupted" : sum->failed ? "failed" : "ok");
   if (sum->failed) sk_json_string(json, "message", sum->message);
   sk_json_string(json, "scene", rec->scene->path);
+  if (rec->restarted_from[0]) sk_json_string(json, "restarted_from", rec->restarted_from);
   sk_json_int(json, "steps", sum->steps);
   sk_json_number(json, "final_time", sum->final_time);
   sk_json_int(json, "newton_iterations", sum->newton_iterations);
@@ -348,7 +501,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_int(json, "roundoff_floor_steps", sum->roundoff_floor_steps);
   sk_json_int(json, "backtrack_retries", sum->backtrack_retries);
   sk_json_int(json, "backtrack_rescues", sum->backtrack_rescues);
-  sk_json_int(json, "dofs", m->n_dofs);
+  sk_json_int(json, "dofs", (int)m->n_dofs_global);
   sk_json_int(json, "unknowns", (int)sum->unknowns_max);
   sk_json_int(json, "linear_system_size", (int)sum->linear_size_max);
   sk_json_int(json, "pattern_builds", sum->pattern_builds);

@@ -12,6 +12,12 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
                            sk_recorder **rec);
 /* Row 0 (and the initial VTU) at the initial state. Collective. */
 sk_status sk_recorder_initial(sk_recorder *rec);
+/* In place of sk_recorder_initial for a restarted run: the rows of the checkpoint (history.csv up to its step) and
+ * the accumulated dissipation. Rank 0 reads; its status. */
+sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart);
+/* What a checkpoint keeps of the recorder (checkpoint.h). */
+struct sk_recorder_state_s;
+void sk_recorder_checkpoint_state(sk_recorder *rec, struct sk_recorder_state_s *state);
 /* After a commit, before the system advances: the step's row, and an output (VTU, contact points) every vtu_every
  * scheduled steps or at the last. scheduled: the scheduled times reached; substep: 0 when the step landed on a scheduled time, else the
  * number of sub-steps (of a cut step) since the last one. */

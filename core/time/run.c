@@ -15,6 +15,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "checkpoint.h"
 #include "recorder.h"
 #include "stickslip/interrupt.h"
 #include "stickslip/output.h"
@@ -91,6 +92,19 @@ static sk_status retry_backtracking(sk_system *sys, double dt, int64_t step, int
   return status;
 }
 
+/* The stepper's counters for a checkpoint, or from a restart. */
+static void note_progress(sk_progress *p, const sk_run_summary *summary, int64_t scheduled, int substep, double dt,
+                          int cuts_in_a_row, int good_steps) {
+  p->steps = summary->steps;
+  p->scheduled = scheduled;
+  p->substep = substep;
+  p->dt = dt;
+  p->cuts_in_a_row = cuts_in_a_row;
+  p->good_steps = good_steps;
+  p->newton_iterations = summary->newton_iterations;
+  p->cuts = summary->cuts;
+}
+
 sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary *summary) {
   const double wall_start = now_seconds();
   memset(summary, 0, sizeof *summary);
@@ -100,16 +114,27 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
   const sk_time_options *time = &m->time;
   sk_recorder *rec = NULL;
   sk_status status = sk_system_collective(sys, sk_recorder_open(scene, sys, options, wall_start, &rec));
-  if (status == SK_OK) status = sk_recorder_initial(rec);
+  if (status == SK_OK) status = sk_checkpoint_check(sys, options);
+  sk_progress progress = {.dt = time->dt};
+  if (status == SK_OK && options->restart) {
+    status = sk_restart_apply(options->restart, sys, &progress);
+    if (status == SK_OK) status = sk_system_collective(sys, sk_recorder_resume(rec, options->restart));
+  } else if (status == SK_OK) {
+    status = sk_recorder_initial(rec);
+  }
+  summary->steps = (int)progress.steps;
+  summary->newton_iterations = (int)progress.newton_iterations;
+  summary->cuts = (int)progress.cuts;
   if (options->progress && m->rank == 0) sk_progress_begin(scene->path, time->t_end);
 
   const double t_eps = 1e-12 * fmax(1.0, fabs(time->t_end));
-  double dt = time->dt;
-  int cuts_in_a_row = 0, good_steps = 0;
-  int64_t scheduled = 0; /* scheduled times reached */
-  int substep = 0;       /* converged sub-steps since the last scheduled time */
+  double dt = progress.dt;
+  int cuts_in_a_row = progress.cuts_in_a_row, good_steps = progress.good_steps;
+  int64_t scheduled = progress.scheduled; /* scheduled times reached */
+  int substep = progress.substep;         /* converged sub-steps since the last scheduled time */
+  int steps_here = 0;                     /* this run's steps (--steps counts these) */
   while (status == SK_OK && sys->t_n < time->t_end - t_eps) {
-    if (options->max_steps > 0 && summary->steps >= options->max_steps) break;
+    if (options->max_steps > 0 && steps_here >= options->max_steps) break;
     if ((status = interrupted(sys, summary->steps)) != SK_OK) break;
     const double target = scheduled_time(time, scheduled + 1);
     const double step_dt = step_size(sys->t_n, dt, target, t_eps);
@@ -121,6 +146,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
       status = retry_backtracking(sys, step_dt, step, options->verbose, summary);
     if (status == SK_OK) {
       summary->steps++;
+      steps_here++;
       /* accepted at the residual's round-off floor: a warning for the first few, all counted in summary.json */
       if (sys->newton.outcome == SK_NEWTON_ROUNDOFF_FLOOR && ++summary->roundoff_floor_steps <= 3 && m->rank == 0)
         fprintf(stderr, "stickslip: warning: step %lld (t = %.6g): Newton %s%s\n", (long long)step, sys->t,
@@ -133,18 +159,26 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
       } else {
         substep++;
       }
-      const int last = !(sys->t < time->t_end - t_eps) || (options->max_steps > 0 && summary->steps >= options->max_steps);
+      const int last = !(sys->t < time->t_end - t_eps) || (options->max_steps > 0 && steps_here >= options->max_steps);
       status = sk_recorder_step(rec, scheduled, substep, last);
+      cuts_in_a_row = 0;
+      if (dt < time->dt && ++good_steps >= 3) {
+        dt = fmin(time->dt, 2.0 * dt);
+        good_steps = 0;
+      }
+      if (status == SK_OK && options->checkpoint_every > 0 && summary->steps % options->checkpoint_every == 0) {
+        /* the state spanning the step (before it advances), the counters as the next step starts with them */
+        sk_progress now;
+        note_progress(&now, summary, scheduled, substep, dt, cuts_in_a_row, good_steps);
+        sk_recorder_state state;
+        sk_recorder_checkpoint_state(rec, &state);
+        status = sk_checkpoint_write(options, sys, &now, &state);
+      }
       sk_system_advance(sys);
       if (options->progress && m->rank == 0) {
         char extra[128];
         snprintf(extra, sizeof extra, "dt %.3g  E %.6g", step_dt, sk_recorder_total_energy(rec));
         sk_progress_update(summary->steps, sys->t_n, sys->newton.iterations, extra);
-      }
-      cuts_in_a_row = 0;
-      if (dt < time->dt && ++good_steps >= 3) {
-        dt = fmin(time->dt, 2.0 * dt);
-        good_steps = 0;
       }
     } else if (status == SK_ERR_DIVERGED || status == SK_ERR_INVERTED) {
       /* cut the step and retry */

@@ -134,6 +134,86 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
   return inst->kind == SK_KIND_PAIR ? glue_points(inst, state, callback, ctx) : SK_OK;
 }
 
+/* ---- checkpoints (stickslip.checkpoint.v1): the body's committed state, one record ----------------------------- */
+/* The plugin runs on one rank, where its body view holds every node in a fixed order: one record (key -1) with the
+ * scheme's state theta^n, w, u^n, s^n (co-rotated, view order), R_m and the contact's committed sets, slip directions,
+ * multipliers (the next step's predictor), last step's work and the accumulated slip per contact node. */
+typedef struct {
+  int32_t started, n, n_contact, pad;
+  double theta, w, Rm[9];
+} saved_body;
+
+static size_t body_record_size(const glue_body *b, int n_contact) {
+  return sizeof(saved_body) + sizeof(double) * 2 * (size_t)b->body.n +
+         (size_t)n_contact * (1 + sizeof(double) * (2 + 3 + 1 + 1));
+}
+
+static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_writer *writer) {
+  (void)state;
+  if (inst->kind != SK_KIND_BODY) return SK_OK;
+  const glue_body *b = inst->body;
+  const int n = b->body.n, nc = b->contact_ready ? b->contact.n : 0;
+  unsigned char *r = malloc(body_record_size(b, nc));
+  if (!r) return glue_nomem(inst);
+  saved_body head = {.started = b->started, .n = n, .n_contact = nc, .theta = b->state.theta, .w = b->state.w};
+  memcpy(head.Rm, b->Rm, sizeof head.Rm);
+  unsigned char *at = r;
+  memcpy(at, &head, sizeof head), at += sizeof head;
+  memcpy(at, b->state.u, sizeof(double) * (size_t)n), at += sizeof(double) * (size_t)n;
+  memcpy(at, b->state.s, sizeof(double) * (size_t)n), at += sizeof(double) * (size_t)n;
+  if (nc > 0) {
+    memcpy(at, b->contact.set_committed, (size_t)nc), at += nc;
+    memcpy(at, b->contact.dir_committed, sizeof(double) * 2 * (size_t)nc), at += sizeof(double) * 2 * (size_t)nc;
+    memcpy(at, b->contact.lambda, sizeof(double) * 3 * (size_t)nc), at += sizeof(double) * 3 * (size_t)nc;
+    memcpy(at, b->work_node, sizeof(double) * (size_t)nc), at += sizeof(double) * (size_t)nc;
+    memcpy(at, b->slip_length, sizeof(double) * (size_t)nc), at += sizeof(double) * (size_t)nc;
+  }
+  writer->put(writer, -1, r, (uint32_t)(at - r));
+  free(r);
+  return SK_OK;
+}
+
+static sk_status load_state(sk_instance *inst, const sk_state *state, const sk_record_reader *reader) {
+  (void)state;
+  if (inst->kind != SK_KIND_BODY) return SK_OK;
+  glue_body *b = inst->body;
+  if (!b->contact_ready) SK_TRY(glue_build_contact(inst));
+  const int n = b->body.n, nc = b->contact.n;
+  const size_t size = body_record_size(b, nc);
+  unsigned char *r = malloc(size);
+  if (!r) return glue_nomem(inst);
+  const int64_t got = reader->get(reader, -1, r, (uint32_t)size);
+  saved_body head = {0};
+  if (got >= (int64_t)sizeof head) memcpy(&head, r, sizeof head);
+  if (got != (int64_t)body_record_size(b, head.n_contact) || head.n != n || head.n_contact != nc) {
+    free(r);
+    return inst->api->error(inst->host, SK_ERR_INPUT, "corotational: the checkpoint's body state %s (%d unknowns, %d "
+                            "contact nodes; this body %d and %d)", got < 0 ? "is missing" : "does not fit this body",
+                            head.n, head.n_contact, n, nc);
+  }
+  const unsigned char *at = r + sizeof head;
+  b->started = head.started;
+  b->state.theta = head.theta;
+  b->state.w = head.w;
+  memcpy(b->Rm, head.Rm, sizeof head.Rm);
+  memcpy(b->state.u, at, sizeof(double) * (size_t)n), at += sizeof(double) * (size_t)n;
+  memcpy(b->state.s, at, sizeof(double) * (size_t)n), at += sizeof(double) * (size_t)n;
+  if (nc > 0) {
+    memcpy(b->contact.set_committed, at, (size_t)nc), at += nc;
+    memcpy(b->contact.dir_committed, at, sizeof(double) * 2 * (size_t)nc), at += sizeof(double) * 2 * (size_t)nc;
+    memcpy(b->contact.lambda, at, sizeof(double) * 3 * (size_t)nc), at += sizeof(double) * 3 * (size_t)nc;
+    memcpy(b->work_node, at, sizeof(double) * (size_t)nc), at += sizeof(double) * (size_t)nc;
+    memcpy(b->slip_length, at, sizeof(double) * (size_t)nc);
+  }
+  free(r);
+  return SK_OK;
+}
+
+static const sk_checkpoint_ext checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = save_state,
+                                             .load = load_state};
+
+static const void *extension(const char *id) { return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &checkpoint : NULL; }
+
 /* ---- the integrator ------------------------------------------------------------------------------------------------ */
 
 static const sk_integrator integrator = {
@@ -199,7 +279,7 @@ static const sk_plugin plugin = {
     .report = report,
     .points = points,
     .integrator = &integrator,
-    .get_extension = NULL,
+    .get_extension = extension,
     .check = check,
 };
 

@@ -13,6 +13,7 @@
 
 #include "defaults.h"
 #include "glue.h"
+#include "records.h"
 
 #define CP_EXPORT __attribute__((visibility("default")))
 
@@ -273,6 +274,70 @@ static sk_status cp_create(const sk_host_api *api, sk_host *host, const sk_attac
   return SK_OK;
 }
 
+/* ---- checkpoints (stickslip.checkpoint.v1): the committed history of each entity ---------------------------------- */
+
+/* An entity's key: its slave node's whole index (nts), or its face's whole index and Gauss point (sts, stas; the
+ * entities of a face are consecutive, one per Gauss point). */
+static int64_t entity_key(const sk_instance *in, int k) {
+  const entity *e = &in->entities[k];
+  if (e->cell < 0) return in->slave->node_index[e->slave[0]];
+  int q = 0;
+  while (k - q - 1 >= 0 && in->entities[k - q - 1].cell == e->cell) ++q;
+  return in->slave->cell_index[e->cell] * (int64_t)MAX_GAUSS + q;
+}
+
+/* An entity's record: its committed history and the slip it has accumulated (contact.csv's `slip`). */
+typedef struct {
+  history committed;
+  double slip;
+} saved_entity;
+
+static sk_status cp_save(sk_instance *in, const sk_state *st, sk_record_writer *writer) {
+  (void)st;
+  for (int k = 0; k < in->n_entities; ++k) {
+    saved_entity r = {.committed = in->entities[k].committed, .slip = in->entities[k].slip};
+    if (!r.committed.valid && r.slip == 0.0) continue;
+    if (in->master && r.committed.valid) r.committed.face = (int)in->master->cell_index[r.committed.face];
+    writer->put(writer, entity_key(in, k), &r, (uint32_t)sizeof r);
+  }
+  return SK_OK;
+}
+
+static sk_status cp_load(sk_instance *in, const sk_state *st, const sk_record_reader *reader) {
+  (void)st;
+  int *cells = in->master ? records_cells_of_view(in->master) : NULL;
+  if (in->master && !cells) return in->api->error(in->host, SK_ERR_NOMEM, "covariant-penalty: out of memory");
+  sk_status status = SK_OK;
+  for (int k = 0; k < in->n_entities && status == SK_OK; ++k) {
+    entity *e = &in->entities[k];
+    saved_entity r;
+    memset(&e->committed, 0, sizeof e->committed);
+    e->slip = 0.0;
+    const int64_t got = reader->get(reader, entity_key(in, k), &r, (uint32_t)sizeof r);
+    if (got < 0) continue;
+    if (got != (int64_t)sizeof r)
+      status = in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty: a history record of %lld bytes, expected %zu",
+                              (long long)got, sizeof r);
+    else if (in->master && r.committed.valid &&
+             (r.committed.face = records_view_cell(cells, in->master, r.committed.face)) < 0)
+      status = in->api->error(in->host, SK_ERR_INPUT, "covariant-penalty: a contact point's history lies on a master "
+                              "face this rank does not hold");
+    else {
+      e->committed = r.committed;
+      e->slip = r.slip;
+    }
+  }
+  free(cells);
+  return status;
+}
+
+static const sk_checkpoint_ext cp_checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = cp_save,
+                                                .load = cp_load};
+
+static const void *cp_extension(const char *id) {
+  return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &cp_checkpoint : NULL;
+}
+
 static const sk_plugin cp_plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "covariant-penalty",
@@ -298,7 +363,7 @@ static const sk_plugin cp_plugin = {
     .report = cp_report,
     .points = cp_points,
     .integrator = NULL,
-    .get_extension = NULL,
+    .get_extension = cp_extension,
     .check = cp_check,
 };
 

@@ -145,6 +145,11 @@ static sk_status spring_commit_step(sk_instance *in, const sk_state *st) {
   return SK_OK;
 }
 static void spring_reject_step(sk_instance *in) { (void)in; }
+/* Checkpoints: no history to save (the table says so; without it the host could not tell). */
+static const sk_checkpoint_ext spring_checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = NULL, .load = NULL};
+static const void *spring_extension(const char *id) {
+  return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &spring_checkpoint : NULL;
+}
 
 /* Resultant force and moment on the slave side (f = -F_s) over this rank's nodes; the host sums over ranks. */
 static sk_status spring_report(sk_instance *in, const sk_state *st, sk_contact_report *r) {
@@ -217,7 +222,7 @@ static const sk_plugin example_spring = {
     .report = spring_report,
     .points = spring_points,
     .integrator = NULL,        /* not a body plugin */
-    .get_extension = NULL,
+    .get_extension = spring_extension,
     .check = spring_check,     /* ABI 2.7: what it refuses before any instance exists */
 };
 

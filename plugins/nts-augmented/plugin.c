@@ -14,6 +14,7 @@
 
 #include "defaults.h"
 #include "glue.h"
+#include "records.h"
 
 static const char *const strategies[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint",
                                          "reduced",   "none",      NULL};
@@ -640,6 +641,68 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
   return SK_OK;
 }
 
+/* ---- checkpoints (stickslip.checkpoint.v1): the committed history of each slave node ---------------------------- */
+
+/* What commit_step keeps of a node, with its facet as the master's whole cell index. */
+typedef struct {
+  int32_t facet, active, slip, pad;
+  double f[2], t[2], t_vector[3], extra[NTS_MAX_STRIDE];
+  double slip_length; /* the slip accumulated (contact.csv's `slip`) */
+} saved_point;
+
+static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_writer *writer) {
+  (void)state;
+  for (int k = 0; k < inst->n_points; ++k) {
+    const slave_point *p = &inst->points[k];
+    if (!nts_owned(inst, p)) continue;
+    saved_point r = {.facet = p->c_facet, .active = p->c_active, .slip = p->c_slip, .slip_length = p->slip_length};
+    if (inst->master && p->c_facet >= 0) r.facet = (int32_t)inst->master->cell_index[p->c_facet];
+    memcpy(r.f, p->c_f, sizeof r.f);
+    memcpy(r.t, p->c_t, sizeof r.t);
+    memcpy(r.t_vector, p->c_t_vector, sizeof r.t_vector);
+    memcpy(r.extra, p->c_extra, sizeof r.extra);
+    writer->put(writer, p->index, &r, (uint32_t)sizeof r);
+  }
+  return SK_OK;
+}
+
+/* Every point this rank holds (owned and ghost: commit_step keeps both). */
+static sk_status load_state(sk_instance *inst, const sk_state *state, const sk_record_reader *reader) {
+  (void)state;
+  int *cells = inst->master ? records_cells_of_view(inst->master) : NULL;
+  if (inst->master && !cells) return inst->api->error(inst->host, SK_ERR_NOMEM, "nts-augmented: out of memory");
+  sk_status status = SK_OK;
+  for (int k = 0; k < inst->n_points && status == SK_OK; ++k) {
+    slave_point *p = &inst->points[k];
+    saved_point r;
+    const int64_t got = reader->get(reader, p->index, &r, (uint32_t)sizeof r);
+    if (got != (int64_t)sizeof r) {
+      status = inst->api->error(inst->host, SK_ERR_INPUT, "nts-augmented: slave node %lld: %s", (long long)p->node,
+                                got < 0 ? "no history in the checkpoint" : "a history record of another size");
+      break;
+    }
+    int facet = r.facet;
+    if (inst->master && facet >= 0 && (facet = records_view_cell(cells, inst->master, facet)) < 0)
+      status = inst->api->error(inst->host, SK_ERR_INPUT, "nts-augmented: slave node %lld: its facet is a master face "
+                                "this rank does not hold", (long long)p->node);
+    p->c_facet = facet;
+    p->c_active = r.active;
+    p->c_slip = r.slip;
+    p->slip_length = r.slip_length;
+    memcpy(p->c_f, r.f, sizeof r.f);
+    memcpy(p->c_t, r.t, sizeof r.t);
+    memcpy(p->c_t_vector, r.t_vector, sizeof r.t_vector);
+    memcpy(p->c_extra, r.extra, sizeof r.extra);
+  }
+  free(cells);
+  return status;
+}
+
+static const sk_checkpoint_ext checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = save_state,
+                                             .load = load_state};
+
+static const void *extension(const char *id) { return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &checkpoint : NULL; }
+
 static const sk_plugin plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "nts-augmented",
@@ -665,6 +728,7 @@ static const sk_plugin plugin = {
     .reject_step = reject_step,
     .report = report,
     .points = points,
+    .get_extension = extension,
     .check = check,
 };
 

@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "candidates.h"
+#include "records.h"
 #include "covariant.h"
 #include "defaults.h"
 #include "stickslip/plugin.h"
@@ -1061,6 +1062,60 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
   return SK_OK;
 }
 
+/* ---- checkpoints (stickslip.checkpoint.v1): the committed friction history, by slave node ------------------------- */
+
+/* A slave node's record: its friction anchor and the slip it has accumulated (contact.csv's `slip`). */
+typedef struct {
+  friction_history anchor;
+  double slip;
+} saved_node;
+
+/* One record per slave node with history, under its node_index, the master face as its whole cell index. */
+static sk_status pnts_save(sk_instance *in, const sk_state *st, sk_record_writer *writer) {
+  (void)st;
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->slave->owned[k] || (!in->committed[k].valid && in->slip[k] == 0.0)) continue;
+    saved_node r = {.anchor = in->committed[k], .slip = in->slip[k]};
+    if (in->master && r.anchor.valid) r.anchor.face = (int)in->master->cell_index[r.anchor.face];
+    writer->put(writer, in->slave->node_index[k], &r, (uint32_t)sizeof r);
+  }
+  return SK_OK;
+}
+
+/* The history of every slave node this rank holds (owned and ghost: commit_step keeps both). */
+static sk_status pnts_load(sk_instance *in, const sk_state *st, const sk_record_reader *reader) {
+  (void)st;
+  int *cells = in->master ? records_cells_of_view(in->master) : NULL;
+  if (in->master && !cells) return in->api->error(in->host, SK_ERR_NOMEM, "penalty-nts: out of memory");
+  sk_status status = SK_OK;
+  for (int k = 0; k < in->n_slave && status == SK_OK; ++k) {
+    saved_node r;
+    memset(&in->committed[k], 0, sizeof in->committed[k]);
+    in->slip[k] = 0.0;
+    const int64_t got = reader->get(reader, in->slave->node_index[k], &r, (uint32_t)sizeof r);
+    if (got < 0) continue;
+    if (got != (int64_t)sizeof r)
+      status = in->api->error(in->host, SK_ERR_INPUT, "penalty-nts: slave node %lld: a history record of %lld bytes, "
+                              "expected %zu", (long long)in->slave->node_id[k], (long long)got, sizeof r);
+    else if (in->master && r.anchor.valid && (r.anchor.face = records_view_cell(cells, in->master, r.anchor.face)) < 0)
+      status = in->api->error(in->host, SK_ERR_INPUT, "penalty-nts: slave node %lld: its friction anchor lies on a "
+                              "master face this rank does not hold", (long long)in->slave->node_id[k]);
+    else {
+      in->committed[k] = r.anchor;
+      in->slip[k] = r.slip;
+    }
+  }
+  free(cells);
+  return status;
+}
+
+static const sk_checkpoint_ext pnts_checkpoint = {SK_TABLE_HEADER(sk_checkpoint_ext), .save = pnts_save,
+                                                  .load = pnts_load};
+
+static const void *pnts_extension(const char *id) {
+  return id && strcmp(id, SK_EXT_CHECKPOINT) == 0 ? &pnts_checkpoint : NULL;
+}
+
 static const sk_plugin pnts_plugin = {
     SK_TABLE_HEADER(sk_plugin),
     .name = "penalty-nts",
@@ -1083,6 +1138,7 @@ static const sk_plugin pnts_plugin = {
     .reject_step = pnts_reject_step,
     .report = pnts_report,
     .points = pnts_points,
+    .get_extension = pnts_extension,
     .check = pnts_check,
 };
 

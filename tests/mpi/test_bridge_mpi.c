@@ -1,8 +1,9 @@
 /* The bridge on 2 ranks: every solver kind gives the one-rank answer, with contributions to a row split over
- * ranks (summed by sk_linsys_assemble). Every direct backend (MUMPS factorising the distributed matrix, Amesos v1
- * KLU, Amesos2 KLU2 gathered to rank 0) must match the serial KLU2 to 1e-12: Debian's Amesos2 KLU2 on a distributed
- * matrix does not (so this fails if the rank-0 gather were bypassed).
- * Also: NOX Newton on 2 ranks with replicated vectors reaches the same answer on every rank. */
+ * ranks — some rows written by a rank that does not own them, some by both, each with part of the row's columns
+ * (merged and summed by the bridge). Every direct backend (MUMPS factorising the distributed matrix, Amesos v1 KLU,
+ * Amesos2 KLU2 gathered to rank 0) must match the serial KLU2 to 1e-12: Debian's Amesos2 KLU2 on a distributed
+ * matrix does not (so this fails if the rank-0 gather were bypassed). Vectors are each rank's owned rows.
+ * Also: NOX Newton on 2 ranks over distributed vectors reaches the same answer on every rank. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,8 +14,16 @@
 
 static int rank = 0, size = 1;
 
+/* The rows a rank owns: the nodal rows [0, n_nodal) split in halves of whole blocks, the rest on the last rank. */
+static void owned_range(int n, int n_nodal, int block, int comm_rank, int comm_size, int *first, int *count) {
+  const int blocks = n_nodal / block, lower = comm_size == 1 ? blocks : blocks / 2;
+  *first = comm_rank == 0 ? 0 : lower * block;
+  *count = comm_size == 1 ? n : comm_rank == 0 ? lower * block : n - lower * block;
+}
+
 /* (The serial reference is KLU2 on MPI_COMM_SELF, independent of the backend `direct` resolves to.)
- * Rank 0 writes rows r % 3 in {0, 1}, rank 1 rows r % 3 in {1, 2}; rows r % 3 == 1 are shared 25 % / 75 %. */
+ * Rank 0 writes rows r % 3 in {0, 1}, rank 1 rows r % 3 in {1, 2}; rows r % 3 == 1 are shared: rank 0 writes the
+ * even entries of the row, rank 1 the odd ones (each a part of the row's columns). */
 static sk_linear_system *create_split_with(MPI_Comm comm, sk_linear_solver_kind kind, int block_size,
                                            const double *coordinates, int n_nodes, const test_csr *a) {
   sk_linear_options options;
@@ -26,26 +35,51 @@ static sk_linear_system *create_split_with(MPI_Comm comm, sk_linear_solver_kind 
   int comm_rank, comm_size;
   MPI_Comm_rank(comm, &comm_rank);
   MPI_Comm_size(comm, &comm_size);
+  const int n_nodal = coordinates ? 3 * n_nodes : a->n, block = coordinates ? 3 : block_size;
+  int first, count;
+  owned_range(a->n, n_nodal, block, comm_rank, comm_size, &first, &count);
   int *rows = malloc(sizeof(int) * (size_t)a->n), n_rows = 0;
+  int64_t *row_ptr = malloc(sizeof(int64_t) * (size_t)(a->n + 1));
+  int *cols = malloc(sizeof(int) * (size_t)a->row_ptr[a->n]);
+  int64_t *source = malloc(sizeof(int64_t) * (size_t)a->row_ptr[a->n]);
+  row_ptr[0] = 0;
   for (int i = 0; i < a->n; ++i) {
     const int part = i % 3;
     const int mine = comm_size == 1 || (comm_rank == 0 && part != 2) || (comm_rank == 1 && part != 0);
-    if (mine) rows[n_rows++] = i;
+    if (!mine) continue;
+    int64_t used = row_ptr[n_rows];
+    for (int64_t k = a->row_ptr[i]; k < a->row_ptr[i + 1]; ++k) {
+      const int position = (int)(k - a->row_ptr[i]);
+      if (comm_size > 1 && part == 1 && position % 2 != comm_rank) continue;
+      cols[used] = a->cols[k];
+      source[used++] = k;
+    }
+    rows[n_rows++] = i;
+    row_ptr[n_rows] = used;
   }
   sk_status status = sk_linsys_set_block_size(sys, block_size);
-  if (status == SK_OK && coordinates) status = sk_linsys_set_coordinates(sys, n_nodes, 3, coordinates);
-  if (status == SK_OK) status = sk_linsys_set_pattern(sys, a->n, a->row_ptr, a->cols, n_rows, rows);
+  if (status == SK_OK && coordinates) {
+    const int nodal_count = first + count <= n_nodal ? count : n_nodal - first;
+    status = sk_linsys_set_coordinates(sys, nodal_count / 3, 3, coordinates + first);
+  }
+  const int nodal_owned = first + count <= n_nodal ? count : n_nodal - first;
+  if (status == SK_OK)
+    status = sk_linsys_set_pattern(sys, nodal_owned, a->n - n_nodal, n_rows, rows, row_ptr, cols);
+  if (status == SK_OK) {
+    int owned_first = -1;
+    const int owned = sk_linsys_owned_rows(sys, &owned_first);
+    if (owned != count || owned_first != first) status = sk_error_set(SK_ERR_INTERNAL, "owned rows [%d, +%d)", owned_first, owned);
+  }
   if (status == SK_OK) {
     sk_linsys_zero(sys);
     double *values = sk_linsys_values(sys);
-    for (int j = 0; j < n_rows; ++j) {
-      const int i = rows[j];
-      const double share = comm_size == 1 || i % 3 != 1 ? 1.0 : (comm_rank == 0 ? 0.25 : 0.75);
-      for (int64_t k = a->row_ptr[i]; k < a->row_ptr[i + 1]; ++k) values[k] = share * a->values[k];
-    }
+    for (int64_t e = 0; e < row_ptr[n_rows]; ++e) values[e] = a->values[source[e]];
     status = sk_linsys_assemble(sys);
   }
   free(rows);
+  free(row_ptr);
+  free(cols);
+  free(source);
   if (status != SK_OK) {
     fprintf(stderr, "rank %d: %s\n", rank, sk_error_message());
     sk_linsys_destroy(sys);
@@ -58,15 +92,20 @@ static sk_linear_system *create_split(MPI_Comm comm, sk_linear_solver_kind kind,
   return create_split_with(comm, kind, block_size, NULL, 0, a);
 }
 
-/* The vectors crossing the header are replicated: identical on every rank. */
-static int replicated(int n, const double *x) {
-  double *lo = malloc(sizeof(double) * (size_t)n), *hi = malloc(sizeof(double) * (size_t)n);
-  MPI_Allreduce(x, lo, n, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(x, hi, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  const int same = memcmp(lo, hi, sizeof(double) * (size_t)n) == 0;
-  free(lo);
-  free(hi);
-  return same;
+/* This rank's owned part of a whole vector. */
+static const double *owned_part(const sk_linear_system *sys, const double *whole) {
+  int first = 0;
+  sk_linsys_owned_rows(sys, &first);
+  return whole + first;
+}
+
+/* The largest |x - reference| over the owned rows of every rank. */
+static double owned_difference(const sk_linear_system *sys, const double *x, const double *reference) {
+  int first = 0;
+  const int count = sk_linsys_owned_rows(sys, &first);
+  double worst = test_max_difference(count, x, reference + first);
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return worst;
 }
 
 static void check_system(const char *name, double convection) {
@@ -94,20 +133,18 @@ static void check_system(const char *name, double convection) {
       if (!sys) continue;
       /* apply sums the split contributions exactly like the serial matrix */
       double *y = malloc(sizeof(double) * (size_t)n);
-      SK_CHECK(sk_linsys_apply(sys, x_ref, y) == SK_OK);
-      SK_CHECK(test_max_difference(n, y, b) <= 1e-12);
-      SK_CHECK(replicated(n, y));
+      SK_CHECK(sk_linsys_apply(sys, owned_part(sys, x_ref), y) == SK_OK);
+      SK_CHECK(owned_difference(sys, y, b) <= 1e-12);
       free(y);
       /* two solves: the second re-uses the factorisation / preconditioner structure */
       for (int pass = 0; pass < 2; ++pass) {
         sk_linear_report report;
         memset(x, 0, sizeof(double) * (size_t)n);
-        const sk_status status = sk_linsys_solve(sys, b, x, &report);
+        const sk_status status = sk_linsys_solve(sys, owned_part(sys, b), x, &report);
         if (status != SK_OK) fprintf(stderr, "rank %d, %s: %s\n", rank, name, sk_error_message());
         SK_CHECK(status == SK_OK);
-        SK_CHECK(replicated(n, x));
         SK_CHECK(report.refactored_symbolic == (pass == 0));
-        const double difference = test_max_difference(n, x, x_serial);
+        const double difference = owned_difference(sys, x, x_serial);
         const int direct = kinds[k] != SK_LINEAR_GMRES_MUELU && kinds[k] != SK_LINEAR_GMRES_ILU;
         const double tolerance = direct ? 1e-12 : 1e-8;
         if (difference > tolerance && rank == 0)
@@ -157,11 +194,10 @@ static void check_contact_system(void) {
     for (int pass = 0; pass < 2; ++pass) {
       sk_linear_report report;
       memset(x, 0, sizeof(double) * (size_t)n);
-      const sk_status status = sk_linsys_solve(sys, b, x, &report);
+      const sk_status status = sk_linsys_solve(sys, owned_part(sys, b), x, &report);
       if (status != SK_OK) fprintf(stderr, "rank %d, contact: %s\n", rank, sk_error_message());
       SK_CHECK(status == SK_OK);
-      SK_CHECK(replicated(n, x));
-      const double difference = test_max_difference(n, x, x_serial) / largest;
+      const double difference = owned_difference(sys, x, x_serial) / largest;
       SK_CHECK(difference <= 1e-9); /* measured: GMRES 1e-11 .. 1e-10, MUMPS 1e-14 */
       if (rank == 0 && pass == 0)
         printf("contact        %-12s        : %3d iterations, relative residual %.2e, |x - x_serial| / |x| %.2e\n",
@@ -189,7 +225,7 @@ static void check_singular(void) {
     if (!sys) continue;
     double *b = malloc(sizeof(double) * (size_t)a.n), *x = malloc(sizeof(double) * (size_t)a.n);
     for (int i = 0; i < a.n; ++i) b[i] = 1.0;
-    SK_CHECK(sk_linsys_solve(sys, b, x, NULL) == SK_ERR_LINEAR_SOLVER);
+    SK_CHECK(sk_linsys_solve(sys, owned_part(sys, b), x, NULL) == SK_ERR_LINEAR_SOLVER);
     SK_CHECK(strstr(sk_error_message(), "direct solve") != NULL);
     free(b);
     free(x);
@@ -199,40 +235,57 @@ static void check_singular(void) {
 }
 
 /* Newton through NOX on 2 ranks: F_i = x_i^3 + (x_i - x_{i+1}) / 2 - c_i, Jacobian solved by the distributed direct
- * solver. Every rank runs NOX on identical replicated data, so all reach the same answer in the same iterations. */
+ * solver. NOX runs on each rank's owned unknowns (norms summed over ranks); every rank reaches the same answer in the
+ * same iterations. */
 enum { NEWTON_N = 40 };
 typedef struct {
   double c[NEWTON_N];
   int64_t row_ptr[NEWTON_N + 1];
   int cols[2 * NEWTON_N];
+  int first, count;
   sk_linear_system *sys;
 } cubic_problem;
 
+/* The whole x from every rank's owned part (the test's own ghost exchange). */
+static void whole_x(const cubic_problem *p, const double *x, double *all) {
+  int counts[2], displs[2];
+  MPI_Allgather(&p->count, 1, MPI_INT, counts, 1, MPI_INT, MPI_COMM_WORLD);
+  MPI_Allgather(&p->first, 1, MPI_INT, displs, 1, MPI_INT, MPI_COMM_WORLD);
+  MPI_Allgatherv(x, p->count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, MPI_COMM_WORLD);
+}
+
 static sk_status cubic_residual(void *ctx, const double *x, double *F) {
   const cubic_problem *p = ctx;
-  for (int i = 0; i < NEWTON_N; ++i)
-    F[i] = x[i] * x[i] * x[i] + 0.5 * (x[i] - (i + 1 < NEWTON_N ? x[i + 1] : 0.0)) - p->c[i];
+  double all[NEWTON_N];
+  whole_x(p, x, all);
+  for (int j = 0; j < p->count; ++j) {
+    const int i = p->first + j;
+    F[j] = all[i] * all[i] * all[i] + 0.5 * (all[i] - (i + 1 < NEWTON_N ? all[i + 1] : 0.0)) - p->c[i];
+  }
   return SK_OK;
 }
 
 static sk_status cubic_jacobian(void *ctx, const double *x) {
   cubic_problem *p = ctx;
+  double all[NEWTON_N];
+  whole_x(p, x, all);
   sk_linsys_zero(p->sys);
   double *values = sk_linsys_values(p->sys);
   /* each rank contributes half of every row it writes (rank r writes rows of parity r, and row 0 on both) */
-  for (int i = 0; i < NEWTON_N; ++i) {
+  for (int i = 0, k = 0; i < NEWTON_N; ++i) {
     if (!(i % size == rank || i == 0)) continue;
     const double share = i == 0 ? 1.0 / size : 1.0;
-    values[p->row_ptr[i]] = share * (3.0 * x[i] * x[i] + 0.5);
-    if (i + 1 < NEWTON_N) values[p->row_ptr[i] + 1] = -0.5 * share;
+    values[k++] = share * (3.0 * all[i] * all[i] + 0.5);
+    if (i + 1 < NEWTON_N) values[k++] = -0.5 * share;
   }
   return sk_linsys_assemble(p->sys);
 }
 
 static sk_status cubic_solve(void *ctx, const double *x, const double *F, double *dx) {
   cubic_problem *p = ctx;
+  (void)x;
   double minus_f[NEWTON_N];
-  for (int i = 0; i < NEWTON_N; ++i) minus_f[i] = -F[i];
+  for (int j = 0; j < p->count; ++j) minus_f[j] = -F[j];
   return sk_linsys_solve(p->sys, minus_f, dx, NULL);
 }
 
@@ -242,31 +295,32 @@ static void check_newton(void) {
   for (int i = 0; i < NEWTON_N; ++i) x_star[i] = 1.0 + 0.05 * i;
   for (int i = 0; i < NEWTON_N; ++i)
     p.c[i] = x_star[i] * x_star[i] * x_star[i] + 0.5 * (x_star[i] - (i + 1 < NEWTON_N ? x_star[i + 1] : 0.0));
-  int k = 0, rows[NEWTON_N], n_rows = 0;
+  int rows[NEWTON_N], n_rows = 0, k = 0;
+  p.row_ptr[0] = 0;
   for (int i = 0; i < NEWTON_N; ++i) {
-    p.row_ptr[i] = k;
+    if (!(i % size == rank || i == 0)) continue;
     p.cols[k++] = i;
     if (i + 1 < NEWTON_N) p.cols[k++] = i + 1;
-    if (i % size == rank || i == 0) rows[n_rows++] = i;
+    rows[n_rows++] = i;
+    p.row_ptr[n_rows] = k;
   }
-  p.row_ptr[NEWTON_N] = k;
+  owned_range(NEWTON_N, NEWTON_N, 1, rank, size, &p.first, &p.count);
   sk_linear_options options;
   sk_linear_options_default(&options);
   options.kind = SK_LINEAR_DIRECT;
   SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &p.sys) == SK_OK);
-  SK_CHECK(sk_linsys_set_pattern(p.sys, NEWTON_N, p.row_ptr, p.cols, n_rows, rows) == SK_OK);
+  SK_CHECK(sk_linsys_set_pattern(p.sys, p.count, 0, n_rows, rows, p.row_ptr, p.cols) == SK_OK);
   sk_newton_options newton;
   sk_newton_options_default(&newton);
   newton.line_search = SK_LINE_SEARCH_BACKTRACK;
   sk_newton_callbacks callbacks = {
       .ctx = &p, .residual = cubic_residual, .jacobian = cubic_jacobian, .solve = cubic_solve};
-  for (int i = 0; i < NEWTON_N; ++i) x[i] = 3.0;
+  for (int j = 0; j < p.count; ++j) x[j] = 3.0;
   sk_newton_report report;
-  const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &newton, &callbacks, NEWTON_N, x, &report);
+  const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &newton, &callbacks, p.count, x, &report);
   if (status != SK_OK) fprintf(stderr, "rank %d: %s\n", rank, sk_error_message());
   SK_CHECK(status == SK_OK && report.converged);
-  for (int i = 0; i < NEWTON_N; ++i) SK_CHECK_CLOSE(x[i], x_star[i], 1e-10);
-  SK_CHECK(replicated(NEWTON_N, x));
+  for (int j = 0; j < p.count; ++j) SK_CHECK_CLOSE(x[j], x_star[p.first + j], 1e-10);
   int iterations[2] = {report.iterations, -report.iterations}, extremes[2];
   MPI_Allreduce(iterations, extremes, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   SK_CHECK(extremes[0] == -extremes[1]); /* same iteration count on every rank */

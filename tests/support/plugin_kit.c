@@ -223,8 +223,7 @@ void kit_surface(kit *k, int role, sk_elem_type type, int nen, int n_faces, cons
   sk_surface s;
   make_surface(&s, k->dim, type, nen, n_faces, conn);
   /* the host's view of a whole surface on one rank: every face and node owned */
-  SK_CHECK(sk_view_fill_surface(&kv->data, &s, role == 0 ? "slave" : "master", k->dim, k->X, NULL, NULL, NULL) ==
-           SK_OK);
+  SK_CHECK(sk_view_fill_surface(&kv->data, &s, role == 0 ? "slave" : "master", k->dim, k->X) == SK_OK);
   sk_surface_free(&s);
   k->views[role] = kv;
   k->view_list[role] = &kv->data.view;

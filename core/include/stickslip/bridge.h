@@ -1,11 +1,12 @@
 /* stickslip — the Trilinos bridge: the only C++ in the tree lives behind this C header.
  *
- * Parallel model. Every rank holds the whole (replicated) vector of unknowns; element and contact work is split
- * over ranks (METIS); the sparse matrix is distributed (Tpetra, contiguous row blocks) and solved by Amesos2 or
- * Belos. Vectors cross this header replicated: identical on every rank, so norms and Newton decisions agree
- * without communication. A matrix is assembled by every rank writing its own contributions into a values array
- * laid over one replicated CSR pattern; sk_linsys_assemble sums them into the owned rows (one MPI_Alltoallv of the
- * written rows to their owners, planned once per pattern; values replaced in place in the static-graph matrix). */
+ * Parallel model (docs/design.md). Each rank owns a contiguous block of the rows: its nodal rows (the unknowns of
+ * the mesh nodes it owns, as many as it says) and, on the last rank, the constraint rows (a plugin's multipliers)
+ * after every nodal row. Vectors cross this header as the owned rows' parts; nobody holds a whole vector or the
+ * whole pattern. A matrix is assembled by every rank writing its contributions into a values array over the rows it
+ * writes (its local rows, owned or not); sk_linsys_assemble sums them into the owned rows (the non-owned rows' values
+ * go to their owners point to point, planned once per pattern; values replaced in place in the static-graph
+ * matrix). Newton (NOX) runs on distributed vectors: norms and inner products are reduced over ranks. */
 #ifndef STICKSLIP_BRIDGE_H
 #define STICKSLIP_BRIDGE_H
 
@@ -88,27 +89,36 @@ sk_status sk_linsys_set_tolerance(sk_linear_system *sys, double tolerance);
 /* Unknowns per mesh node for systems without coordinates (default 1): MueLu aggregates whole nodes and rows are
  * distributed in whole nodes. Call before sk_linsys_set_pattern. */
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size);
-/* The nodal block: unknowns [0, n_nodes * dim) are nodal displacements numbered node-major (unknown = dim * node +
- * component) at these (replicated) coordinates; any unknowns beyond (a plugin's multipliers) are constraint
- * unknowns. The iterative solvers then run AMG / ILU on the nodal block only — MueLu with whole-node aggregates and
- * the rigid-body modes (3 in 2D, 6 in 3D) as nullspace — and solve the constraint rows through their Schur
- * complement; rows are distributed in whole nodes, constraint rows on the last rank. Without coordinates the whole
- * system is one block (block size from sk_linsys_set_block_size, translations as nullspace). Copied; call before
- * sk_linsys_set_pattern. */
+/* The nodal block: this rank's nodal rows are the displacements of the n_nodes mesh nodes it owns, node-major
+ * (row = first + dim * node + component, in the order of the coordinates given here); the constraint rows after all
+ * nodal ones (a plugin's multipliers) are constraint unknowns. The iterative solvers then run AMG / ILU on the nodal
+ * block only — MueLu with whole-node aggregates and the rigid-body modes (3 in 2D, 6 in 3D) as nullspace — and solve
+ * the constraint rows through their Schur complement. Without coordinates the whole system is one block (block size
+ * from sk_linsys_set_block_size, translations as nullspace). Copied; collective; call before sk_linsys_set_pattern. */
 sk_status sk_linsys_set_coordinates(sk_linear_system *sys, int n_nodes, int dim, const double *coordinates);
 
-/* Sets (or replaces) the sparsity pattern: n unknowns, CSR row_ptr[n+1], cols[row_ptr[n]] sorted within rows,
- * identical on all ranks. `local_rows` (sorted, n_local_rows entries) lists the rows this rank writes into.
- * Building a pattern is the expensive part; callers keep it while the structure does not change. */
-sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n, const int64_t *row_ptr, const int *cols,
-                                int n_local_rows, const int *local_rows);
-/* This rank's contribution array, aligned with `cols` (length row_ptr[n]); only local rows are read. */
+/* Sets (or replaces) the layout and the sparsity pattern (collective). Layout: this rank owns n_nodal_owned nodal
+ * rows, the block after the lower ranks' ones; the n_constraints constraint rows (the same number on every rank)
+ * follow all nodal rows and belong to the last rank. Pattern: the n_rows rows this rank writes (global indices
+ * `rows`, unique, owned or not), CSR row_ptr[n_rows + 1] with global columns cols[row_ptr[n_rows]] sorted within
+ * rows; each owned row of the matrix is the union of every rank's entries of that row. Building a pattern is the
+ * expensive part; callers keep it while the structure does not change. */
+sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n_nodal_owned, int n_constraints, int n_rows,
+                                const int *rows, const int64_t *row_ptr, const int *cols);
+/* The rows this rank owns: [*first, *first + return value) of the global numbering. */
+int sk_linsys_owned_rows(const sk_linear_system *sys, int *first);
+/* This rank's contribution array, aligned with the local pattern's `cols` (length row_ptr[n_rows]). */
 double *sk_linsys_values(sk_linear_system *sys);
 /* Zeroes this rank's contribution array. */
 void sk_linsys_zero(sk_linear_system *sys);
 /* Sums all ranks' contributions into the distributed matrix (collective). */
 sk_status sk_linsys_assemble(sk_linear_system *sys);
-/* Solves A x = b (collective). b and x are replicated, length n. Keeps the symbolic factorisation while the pattern
+/* Sums a vector given over this rank's local rows (n_rows values, in the order of `rows`) into the owned rows
+ * (collective; the same plan as the matrix). */
+sk_status sk_linsys_sum_rows(sk_linear_system *sys, const double *local, double *owned);
+/* Bytes this rank sent by sk_linsys_assemble and sk_linsys_sum_rows so far (the scaling bench). */
+int64_t sk_linsys_bytes_sent(const sk_linear_system *sys);
+/* Solves A x = b (collective). b and x are the owned rows' parts. Keeps the symbolic factorisation while the pattern
  * is unchanged, and the AMG hierarchy of the nodal block as long as it keeps GMRES fast (also across pattern
  * changes). SK_ERR_LINEAR_SOLVER if the solve fails, with report->failure saying how. */
 sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
@@ -116,7 +126,7 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
  * hierarchy), so that the next solve sets it up as on a new pattern: the test switch
  * STICKSLIP_NO_SKIP=symbolic-setup (docs/performance.md). */
 void sk_linsys_forget_setup(sk_linear_system *sys);
-/* y = A x with the assembled matrix (replicated vectors), for tests and residual checks. */
+/* y = A x with the assembled matrix (owned parts), for tests and residual checks. */
 sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y);
 
 /* ---- Newton through NOX --------------------------------------------------------------------------------------
@@ -125,7 +135,8 @@ sk_status sk_linsys_apply(sk_linear_system *sys, const double *x, double *y);
  * linear solve, and NOX always sees one fixed vector space of n unknowns. */
 typedef struct {
   void *ctx;
-  /* F(x), replicated; non-SK_OK (e.g. SK_ERR_INVERTED) makes NOX treat the trial point as failed. */
+  /* F(x) (vectors are this rank's owned part of the unknowns); non-SK_OK (e.g. SK_ERR_INVERTED) makes NOX treat the
+   * trial point as failed. Collective. */
   sk_status (*residual)(void *ctx, const double *x, double *F);
   /* Prepare the Jacobian at x (assemble into the driver's linear system). */
   sk_status (*jacobian)(void *ctx, const double *x);
@@ -214,8 +225,8 @@ typedef struct {
 
 void sk_newton_options_default(sk_newton_options *options);
 sk_status sk_line_search_from_name(const char *name, sk_line_search *ls); /* full-step|backtrack|polynomial */
-/* Runs NOX from the replicated initial guess x (length n, overwritten by the solution, or by the last accepted
- * iterate on failure). Collective. On failure returns SK_ERR_LINEAR_SOLVER when the solve callback reported a
+/* Runs NOX from the initial guess x (this rank's n owned unknowns, overwritten by the solution, or by the last
+ * accepted iterate on failure); norms and inner products are sums over ranks. Collective. On failure returns SK_ERR_LINEAR_SOLVER when the solve callback reported a
  * linear-solver failure, the callback's status when another callback failed with a status other than
  * SK_ERR_DIVERGED, SK_ERR_DIVERGED otherwise; report->outcome and report->reason say which case it was. */
 sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const sk_newton_callbacks *callbacks,

@@ -8,7 +8,8 @@
  *     row r (neither paired row nor multiplier):  A[r, u] - A[r, Z_g] D_g^-1 A[S_g, u]       (summed over groups)
  *     the multiplier rows of group g go to the places of the rows S_g, transformed the same way
  * solves it, and recovers dz_g = D_g^-1 (b_S - A[S_g, u] du). The result equals the saddle-point solve to round-off.
- * All calls are collective; vectors are replicated, in the full system's numbering. */
+ * The multipliers must be constraint unknowns of the full system, the paired rows nodal ones. All calls are
+ * collective; vectors are the owned rows' parts of the full system. */
 #ifndef STICKSLIP_CONDENSE_H
 #define STICKSLIP_CONDENSE_H
 
@@ -32,13 +33,13 @@ sk_status sk_condenser_set_pairs(sk_condenser *condenser, sk_linear_system *full
                                  const int64_t *row, const int *block);
 /* Sums the full operator's contributions (sk_linsys_assemble of `full`), reads D, and assembles the reduced system. */
 sk_status sk_condenser_assemble(sk_condenser *condenser, sk_linear_system *full);
-/* Solves A x = b through the reduced system; b, x full-length and replicated. */
+/* Solves A x = b through the reduced system; b, x over the full system's owned rows. */
 sk_status sk_condenser_solve(sk_condenser *condenser, sk_linear_system *full, const double *b, double *x,
                              sk_linear_report *report);
 /* The same with the current factorisation of the reduced system (another right-hand side). */
 sk_status sk_condenser_solve_again(sk_condenser *condenser, sk_linear_system *full, const double *b, double *x,
                                    sk_linear_report *report);
-/* The reduced system's size (for tests and summaries). */
+/* The reduced system's size, over all ranks (for tests and summaries). */
 int sk_condenser_size(const sk_condenser *condenser);
 /* The reduced system itself (its solver and tolerance are set there: sk_linsys_set_solver, sk_linsys_set_tolerance). */
 sk_linear_system *sk_condenser_reduced(sk_condenser *condenser);

@@ -31,6 +31,13 @@ typedef struct {
                              border; in 2D the two "edges" are the end points */
   int n_edges;            /* edges per face (2 in 2D, 3 tri, 4 quad) */
   int body;               /* index of the body (volume group) the faces bound */
+  /* After the mesh is distributed (core/model/model_distribute.c) a surface holds the faces this rank holds: */
+  int n_faces_global, n_nodes_global; /* the whole surface's counts */
+  int64_t *face_index;    /* per face: its index in the whole surface (NULL: the whole surface, the face itself) */
+  int64_t *node_index;    /* per node: its index in the whole surface's sorted node list (NULL: the same) */
+  int *face_owner;        /* per face: the rank owning the element it bounds (NULL: not known) */
+  int whole_sizes;        /* 1 once distributed: the whole surface's edge lengths and measure below */
+  double whole_h_min, whole_h_mean, whole_h_max, whole_measure;
 } sk_surface;
 
 /* Builds a surface from a face group, orienting each face outward with the volume elements of `body` that carry

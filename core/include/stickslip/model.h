@@ -43,6 +43,10 @@ typedef struct {
   const sk_plugin *plugin; /* a body plugin (kind "body"), or NULL */
   int strategy;            /* index into plugin->strategies */
   const void *params;      /* the scene node of its `parameters` (sk_cfg), or NULL */
+  /* the whole body's counts, and each node's index in its sorted node list (per model node, -1: not of the body;
+   * NULL before the mesh is distributed, when the group is whole) */
+  int n_elems_global, n_nodes_global;
+  int64_t *node_index;
 } sk_body;
 
 typedef struct {
@@ -94,13 +98,18 @@ typedef struct sk_model {
   MPI_Comm comm;
   int rank, n_ranks;
   sk_mesh mesh;
-  int dim, n_nodes, n_dofs;
+  int dim, n_nodes, n_dofs; /* the nodes this rank holds (docs/design.md) and their dofs */
   double *X;               /* reference positions in dof layout (n_dofs) */
+  int n_nodes_global;      /* over all ranks: the mesh's */
+  int64_t n_dofs_global;
+  int64_t *node_gid;       /* per node: its mesh id (the numbering of the scene's mesh, of output and of plugins) */
+  int64_t *gid_sorted;     /* (mesh id, node) pairs sorted by id, for sk_model_node_of */
 
   int n_bodies;
   sk_body *bodies;
-  int n_elements;          /* over all bodies */
+  int n_elements;          /* over all bodies (this rank's, after sk_model_distribute) */
   int *element_part;       /* METIS part per element */
+  int *element_index;      /* per element: its index in its body's whole group */
   int *node_owner;         /* rank owning each node: the lowest part among the elements holding it */
   int n_dirichlet;
   sk_dirichlet *dirichlet;
@@ -120,15 +129,47 @@ typedef struct sk_model {
   double *mass_values;
   int64_t *element_mass_offset; /* per element: offset of its scalar mass matrix (nen x nen) in element_mass */
   double *element_mass;
+  /* the contact neighbourhoods the sparsity pattern widens over (solver.pattern_margin): per node, itself and the
+   * nodes of contact surfaces that share an element with it in the whole mesh, those this rank holds (CSR) */
+  int64_t *surface_ptr;
+  int *surface_cols;
+  /* rank 0 of a run on several ranks: the whole mesh, for the single-file output */
+  struct sk_whole_mesh *whole;
 } sk_model;
 
-/* The finite-element data of a model whose bodies are read: the node graph (the mass matrix's pattern), the METIS
- * partition of the elements over the model's ranks and the node owners (the lowest part among the elements holding
- * a node). */
+/* The whole mesh as rank 0 keeps it for output (every node by mesh id, every element of the bodies). */
+typedef struct sk_whole_mesh {
+  int n_nodes, n_cells;
+  double *X;               /* 3 per node */
+  sk_elem_type *types;
+  int *offsets, *conn;     /* n_cells + 1 offsets into conn (mesh ids) */
+  double *body, *part;     /* per cell: the body index and the METIS part */
+} sk_whole_mesh;
+
+/* The finite-element data of a model whose bodies are read: the METIS partition of the elements over the model's
+ * ranks and the node owners (the lowest part among the elements holding a node); the mesh ids. */
 sk_status sk_model_build(sk_model *model);
+/* Distributes a built model (docs/design.md, "What each rank holds"): this rank keeps its elements and their ghost
+ * layer, the nodes it holds (sk_model_node_roles) in a local numbering — its owned nodes first, then its ghosts, each
+ * by mesh id — the faces of its surfaces and loads on those nodes, and the node graph of its elements; the whole
+ * sizes and indices that plugins and output need are kept beside them. Collective. */
+sk_status sk_model_distribute(sk_model *model);
+/* The node graph of the model's elements (the mass matrix's pattern; called by sk_model_distribute), and the lookup
+ * table of the nodes' mesh ids (sk_model_node_of). */
+sk_status sk_model_build_graph(sk_model *model);
+sk_status sk_model_index_nodes(sk_model *model);
+void sk_whole_mesh_free(sk_whole_mesh *whole);
 /* The consistent mass (CSR values and per element), once; only when a term of the system needs it. */
 sk_status sk_model_build_mass(sk_model *model);
 void sk_model_free(sk_model *model);
+/* What a rank holds of each node (docs/design.md, "What each rank holds"): the nodes it owns, and as ghosts the
+ * other nodes of its elements' ghost layer (every element it owns or that holds a node it owns), of the master
+ * surfaces of its contact pairs, and on rank 0 of the current-area resultant loads' groups. */
+enum { SK_NODE_OWNED = 1, SK_NODE_GHOST = 2 };
+/* role[node] = SK_NODE_OWNED, SK_NODE_GHOST or 0 for every node of the model, for this rank. */
+sk_status sk_model_node_roles(const sk_model *model, unsigned char *role);
+/* The node with mesh id `gid`, or -1 when this rank does not hold it. */
+int sk_model_node_of(const sk_model *model, int64_t gid);
 /* The body whose elements hold mesh node `node` first (in body order), or -1. */
 int sk_model_body_of_node(const sk_model *model, int node);
 

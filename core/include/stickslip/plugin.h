@@ -216,6 +216,37 @@ typedef struct sk_scene_ext {
       __attribute__((format(printf, 4, 5)));
 } sk_scene_ext;
 
+/* ---- plugin-side extension "stickslip.checkpoint.v1": the instances' history in a checkpoint (ABI 2.8) --------- */
+/* A plugin whose instances keep history from step to step (active sets, stick anchors, committed multipliers and
+ * projections, a body's rotation and co-rotated velocities) returns this table from sk_plugin.get_extension, so that
+ * `stickslip run --checkpoint-every N` writes the history and `stickslip run --restart DIR` gives it back, on the same
+ * or another number of ranks (docs/plugin-abi.md §5.1). The history is a set of records, each under a key the plugin
+ * chooses from its entity's whole index (a view's node_index or cell_index; -1 and below for the instance's own
+ * scalars), so that a restart on other ranks can hand each rank the records of the entities it holds. A plugin that
+ * keeps no history returns the table with both functions NULL; one without the table cannot be checkpointed (the
+ * host refuses `--checkpoint-every` for it, naming it). */
+#define SK_EXT_CHECKPOINT "stickslip.checkpoint.v1"
+typedef struct sk_record_writer {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* One record of `bytes` bytes (copied). Each key once per instance over all ranks: the entity's owner writes it. */
+  void (*put)(struct sk_record_writer *writer, int64_t key, const void *data, uint32_t bytes);
+} sk_record_writer;
+typedef struct sk_record_reader {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* Copies record `key` into data (at most `capacity` bytes) and returns its size, or -1 when there is none. Every
+   * record the instance's ranks wrote can be read on every rank. */
+  int64_t (*get)(const struct sk_record_reader *reader, int64_t key, void *data, uint32_t capacity);
+} sk_record_reader;
+typedef struct sk_checkpoint_ext {
+  uint32_t abi_major, abi_minor, struct_size;
+  /* After a committed step, with the state of report(): the history of the entities this rank owns. NULL: none. */
+  sk_status (*save)(sk_instance *instance, const sk_state *state, sk_record_writer *writer);
+  /* Once, after create and before the first begin_step of a restarted run, with the state of the step the
+   * checkpoint was written at (x = x_n, the positions then; t = t_n; extra = NULL): the history of the entities this
+   * rank holds, from the records. Collective with the instance's other ranks. NULL: none. */
+  sk_status (*load)(sk_instance *instance, const sk_state *state, const sk_record_reader *reader);
+} sk_checkpoint_ext;
+
 /* ---- a body's time integrator, supplied by a body plugin -------------------------------------------------------- */
 /* The core integrates its bodies with the scene's scheme (quasi-static, backward Euler, energy-momentum midpoint:
  * core/time/integrator.c). A body plugin that claims its body supplies its own here (needs

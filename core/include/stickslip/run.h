@@ -8,11 +8,23 @@
 extern "C" {
 #endif
 
+/* A checkpoint read for a restart (core/time/checkpoint.c). */
+typedef struct sk_restart sk_restart;
+
 typedef struct {
   const char *out_dir;     /* results folder (replaced atomically at the end), or NULL for none */
   int progress;            /* progress line on stderr (rank 0) */
   int verbose;             /* Newton details per step */
   int max_steps;           /* stop after this many steps (0: run to the end) — for tests and quick looks */
+  int checkpoint_every;    /* write a checkpoint every this many converged steps (0: none) */
+  const char *checkpoint_dir; /* the folder of the checkpoints (docs/user-guide.md, "Checkpoints and restart") */
+  /* the scene as loaded (its file, --set values, --plugin), recorded in checkpoints to load it again */
+  const char *scene_path;
+  const char *const *sets;
+  const sk_cfg_override_mode *set_modes; /* per entry of sets: --set or --replace (NULL: all --set) */
+  int n_sets;
+  const char *plugin;
+  const sk_restart *restart; /* continue from this checkpoint (sk_restart_open), or NULL */
 } sk_run_options;
 
 typedef struct {
@@ -43,6 +55,20 @@ typedef struct {
  * sk_interrupt_install() is polled before each step: the run stops there, its results are written the same way with
  * status "interrupted", and SK_ERR_INTERRUPTED is returned. */
 sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary *summary);
+
+/* Reads the checkpoint in `dir` — a checkpoint folder (its latest checkpoint) or one of its step-NNNNNNNN folders —
+ * on every rank: the scene, --set values and --plugin it was written for (the accessors below), and the state that
+ * sk_run continues from (sk_run_options.restart). Errors name the folder and the file: no checkpoint, a partial one,
+ * a damaged or truncated file. Collective. */
+sk_status sk_restart_open(const char *dir, MPI_Comm comm, sk_restart **restart);
+void sk_restart_free(sk_restart *restart);
+const char *sk_restart_scene(const sk_restart *restart);
+const char *sk_restart_plugin(const sk_restart *restart); /* NULL when it had none */
+int sk_restart_sets(const sk_restart *restart, const char *const **sets, const sk_cfg_override_mode **modes);
+/* The step folder it reads from, and the time and step it continues from. */
+const char *sk_restart_folder(const sk_restart *restart);
+double sk_restart_time(const sk_restart *restart);
+int64_t sk_restart_step(const sk_restart *restart);
 
 #ifdef __cplusplus
 }

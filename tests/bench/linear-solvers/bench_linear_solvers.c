@@ -213,7 +213,7 @@ static timing run(const problem *p, sk_linear_solver_kind kind, double *x) {
   double start = MPI_Wtime();
   sk_status status = sk_linsys_set_block_size(sys, p->dim);
   if (status == SK_OK) status = sk_linsys_set_coordinates(sys, p->n_free_nodes, p->dim, p->coordinates);
-  if (status == SK_OK) status = sk_linsys_set_pattern(sys, p->n, p->row_ptr, p->cols, p->n, rows);
+  if (status == SK_OK) status = sk_linsys_set_pattern(sys, p->n_free_nodes * p->dim, p->n - p->n_free_nodes * p->dim, p->n, rows, p->row_ptr, p->cols);
   if (status == SK_OK) status = fill(sys, p, 1.0);
   t.setup = MPI_Wtime() - start;
   sk_linear_report report;

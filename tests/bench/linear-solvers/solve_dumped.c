@@ -137,7 +137,8 @@ int main(int argc, char **argv) {
       if (status == SK_OK) status = sk_linsys_create(MPI_COMM_WORLD, &options, &sys);
       if (status == SK_OK && d.dim > 0 && !whole) status = sk_linsys_set_coordinates(sys, d.n_coordinates / d.dim, d.dim, d.coordinates);
       const double pattern_start = cpu_seconds();
-      if (status == SK_OK) status = sk_linsys_set_pattern(sys, d.n, d.row_ptr, d.cols, d.n, rows);
+      const int nodal = d.dim > 0 && !whole ? d.n_coordinates : d.n;
+      if (status == SK_OK) status = sk_linsys_set_pattern(sys, nodal, d.n - nodal, d.n, rows, d.row_ptr, d.cols);
       const double pattern_seconds = cpu_seconds() - pattern_start;
       double wall[2] = {0, 0}, cpu[2] = {0, 0};
       sk_linear_report report[2];

@@ -114,7 +114,7 @@ static void problem_init(problem *p) {
   int rows[N];
   for (int i = 0; i < N; ++i) rows[i] = i;
   SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &p->sys) == SK_OK);
-  SK_CHECK(sk_linsys_set_pattern(p->sys, N, p->row_ptr, p->cols, N, rows) == SK_OK);
+  SK_CHECK(sk_linsys_set_pattern(p->sys, N, 0, N, rows, p->row_ptr, p->cols) == SK_OK);
 }
 
 static sk_newton_callbacks callbacks_for(problem *p) {
