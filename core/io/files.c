@@ -95,3 +95,12 @@ sk_status sk_read_text_file(const char *path, const char *what, size_t max_bytes
   *length = used;
   return SK_OK;
 }
+
+uint64_t sk_fnv1a(uint64_t hash, const void *data, size_t n) {
+  const unsigned char *p = data;
+  for (size_t k = 0; k < n; ++k) {
+    hash ^= p[k];
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}

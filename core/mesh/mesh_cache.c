@@ -20,19 +20,10 @@
 #include <unistd.h>
 
 #include "mesh_internal.h"
+#include "stickslip/files.h"
 
 enum { CACHE_FORMAT = 1 };
 static const char MAGIC[8] = {'s', 'k', 'm', 'e', 's', 'h', 'c', '1'};
-
-/* FNV-1a, 64 bit, from `seed` (two seeds give the key's two halves). */
-static uint64_t fnv1a(uint64_t hash, const void *data, size_t n) {
-  const unsigned char *p = data;
-  for (size_t k = 0; k < n; ++k) {
-    hash ^= p[k];
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
 
 static const uint64_t SEEDS[2] = {0xcbf29ce484222325ULL, 0x84222325cbf29ce4ULL};
 
@@ -114,9 +105,9 @@ void sk_mesh_cache_key_make(const char *path, const char *parameters, int dim, c
                          "format %d gmsh %s dim %d max_elements %ld order %d serendipity %d parameters ", CACHE_FORMAT,
                          GMSH_API_VERSION, dim, options->max_elements, options->order, options->serendipity);
   for (int h = 0; h < 2; ++h) {
-    uint64_t hash = fnv1a(SEEDS[h], header, (size_t)n);
-    hash = fnv1a(hash, parameters, strlen(parameters) + 1);
-    key->hash[h] = fnv1a(hash, text, length);
+    uint64_t hash = sk_fnv1a(SEEDS[h], header, (size_t)n);
+    hash = sk_fnv1a(hash, parameters, strlen(parameters) + 1);
+    key->hash[h] = sk_fnv1a(hash, text, length);
   }
   free(text);
   snprintf(key->file, sizeof key->file, "%s/%016llx%016llx.mesh", folder, (unsigned long long)key->hash[0],
@@ -136,7 +127,7 @@ int sk_mesh_cache_load(const sk_mesh_cache_key *key, sk_mesh *mesh) {
   if (ok) {
     memcpy(head, data + 8, sizeof head);
     ok = head[0] == key->hash[0] && head[1] == key->hash[1] && head[2] == length - HEADER &&
-         head[3] == fnv1a(SEEDS[0], data + HEADER, length - HEADER);
+         head[3] == sk_fnv1a(SEEDS[0], data + HEADER, length - HEADER);
   }
   char source[sizeof mesh->source];
   memcpy(source, mesh->source, sizeof source);
@@ -161,7 +152,7 @@ void sk_mesh_cache_store(const sk_mesh_cache_key *key, const sk_mesh *mesh) {
     free(payload);
     return;
   }
-  const uint64_t head[4] = {key->hash[0], key->hash[1], length, fnv1a(SEEDS[0], payload, length)};
+  const uint64_t head[4] = {key->hash[0], key->hash[1], length, sk_fnv1a(SEEDS[0], payload, length)};
   FILE *f = fdopen(fd, "wb");
   int ok = f && fwrite(MAGIC, 1, sizeof MAGIC, f) == sizeof MAGIC && fwrite(head, 1, sizeof head, f) == sizeof head &&
            fwrite(payload, 1, length, f) == length;

@@ -60,4 +60,9 @@ struct sk_host {
 /* The api table (host.c). */
 const sk_host_api *sk_host_api_table(void);
 
+/* qsort/bsearch order of ints, and the position of `value` in the ascending array `sorted` of `n` ints or -1
+ * (views.c). */
+int sk_compare_int(const void *a, const void *b);
+int64_t sk_index_in_sorted(const int *sorted, int n, int value);
+
 #endif

@@ -6,21 +6,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "host.h"
 #include "stickslip/model.h"
 
 static sk_status no_memory(const char *what) {
   return sk_error_set(SK_ERR_NOMEM, "out of memory distributing the model's %s", what);
 }
 
-static int compare_int(const void *a, const void *b) {
-  int x = *(const int *)a, y = *(const int *)b;
-  return (x > y) - (x < y);
-}
-
-static int64_t index_in(const int *sorted, int n, int value) {
-  const int *hit = bsearch(&value, sorted, (size_t)n, sizeof(int), compare_int);
-  return hit ? hit - sorted : -1;
-}
 
 /* The rank owning each face of a surface: the part of the body element whose face it is (whole mesh). */
 static sk_status face_owners(const sk_model *m, const sk_surface *s, int *owner) {
@@ -31,7 +23,7 @@ static sk_status face_owners(const sk_model *m, const sk_surface *s, int *owner)
   if (!count) return no_memory("surface faces");
   for (int e = 0; e < g->n_elems; ++e)
     for (int a = 0; a < g->nen; ++a) {
-      const int64_t k = index_in(s->nodes, s->n_nodes, g->conn[(size_t)e * g->nen + a]);
+      const int64_t k = sk_index_in_sorted(s->nodes, s->n_nodes, g->conn[(size_t)e * g->nen + a]);
       if (k >= 0) count[k + 1]++;
     }
   for (int k = 0; k < s->n_nodes; ++k) count[k + 1] += count[k];
@@ -45,12 +37,12 @@ static sk_status face_owners(const sk_model *m, const sk_surface *s, int *owner)
   }
   for (int e = 0; e < g->n_elems; ++e)
     for (int a = 0; a < g->nen; ++a) {
-      const int64_t k = index_in(s->nodes, s->n_nodes, g->conn[(size_t)e * g->nen + a]);
+      const int64_t k = sk_index_in_sorted(s->nodes, s->n_nodes, g->conn[(size_t)e * g->nen + a]);
       if (k >= 0) incident[count[k] + fill[k]++] = e;
     }
   for (int f = 0; f < s->n_faces; ++f) {
     const int *fc = s->conn + (size_t)f * s->nen;
-    const int64_t k = index_in(s->nodes, s->n_nodes, fc[0]);
+    const int64_t k = sk_index_in_sorted(s->nodes, s->n_nodes, fc[0]);
     owner[f] = 0;
     for (int j = count[k]; j < count[k + 1]; ++j) {
       const int *ec = g->conn + (size_t)incident[j] * g->nen;
@@ -118,11 +110,11 @@ static sk_status localize_surface(const sk_model *m, const int *local_of, sk_sur
     int n_nodes = 0;
     for (int k = 0; k < s->n_nodes; ++k)
       if (local_of[s->nodes[k]] >= 0) nodes[n_nodes++] = local_of[s->nodes[k]];
-    qsort(nodes, (size_t)n_nodes, sizeof(int), compare_int);
+    qsort(nodes, (size_t)n_nodes, sizeof(int), sk_compare_int);
     for (int k = 0, j = 0; k < s->n_nodes; ++k) {
       (void)j;
       if (local_of[s->nodes[k]] < 0) continue;
-      const int64_t at = index_in(nodes, n_nodes, local_of[s->nodes[k]]);
+      const int64_t at = sk_index_in_sorted(nodes, n_nodes, local_of[s->nodes[k]]);
       node_index[at] = s->node_index ? s->node_index[k] : k;
     }
     free(s->conn);
@@ -260,7 +252,7 @@ static sk_status surface_graph(sk_model *m, const int *local_of, int n_local) {
   for (int r = 0; r < n_local; ++r) {
     int *row = m->surface_cols + count[r];
     const int64_t len = count[r + 1] - count[r];
-    qsort(row, (size_t)len, sizeof(int), compare_int);
+    qsort(row, (size_t)len, sizeof(int), sk_compare_int);
     for (int64_t k = 0; k < len; ++k)
       if (k == 0 || row[k] != row[k - 1]) m->surface_cols[used++] = row[k];
     ptr[r + 1] = used;

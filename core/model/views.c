@@ -6,13 +6,13 @@
 
 #include "host.h"
 
-static int compare_int(const void *a, const void *b) {
+int sk_compare_int(const void *a, const void *b) {
   int x = *(const int *)a, y = *(const int *)b;
   return (x > y) - (x < y);
 }
 
-static int64_t index_in(const int *sorted, int n, int value) {
-  const int *hit = bsearch(&value, sorted, (size_t)n, sizeof(int), compare_int);
+int64_t sk_index_in_sorted(const int *sorted, int n, int value) {
+  const int *hit = bsearch(&value, sorted, (size_t)n, sizeof(int), sk_compare_int);
   return hit ? hit - sorted : -1;
 }
 
@@ -55,7 +55,7 @@ static sk_status fill_nodes(sk_view_data *v, const sk_model *m, const int *nodes
   for (int k = 0; k < n; ++k) {
     const int a = nodes[k];
     v->local_nodes[k] = k;
-    v->node_index[k] = whole_index ? whole_index[k] : index_in(all, n_all, a);
+    v->node_index[k] = whole_index ? whole_index[k] : sk_index_in_sorted(all, n_all, a);
     v->node_id[k] = m->node_gid[a];
     v->owned[k] = m->node_owner[a] == m->rank;
     for (int i = 0; i < dim; ++i) {
@@ -85,7 +85,7 @@ static int *collect_nodes(const int *conn, int nen, const unsigned char *selecte
   for (int c = 0; c < n_cells; ++c)
     if (selected[c])
       for (int a = 0; a < nen; ++a) nodes[used++] = conn[(size_t)c * nen + a];
-  qsort(nodes, (size_t)used, sizeof(int), compare_int);
+  qsort(nodes, (size_t)used, sizeof(int), sk_compare_int);
   int unique = 0;
   for (int64_t k = 0; k < used; ++k)
     if (k == 0 || nodes[k] != nodes[unique - 1]) nodes[unique++] = nodes[k];
@@ -114,7 +114,7 @@ static sk_status fill_surface(sk_view_data *v, const sk_model *m, const sk_surfa
   /* each view node's index in the whole surface */
   int64_t *whole = malloc(sizeof(int64_t) * (size_t)(n_nodes > 0 ? n_nodes : 1));
   for (int k = 0; whole && nodes && k < n_nodes; ++k) {
-    const int64_t at = index_in(s->nodes, s->n_nodes, nodes[k]);
+    const int64_t at = sk_index_in_sorted(s->nodes, s->n_nodes, nodes[k]);
     whole[k] = s->node_index ? s->node_index[at] : at;
   }
   const size_t nc = (size_t)(n_cells > 0 ? n_cells : 1);
@@ -137,7 +137,7 @@ static sk_status fill_surface(sk_view_data *v, const sk_model *m, const sk_surfa
     const int c = local_face[f];
     if (c < 0) continue;
     for (int a = 0; a < s->nen; ++a)
-      v->conn[(size_t)c * s->nen + a] = (int)index_in(nodes, n_nodes, s->conn[(size_t)f * s->nen + a]);
+      v->conn[(size_t)c * s->nen + a] = (int)sk_index_in_sorted(nodes, n_nodes, s->conn[(size_t)f * s->nen + a]);
     v->cell_owned[c] = s->face_owner ? s->face_owner[f] == m->rank : 1;
     v->cell_index[c] = s->face_index ? s->face_index[f] : f;
     for (int e = 0; e < s->n_edges; ++e) {
@@ -253,7 +253,7 @@ sk_status sk_view_body(const sk_model *m, int b, sk_view_data *v) {
     for (int e = 0, c = 0; e < g->n_elems; ++e) {
       if (!selected[e]) continue;
       for (int a = 0; a < g->nen; ++a)
-        v->conn[(size_t)c * g->nen + a] = (int)index_in(nodes, n_nodes, g->conn[(size_t)e * g->nen + a]);
+        v->conn[(size_t)c * g->nen + a] = (int)sk_index_in_sorted(nodes, n_nodes, g->conn[(size_t)e * g->nen + a]);
       v->cell_owned[c] = m->element_part[body->first_element + e] == m->rank;
       v->cell_index[c] = m->element_index ? m->element_index[body->first_element + e] : e;
       v->cell_element[c] = body->first_element + e;

@@ -22,20 +22,13 @@
 #include <unistd.h>
 
 #include "stickslip/config.h"
+#include "stickslip/files.h"
 
 enum { FORMAT = 1, KEEP = 2 };
 static const char MARKER[] = ".stickslip-checkpoints";
 static const char STATE_MAGIC[8] = {'S', 'K', 'S', 'T', 'A', 'T', 'E', '1'};
 static const char END_MAGIC[8] = {'S', 'K', 'S', 'T', 'E', 'N', 'D', '1'};
 
-static uint64_t fnv1a(uint64_t hash, const void *data, size_t n) {
-  const unsigned char *p = data;
-  for (size_t k = 0; k < n; ++k) {
-    hash ^= p[k];
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
 static const uint64_t FNV_SEED = 0xcbf29ce484222325ULL;
 
 uint64_t sk_checkpoint_file_hash(const char *path) {
@@ -44,7 +37,7 @@ uint64_t sk_checkpoint_file_hash(const char *path) {
   uint64_t hash = FNV_SEED;
   char buffer[65536];
   size_t got;
-  while ((got = fread(buffer, 1, sizeof buffer, f)) > 0) hash = fnv1a(hash, buffer, got);
+  while ((got = fread(buffer, 1, sizeof buffer, f)) > 0) hash = sk_fnv1a(hash, buffer, got);
   fclose(f);
   return hash;
 }
@@ -53,8 +46,8 @@ uint64_t sk_checkpoint_mesh_hash(const sk_model *m) {
   uint64_t mine = 0;
   for (int a = 0; a < m->n_nodes; ++a) {
     if (m->node_owner[a] != m->rank) continue;
-    uint64_t h = fnv1a(FNV_SEED, &m->node_gid[a], sizeof(int64_t));
-    h = fnv1a(h, m->X + (size_t)a * m->dim, sizeof(double) * (size_t)m->dim);
+    uint64_t h = sk_fnv1a(FNV_SEED, &m->node_gid[a], sizeof(int64_t));
+    h = sk_fnv1a(h, m->X + (size_t)a * m->dim, sizeof(double) * (size_t)m->dim);
     mine ^= h;
   }
   uint64_t all = 0;
@@ -245,7 +238,7 @@ static sk_status state_bytes(sk_system *sys, buffer *b) {
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
     if (!b->failed) memcpy(b->data + count_at, &w.count, sizeof w.count);
   }
-  const uint64_t sum = b->failed ? 0 : fnv1a(FNV_SEED, b->data, b->size);
+  const uint64_t sum = b->failed ? 0 : sk_fnv1a(FNV_SEED, b->data, b->size);
   put(b, &sum, sizeof sum);
   put(b, END_MAGIC, sizeof END_MAGIC);
   if (status == SK_OK && b->failed) status = sk_error_set(SK_ERR_NOMEM, "checkpoint: out of memory for the state");
@@ -599,7 +592,7 @@ static sk_status load_state_file(const sk_restart *r, int rank, buffer *b) {
     return sk_error_set(SK_ERR_INPUT, "--restart: %s is not a whole stickslip state file (truncated or damaged)", path);
   uint64_t sum;
   memcpy(&sum, b->data + b->size - tail, sizeof sum);
-  if (sum != fnv1a(FNV_SEED, b->data, b->size - tail))
+  if (sum != sk_fnv1a(FNV_SEED, b->data, b->size - tail))
     return sk_error_set(SK_ERR_INPUT, "--restart: %s is damaged (its checksum does not match)", path);
   int32_t head[4];
   memcpy(head, b->data + sizeof STATE_MAGIC, sizeof head);

@@ -7,6 +7,7 @@
 #define STICKSLIP_FILES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "stickslip/error.h"
 
@@ -26,6 +27,10 @@ sk_status sk_read_text_file(const char *path, const char *what, size_t max_bytes
 /* SK_OK when `path` is an existing regular file (symbolic links followed), else an error naming it and what it
  * is instead. Never opens the file, so a FIFO cannot block. */
 sk_status sk_require_regular_file(const char *path, const char *what);
+
+/* FNV-1a (64 bit) of `n` bytes, continuing from `hash` (a seed or a previous value): the mesh cache's keys and the
+ * checkpoints' checksums. Not cryptographic: it detects accidents (a truncated or edited file), not forgeries. */
+uint64_t sk_fnv1a(uint64_t hash, const void *data, size_t n);
 
 #ifdef __cplusplus
 }
