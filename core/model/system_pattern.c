@@ -564,6 +564,7 @@ static void widen_keys(const sk_system *sys, int rings, int64_t **keys, int64_t 
 
 /* Adds keys to extra_keys (sorted, unique). */
 static sk_status merge_keys(sk_system *sys, const int64_t *keys, int64_t n_keys) {
+  if (n_keys == 0) return SK_OK; /* keys may be NULL then (an attempt that declares nothing new) */
   int64_t *merged = realloc(sys->extra_keys, sizeof(int64_t) * (size_t)(sys->n_extra_keys + n_keys + 1));
   if (!merged) return out_of_memory("the pattern keys", sys->n_extra_keys + n_keys);
   sys->extra_keys = merged;
