@@ -78,7 +78,7 @@ static void usage_run(FILE *out, const char *command) {
                  "                       skipped, and why (docs/performance.md)\n");
   if (run)
     fprintf(out,
-            "  --out DIR            write history.csv, contact.csv, summary.json, scene.yaml and results.pvd/.vtu\n"
+            "  --out DIR            write history.csv, contact.csv, summary.json, scene.yaml and results.pvd/.pvtu\n"
             "                       into DIR (replaced at the end as a whole; default: no files)\n"
             "  --steps N            stop after N steps\n"
             "  --checkpoint-every N write a checkpoint every N steps (the state and the plugins' history); the\n"

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Off-screen pictures of a run's deformed bodies: the outer surface of the meshes in the .vtu files of a results
-folder (results.pvd gives the times), coloured by a point field, with the rigid obstacles (obstacles.pvd), rendered
+"""Off-screen pictures of a run's deformed bodies: the outer surface of the meshes in the .pvtu files of a results
+folder (results.pvd gives the times; read_vtu joins each one's pieces), coloured by a point field, with the rigid obstacles (obstacles.pvd), rendered
 by gnuplot (pm3d, depth-sorted, lit). All instants share one frame: the same axes and colour scale, so that motion
 shows. The overview RESULTS/snapshots.png draws them in one picture when the bodies move apart between the instants
 (--layout overlay), side by side otherwise (--layout panels); RESULTS/snapshots/step-NNNNNN.png has each instant.
@@ -27,7 +27,7 @@ VOLUME_FACES = {12: HEX_FACES, 25: HEX_FACES, 29: HEX_FACES, 10: TET_FACES, 24: 
 PLANE_CORNERS = {9: 4, 23: 4, 28: 4, 5: 3, 22: 3}  # quad4/8/9, tri3/6: the cell itself is drawn (faces, 2D models)
 LINE_CELLS = {3: 2, 21: 2}  # line2, line3 (by their end points): 2D surfaces and obstacles
 NOT_FIELDS = ("Points", "connectivity", "offsets", "types", "cauchy_stress", "body", "rank", "node", "pair", "face",
-              "obstacle")
+              "obstacle", "node_id", "cell_id")
 
 
 def read_collection(folder, name="results.pvd", required=True):

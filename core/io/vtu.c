@@ -254,6 +254,53 @@ sk_status sk_vtu_write(const char *path, int n_points, const double *points, int
   return status;
 }
 
+/* ---- PVTU ------------------------------------------------------------------------------------------------- */
+
+static void write_parallel_array(FILE *f, const char *type, const char *name, int components) {
+  fprintf(f, "      <PDataArray type=\"%s\" Name=\"", type);
+  write_xml_text(f, name);
+  fprintf(f, "\" NumberOfComponents=\"%d\"/>\n", components);
+}
+
+sk_status sk_pvtu_write(const char *path, int n_pieces, const char *const *pieces, int n_point_fields,
+                        const sk_vtu_field *point_fields, int n_cell_fields, const sk_vtu_field *cell_fields) {
+  if (n_pieces < 1 || !pieces || n_point_fields < 0 || n_cell_fields < 0)
+    return sk_error_set(SK_ERR_INTERNAL, "%s: a parallel grid needs pieces", path);
+  char tmp_path[4096];
+  if ((size_t)snprintf(tmp_path, sizeof tmp_path, "%s.tmp", path) >= sizeof tmp_path)
+    return sk_error_set(SK_ERR_IO, "%s: path too long", path);
+  FILE *f = fopen(tmp_path, "w");
+  if (!f) return sk_error_set(SK_ERR_IO, "cannot create '%s': %s", tmp_path, strerror(errno));
+  /* the same header type and byte order as the pieces (sk_vtu_write) */
+  fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
+             "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n",
+          host_is_little_endian() ? "LittleEndian" : "BigEndian");
+  for (int i = 0; i < n_point_fields; ++i)
+    write_parallel_array(f, "Float64", point_fields[i].name, point_fields[i].components);
+  fputs("    </PPointData>\n    <PCellData>\n", f);
+  for (int i = 0; i < n_cell_fields; ++i)
+    write_parallel_array(f, "Float64", cell_fields[i].name, cell_fields[i].components);
+  fputs("    </PCellData>\n    <PPoints>\n", f);
+  write_parallel_array(f, "Float64", "Points", 3);
+  fputs("    </PPoints>\n", f);
+  for (int k = 0; k < n_pieces; ++k) {
+    fputs("    <Piece Source=\"", f);
+    write_xml_text(f, pieces[k]);
+    fputs("\"/>\n", f);
+  }
+  fputs("  </PUnstructuredGrid>\n</VTKFile>\n", f);
+  int write_failed = ferror(f);
+  if ((fclose(f) != 0) | write_failed) {
+    remove(tmp_path);
+    return sk_error_set(SK_ERR_IO, "cannot write '%s'", tmp_path);
+  }
+  if (rename(tmp_path, path) != 0) {
+    remove(tmp_path);
+    return sk_error_set(SK_ERR_IO, "cannot rename '%s' to '%s': %s", tmp_path, path, strerror(errno));
+  }
+  return SK_OK;
+}
+
 /* ---- PVD -------------------------------------------------------------------------------------------------- */
 
 struct sk_pvd {

@@ -257,7 +257,6 @@ void sk_model_free(sk_model *model) {
   free(model->element_index);
   free(model->surface_ptr);
   free(model->surface_cols);
-  sk_whole_mesh_free(model->whole);
   free(model->element_part);
   free(model->node_owner);
   free(model->node_gid);

@@ -2,7 +2,7 @@
  * Every rank reads the whole mesh and partitions it the same way (METIS is deterministic); then each keeps its
  * elements and their ghost layer, the nodes it holds in a local numbering (owned first, then ghosts, each by mesh id),
  * the faces of its groups and surfaces whose nodes it holds, and the whole sizes and indices plugins (views) and
- * output need. The whole mesh is freed; rank 0 keeps a copy for the single-file output. */
+ * output need. The whole mesh is freed on every rank (output is written in pieces, recorder.c). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -139,48 +139,6 @@ static sk_status localize_surface(const sk_model *m, const int *local_of, sk_sur
   return status;
 }
 
-/* Rank 0's copy of the whole mesh for the output (before the groups are localized). */
-static sk_status keep_whole(sk_model *m) {
-  sk_whole_mesh *w = calloc(1, sizeof *w);
-  if (!w) return no_memory("output mesh");
-  m->whole = w;
-  w->n_nodes = m->n_nodes;
-  w->n_cells = m->n_elements;
-  int64_t slots = 0;
-  for (int b = 0; b < m->n_bodies; ++b) slots += (int64_t)m->bodies[b].group->n_elems * m->bodies[b].group->nen;
-  w->X = malloc(sizeof(double) * 3 * (size_t)(w->n_nodes > 0 ? w->n_nodes : 1));
-  w->types = malloc(sizeof(sk_elem_type) * (size_t)(w->n_cells + 1));
-  w->offsets = malloc(sizeof(int) * (size_t)(w->n_cells + 1));
-  w->conn = malloc(sizeof(int) * (size_t)(slots + 1));
-  w->body = malloc(sizeof(double) * (size_t)(w->n_cells + 1));
-  w->part = malloc(sizeof(double) * (size_t)(w->n_cells + 1));
-  if (!w->X || !w->types || !w->offsets || !w->conn || !w->body || !w->part) return no_memory("output mesh");
-  memcpy(w->X, m->mesh.x, sizeof(double) * 3 * (size_t)w->n_nodes);
-  w->offsets[0] = 0;
-  for (int b = 0, e = 0; b < m->n_bodies; ++b) {
-    const sk_group *g = m->bodies[b].group;
-    for (int k = 0; k < g->n_elems; ++k, ++e) {
-      w->types[e] = g->type;
-      memcpy(w->conn + w->offsets[e], g->conn + (size_t)k * g->nen, sizeof(int) * (size_t)g->nen);
-      w->offsets[e + 1] = w->offsets[e] + g->nen;
-      w->body[e] = b;
-      w->part[e] = m->element_part[e];
-    }
-  }
-  return SK_OK;
-}
-
-void sk_whole_mesh_free(sk_whole_mesh *w) {
-  if (!w) return;
-  free(w->X);
-  free(w->types);
-  free(w->offsets);
-  free(w->conn);
-  free(w->body);
-  free(w->part);
-  free(w);
-}
-
 /* The contact neighbourhoods (model.h: surface_ptr) from the whole mesh, in the local numbering (local_of) and
  * without the nodes this rank does not hold: per node, itself and the contact-surface nodes of the elements holding
  * it. */
@@ -304,7 +262,6 @@ sk_status sk_model_distribute(sk_model *m) {
       if (role[a] == (pass == 0 ? SK_NODE_OWNED : SK_NODE_GHOST)) local_of[a] = n_local++;
   for (int a = 0; a < n_global; ++a)
     if (!role[a]) local_of[a] = -1;
-  if (status == SK_OK && m->rank == 0 && m->n_ranks > 1) status = keep_whole(m);
   if (status == SK_OK) status = surface_graph(m, local_of, n_local);
   /* each body's whole counts and node indices (its sorted node list) */
   for (int b = 0; b < m->n_bodies && status == SK_OK; ++b) {

@@ -11,7 +11,8 @@
  * nodes and faces are numbered over the whole surfaces (nodes by mesh id, faces by their whole index), each point is
  * reported by the rank that owns its entity, and the node and face fields, the contact nodes' positions and the
  * surfaces' connectivity are sums over ranks to rank 0, which writes the files; contact.csv's rows (the points) are
- * gathered to it and written in an order that does not depend on the partition (pair, node, face). */
+ * gathered to it and written in an order that does not depend on the partition (pair, node, face). The completed node
+ * fields go back to every rank for the nodes of its piece of the bodies' VTU (recorder.c). */
 #define _GNU_SOURCE
 #include "contact_output.h"
 
@@ -88,7 +89,7 @@ struct sk_contact_output {
   double *face_local, *face_sum; /* n_faces x N_FIELD */
   double *records;           /* this rank's points of the step, N_RECORD each */
   int n_records, cap_records, failed;
-  double *node_fields;       /* rank 0: the fields over all mesh nodes for the bodies' VTU, field after field */
+  double *node_fields;       /* the fields at the nodes this rank holds, for its piece of the bodies' VTU */
   int n_node_fields;
   sk_vtu_field node_field_list[N_VTU_FIELDS];
   sk_csv *csv;
@@ -540,10 +541,10 @@ static int field_wanted(const sk_contact_output *co, const field_info *f) {
          (f->needs == NEEDS_MULTIPLIERS && co->with_multipliers);
 }
 
-/* Rank 0: the fields over every mesh node (by mesh id) for the bodies' VTU, field after field (0 away from the
- * contact). */
+/* The fields at the nodes this rank holds (local numbering; 0 away from the contact) for its piece of the bodies' VTU,
+ * field after field, from the completed node sums (every rank has them). */
 static sk_status spread_node_fields(sk_contact_output *co) {
-  const int nn = co->model->n_nodes_global;
+  const int nn = co->model->n_nodes;
   if (!co->node_fields && !(co->node_fields = malloc(sizeof(double) * VTU_COMPONENTS * ((size_t)nn + 1))))
     return no_memory("the VTU output");
   memset(co->node_fields, 0, sizeof(double) * VTU_COMPONENTS * (size_t)nn);
@@ -552,9 +553,10 @@ static sk_status spread_node_fields(sk_contact_output *co) {
   for (int k = 0; k < N_VTU_FIELDS; ++k) {
     const field_info *f = &vtu_fields[k];
     if (!field_wanted(co, f)) continue;
-    for (int a = 0; a < co->n_cnodes; ++a)
-      memcpy(values + (size_t)f->components * co->cnode_gid[a], co->node_sum + N_FIELD * (size_t)a + f->offset,
-             sizeof(double) * (size_t)f->components);
+    for (int a = 0; a < nn; ++a)
+      if (co->cnode_of_node[a] >= 0)
+        memcpy(values + (size_t)f->components * a, co->node_sum + N_FIELD * (size_t)co->cnode_of_node[a] + f->offset,
+               sizeof(double) * (size_t)f->components);
     co->node_field_list[co->n_node_fields++] = (sk_vtu_field){f->name, f->components, values};
     values += (size_t)f->components * nn;
   }
@@ -634,8 +636,7 @@ sk_status sk_contact_output_step(sk_contact_output *co, sk_system *sys, int init
   status = SK_OK;
   if (m->rank == 0) {
     complete_fields(co);
-    status = spread_node_fields(co);
-    if (status == SK_OK && co->dir[0]) status = write_surfaces(co, t, step);
+    if (co->dir[0]) status = write_surfaces(co, t, step);
     if (status == SK_OK && co->dir[0] && co->obstacle_pvd) {
       char file[64], path[1400];
       snprintf(file, sizeof file, "obstacles-%06lld.vtu", (long long)step);
@@ -644,5 +645,8 @@ sk_status sk_contact_output_step(sk_contact_output *co, sk_system *sys, int init
       if (status == SK_OK) status = sk_pvd_add(co->obstacle_pvd, t, file);
     }
   }
+  /* the completed node fields (a surface's worth) to every rank, for the nodes of its piece of the bodies' VTU */
+  MPI_Bcast(co->node_sum, N_FIELD * co->n_cnodes, MPI_DOUBLE, 0, m->comm);
+  if (status == SK_OK) status = spread_node_fields(co);
   return sk_system_collective(sys, status);
 }

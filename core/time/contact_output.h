@@ -17,8 +17,9 @@ sk_status sk_contact_output_open(const sk_model *model, const char *dir, int wri
  * mesh at displacement u. Collective. */
 sk_status sk_contact_output_step(sk_contact_output *co, sk_system *sys, int initial, const double *u, double t,
                                  int64_t step);
-/* The contact fields on the mesh nodes of the last sk_contact_output_step for the bodies' VTU (rank 0; 0 at nodes
- * that are no contact points): writes up to `max` fields into `fields`, returns how many. */
+/* The contact fields of the last sk_contact_output_step at the nodes this rank holds (local numbering, every rank; 0
+ * at nodes that are no contact points), for its piece of the bodies' VTU: writes up to `max` fields into `fields`,
+ * returns how many. */
 int sk_contact_output_node_fields(const sk_contact_output *co, sk_vtu_field *fields, int max);
 /* contact.csv (rank 0, when written) and its number of columns, for the rows a restarted run carries over; NULL
  * otherwise. */

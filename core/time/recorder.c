@@ -1,4 +1,5 @@
-/* The recorder: the result files of a run (history.csv, results.pvd + .vtu, summary.json, scene.yaml, and the contact
+/* The recorder: the result files of a run (history.csv, results.pvd + a .pvtu per output step over the ranks' .vtu
+ * pieces, summary.json, scene.yaml, and the contact
  * files of contact_output.c) in a staging folder that is swapped in at the end. It reads the system after a commit, while the state still spans
  * the step (x, v at t); it never feeds anything back into the stepping. */
 #define _GNU_SOURCE
@@ -7,7 +8,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "../model/assemble.h"
@@ -37,7 +40,8 @@ struct sk_recorder {
   sk_csv *history;
   sk_pvd *pvd;
   sk_contact_output *contact; /* with contact pairs and --out: contact.csv and the contact fields and files */
-  char dir[1100];          /* staging folder ("" when nothing is written) */
+  char dir[1100];          /* staging folder ("" when nothing is written; rank 0's) */
+  char pieces_dir[1100];   /* the same folder on every rank, where each writes its VTU pieces */
   int n_columns;
   const char **names;
   char (*name_storage)[96];
@@ -80,6 +84,21 @@ void sk_recorder_free(sk_recorder *rec) {
   free(rec->reactions);
   free(rec->obstacle_force);
   free(rec);
+}
+
+/* Rank 0's files: the staging folder, history.csv, scene.yaml and results.pvd. */
+static sk_status open_root_files(sk_recorder *rec) {
+  SK_TRY(sk_outdir_begin(rec->options->out_dir, rec->dir, sizeof rec->dir));
+  char path[1300];
+  snprintf(path, sizeof path, "%s/history.csv", rec->dir);
+  SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
+  snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
+  SK_TRY(sk_scene_write(rec->scene, path));
+  if (rec->scene->output.write_vtu) {
+    snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
+    SK_TRY(sk_pvd_open(path, &rec->pvd));
+  }
+  return SK_OK;
 }
 
 sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options *options, double wall_start,
@@ -125,18 +144,12 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
       }
   rec->names[c] = "wall_seconds";
   if (!options->out_dir) return SK_OK;
-  if (m->rank == 0) {
-    SK_TRY(sk_outdir_begin(options->out_dir, rec->dir, sizeof rec->dir));
-    char path[1300];
-    snprintf(path, sizeof path, "%s/history.csv", rec->dir);
-    SK_TRY(sk_csv_open(path, rec->n_columns, rec->names, &rec->history));
-    snprintf(path, sizeof path, "%s/scene.yaml", rec->dir);
-    SK_TRY(sk_scene_write(scene, path));
-    if (scene->output.write_vtu) {
-      snprintf(path, sizeof path, "%s/results.pvd", rec->dir);
-      SK_TRY(sk_pvd_open(path, &rec->pvd));
-    }
-  }
+  sk_status status = SK_OK;
+  if (m->rank == 0) status = open_root_files(rec);
+  /* the staging folder to every rank for its VTU pieces (a shared file system, as MPI codes' output assumes) */
+  snprintf(rec->pieces_dir, sizeof rec->pieces_dir, "%s", rec->dir);
+  MPI_Bcast(rec->pieces_dir, (int)sizeof rec->pieces_dir, MPI_CHAR, 0, m->comm);
+  SK_TRY(sk_system_collective(sys, status));
   const sk_output_settings *o = &scene->output;
   if (m->n_pairs > 0 && (o->write_contact_csv || o->write_vtu))
     SK_TRY(sk_contact_output_open(m, rec->dir, o->write_contact_csv, o->write_vtu, &rec->contact));
@@ -145,171 +158,165 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
 
 /* ---- VTU -------------------------------------------------------------------------------------------------------- */
 
+/* Each rank writes its piece of the bodies, step-NNNNNN/rank-RRRR.vtu: the elements it owns, the nodes they use (in
+ * its local order) with the displacement, velocity, contact fields and mesh id ("node_id") of each, the Cauchy stress,
+ * body, rank and whole cell index ("cell_id": cells numbered body by body, as the scene's groups) of each cell. Rank 0
+ * writes step-NNNNNN.pvtu naming the pieces and lists it in results.pvd. A run on one rank writes one piece: every
+ * run's pictures have the same form, and no rank needs the whole mesh. */
 typedef struct {
-  double *points, *displacement, *velocity, *stress;
+  int n_points, n_cells;
+  int *point_of;           /* per node this rank holds: its point in the piece, or -1 */
+  int *node_of_point;
+  double *points, *displacement, *velocity, *node_id, *contact, *stress_local, *stress;
   sk_elem_type *types;
   int *offsets, *conn;
-  double *body_id, *rank_id;
-} vtu_buffers;
+  double *body_id, *rank_id, *cell_id;
+} vtu_piece;
 
-static void free_vtu_buffers(vtu_buffers *b) {
-  void *all[] = {b->points, b->displacement, b->velocity, b->stress, b->types, b->offsets, b->conn, b->body_id,
-                 b->rank_id};
+static void free_vtu_piece(vtu_piece *p) {
+  void *all[] = {p->point_of, p->node_of_point, p->points, p->displacement, p->velocity, p->node_id, p->contact,
+                 p->stress_local, p->stress, p->types, p->offsets, p->conn, p->body_id, p->rank_id, p->cell_id};
   for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) free(all[k]);
-}
-
-/* The owned nodes' values of two vectors over the local dofs, into whole-mesh arrays on rank 0 (3 per node, by mesh
- * id; collective). */
-static sk_status gather_nodes(const sk_model *m, const double *u, const double *v, double *u_all, double *v_all) {
-  const int dim = m->dim;
-  int n_owned = 0;
-  for (int a = 0; a < m->n_nodes; ++a) n_owned += m->node_owner[a] == m->rank;
-  const int width = 1 + 2 * dim;
-  double *mine = malloc(sizeof(double) * (size_t)(width * n_owned + 1));
-  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
-  double *all = m->rank == 0 ? malloc(sizeof(double) * (size_t)(width * m->n_nodes_global + 1)) : NULL;
-  int ok = mine && counts && displs && (m->rank != 0 || all);
-  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
-  if (!ok) {
-    free(mine), free(counts), free(displs), free(all);
-    return no_memory("the VTU output");
-  }
-  for (int a = 0, k = 0; a < m->n_nodes; ++a) {
-    if (m->node_owner[a] != m->rank) continue;
-    double *r = mine + (size_t)width * k++;
-    r[0] = (double)m->node_gid[a];
-    for (int i = 0; i < dim; ++i) {
-      r[1 + i] = u[a * dim + i];
-      r[1 + dim + i] = v[a * dim + i];
-    }
-  }
-  const int count = width * n_owned;
-  MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
-  for (int r = 1; r < m->n_ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-  MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
-  if (m->rank == 0)
-    for (int k = 0; k < m->n_nodes_global; ++k) {
-      const double *r = all + (size_t)width * k;
-      const int64_t id = (int64_t)r[0];
-      for (int i = 0; i < dim; ++i) {
-        u_all[3 * id + i] = r[1 + i];
-        v_all[3 * id + i] = r[1 + dim + i];
-      }
-    }
-  free(mine), free(counts), free(displs), free(all);
-  return SK_OK;
-}
-
-/* The Cauchy stress of this rank's elements, 9 per whole-mesh cell on rank 0 (collective). */
-static sk_status gather_stress(const sk_model *m, const double *u, double *stress_all) {
-  double *local = calloc(9 * (size_t)m->n_elements + 1, sizeof(double));
-  int n_own = 0;
-  for (int e = 0; e < m->n_elements; ++e) n_own += m->element_part[e] == m->rank;
-  double *mine = malloc(sizeof(double) * 10 * (size_t)(n_own + 1));
-  int *counts = calloc((size_t)m->n_ranks, sizeof(int)), *displs = calloc((size_t)m->n_ranks, sizeof(int));
-  int total_cells = 0;
-  for (int b = 0; b < m->n_bodies; ++b) total_cells += m->bodies[b].n_elems_global;
-  double *all = m->rank == 0 ? malloc(sizeof(double) * 10 * (size_t)(total_cells + 1)) : NULL;
-  sk_status status = local && mine && counts && displs && (m->rank != 0 || all) ? SK_OK : no_memory("the stresses");
-  if (status == SK_OK) status = sk_bulk_stress(m, u, local);
-  int bad = status != SK_OK;
-  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, m->comm);
-  if (!bad) {
-    /* (whole cell index, stress) of each own element; cells numbered body by body */
-    int k = 0;
-    for (int b = 0, base = 0; b < m->n_bodies; base += m->bodies[b].n_elems_global, ++b)
-      for (int e = m->bodies[b].first_element; e < m->bodies[b].first_element + m->bodies[b].group->n_elems; ++e) {
-        if (m->element_part[e] != m->rank) continue;
-        mine[10 * k] = base + m->element_index[e];
-        memcpy(mine + 10 * k + 1, local + 9 * (size_t)e, 9 * sizeof(double));
-        ++k;
-      }
-    const int count = 10 * k;
-    MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, m->comm);
-    for (int r = 1; r < m->n_ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-    MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, 0, m->comm);
-    if (m->rank == 0)
-      for (int j = 0; j < total_cells; ++j)
-        memcpy(stress_all + 9 * (size_t)all[10 * j], all + 10 * j + 1, 9 * sizeof(double));
-  }
-  free(local), free(mine), free(counts), free(displs), free(all);
-  if (bad && status == SK_OK) status = sk_error_set(SK_ERR_INVERTED, "an inverted element on another rank");
-  return status;
 }
 
 enum { MAX_CONTACT_FIELDS = 16 };
 
-/* The mesh at displacement u and velocity v (time t, step), with stresses and the contact fields of the output step
- * (sk_contact_output_step before, by mesh id): rank 0 writes the whole mesh (its copy, model.h: sk_whole_mesh; on one
- * rank the model itself). Collective. */
-static sk_status write_vtu(sk_recorder *rec, const double *u, const double *v, double t, int64_t step) {
+/* This rank's piece at displacement u and velocity v: its cells, their points and fields (the contact fields of the
+ * output step, sk_contact_output_step before). */
+static sk_status build_piece(const sk_recorder *rec, const double *u, const double *v, vtu_piece *p) {
   const sk_model *m = &rec->scene->model;
-  const int nn = m->n_nodes_global;
-  int n_cells = 0;
-  for (int b = 0; b < m->n_bodies; ++b) n_cells += m->bodies[b].n_elems_global;
-  const int root = m->rank == 0;
-  vtu_buffers b = {0};
-  if (root) {
-    b.points = calloc(3 * (size_t)nn + 1, sizeof(double));
-    b.displacement = calloc(3 * (size_t)nn + 1, sizeof(double));
-    b.velocity = calloc(3 * (size_t)nn + 1, sizeof(double));
-    b.stress = calloc(9 * (size_t)n_cells + 1, sizeof(double));
+  const int dim = m->dim;
+  p->point_of = malloc(sizeof(int) * ((size_t)m->n_nodes + 1));
+  p->stress_local = calloc(9 * (size_t)m->n_elements + 1, sizeof(double));
+  if (!p->point_of || !p->stress_local) return no_memory("the VTU output");
+  for (int a = 0; a < m->n_nodes; ++a) p->point_of[a] = -1;
+  size_t slots = 0;
+  for (int e = 0; e < m->n_elements; ++e) {
+    if (m->element_part[e] != m->rank) continue;
+    const sk_body *body;
+    const int *ec;
+    sk_element_dofs(m, e, NULL, &body, &ec);
+    for (int k = 0; k < body->group->nen; ++k)
+      if (p->point_of[ec[k]] < 0) p->point_of[ec[k]] = p->n_points++;
+    slots += (size_t)body->group->nen;
+    p->n_cells++;
   }
-  int ok = !root || (b.points && b.displacement && b.velocity && b.stress);
-  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, m->comm);
-  sk_status status = ok ? SK_OK : no_memory("the VTU output");
-  if (status == SK_OK) status = gather_stress(m, u, b.stress);
-  status = sk_system_collective(rec->sys, status);
-  if (status == SK_OK) status = gather_nodes(m, u, v, b.displacement, b.velocity);
-  if (status != SK_OK || !root) {
-    free_vtu_buffers(&b);
-    return status;
-  }
-  /* the whole mesh: rank 0's copy, or the model on one rank */
-  const sk_whole_mesh *w = m->whole;
-  for (int a = 0; a < nn; ++a)
-    for (int i = 0; i < 3; ++i) {
-      const double X = w ? w->X[3 * a + i] : (i < m->dim ? m->X[a * m->dim + i] : 0.0);
-      b.points[3 * a + i] = X + b.displacement[3 * a + i];
+  const size_t np = (size_t)p->n_points + 1, nc = (size_t)p->n_cells + 1;
+  p->node_of_point = malloc(sizeof(int) * np);
+  p->points = calloc(3 * np, sizeof(double));
+  p->displacement = calloc(3 * np, sizeof(double));
+  p->velocity = calloc(3 * np, sizeof(double));
+  p->node_id = malloc(sizeof(double) * np);
+  p->contact = malloc(sizeof(double) * MAX_CONTACT_FIELDS * 9 * np);
+  p->stress = malloc(sizeof(double) * 9 * nc);
+  p->types = malloc(sizeof(sk_elem_type) * nc);
+  p->offsets = malloc(sizeof(int) * nc);
+  p->conn = malloc(sizeof(int) * (slots + 1));
+  p->body_id = malloc(sizeof(double) * nc);
+  p->rank_id = malloc(sizeof(double) * nc);
+  p->cell_id = malloc(sizeof(double) * nc);
+  if (!p->node_of_point || !p->points || !p->displacement || !p->velocity || !p->node_id || !p->contact ||
+      !p->stress || !p->types || !p->offsets || !p->conn || !p->body_id || !p->rank_id || !p->cell_id)
+    return no_memory("the VTU output");
+  for (int a = 0; a < m->n_nodes; ++a) {
+    const int k = p->point_of[a];
+    if (k < 0) continue;
+    p->node_of_point[k] = a;
+    p->node_id[k] = (double)m->node_gid[a];
+    for (int i = 0; i < dim; ++i) {
+      p->displacement[3 * k + i] = u[(int64_t)a * dim + i];
+      p->velocity[3 * k + i] = v[(int64_t)a * dim + i];
+      p->points[3 * k + i] = m->X[(int64_t)a * dim + i] + p->displacement[3 * k + i];
     }
-  b.types = calloc((size_t)n_cells + 1, sizeof(sk_elem_type));
-  b.offsets = calloc((size_t)n_cells + 1, sizeof(int));
-  b.conn = calloc((size_t)n_cells * SK_MAX_NEN + 1, sizeof(int));
-  b.body_id = calloc((size_t)n_cells + 1, sizeof(double));
-  b.rank_id = calloc((size_t)n_cells + 1, sizeof(double));
-  if (!b.types || !b.offsets || !b.conn || !b.body_id || !b.rank_id) status = no_memory("the VTU output");
-  for (int e = 0; e < n_cells && status == SK_OK; ++e) {
-    if (w) {
-      b.types[e] = w->types[e];
-      b.offsets[e + 1] = w->offsets[e + 1];
-      memcpy(b.conn + w->offsets[e], w->conn + w->offsets[e], sizeof(int) * (size_t)(w->offsets[e + 1] - w->offsets[e]));
-      b.body_id[e] = w->body[e];
-      b.rank_id[e] = w->part[e];
-    } else {
+  }
+  SK_TRY(sk_bulk_stress(m, u, p->stress_local));
+  p->offsets[0] = 0;
+  int c = 0;
+  for (int b = 0, base = 0; b < m->n_bodies; base += m->bodies[b].n_elems_global, ++b)
+    for (int e = m->bodies[b].first_element; e < m->bodies[b].first_element + m->bodies[b].group->n_elems; ++e) {
+      if (m->element_part[e] != m->rank) continue;
       const sk_body *body;
       const int *ec;
       sk_element_dofs(m, e, NULL, &body, &ec);
-      b.types[e] = body->group->type;
-      b.offsets[e + 1] = b.offsets[e] + body->group->nen;
-      memcpy(b.conn + b.offsets[e], ec, sizeof(int) * (size_t)body->group->nen);
-      b.body_id[e] = (double)(body - m->bodies);
-      b.rank_id[e] = m->element_part[e];
+      const int nen = body->group->nen;
+      p->types[c] = body->group->type;
+      for (int k = 0; k < nen; ++k) p->conn[p->offsets[c] + k] = p->point_of[ec[k]];
+      p->offsets[c + 1] = p->offsets[c] + nen;
+      memcpy(p->stress + 9 * (size_t)c, p->stress_local + 9 * (size_t)e, 9 * sizeof(double));
+      p->body_id[c] = b;
+      p->rank_id[c] = m->rank;
+      p->cell_id[c] = base + m->element_index[e];
+      ++c;
     }
+  return SK_OK;
+}
+
+/* The piece's point and cell fields (the .pvtu lists the same, rank 0's); the contact fields picked at its points. */
+static int piece_fields(const sk_recorder *rec, vtu_piece *p, sk_vtu_field *point_fields, sk_vtu_field *cell_fields,
+                        int *n_cell_fields) {
+  sk_vtu_field contact[MAX_CONTACT_FIELDS];
+  const int n_contact = sk_contact_output_node_fields(rec->contact, contact, MAX_CONTACT_FIELDS);
+  int n = 0;
+  point_fields[n++] = (sk_vtu_field){"displacement", 3, p->displacement};
+  point_fields[n++] = (sk_vtu_field){"velocity", 3, p->velocity};
+  double *to = p->contact;
+  for (int f = 0; f < n_contact; ++f) {
+    const int nc = contact[f].components;
+    for (int k = 0; k < p->n_points; ++k)
+      memcpy(to + (size_t)nc * k, contact[f].values + (size_t)nc * p->node_of_point[k], sizeof(double) * (size_t)nc);
+    point_fields[n++] = (sk_vtu_field){contact[f].name, nc, to};
+    to += (size_t)nc * p->n_points;
   }
-  sk_vtu_field point_fields[2 + MAX_CONTACT_FIELDS] = {{"displacement", 3, b.displacement},
-                                                       {"velocity", 3, b.velocity}};
-  const int n_point_fields = 2 + sk_contact_output_node_fields(rec->contact, point_fields + 2, MAX_CONTACT_FIELDS);
-  sk_vtu_field cell_fields[] = {{"cauchy_stress", 9, b.stress}, {"body", 1, b.body_id}, {"rank", 1, b.rank_id}};
-  char file[64], path[1400];
-  snprintf(file, sizeof file, "step-%06lld.vtu", (long long)step);
-  snprintf(path, sizeof path, "%s/%s", rec->dir, file);
+  point_fields[n++] = (sk_vtu_field){"node_id", 1, p->node_id};
+  cell_fields[0] = (sk_vtu_field){"cauchy_stress", 9, p->stress};
+  cell_fields[1] = (sk_vtu_field){"body", 1, p->body_id};
+  cell_fields[2] = (sk_vtu_field){"rank", 1, p->rank_id};
+  cell_fields[3] = (sk_vtu_field){"cell_id", 1, p->cell_id};
+  *n_cell_fields = 4;
+  return n;
+}
+
+/* Writes every rank's piece of the bodies at (u, v) and rank 0's .pvtu of the step, listed in results.pvd at time t.
+ * Collective. */
+static sk_status write_vtu(sk_recorder *rec, const double *u, const double *v, double t, int64_t step) {
+  const sk_model *m = &rec->scene->model;
+  vtu_piece p = {0};
+  sk_vtu_field point_fields[3 + MAX_CONTACT_FIELDS], cell_fields[4];
+  int n_point_fields = 0, n_cell_fields = 0;
+  char folder[1200], path[1400];
+  snprintf(folder, sizeof folder, "%s/step-%06lld", rec->pieces_dir, (long long)step);
+  sk_status status = build_piece(rec, u, v, &p);
+  if (status == SK_OK) n_point_fields = piece_fields(rec, &p, point_fields, cell_fields, &n_cell_fields);
+  /* every rank makes the step's folder (the first one does, the others find it) */
+  if (status == SK_OK && mkdir(folder, 0777) != 0 && errno != EEXIST)
+    status = sk_error_set(SK_ERR_IO, "cannot create directory '%s': %s", folder, strerror(errno));
+  snprintf(path, sizeof path, "%s/rank-%04d.vtu", folder, m->rank);
   if (status == SK_OK)
-    status = sk_vtu_write(path, nn, b.points, n_cells, b.types, b.offsets, b.conn, n_point_fields, point_fields, 3,
-                          cell_fields);
-  if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
+    status = sk_vtu_write(path, p.n_points, p.points, p.n_cells, p.types, p.offsets, p.conn, n_point_fields,
+                          point_fields, n_cell_fields, cell_fields);
+  /* the pieces are complete before the .pvtu names them */
+  status = sk_system_collective(rec->sys, status);
+  if (status == SK_OK && m->rank == 0) {
+    char **names = malloc(sizeof(char *) * (size_t)m->n_ranks);
+    char *storage = malloc(32 * (size_t)m->n_ranks);
+    if (!names || !storage) status = no_memory("the VTU output");
+    for (int r = 0; status == SK_OK && r < m->n_ranks; ++r) {
+      names[r] = storage + 32 * r;
+      snprintf(names[r], 32, "step-%06lld/rank-%04d.vtu", (long long)step, r);
+    }
+    char file[64];
+    snprintf(file, sizeof file, "step-%06lld.pvtu", (long long)step);
+    snprintf(path, sizeof path, "%s/%s", rec->dir, file);
+    if (status == SK_OK)
+      status = sk_pvtu_write(path, m->n_ranks, (const char *const *)names, n_point_fields, point_fields,
+                             n_cell_fields, cell_fields);
+    if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
+    free(names);
+    free(storage);
+  }
   rec->vtu_count++;
-  free_vtu_buffers(&b);
-  return status;
+  free_vtu_piece(&p);
+  return sk_system_collective(rec->sys, status);
 }
 
 /* The output of a step (or of the initial state): the contact points and, with output.vtu, the pictures. Nothing

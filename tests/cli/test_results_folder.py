@@ -172,7 +172,7 @@ def interrupted_run(c):
                 "summary.json, the message and history.csv agree on the last step (%d rows)" % len(rows))
         c.check(summary["steps"] >= 3, "it stopped after the steps it had done, not at once")
         c.check(os.path.exists(os.path.join(out, "results.pvd")), "results.pvd is there")
-        last_picture = "step-%06d.vtu" % summary["steps"]
+        last_picture = "step-%06d.pvtu" % summary["steps"]
         c.check(os.path.exists(os.path.join(out, last_picture)) and
                 last_picture in open(os.path.join(out, "results.pvd")).read(),
                 "the last converged step has a picture, listed in results.pvd (%s; vtu_every 20)" % last_picture)

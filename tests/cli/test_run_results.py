@@ -56,7 +56,7 @@ def contact_columns(c):
     displacement in the last VTU; a Gauss point (covariant STS) has its own reference position on the reference
     surface; the multiplier is there where the formulation has one (mortar: z_n, the pressure) and NaN otherwise."""
     points = contact_points(c, "block-on-plane.yaml", "--steps", "5", "--set", "output.vtu_every=5")
-    displacement = read_vtu(os.path.join(c.out, "step-000005.vtu"))["displacement"]
+    displacement = read_vtu(os.path.join(c.out, "step-000005.pvtu"))["displacement"]
     for p in points:
         u = displacement[int(p["node"])]
         c.check(abs(p["reference_y"]) == 0 and 0 <= p["reference_x"] <= 1 and p["reference_z"] == 0,

@@ -47,9 +47,9 @@ VTU_EVERY = 2
 
 
 def output_steps(results):
-    """The steps of the .vtu files (results.pvd) and of contact.csv."""
+    """The steps of the .pvtu files (results.pvd) and of contact.csv."""
     pvd = open(os.path.join(results.folder, "results.pvd")).read()
-    vtu = [int(s) for s in re.findall(r'file="step-(\d+)\.vtu"', pvd)]
+    vtu = [int(s) for s in re.findall(r'file="step-(\d+)\.pvtu"', pvd)]
     csv = sorted({int(p["step"]) for p in results.contact_table()})
     return vtu, csv
 
@@ -132,7 +132,7 @@ def check_vtu_fields(c, results, plugin):
     """The last output step's VTU fields against contact.csv."""
     points = results.contact_points()
     step = int(points[0]["step"])
-    body = read_vtu(os.path.join(results.folder, "step-%06d.vtu" % step))
+    body = read_vtu(os.path.join(results.folder, "step-%06d.pvtu" % step))
     surface = read_vtu(os.path.join(results.folder, "contact-%06d.vtu" % step))
     names = ("contact_pressure", "contact_gap", "contact_state", "contact_normal_traction",
              "contact_tangential_traction", "contact_normal_force", "contact_slip_increment", "contact_slip")
@@ -240,7 +240,7 @@ def contact_output_mpi(c):
     scale = max(p["pressure"] for p in a)
     worst = max(abs(p[k] - q[k]) for p, q in zip(a, b) for k in ("pressure", "normal_force", "traction_x", "slip"))
     c.check(worst <= 1e-9 * scale, "contact.csv equal to %.1e" % worst)
-    for name in ("step-000030.vtu", "contact-000030.vtu"):
+    for name in ("step-000030.pvtu", "contact-000030.vtu"):
         va, vb = read_vtu(os.path.join(one.folder, name)), read_vtu(os.path.join(two.folder, name))
         diff = max(abs(x - y) for f in ("contact_pressure", "contact_tangential_traction", "contact_slip")
                    for u, v in zip(va[f], vb[f]) for x, y in zip(u, v))

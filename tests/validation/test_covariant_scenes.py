@@ -37,7 +37,7 @@ def bottom_lag(folder, step, applied):
     """u_x - u_applied of the block's bottom nodes (reference y = 0, z = 0; the clamped base's do not move) at a
     step, ordered by x: the paper's Fig. 7."""
     from stickslip_results import read_vtu
-    a = read_vtu(os.path.join(folder, "step-%06d.vtu" % step))
+    a = read_vtu(os.path.join(folder, "step-%06d.pvtu" % step))
     rows = sorted((x - d[0], d[0] - applied) for (x, y, z), d in zip(a["Points"], a["displacement"])
                   if abs(y - d[1]) < 1e-9 and abs(z - d[2]) < 1e-9 and d != (0.0, 0.0, 0.0))
     return [lag for _, lag in rows]

@@ -116,10 +116,7 @@ def quadratic_output(c):
     """A tet10 run writes tet10 cells (VTK type 24, 10 nodes each, one point per node); mesh keys with bad values are
     refused naming the key."""
     results, proc = run("scenes/hertz-3d.yaml", *ORDER2, "--set", "time.end=0.25")
-    from stickslip_results import read_vtu
-    import os
-    vtu = sorted(p for p in os.listdir(results.folder) if p.endswith(".vtu"))
-    arrays = read_vtu(os.path.join(results.folder, vtu[-1]))
+    arrays = results.last_vtu()
     types = {t[0] for t in arrays["types"]}
     offsets = [o[0] for o in arrays["offsets"]]
     c.check(types == {24}, "every cell is a VTK quadratic tetra (24): %s" % sorted(types))

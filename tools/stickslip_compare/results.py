@@ -30,13 +30,70 @@ class Results:
         return [r for r in rows if r["step"] == step]
 
     def last_vtu(self):
-        files = sorted(p for p in os.listdir(self.folder) if p.startswith("step-") and p.endswith(".vtu"))
-        return read_vtu(os.path.join(self.folder, files[-1]))
+        """The bodies at the last output step (results.pvd's last dataset), read_vtu's arrays."""
+        return read_vtu(os.path.join(self.folder, collection(self.folder)[-1][1]))
+
+
+def collection(folder, name="results.pvd"):
+    """(time, file relative to the folder) of every dataset of a ParaView collection, in file order."""
+    text = open(os.path.join(folder, name)).read()
+    return [(float(t), f) for t, f in re.findall(r'<DataSet timestep="([^"]+)"[^>]*file="([^"]+)"', text)]
 
 
 def read_vtu(path):
     """Point and cell data arrays of a stickslip .vtu (raw appended or inline base64) as lists of tuples, by name; a
-    cell array whose name a point array has too (the contact fields of contact-NNNNNN.vtu) is under "cell:NAME"."""
+    cell array whose name a point array has too (the contact fields of contact-NNNNNN.vtu) is under "cell:NAME".
+    A .pvtu (the bodies of an output step, one piece per rank) is read whole: its pieces joined into one grid whose
+    point k is mesh node k (node_id; 0 for a mesh node no element uses) and whose cells are in cell_id order, so the
+    arrays are the same whatever the number of ranks."""
+    if path.endswith(".pvtu"):
+        return read_pvtu(path)
+    return _read_piece(path)[0]
+
+
+def pvtu_pieces(path):
+    """The pieces' paths of a .pvtu."""
+    text = open(path).read()
+    return [os.path.join(os.path.dirname(path), source) for source in re.findall(r'<Piece Source="([^"]+)"', text)]
+
+
+def read_pvtu(path):
+    pieces = [_read_piece(p) for p in pvtu_pieces(path)]
+    if not pieces:
+        raise ValueError("%s: no pieces" % path)
+    cell_names = list(pieces[0][1])
+    pieces = [arrays for arrays, _ in pieces]
+    point_names = [n for n in pieces[0] if n not in cell_names and n not in ("connectivity", "offsets", "types")]
+    n_nodes = 1 + max((int(i[0]) for piece in pieces for i in piece["node_id"]), default=-1)
+    merged = {}
+    for name in point_names:
+        width = next((len(piece[name][0]) for piece in pieces if piece[name]), 1)
+        values = [(0.0,) * width] * n_nodes
+        for piece in pieces:
+            for node, value in zip(piece["node_id"], piece[name]):
+                values[int(node[0])] = value
+        merged[name] = values
+    merged["node_id"] = [(float(k),) for k in range(n_nodes)]
+    cells = []
+    for piece in pieces:
+        start = 0
+        for c, ((end,), (kind,)) in enumerate(zip(piece["offsets"], piece["types"])):
+            nodes = tuple(int(piece["node_id"][k[0]][0]) for k in piece["connectivity"][start:end])
+            cells.append((piece["cell_id"][c][0], kind, nodes, {n: piece[n][c] for n in cell_names}))
+            start = end
+    cells.sort(key=lambda cell: cell[0])
+    merged["connectivity"], merged["offsets"], merged["types"] = [], [], []
+    for _, kind, nodes, _ in cells:
+        merged["connectivity"].extend((k,) for k in nodes)
+        merged["offsets"].append((len(merged["connectivity"]),))
+        merged["types"].append((kind,))
+    for name in cell_names:
+        merged[name] = [cell[3][name] for cell in cells]
+    return merged
+
+
+def _read_piece(path):
+    """The arrays of one .vtu (read_vtu) and the names of its cell arrays."""
     data = open(path, "rb").read()
     header_end = data.find(b"<AppendedData")
     text = data[: header_end if header_end >= 0 else len(data)].decode("latin-1")
@@ -45,6 +102,7 @@ def read_vtu(path):
     if header_end >= 0:
         base = data.find(b"_", header_end) + 1
     cell_data = (text.find("<CellData"), text.find("</CellData>"))
+    cell_names = []
     for match in re.finditer(r'<DataArray([^>]*)>', text):
         attrs = dict(re.findall(r'(\w+)="([^"]*)"', match.group(1)))
         name = attrs.get("Name", "")
@@ -66,4 +124,6 @@ def read_vtu(path):
             raw = blob[8 : 8 + nbytes]
         values = struct.unpack("<%d%s" % (len(raw) // struct.calcsize(fmt), fmt), raw)
         arrays[name] = [tuple(values[i : i + ncomp]) for i in range(0, len(values), ncomp)]
-    return arrays
+        if cell_data[0] <= match.start() < cell_data[1]:
+            cell_names.append(name)
+    return arrays, cell_names

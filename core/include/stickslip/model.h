@@ -133,18 +133,7 @@ typedef struct sk_model {
    * nodes of contact surfaces that share an element with it in the whole mesh, those this rank holds (CSR) */
   int64_t *surface_ptr;
   int *surface_cols;
-  /* rank 0 of a run on several ranks: the whole mesh, for the single-file output */
-  struct sk_whole_mesh *whole;
 } sk_model;
-
-/* The whole mesh as rank 0 keeps it for output (every node by mesh id, every element of the bodies). */
-typedef struct sk_whole_mesh {
-  int n_nodes, n_cells;
-  double *X;               /* 3 per node */
-  sk_elem_type *types;
-  int *offsets, *conn;     /* n_cells + 1 offsets into conn (mesh ids) */
-  double *body, *part;     /* per cell: the body index and the METIS part */
-} sk_whole_mesh;
 
 /* The finite-element data of a model whose bodies are read: the METIS partition of the elements over the model's
  * ranks and the node owners (the lowest part among the elements holding a node); the mesh ids. */
@@ -158,7 +147,6 @@ sk_status sk_model_distribute(sk_model *model);
  * table of the nodes' mesh ids (sk_model_node_of). */
 sk_status sk_model_build_graph(sk_model *model);
 sk_status sk_model_index_nodes(sk_model *model);
-void sk_whole_mesh_free(sk_whole_mesh *whole);
 /* The consistent mass (CSR values and per element), once; only when a term of the system needs it. */
 sk_status sk_model_build_mass(sk_model *model);
 void sk_model_free(sk_model *model);

@@ -45,6 +45,11 @@ sk_status sk_vtu_write(const char *path, int n_points, const double *points /* 3
 int sk_vtu_cell_type(sk_elem_type type);
 const int *sk_vtu_node_order(sk_elem_type type);
 
+/* A parallel unstructured grid (.pvtu): the pieces (paths relative to the .pvtu) that sk_vtu_write wrote with these
+ * point and cell fields, in this order (their values are not read: only names and components). Atomic as above. */
+sk_status sk_pvtu_write(const char *path, int n_pieces, const char *const *pieces, int n_point_fields,
+                        const sk_vtu_field *point_fields, int n_cell_fields, const sk_vtu_field *cell_fields);
+
 /* ParaView collection: one entry per time step. The file is rewritten complete after each add. */
 typedef struct sk_pvd sk_pvd;
 sk_status sk_pvd_open(const char *path, sk_pvd **pvd);
