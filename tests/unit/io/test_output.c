@@ -337,6 +337,35 @@ static void test_pvd(void) {
   }
 }
 
+static void test_pvtu(void) {
+  char path[512];
+  tmp_path(path, sizeof path, "step-000001.pvtu");
+  double values[3] = {0};
+  const sk_vtu_field point_fields[] = {{"displacement", 3, values}, {"node_id", 1, values}};
+  const sk_vtu_field cell_fields[] = {{"stress <s>", 9, values}};
+  const char *const pieces[] = {"step-000001/rank-0000.vtu", "step-000001/rank-0001.vtu"};
+  SK_CHECK(sk_pvtu_write(path, 2, pieces, 2, point_fields, 1, cell_fields) == SK_OK);
+  char *text = read_all(path, NULL);
+  SK_CHECK(contains(text, "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\""));
+  SK_CHECK(contains(text, "header_type=\"UInt64\""));
+  SK_CHECK(contains(text, "<PDataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"/>"));
+  SK_CHECK(contains(text, "Name=\"stress &lt;s&gt;\" NumberOfComponents=\"9\""));
+  SK_CHECK(contains(text, "<PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>"));
+  SK_CHECK(contains(text, "<Piece Source=\"step-000001/rank-0001.vtu\"/>"));
+  free(text);
+  if (have_python()) {
+    char command[1024];
+    snprintf(command, sizeof command,
+             "python3 -c 'import sys, xml.etree.ElementTree as E; g=E.parse(sys.argv[1]).getroot()[0]; "
+             "sys.exit(0 if len(g.findall(\"Piece\"))==2 and len(g.find(\"PPointData\"))==2 "
+             "and len(g.find(\"PCellData\"))==1 else 1)' %s", path);
+    SK_CHECK(system(command) == 0);
+  }
+  SK_CHECK(sk_pvtu_write(path, 0, pieces, 2, point_fields, 1, cell_fields) == SK_ERR_INTERNAL);
+  SK_CHECK(sk_pvtu_write("/nonexistent/dir/x.pvtu", 2, pieces, 2, point_fields, 1, cell_fields) == SK_ERR_IO);
+  SK_CHECK(contains(sk_error_message(), "/nonexistent/dir/x.pvtu"));
+}
+
 /* ---- output directories ---- */
 
 static void test_progress(void) {
@@ -374,6 +403,7 @@ int main(void) {
   test_vtu_base64();
   test_vtu_raw();
   test_pvd();
+  test_pvtu();
   test_progress();
   int result = sk_test_finish("test_io_output");
   if (result == 0) {
