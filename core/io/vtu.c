@@ -254,6 +254,20 @@ sk_status sk_vtu_write(const char *path, int n_points, const double *points, int
   return status;
 }
 
+/* Closes a file written aside at tmp_path and puts it in place of path (removed on failure). */
+static sk_status close_and_rename(FILE *f, const char *tmp_path, const char *path) {
+  int write_failed = ferror(f);
+  if ((fclose(f) != 0) | write_failed) {
+    remove(tmp_path);
+    return sk_error_set(SK_ERR_IO, "cannot write '%s'", tmp_path);
+  }
+  if (rename(tmp_path, path) != 0) {
+    remove(tmp_path);
+    return sk_error_set(SK_ERR_IO, "cannot rename '%s' to '%s': %s", tmp_path, path, strerror(errno));
+  }
+  return SK_OK;
+}
+
 /* ---- PVTU ------------------------------------------------------------------------------------------------- */
 
 static void write_parallel_array(FILE *f, const char *type, const char *name, int components) {
@@ -289,16 +303,7 @@ sk_status sk_pvtu_write(const char *path, int n_pieces, const char *const *piece
     fputs("\"/>\n", f);
   }
   fputs("  </PUnstructuredGrid>\n</VTKFile>\n", f);
-  int write_failed = ferror(f);
-  if ((fclose(f) != 0) | write_failed) {
-    remove(tmp_path);
-    return sk_error_set(SK_ERR_IO, "cannot write '%s'", tmp_path);
-  }
-  if (rename(tmp_path, path) != 0) {
-    remove(tmp_path);
-    return sk_error_set(SK_ERR_IO, "cannot rename '%s' to '%s': %s", tmp_path, path, strerror(errno));
-  }
-  return SK_OK;
+  return close_and_rename(f, tmp_path, path);
 }
 
 /* ---- PVD -------------------------------------------------------------------------------------------------- */
@@ -325,16 +330,7 @@ static sk_status pvd_rewrite(const sk_pvd *pvd) {
     fputs("\"/>\n", f);
   }
   fputs("  </Collection>\n</VTKFile>\n", f);
-  int write_failed = ferror(f);
-  if ((fclose(f) != 0) | write_failed) {
-    remove(tmp_path);
-    return sk_error_set(SK_ERR_IO, "cannot write '%s'", tmp_path);
-  }
-  if (rename(tmp_path, pvd->path) != 0) {
-    remove(tmp_path);
-    return sk_error_set(SK_ERR_IO, "cannot rename '%s' to '%s': %s", tmp_path, pvd->path, strerror(errno));
-  }
-  return SK_OK;
+  return close_and_rename(f, tmp_path, pvd->path);
 }
 
 sk_status sk_pvd_open(const char *path, sk_pvd **pvd) {
