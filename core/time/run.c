@@ -12,7 +12,9 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include "checkpoint.h"
@@ -51,6 +53,49 @@ static void fill_summary(const sk_system *sys, double wall_start, sk_status stat
     summary->interrupted = status == SK_ERR_INTERRUPTED;
     snprintf(summary->message, sizeof summary->message, "%s", sk_error_message());
   }
+}
+
+/* With STICKSLIP_RANK_STATS=PREFIX each rank writes PREFIX-RRRR.json at the end of the run: what it holds (elements,
+ * owned and ghost nodes, unknowns), the bytes it sent point to point (ghost exchanges and the linear system's
+ * off-rank entries), its Newton iterations, CPU seconds, peak resident memory and the phases' wall seconds. The
+ * scaling bench reads them (tests/bench/scaling, docs/scaling.md). */
+static void write_rank_stats(const sk_system *sys, const sk_run_summary *summary) {
+  const char *prefix = getenv("STICKSLIP_RANK_STATS");
+  if (!prefix || !prefix[0]) return;
+  const sk_model *m = sys->model;
+  char path[4200];
+  snprintf(path, sizeof path, "%s-%04d.json", prefix, m->rank);
+  int elements_owned = 0, nodes_owned = 0;
+  for (int e = 0; e < m->n_elements; ++e) elements_owned += m->element_part[e] == m->rank;
+  for (int a = 0; a < m->n_nodes; ++a) nodes_owned += m->node_owner[a] == m->rank;
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  const double cpu = (double)usage.ru_utime.tv_sec + 1e-6 * (double)usage.ru_utime.tv_usec +
+                     (double)usage.ru_stime.tv_sec + 1e-6 * (double)usage.ru_stime.tv_usec;
+  sk_json *json;
+  if (sk_json_open(path, &json) != SK_OK) {
+    fprintf(stderr, "warning: STICKSLIP_RANK_STATS: %s\n", sk_error_message());
+    return;
+  }
+  sk_json_int(json, "rank", m->rank);
+  sk_json_int(json, "ranks", m->n_ranks);
+  sk_json_int(json, "elements_owned", elements_owned);
+  sk_json_int(json, "elements_held", m->n_elements);
+  sk_json_int(json, "nodes_owned", nodes_owned);
+  sk_json_int(json, "nodes_ghost", m->n_nodes - nodes_owned);
+  sk_json_int(json, "unknowns_held", (long)sys->n);
+  sk_json_int(json, "unknowns_owned", (long)sys->n_owned);
+  sk_json_number(json, "exchange_bytes_sent", (double)(sys->ghost_dofs.bytes_sent + sys->ghost_extras.bytes_sent));
+  sk_json_number(json, "linear_system_bytes_sent", sys->linsys ? (double)sk_linsys_bytes_sent(sys->linsys) : 0.0);
+  sk_json_int(json, "newton_iterations", summary->newton_iterations);
+  sk_json_int(json, "steps", summary->steps);
+  sk_json_number(json, "cpu_seconds", cpu);
+  sk_json_number(json, "peak_rss_kib", (double)usage.ru_maxrss);
+  sk_json_number(json, "wall_seconds", summary->wall_seconds);
+  sk_json_number(json, "assembly_seconds", sys->t_assembly);
+  sk_json_number(json, "contact_seconds", sys->t_contact);
+  sk_json_number(json, "solve_seconds", sys->t_solve);
+  if (sk_json_close(json) != SK_OK) fprintf(stderr, "warning: STICKSLIP_RANK_STATS: %s\n", sk_error_message());
 }
 
 /* The n-th scheduled time t_start + n dt (the last one is t_end): computed, never accumulated, so that the times of
@@ -213,6 +258,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
   if (options->progress && m->rank == 0)
     sk_progress_end(status == SK_OK ? NULL : status == SK_ERR_INTERRUPTED ? "interrupted" : "failed");
   fill_summary(sys, wall_start, status, summary);
+  write_rank_stats(sys, summary);
   if (rec) status = sk_recorder_close(rec, summary, status);
   sk_recorder_free(rec);
   return status;
