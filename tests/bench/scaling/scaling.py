@@ -101,7 +101,7 @@ def run_case(args, mode, ranks, refine, sets):
 
 def fit(rows):
     """Least squares of the largest peak RSS per rank to a + b/p over the rows."""
-    xs, ys = [1.0 / r["ranks"] for r in rows], [float(r["peak_rss_mib_max"]) for r in rows]
+    xs, ys = [1.0 / int(r["ranks"]) for r in rows], [float(r["peak_rss_mib_max"]) for r in rows]
     if len(xs) < 2:
         return None
     mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
@@ -116,9 +116,10 @@ def plot(out, rows):
             f.write("# %s\n" % mode)
             for r in rows:
                 if r["mode"] == mode:
-                    f.write("%s %s %s %s %s %s %s\n" % (r["ranks"], r["wall_seconds"], r["cpu_seconds_max"],
-                                                        r["peak_rss_mib_max"], r["bytes_per_rank_per_newton_mean"],
-                                                        r["ghost_nodes_mean"], r["owned_nodes_mean"]))
+                    f.write("%s %s %s %s %s %s %s %s %s\n" % (
+                        r["ranks"], r["wall_seconds"], r["cpu_seconds_max"], r["peak_rss_mib_max"],
+                        r["bytes_per_rank_per_newton_mean"], r["ghost_nodes_mean"], r["owned_nodes_mean"],
+                        r["exchange_bytes_per_newton_mean"], r["linear_system_bytes_per_newton_mean"]))
             f.write("\n\n")
     script = """
 set terminal pngcairo size 1200,900 font ",11"
@@ -126,7 +127,7 @@ set output "%s"
 set multiplot layout 2,2 title "stickslip scaling (two tori; oversubscribed above 2 ranks on 2 cores)"
 set logscale x 2
 set xlabel "ranks"
-set key top right
+set key top left
 set grid
 set title "wall and CPU seconds (largest rank)"
 plot "%s" index 0 using 1:2 with linespoints title "strong: wall", "" index 0 using 1:3 with linespoints title "strong: CPU", \\
@@ -134,10 +135,15 @@ plot "%s" index 0 using 1:2 with linespoints title "strong: wall", "" index 0 us
 set title "peak RSS per rank (largest), MiB"
 set yrange [0:*]
 plot "%s" index 0 using 1:4 with linespoints title "strong", "" index 1 using 1:4 with linespoints title "weak"
-set title "bytes sent per rank per Newton iteration (mean)"
+set title "bytes sent per rank per Newton iteration (mean; none on 1 rank)"
 set logscale y
 set yrange [*:*]
-plot "%s" index 0 using 1:5 with linespoints title "strong", "" index 1 using 1:5 with linespoints title "weak"
+plot "%s" index 0 using 1:5 with linespoints title "strong: all", \
+     "" index 0 using 1:8 with linespoints dashtype 2 title "strong: ghost exchanges", \
+     "" index 0 using 1:9 with linespoints dashtype 3 title "strong: linear system", \
+     "" index 1 using 1:5 with linespoints title "weak: all", \
+     "" index 1 using 1:8 with linespoints dashtype 2 title "weak: ghost exchanges", \
+     "" index 1 using 1:9 with linespoints dashtype 3 title "weak: linear system"
 unset logscale y
 set title "ghost nodes per rank / owned nodes per rank (mean)"
 set yrange [0:*]
