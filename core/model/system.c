@@ -247,7 +247,9 @@ static sk_status update_active_set(sk_system *sys) {
     sk_term *term = sys->terms[k];
     if (!term->ops->update_active_set) continue;
     int changed = 0;
+    const double t0 = now_seconds();
     status = term->ops->update_active_set(term, sys, &changed);
+    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
     if (status != SK_OK) sk_error_prefix(status, "%s: update_active_set: ", term->name);
   }
   return status;
@@ -279,7 +281,10 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   for (int k = 0; k < sys->n_terms; ++k) {
     sk_term *term = sys->terms[k];
     if (!term->ops->begin_step) continue;
-    status = sk_system_collective(sys, term->ops->begin_step(term, sys));
+    const double t0 = now_seconds(); /* the contact search: contact work (contact_seconds) */
+    status = term->ops->begin_step(term, sys);
+    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    status = sk_system_collective(sys, status);
     if (status != SK_OK) return sk_error_prefix(status, "%s: begin_step: ", term->name);
   }
   return lay_out(sys, 0);
@@ -672,7 +677,9 @@ sk_status sk_system_commit(sk_system *sys) {
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
     sk_term *term = sys->terms[k];
     if (!term->ops->commit) continue;
+    const double t0 = now_seconds();
     status = term->ops->commit(term, sys);
+    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
     if (status != SK_OK) sk_error_prefix(status, "%s: commit: ", term->name);
   }
   status = sk_system_collective(sys, status);

@@ -192,6 +192,7 @@ sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y);
 typedef struct {
   double force[3], moment[3];
   double active, stick, slip;
+  double active_local;     /* this rank's active points (not summed) */
   double dissipated;       /* this step's increment */
   double constraint;       /* max over ranks */
   int n_obstacles;

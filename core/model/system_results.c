@@ -55,6 +55,7 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
     }
   }
   SK_TRY(sk_system_collective(sys, status));
+  totals->active_local = sums[6];
   MPI_Allreduce(MPI_IN_PLACE, sums, 10, MPI_DOUBLE, MPI_SUM, sys->comm);
   if (obstacle_force && n_obstacles > 0)
     MPI_Allreduce(MPI_IN_PLACE, obstacle_force, 3 * n_obstacles, MPI_DOUBLE, MPI_SUM, sys->comm);

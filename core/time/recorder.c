@@ -15,6 +15,7 @@
 
 #include "../model/assemble.h"
 #include "checkpoint.h"
+#include "contact_balance.h"
 #include "contact_output.h"
 #include "stickslip/output.h"
 
@@ -60,6 +61,7 @@ struct sk_recorder {
   char solvers_used[1024];
   unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
   int range_first, range_last;
+  sk_contact_balance balance; /* contact work per rank (summary.json, --verbose) */
 };
 
 static double now_seconds(void) {
@@ -479,6 +481,7 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   note_solvers(rec, (int)sys->step);
   sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
+  if (rec->scene->model.n_pairs > 0) sk_contact_balance_step(&rec->balance, sys, &contact, sys->step, rec->options->verbose);
   sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, substep, sys->newton.iterations, &contact);
   status = sk_system_collective(sys, status);
   rec->last_step = sys->step;
@@ -531,6 +534,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_number(json, "assembly_seconds", sum->assembly_seconds);
   sk_json_number(json, "contact_seconds", sum->contact_seconds);
   sk_json_number(json, "solve_seconds", sum->solve_seconds);
+  sk_contact_balance_write(&rec->balance, json);
   return sk_json_close(json);
 }
 

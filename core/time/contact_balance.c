@@ -1,0 +1,60 @@
+/* Contact work per rank (contact_balance.h). Time is the wall time spent in the contact terms' residual and Jacobian
+ * evaluation (core/model/system.c, t_contact: search, projection and element kernels of the plugins), cut attempts
+ * of the step included; entities are the active slave points each rank's plugins report. */
+#include "contact_balance.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/* min, mean, max over ranks of one value per rank (collective) */
+static void reduce_min_mean_max(double value, MPI_Comm comm, int n_ranks, double out[3]) {
+  double extremes[2] = {-value, value}, sum = value;
+  MPI_Allreduce(MPI_IN_PLACE, extremes, 2, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm);
+  out[0] = -extremes[0];
+  out[1] = sum / n_ranks;
+  out[2] = extremes[1];
+}
+
+void sk_contact_balance_step(sk_contact_balance *balance, const sk_system *sys, const sk_contact_totals *totals,
+                             int64_t step, int verbose) {
+  double step_seconds[3], active[3];
+  reduce_min_mean_max(sys->t_contact - balance->seconds_mark, sys->comm, sys->n_ranks, step_seconds);
+  reduce_min_mean_max(sys->t_contact, sys->comm, sys->n_ranks, balance->run_seconds);
+  reduce_min_mean_max(totals->active_local, sys->comm, sys->n_ranks, active);
+  balance->seconds_mark = sys->t_contact;
+  double ratio = 0.0;
+  if (step_seconds[1] > 0.0) {
+    ratio = step_seconds[2] / step_seconds[1];
+    balance->ratio_sum += ratio;
+    if (balance->steps++ == 0 || ratio > balance->ratio_worst) {
+      balance->ratio_worst = ratio;
+      balance->worst_step = step;
+    }
+  }
+  if (balance->active_peak_step == 0 || active[1] > balance->active_peak[1]) {
+    for (int i = 0; i < 3; ++i) balance->active_peak[i] = active[i];
+    balance->active_peak_step = step;
+  }
+  if (verbose && sys->rank == 0 && sys->n_ranks > 1 && step_seconds[1] > 0.0)
+    fprintf(stderr,
+            "step %lld contact balance over %d ranks: evaluation %.3g / %.3g / %.3g s (min / mean / max, max/mean "
+            "%.2f), active slave points %.0f / %.3g / %.0f\n",
+            (long long)step, sys->n_ranks, step_seconds[0], step_seconds[1], step_seconds[2], ratio, active[0],
+            active[1], active[2]);
+}
+
+sk_status sk_contact_balance_write(const sk_contact_balance *balance, sk_json *json) {
+  static const char *const seconds_keys[3] = {"contact_seconds_rank_min", "contact_seconds_rank_mean",
+                                              "contact_seconds_rank_max"};
+  static const char *const active_keys[3] = {"contact_active_rank_min", "contact_active_rank_mean",
+                                             "contact_active_rank_max"};
+  for (int i = 0; i < 3; ++i) SK_TRY(sk_json_number(json, seconds_keys[i], balance->run_seconds[i]));
+  /* NaN (null) without contact work: no ratio to speak of */
+  const double none = NAN;
+  SK_TRY(sk_json_number(json, "contact_imbalance_mean", balance->steps ? balance->ratio_sum / balance->steps : none));
+  SK_TRY(sk_json_number(json, "contact_imbalance_worst", balance->steps ? balance->ratio_worst : none));
+  SK_TRY(sk_json_int(json, "contact_imbalance_worst_step", balance->steps ? (long)balance->worst_step : 0));
+  for (int i = 0; i < 3; ++i) SK_TRY(sk_json_number(json, active_keys[i], balance->active_peak[i]));
+  return sk_json_int(json, "contact_active_peak_step", (long)balance->active_peak_step);
+}

@@ -1,0 +1,30 @@
+/* How evenly the ranks share the contact work (issue "contact load balance" measures it before it balances it):
+ * per step the contact terms' evaluation time and active slave entities of every rank, reduced to min/mean/max,
+ * printed with --verbose and summed up in summary.json. */
+#ifndef STICKSLIP_CONTACT_BALANCE_H
+#define STICKSLIP_CONTACT_BALANCE_H
+
+#include <stdint.h>
+
+#include "../model/system.h"
+#include "stickslip/output.h"
+
+typedef struct {
+  double seconds_mark;      /* this rank's contact seconds (sys->t_contact) at the last recorded step */
+  double run_seconds[3];    /* the run's contact seconds per rank so far: min, mean, max over ranks */
+  int steps;                /* recorded steps with contact work on some rank */
+  double ratio_sum;         /* sum over those steps of max / mean of the step's contact time per rank */
+  double ratio_worst;       /* the largest of them, at step worst_step */
+  int64_t worst_step;
+  double active_peak[3];    /* active slave entities per rank (min, mean, max) at the step with the most in all */
+  int64_t active_peak_step;
+} sk_contact_balance;
+
+/* After a converged step (collective): reduces this step's contact time and the totals' per-rank active entities;
+ * with verbose and more than one rank, rank 0 prints one line. */
+void sk_contact_balance_step(sk_contact_balance *balance, const sk_system *sys, const sk_contact_totals *totals,
+                             int64_t step, int verbose);
+/* The contact_balance_* keys of summary.json (rank 0). */
+sk_status sk_contact_balance_write(const sk_contact_balance *balance, sk_json *json);
+
+#endif
