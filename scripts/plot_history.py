@@ -96,7 +96,11 @@ class Run:
         kinetic = max(abs(r["kinetic_energy"]) for r in self.rows)
         self.dynamic = scheme not in ("", "quasi-static") if scheme else kinetic > 0.0
         self.contact = any(r["active_points"] > 0 for r in self.rows) or bool(self.scene.get("contact"))
-        self.friction = any(r["stick_points"] + r["slip_points"] > 0 or r["dissipated_energy"] != 0 for r in self.rows)
+        # Friction: points that stick or slip, or a dissipation above round-off of the run's energy (a frictionless
+        # co-rotational contact reports its constraint's work, 1e-13 of the energy, as dissipated_energy).
+        energy = max(max(abs(r["total_energy"]), abs(r["dissipated_energy"])) for r in self.rows)
+        self.friction = any(r["stick_points"] + r["slip_points"] > 0 or abs(r["dissipated_energy"]) > 1e-9 * energy
+                            for r in self.rows)
         self.drivers, self.force_driven, self.unknown_work = self.find_drivers()
         self.supported = bool(self.drivers) or self.force_driven or any(
             "displacement" in b for b in self.scene.get("boundary", []) or [])

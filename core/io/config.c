@@ -6,8 +6,11 @@
 #include "stickslip/config.h"
 #include "stickslip/files.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "config_tree.h"
 
@@ -359,8 +362,19 @@ sk_status sk_cfg_load(const char *path, sk_cfg **root) {
   *root = NULL;
   char *text = NULL;
   size_t length = 0;
-  SK_TRY(sk_read_text_file(path, "scene file", SK_MAX_TEXT_FILE_BYTES, &text, &length));
-  sk_status status = sk_cfgi_parse_text(text, length, path, NULL, root);
+  sk_status status = sk_read_text_file(path, "scene file", SK_MAX_TEXT_FILE_BYTES, &text, &length);
+  if (status != SK_OK) {
+    /* A results folder given for its scene: say which file reruns it. */
+    char inside[4096], message[1024];
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode) &&
+        snprintf(inside, sizeof inside, "%s/scene.yaml", path) < (int)sizeof inside && access(inside, R_OK) == 0) {
+      snprintf(message, sizeof message, "%s", sk_error_message());
+      return sk_error_set(status, "%s (a results folder? its effective scene is %s)", message, inside);
+    }
+    return status;
+  }
+  status = sk_cfgi_parse_text(text, length, path, NULL, root);
   free(text);
   return status;
 }

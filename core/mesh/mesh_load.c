@@ -34,9 +34,9 @@ static int element_type_index(int gmsh_type) {
   return -1;
 }
 
-/* ---- gmsh session ------------------------------------------------------------------------------------------ */
+/* ---- gmsh set-up --------------------------------------------------------------------------------------------- */
 
-/* gmsh keeps global state, so each load runs in its own initialise/finalise session with the logger on: the
+/* gmsh keeps global state, so each load runs between its own gmsh initialize and finalize, with the logger on: the
  * terminal stays quiet and errors are collected for our message instead. */
 static void gmsh_session_begin(void) {
   int ierr = 0;

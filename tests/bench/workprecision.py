@@ -12,6 +12,7 @@ and the plot in docs/benchmarks.md. Formats and design: docs/benchmarks.md.
            --jobs N (runs at once, default 1), --binary PATH"""
 import argparse
 import os
+import shlex
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -151,7 +152,7 @@ def _reference_text(bench, ref_record):
     notes = bench.reference.get("notes", "")
     cost = ""
     if ref_record:
-        cost = " (`stickslip run %s %s`, %.0f s CPU)" % (bench.scene, " ".join(ref_record["command"][4:]),
+        cost = " (`stickslip run %s %s`, %.0f s CPU)" % (bench.scene, shlex.join(ref_record["command"][4:]),
                                                          ref_record["cpu_seconds"])
     return "converged, our own finest run: %s%s" % (notes, cost)
 

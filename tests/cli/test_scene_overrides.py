@@ -245,6 +245,11 @@ def results_scene_reruns(c):
     print(c.proc.stdout, c.proc.stderr)
     c.check(c.proc.returncode == 0 and "plugin mortar-dual" in c.proc.stdout, "check of the saved scene passes from "
             "another folder, with mortar-dual")
+    folder = os.path.dirname(relative)
+    given_folder = subprocess.run([BIN, "check", folder], cwd=elsewhere, capture_output=True, text=True)
+    print(given_folder.stderr)
+    c.check(given_folder.returncode == 1 and "its effective scene is %s" % relative in given_folder.stderr,
+            "the results folder given as the scene: the message names its scene.yaml")
     c.proc = subprocess.run([BIN, "run", relative, "--out", "again", "--quiet"], cwd=elsewhere, capture_output=True,
                             text=True)
     print(c.proc.stderr)

@@ -10,15 +10,19 @@ The truth comes from the program (`stickslip plugins`, `stickslip check`) and th
 - strategy_names: every strategy the docs and scene files name (`strategy: X`, `strategy=X`, `plugin/X`) is one its
   plugin accepts, and a deprecated alias (the program warns about it at `check`) appears only where the text says
   it is one;
-- no_narration: no page, scene or test narrates how the project was made (sessions, work periods, who measured):
-  a measurement states its commit and date.
+- commands: every `stickslip run|check|keys|compare SCENE ...` the pages and `stickslip compare --help` show names a
+  scene of the tree, and `stickslip check` accepts its overrides (each value of a --vary);
+- no_narration: no file of the project (pages, sources, scenes, tests, scripts) narrates how the project was made
+  (sessions, work periods, who measured): a measurement states its commit and date.
 Usage: python3 check_pages.py CASE; exit code 0 when every check holds."""
 import fnmatch
 import glob
 import os
 import re
+import shlex
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "validation"))
 from stickslip_results import ROOT, main  # noqa: E402
@@ -287,16 +291,112 @@ def strategy_names(c):
     c.check(count > 20, "%d strategy names checked" % count)
 
 
+COMMAND = re.compile(r"(?:^|[\s`(])(?:\S*/)?stickslip (run|check|keys|compare) ((?:scenes|tests)/[\w./-]+\.yaml)(.*)")
+
+
+def command_lines(text):
+    """(line number, command, scene, arguments) of every `stickslip run|check|keys|compare SCENE ...` of a text:
+    in code blocks (a line continued with a backslash joined to the next) and in inline code spans."""
+    joined, number = [], 1
+    for line in text.split("\n"):
+        if joined and joined[-1][1].endswith("\\"):
+            joined[-1] = (joined[-1][0], joined[-1][1][:-1] + " " + line)
+        else:
+            joined.append((number, line))
+        number += 1
+    found = []
+    for number, line in joined:
+        for span in re.findall(r"`([^`]*stickslip [^`]*)`", line) or [line]:
+            match = COMMAND.search(span)
+            if match:
+                rest = re.split(r"\s(?:#|&&|\||;|>)", match.group(3).replace("\\|", "|"))[0]
+                found.append((number, match.group(1), match.group(2), rest))
+    return found
+
+
+def check_arguments(command, arguments):
+    """The `stickslip check` argument lists a command's overrides come to: run/check/keys keep their --plugin, --set
+    and --replace; compare gives one list per value of each --vary (with its --set). None when the command line has a
+    placeholder (SCENE, $p, ..., <x>) or cannot be split."""
+    if re.search(r"\$|\.\.\.|…|<[a-z]|=[A-Z]\b|\b[A-Z]{3,}\b", arguments):
+        return None
+    try:
+        words = shlex.split(arguments)
+    except ValueError:
+        return None
+    fixed, vary, i = [], [], 0
+    while i < len(words):
+        word, value = words[i], words[i + 1] if i + 1 < len(words) else None
+        if word in ("--set", "--replace", "--plugin") and value is not None:
+            fixed += [word, value]
+            i += 2
+        elif word == "--vary" and value is not None and command == "compare":
+            key, values = value.split("=", 1)
+            vary.append([(key, v) for v in re.split(r",(?![^\[{]*[\]}])", values)])
+            i += 2
+        else:
+            i += 1
+    if not vary:
+        return [fixed]
+    return [fixed + (["--plugin", v] if k == "plugin" else ["--set", "%s=%s" % (k, v)])
+            for options in vary for k, v in options]
+
+
+def commands(c):
+    """Every `stickslip run|check|keys|compare` command line of the pages and of `stickslip compare --help` names a
+    scene of the tree, and `stickslip check` accepts its overrides (each value of a --vary)."""
+    texts = [(page, open(os.path.join(ROOT, page), encoding="utf-8").read()) for page in pages()]
+    texts.append(("stickslip compare --help", subprocess.run([BINARY, "compare", "--help"], capture_output=True,
+                                                              text=True, check=True).stdout))
+    checks = []
+    for name, text in texts:
+        for number, command, scene, arguments in command_lines(text):
+            if re.search(r"/[A-Z]+\.yaml$", scene):
+                continue  # a placeholder: scenes/SCENE.yaml
+            where = "%s:%d" % (name, number)
+            c.check(os.path.isfile(os.path.join(ROOT, scene)), "%s: `stickslip %s %s`: the scene exists" %
+                    (where, command, scene))
+            lists = check_arguments(command, arguments)
+            if lists is not None and os.path.isfile(os.path.join(ROOT, scene)):
+                checks += [(where, scene, options) for options in lists]
+    unique = sorted({(scene, tuple(options)): where for where, scene, options in checks}.items())
+
+    def one(item):
+        (scene, options), _ = item
+        return subprocess.run([BINARY, "check", scene] + list(options), cwd=ROOT, capture_output=True, text=True)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        results = list(pool.map(one, unique))
+    for ((scene, options), where), proc in zip(unique, results):
+        message = (proc.stderr.strip().split("\n") or [""])[-1]
+        c.check(proc.returncode == 0, "%s: `stickslip check %s %s` is accepted%s" %
+                (where, scene, " ".join(shlex.quote(o) for o in options), "" if proc.returncode == 0 else
+                 ": " + message))
+    c.check(len(unique) >= 20, "%d command lines checked" % len(unique))
+
+
 # Words that narrate the making of the project rather than describe it.
-NARRATION = re.compile(r"\bsessions?\b(?! ?-?(?:stat|start|id\b))|\bwork periods?\b|\bengineers?\b|\bcoordinator\b|"
-                       r"\bthis round\b|\bwe measured\b|shared/notes|shared/seeds|/work/shared|\.\./shared", re.I)
+# ("session" stays where it names a thing: Open MPI's session directory and base, a session id, statistics.)
+NARRATION = re.compile(r"\bsessions?\b(?! ?-?(?:stat|start|id\b|dir|base))|\bwork periods?\b|\bengineers?\b|"
+                       r"\bcoordinator\b|\bthis round\b|\bwe measured\b|\bthe brief\b|"
+                       r"shared/notes|shared/seeds|/work/shared|\.\./shared", re.I)
+
+
+def tracked_files():
+    """Every file of the project outside the pages: git's list where the tree is a clone, else the source folders."""
+    proc = subprocess.run(["git", "-C", ROOT, "ls-files"], capture_output=True, text=True)
+    if proc.returncode == 0 and proc.stdout.strip():
+        listed = proc.stdout.split("\n")
+    else:
+        listed = [os.path.relpath(p, ROOT) for folder in ("cmake", "core", "driver", "meshes", "plugins", "scenes",
+                                                          "scripts", "tests", "tools", ".ci")
+                  for p in glob.glob(os.path.join(ROOT, folder, "**", "*"), recursive=True)]
+        listed += ["CMakeLists.txt"]
+    return sorted(set(f for f in listed if f and not f.startswith("build") and os.path.isfile(os.path.join(ROOT, f)))
+                  - set(pages()))
 
 
 def no_narration(c):
-    files = pages() + sorted(
-        os.path.relpath(p, ROOT) for pattern in ("scenes/*.yaml", "meshes/*", "tests/**/*.py", "tests/**/*.yaml",
-                                                 "tests/**/*.cmake", "tests/**/CMakeLists.txt", "scripts/*")
-        for p in glob.glob(os.path.join(ROOT, pattern), recursive=True) if os.path.isfile(p))
+    files = pages() + tracked_files()
     count = 0
     for relative in files:
         if relative == os.path.relpath(os.path.abspath(__file__), ROOT):
@@ -314,4 +414,4 @@ def no_narration(c):
 
 
 if __name__ == "__main__":
-    main([links, scene_list, formulation_table, abi_formulations, strategy_names, no_narration])
+    main([links, scene_list, formulation_table, abi_formulations, strategy_names, commands, no_narration])

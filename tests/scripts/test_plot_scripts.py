@@ -205,6 +205,9 @@ HISTORY_CASES = {
                 "energy, conservation, linear momentum, Newton iterations", (1400, 900)),
     "dynamic_friction": ("scenes/two-elements.yaml", [], "dynamic, friction",
                          "energy, conservation, linear momentum, contact forces", (1400, 900)),
+    # frictionless; its contact reports a dissipation of round-off size (1e-13 of the energy)
+    "dynamic_contact": ("scenes/corot-ball-on-plane.yaml", [], "dynamic, contact",
+                        "energy, conservation, linear momentum, contact forces", (1400, 900)),
 }
 
 

@@ -38,10 +38,10 @@ EPILOG = """error measures:
                      the same mesh)
 
 examples:
-  stickslip compare scenes/hertz-2d.yaml --vary contact.0.plugin=penalty-nts,nts-augmented \\
+  stickslip compare scenes/hertz-2d.yaml --vary plugin=penalty-nts,nts-augmented \\
       --closed-form hertz:dim=2,E=1000,E_master=1e6,nu=0.3,R=1,load_column=reaction_top_y,load_factor=2
-  stickslip compare scenes/ironing-2d.yaml --vary contact.0.parameters.strategy=augmented,condensed \\
-      --vary time.dt=0.02,0.01 --jobs 2 --out ironing-compare
+  stickslip compare scenes/mortar-ironing-2d.yaml --vary contact.0.strategy=saddle-point,condensed \\
+      --vary time.dt=0.05,0.025 --set time.end=2 --jobs 2 --out ironing-compare
 """
 
 
@@ -73,8 +73,8 @@ def parse_vary(items):
     out = {}
     for item in items:
         if "=" not in item:
-            raise CompareError("--vary %s: expected KEY=VALUE,VALUE,... (e.g. contact.0.parameters.strategy="
-                               "augmented,condensed)" % item)
+            raise CompareError("--vary %s: expected KEY=VALUE,VALUE,... (e.g. contact.0.strategy="
+                               "saddle-point,condensed)" % item)
         key, values = item.split("=", 1)
         key = key.strip()
         if not key:
@@ -84,7 +84,7 @@ def parse_vary(items):
 
 
 def short_names(keys):
-    """The last component of each key (`strategy` for contact.0.parameters.strategy) unless two keys share it."""
+    """The last component of each key (`refine` for mesh.parameters.refine) unless two keys share it."""
     last = [k.rsplit(".", 1)[-1] for k in keys]
     return [s if last.count(s) == 1 else k for s, k in zip(last, keys)]
 
@@ -262,7 +262,7 @@ def parse_arguments(argv):
     p.add_argument("scene", metavar="SCENE.yaml", help="the scene every variant starts from")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="a scene key (as for `stickslip run --set`, e.g. contact.0.plugin, "
-                        "contact.0.parameters.strategy, time.dt, mesh.parameters.refine) and the values to try; "
+                        "contact.0.strategy, time.dt, mesh.parameters.refine) and the values to try; "
                         "repeat for more keys: every combination runs. The key `plugin` means `stickslip run --plugin` "
                         "(every pair; the scene's parameters kept where the plugin has them). Commas inside [...] or "
                         "{...} belong to the value")
