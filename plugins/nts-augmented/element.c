@@ -206,6 +206,20 @@ void nts_element_slave_force(const sk_instance *inst, const nts_element *e, doub
   for (int i = 0; i < 3; ++i) force[i] = -R[i];
 }
 
+void nts_element_traction(const sk_instance *inst, const nts_element *e, double traction[3]) {
+  if (e->in.alpha == 1.0) { /* t_used is t_{n+1}: the tangential part of the step's force */
+    const nts_geometry *gh = nts_element_geometry(e, 1);
+    nts_element_slave_force(inst, e, traction);
+    for (int i = 0; i < 3; ++i) traction[i] += e->in.lambda_n * gh->n[i];
+    return;
+  }
+  /* t_{n+1} as the vector t^a a_a at y_hat, whose length is the one the return map bounds by mu |lambda_n| (the
+   * step's force maps t_used through Gf, which differs from the metric where Phi_aug is not zero, as at y_hat); the
+   * force on the slave is minus it */
+  nts_traction_vector(nts_element_geometry(e, 1), nts_element_friction(e)->t_next, traction);
+  for (int i = 0; i < 3; ++i) traction[i] = -traction[i];
+}
+
 const double *nts_element_constraints(const nts_element *e) {
   return e->paper_active ? e->paper.phi_end : e->sys.phi;
 }

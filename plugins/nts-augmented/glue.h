@@ -124,6 +124,10 @@ sk_status nts_element_recover(sk_instance *inst, const slave_point *p, nts_eleme
                               sk_vectors *v);
 /* The contact force on the slave node (3), and the constraint values the element enforces (3). */
 void nts_element_slave_force(const sk_instance *inst, const nts_element *e, double force[3]);
+/* The tangential force on the slave node at t_{n+1}: from the friction traction t_{n+1}, which the return map bounds
+ * by mu |lambda_n|. The step's force (above) carries t_used = (1 - alpha) t_n + alpha t_{n+1} instead: the same
+ * but under the midpoint scheme, where it is the mean of the tractions at t_n and t_{n+1}. */
+void nts_element_traction(const sk_instance *inst, const nts_element *e, double traction[3]);
 const double *nts_element_constraints(const nts_element *e);
 const nts_friction *nts_element_friction(const nts_element *e);
 const nts_geometry *nts_element_geometry(const nts_element *e, int at_hat);

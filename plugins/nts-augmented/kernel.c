@@ -131,6 +131,13 @@ void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f
     }
 }
 
+void nts_traction_vector(const nts_geometry *geo, const double t[2], double vector[3]) {
+  const double det = geo->m[0][0] * geo->m[1][1] - geo->m[0][1] * geo->m[1][0];
+  const double tau[2] = {(geo->m[1][1] * t[0] - geo->m[0][1] * t[1]) / det,
+                         (-geo->m[1][0] * t[0] + geo->m[0][0] * t[1]) / det};
+  for (int i = 0; i < 3; ++i) vector[i] = tau[0] * geo->a[0][i] + tau[1] * geo->a[1][i];
+}
+
 void nts_constraint_hessian(const nts_geometry *geo, const double lambda[3], double *H) {
   const int nz = geo->nz, nq = geo->nq;
   double gw3[3][NW], gw[NW] = {0}, Hw[NW][NW];

@@ -64,6 +64,10 @@ typedef struct {
 
 void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f[2], nts_geometry *geo);
 
+/* The spatial vector t^a a_a = (m^{-1} t)^a a_a of covariant tangential components t at geo: its length is
+ * sqrt(t . m^{-1} t), the norm of the friction law. */
+void nts_traction_vector(const nts_geometry *geo, const double t[2], double vector[3]);
+
 /* H = sum_k lambda[k] d2 Phi_k / dz2 (nz x nz, row-major), lambda ordered like phi. */
 void nts_constraint_hessian(const nts_geometry *geo, const double lambda[3], double *H);
 

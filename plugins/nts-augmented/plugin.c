@@ -532,10 +532,7 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
     /* spatial traction t = t_a a^a at t_{n+1} */
     nts_geometry g;
     nts_geometry_eval(&inst->facet, e.q_A, f, &g);
-    const double det = g.m[0][0] * g.m[1][1] - g.m[0][1] * g.m[1][0];
-    const double tau[2] = {(g.m[1][1] * p->c_t[0] - g.m[0][1] * p->c_t[1]) / det,
-                           (-g.m[1][0] * p->c_t[0] + g.m[0][0] * p->c_t[1]) / det};
-    for (int i = 0; i < 3; ++i) p->c_t_vector[i] = tau[0] * g.a[0][i] + tau[1] * g.a[1][i];
+    nts_traction_vector(&g, p->c_t, p->c_t_vector);
     if (inst->friction.mu > 0.0) { /* the slave's closest point moved on the facet by f - f_start */
       double length = 0.0;
       for (int i = 0; i < 3; ++i) {
@@ -574,6 +571,8 @@ static sk_status report(sk_instance *inst, const sk_state *state, sk_contact_rep
     if (p->facet < 0 || !p->active || !nts_owned(inst, p)) continue;
     nts_element e;
     SK_TRY(nts_element_eval(inst, k, state, &e));
+    /* the step's force: under the midpoint scheme its friction part is the mean of the tractions at t_n and t_{n+1}
+     * (contact.csv reports the one at t_{n+1}; docs/plugins/nts-augmented.md, "Report") */
     double force[3];
     nts_element_slave_force(inst, &e, force);
     for (int i = 0; i < 3; ++i) rep->force[i] += force[i];
@@ -618,17 +617,17 @@ static sk_status points(sk_instance *inst, const sk_state *state, sk_point_callb
     if (p->facet >= 0 && state->extra) {
       nts_element e;
       SK_TRY(nts_element_eval(inst, k, state, &e));
+      /* an active point's normal is the one lambda_n acts along: the facet's at y_hat (the end's but under the
+       * midpoint scheme), so that the points' normal forces sum to the normal part of history.csv's force */
       const nts_geometry *gh = nts_element_geometry(&e, 1), *ge = nts_element_geometry(&e, 0);
-      for (int i = 0; i < 3; ++i) cp.normal[i] = ge->n[i];
+      for (int i = 0; i < 3; ++i) cp.normal[i] = p->active ? gh->n[i] : ge->n[i];
       cp.has_multiplier = 1; /* lambda_n, 0 for an inactive point */
       if (p->active) {
-        double force[3];
-        nts_element_slave_force(inst, &e, force);
         cp.gap = nts_element_constraints(&e)[NTS_PHI_N];
         cp.pressure = -e.in.lambda_n;
         cp.multiplier = e.in.lambda_n;
-        /* the tangential force: the slave force without its normal part -lambda_n n */
-        for (int i = 0; i < 3; ++i) cp.traction[i] = force[i] + e.in.lambda_n * gh->n[i];
+        /* the tangential force at t_{n+1}, the pair of lambda_n in the friction law */
+        nts_element_traction(inst, &e, cp.traction);
         cp.state = point_state(inst, nts_element_friction(&e));
       } else {
         double f[2] = {p->f_frozen[0], p->f_frozen[1]};

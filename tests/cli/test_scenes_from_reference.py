@@ -26,10 +26,14 @@ CAN = {
 }
 # Coulomb's law is checked where it holds: at every contact point of every step (contact.csv: |traction| <= mu
 # pressure, = mu pressure where the point slips), to the round-off of the plugins' return maps (measured: 1.000000000
-# with penalty-nts on the disk). The summed contact force obeys it only where the normal is one fixed direction, against
-# a rigid plane: on a deformable master the indented surface tilts and the summed ratio in fixed axes differs (the
-# disk sliding on the block with penalty-nts: 0.39 summed at mu = 0.3, every point exactly at mu).
+# with penalty-nts on the disk). nts-augmented's cone is made of the multiplier it reports: under the midpoint scheme,
+# which reports the traction at t_{n+1} (docs/stability.md, finding 25), measured within 4.4e-16 of mu pressure on the
+# disk and the thrown cube, so it is held to 1e-12 (relative; the 1e-12 absolute floor below for the round-off
+# pressures of a first touch). The summed contact force obeys the law only where the normal is one fixed direction,
+# against a rigid plane: on a deformable master the indented surface tilts and the summed ratio in fixed axes differs
+# (the disk sliding on the block with penalty-nts: 0.39 summed at mu = 0.3, every point exactly at mu).
 POINTWISE = 1e-6
+POINTWISE_OF = {"nts-augmented": 1e-12}
 # Energy not created: kinetic + strain energy plus the friction's dissipation never above the initial energy (penalty
 # springs hold energy while in contact, so E + D dips then). Promised by the backward Euler scheme for every plugin and
 # by the midpoint scheme for plugins with `energy-momentum`; round-off measured 0 over these runs.
@@ -87,7 +91,7 @@ def scene_facts(scene):
 def coulomb_at_points(c, folder, plugin, facts):
     """|t| <= mu p at every point in contact at every step, |t| = mu p where it slips; at the end of a drag every
     point in contact slips."""
-    mu = facts["mu"]
+    mu, tolerance = facts["mu"], POINTWISE_OF.get(plugin, POINTWISE)
     steps = {}
     for row in read_table(os.path.join(folder, "contact.csv")):
         if row["state"] == 0:
@@ -99,9 +103,9 @@ def coulomb_at_points(c, folder, plugin, facts):
             pressure = row["pressure"]
             tangential = math.sqrt(row["traction_x"] ** 2 + row["traction_y"] ** 2 + row["traction_z"] ** 2)
             points += 1
-            worst = max(worst, tangential - mu * pressure * (1 + POINTWISE))
+            worst = max(worst, tangential - mu * pressure * (1 + tolerance))
             if row["state"] == 2 and mu > 0:
-                worst_slip = max(worst_slip, mu * pressure * (1 - POINTWISE) - tangential)
+                worst_slip = max(worst_slip, mu * pressure * (1 - tolerance) - tangential)
     c.check(points > 0, "%s: contact acts (%d point states in contact)" % (plugin, points))
     c.check(worst <= 1e-12, "%s: |t| <= mu p at every contact point (worst excess %.3g)" % (plugin, worst))
     c.check(worst_slip <= 1e-12, "%s: |t| = mu p at every slipping point (worst shortfall %.3g)" % (plugin, worst_slip))
@@ -137,9 +141,10 @@ def coulomb_on_the_plane(c, history, plugin, facts):
 
 
 def impulse_coulomb(c, history, plugin, facts):
-    """The tangential impulse within mu times the normal impulse over the run (sums of the contact force over the
-    steps): nts-augmented's midpoint friction traction is mu times the normal traction of the midpoint, the mean of
-    the two ends' (measured on the disk: 0.995 to 1.009 of it), while contact.csv's pressure is the end's."""
+    """The tangential impulse within mu times the normal impulse over the run (sums of history.csv's contact force,
+    the step's force, over the steps): under the midpoint scheme nts-augmented's friction force over a step is the
+    mean of the tractions at its two ends, each in the cone of the step's multiplier, so a step's force leaves the
+    cone where the multiplier drops (the thrown cube: |F_t| / F_n = 0.90 at mu = 0.1)."""
     forces = summed_force(history, facts["dim3"])
     tangential, normal = sum(f[1] for f in forces), sum(f[2] for f in forces)
     if facts["master"] != "rigid":
@@ -183,14 +188,11 @@ def runs(c, name):
         if summary.get("status") != "ok":
             continue
         history = read_history(out)
+        coulomb_at_points(c, out, plugin, facts)
         if facts["scheme"] == "midpoint" and plugin == "nts-augmented":
-            # the friction of its midpoint step acts with the mean of the two ends' normal tractions, while the
-            # outputs report the end's (docs/stability.md, finding 25): Coulomb is checked on the summed impulse
             impulse_coulomb(c, history, plugin, facts)
-        else:
-            coulomb_at_points(c, out, plugin, facts)
-            if facts["master"] == "rigid":
-                coulomb_on_the_plane(c, history, plugin, facts)
+        elif facts["master"] == "rigid":
+            coulomb_on_the_plane(c, history, plugin, facts)
         if facts["scheme"] != "quasi-static":
             energy_not_created(c, history, plugin, facts)
 
