@@ -274,8 +274,14 @@ sk_status glue_commit_step(sk_instance *inst, const sk_state *state) {
   corot_world_residual(cw, b->y, b->F, &g); /* kinematics and g of the converged point */
   const int dim = b->body.dim, n = b->body.n;
   const double *lambda = b->y + n + cw->n_border;
-  for (int p = 0; p < b->contact.n; ++p)
-    b->work_node[p] = cw->dt * b->contact.weight[p] * corot_dot(dim, cw->s + b->contact.node[p] * dim, lambda + p * dim);
+  /* the friction work of the step, dt D_pp s_T . lambda_T (history.csv's dissipated_energy is friction work for every
+   * plugin): the normal part s_n lambda_n vanishes with the complementarity the scheme enforces (to round-off; it
+   * made a frictionless run report 1.8e-7 of dissipation on E 5.3e5) */
+  for (int p = 0; p < b->contact.n; ++p) {
+    const double *sp = cw->s + b->contact.node[p] * dim, *lp = lambda + p * dim, *nu = b->contact.frame + 9 * p;
+    const double tangential = corot_dot(dim, sp, lp) - corot_dot(dim, nu, sp) * corot_dot(dim, nu, lp);
+    b->work_node[p] = cw->dt * b->contact.weight[p] * tangential;
+  }
   /* the slip of the step: dt times the tangential part of the midpoint velocity s_p against the plane, in the world */
   for (int p = 0; p < b->contact.n; ++p) {
     double *slip = b->slip_increment + 3 * p, sT[3] = {0, 0, 0};

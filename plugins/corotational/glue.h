@@ -59,7 +59,7 @@ typedef struct {
   double l_scale;                /* the body's length L = sqrt(I_e / m) */
   /* the committed step, for report() and points() */
   double Rm[9];                  /* R at the last step's midpoint */
-  double *work_node;             /* per contact node: dt D_pp s_p . lambda_p of the last step */
+  double *work_node;             /* per contact node: dt D_pp s_T . lambda_T of the last step (friction work) */
   double *slip_increment;        /* per contact node (3 each): dt R_m s_p,T of the last step, world (friction) */
   double *slip_length;           /* per contact node: the accumulated length of the slip increments */
   int rotation_updates;          /* Newton updates of w in the last step */
