@@ -5,15 +5,21 @@
 // diagonal scaling: a third of SGS's cost per iteration; on the paper tori 0.195 s per solve against 0.236 s).
 // 1. Never a solver that failed on this pattern; after a failure an iterative solver waits 2, 4, 8 ... patterns
 //    before it is tried again (a contact run changes pattern every few steps: before this rule GMRES was retried,
-//    and failed, at every one of them: 39 of 39 on scenes/two-tori-coarse.yaml).
+//    and failed, at every one of them: 39 of 39 on scenes/two-tori-coarse.yaml). A failure also discards the
+//    solver's measurement: it comes back only through a capped trial, never on the cost it had measured before.
 // 2. Not GMRES when the nodal block has a zero diagonal (a saddle point given without coordinates, so without a
 //    constraint block to take the multiplier rows).
 // 3. The size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
 //    entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover it is only a
 //    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones do.
 // 4. Every competing candidate is measured (a trial of kTrialSolves solves each, once the current one has a
-//    measurement at this size, within kMeasuredRange in stored entries); then the cheapest per solve, set-ups
-//    included, wins — a switch needs a kSwitchMargin advantage.
+//    measurement at this size, within kMeasuredRange in stored entries); then the cheapest per solve wins — a switch
+//    needs a kSwitchMargin advantage (auto_rule.cpp). Fair trials: a one-time set-up (MUMPS's analysis, MueLu's
+//    hierarchy) is measured apart from the solves and charged as often as it recurs (MUMPS's at every pattern,
+//    MueLu's once: it is kept across patterns) — counted into a 3-solve trial it made GMRES + MueLu 6.24 s per
+//    solve on the 3D Hertz tet4 where it takes 1.6 s; and a Krylov cost is per digit of the tolerance it was
+//    measured at, compared at the current one (inexact Newton's tolerances span 1e-4 ... 1e-10, so a trial at 1e-4
+//    looked 2.5x cheaper than the same solver at 1e-10).
 // Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
 // so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
 #include <algorithm>
@@ -21,6 +27,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "auto_rule.hpp"
 #include "bridge_internal.hpp"
 #include "linear_system.hpp"
 
@@ -46,6 +53,7 @@ constexpr int kTrialIterationFactor = 4;
 constexpr int kTrialIterationFloor = 30;
 // A diagonal below this fraction of its row's largest entry counts as zero (`reduced` multiplier rows: 1e-23).
 constexpr double kZeroDiagonal = 1e-12;
+constexpr double kTiniestCost = 1e-300;  // a measured cost coefficient below the clock's resolution
 // What `direct` (and AUTO's direct choice) runs: the fastest correct backend on the benchmark's hex8/quad4
 // elasticity and on the contact saddle-point systems (docs/linear-solvers.md).
 constexpr sk_linear_solver_kind kDirectBackend = SK_LINEAR_DIRECT_MUMPS;
@@ -66,8 +74,28 @@ bool measured_here(const AutoMemory::Candidate &c, double size) {
          static_cast<double>(c.entries_measured) <= kMeasuredRange * size;
 }
 
-double predicted_seconds(const AutoMemory::Candidate &c, sk_linear_solver_kind kind, double size) {
-  return c.cost_coefficient * std::pow(size, exponent(kind));
+// The digits a solve of `kind` at the system's tolerance must gain (1 for a direct solve: its cost does not depend
+// on them).
+double digits(const sk_linear_system *sys, sk_linear_solver_kind kind) {
+  return is_direct(kind) ? 1.0 : tolerance_digits(sys->options.tolerance);
+}
+
+double predicted_seconds(const sk_linear_system *sys, const AutoMemory::Candidate &c, sk_linear_solver_kind kind,
+                         double size) {
+  return c.cost_coefficient * std::pow(size, exponent(kind)) * digits(sys, kind);
+}
+
+// What `auto` expects of candidate c on this system (auto_rule.hpp).
+AutoEstimate estimate(const sk_linear_system *sys, int c, bool eligible, double size) {
+  const AutoMemory &m = sys->auto_memory;
+  const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
+  AutoEstimate e;
+  e.eligible = eligible;
+  e.solve_seconds = predicted_seconds(sys, m.candidates[c], kind, size);
+  e.setup_seconds = m.candidates[c].setup_coefficient * std::pow(size, exponent(kind));
+  // a direct solver's analysis recurs at every pattern; a preconditioner built from scratch is kept across them
+  e.setups_per_solve = is_direct(kind) ? static_cast<double>(sys->pattern_generation) / std::max(1, m.solves) : 0.0;
+  return e;
 }
 
 // A zero (or absent) diagonal in the nodal block, on any rank (collective).
@@ -180,46 +208,54 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
     if (!eligible[c] || measured_here(m.candidates[c], size)) continue;
     m.trial_solves_left = kTrialSolves - 1;
     m.before_trial = m.current;
-    m.iteration_cap = is_direct(m.current) ? kTrialIterationFloor
-                                           : std::max(kTrialIterationFloor,
-                                                      kTrialIterationFactor * m.candidates[current].iterations);
+    // the competitor's iterations at this tolerance (a trial is capped at the same tolerance it will run at)
+    const double competitor_iterations =
+        m.candidates[current].iterations_per_digit * tolerance_digits(sys->options.tolerance);
+    m.iteration_cap = is_direct(m.current)
+                          ? kTrialIterationFloor
+                          : std::max(kTrialIterationFloor,
+                                     static_cast<int>(std::ceil(kTrialIterationFactor * competitor_iterations)));
     return decide(sys, kAutoCandidateKinds[c], "trial",
                   format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)", kTrialSolves,
                          sys->n, sk_linear_solver_name(m.current),
-                         predicted_seconds(m.candidates[current], m.current, size)));
+                         auto_cost_per_solve(estimate(sys, current, true, size))));
   }
   // all measured: the cheapest, if clearly cheaper than the current one (timings are noisy on a shared machine)
-  int best = current;
-  double seconds[kAutoCandidates];
-  for (int c = 0; c < kAutoCandidates; ++c) {
-    seconds[c] = eligible[c] ? predicted_seconds(m.candidates[c], kAutoCandidateKinds[c], size) : 0.0;
-    if (eligible[c] && seconds[c] * kSwitchMargin < seconds[best]) best = c;
-  }
+  AutoEstimate estimates[kAutoCandidates];
+  for (int c = 0; c < kAutoCandidates; ++c) estimates[c] = estimate(sys, c, eligible[c], size);
+  const int best = auto_cheapest(estimates, kAutoCandidates, current, kSwitchMargin);
   std::string others;
   for (int c = 0; c < kAutoCandidates; ++c)
     if (eligible[c] && c != best)
       others += format("%s %s %.3g s", others.empty() ? "" : ",", sk_linear_solver_name(kAutoCandidateKinds[c]),
-                       seconds[c]);
+                       auto_cost_per_solve(estimates[c]));
   return decide(sys, kAutoCandidateKinds[best], "measured",
-                format("measured %.3g s per solve against%s (%d unknowns)", seconds[best], others.c_str(), sys->n));
+                format("measured %.3g s per solve against%s (%d unknowns, tolerance %.2g)",
+                       auto_cost_per_solve(estimates[best]), others.c_str(), sys->n, sys->options.tolerance));
 }
 
 void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
-                 int iterations) {
+                 double setup_seconds, int iterations) {
   AutoMemory &m = sys->auto_memory;
-  double agreed = seconds;  // every rank must take the same decisions: the slowest rank's time
-  MPI_Allreduce(&seconds, &agreed, 1, MPI_DOUBLE, MPI_MAX, sys->comm);
+  ++m.solves;
+  double local[2] = {seconds, setup_seconds}, agreed[2];  // every rank must take the same decisions: the slowest's
+  MPI_Allreduce(local, agreed, 2, MPI_DOUBLE, MPI_MAX, sys->comm);
   AutoMemory::Candidate &c = m.candidates[index_of(kind)];
   const double size = entries(sys);
+  const double scale = std::pow(size, exponent(kind));
   if (status == SK_OK) {
-    const double coefficient = agreed / std::pow(size, exponent(kind));
+    const double setup = std::min(agreed[1], agreed[0]);
+    const double coefficient = (agreed[0] - setup) / (scale * digits(sys, kind));
     c.cost_coefficient = measured_here(c, size) ? 0.7 * c.cost_coefficient + 0.3 * coefficient : coefficient;
+    c.cost_coefficient = std::max(c.cost_coefficient, kTiniestCost);  // > 0: measured
+    if (setup > 0) c.setup_coefficient = setup / scale;
     c.entries_measured = static_cast<int64_t>(size);
     c.failures_in_a_row = 0;
-    c.iterations = iterations;
+    c.iterations_per_digit = iterations / digits(sys, kind);
     return;
   }
   if (is_direct(kind)) return;  // nothing to fall back to: the caller reports it
+  c.cost_coefficient = 0;       // its measurement no longer holds: back only through a capped trial
   c.failed_on_pattern = sys->pattern_generation;
   ++c.failures_in_a_row;
   c.retry_pattern = sys->pattern_generation + (1 << std::min(c.failures_in_a_row, 16));

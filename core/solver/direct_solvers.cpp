@@ -163,9 +163,11 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
         map = sys->serial_map;
       }
       if (sys->direct.is_null()) {
+        const double setup_start = cpu_seconds();
         sys->direct = Amesos2::create<Matrix, MultiVector>("KLU2", a);
         sys->direct->symbolicFactorization();
         report->refactored_symbolic = 1;
+        sys->setup_cpu_seconds = cpu_seconds() - setup_start;
       }
       sys->direct->numericFactorization();
       Vector xs(map), bs(map);
@@ -240,6 +242,7 @@ sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const 
     return result;
   };
   if (sys->amesos.is_null() || sys->amesos_kind != kind) {
+    const double setup_start = cpu_seconds();
     Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
     Amesos factory;
     sys->amesos = rcp(factory.Create(kind == SK_LINEAR_DIRECT_MUMPS ? "Amesos_Mumps" : "Amesos_Klu",
@@ -259,6 +262,7 @@ sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const 
                           code);
     }
     report->refactored_symbolic = 1;
+    sys->setup_cpu_seconds = cpu_seconds() - setup_start;
   }
   if (const int code = failed(sys->amesos->NumericFactorization())) {
     sys->amesos = Teuchos::null;  // start afresh (symbolic included) next time

@@ -217,7 +217,9 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   const bool have = !p.op().is_null();
   bool fresh = false;
   if (!have || p.refresh || kind == SK_LINEAR_GMRES_SGS || kind == SK_LINEAR_GMRES_JACOBI) {
+    const double setup_start = cpu_seconds();
     compute_nodal_preconditioner(sys, kind, !have);
+    if (!have) sys->setup_cpu_seconds = cpu_seconds() - setup_start;  // built from scratch: kept from now on
     report->refactored_symbolic = !have;
     fresh = true;
     p.refresh = false;

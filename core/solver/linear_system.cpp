@@ -216,6 +216,7 @@ sk_status solve_with(sk_linear_system *sys, sk_linear_solver_kind kind, const do
                      sk_linear_report *report) {
   sk_status status;
   report->solver = kind;
+  sys->setup_cpu_seconds = 0;
   try {
     status = kind == SK_LINEAR_DIRECT_KLU2 ? solve_klu2(sys, b, x, report)
              : is_direct(kind)             ? solve_amesos(sys, kind, b, x, report)
@@ -699,13 +700,13 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     const sk_linear_solver_kind kind = auto_choose(sys);
     const double attempt_start = cpu_seconds();
     status = solve_with(sys, kind, b, x, report);
-    auto_record(sys, kind, status, cpu_seconds() - attempt_start, report->iterations);
+    auto_record(sys, kind, status, cpu_seconds() - attempt_start, sys->setup_cpu_seconds, report->iterations);
     if (status == SK_ERR_LINEAR_SOLVER && !is_direct(kind)) {
       const int iterations = report->iterations;
       const sk_linear_solver_kind fallback = auto_fallback(sys);
       const double fallback_start = cpu_seconds();
       status = solve_with(sys, fallback, b, x, report);
-      auto_record(sys, fallback, status, cpu_seconds() - fallback_start, report->iterations);
+      auto_record(sys, fallback, status, cpu_seconds() - fallback_start, sys->setup_cpu_seconds, report->iterations);
       report->iterations = iterations;
       report->refactored_symbolic = 1;
     }

@@ -81,16 +81,20 @@ extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];  // mum
 
 struct AutoMemory {
   struct Candidate {
-    double cost_coefficient = 0;   // measured CPU seconds per solve / entries^exponent (EWMA); 0: never measured
+    // measured CPU seconds per solve, one-time set-up excluded, / entries^exponent (EWMA), and for a Krylov solver
+    // also / tolerance_digits (its cost at another tolerance is this times those digits); 0: not measured (or failed)
+    double cost_coefficient = 0;
+    double setup_coefficient = 0;  // its last one-time set-up (symbolic factorisation, AMG hierarchy), as above
     int64_t entries_measured = 0;  // the stored entries it was last measured at
     int failed_on_pattern = -1;    // the pattern generation it last failed on (-1: never)
     int failures_in_a_row = 0;     // failed attempts since its last success
     int retry_pattern = 0;         // the first pattern generation it may be tried on again (back-off)
-    int iterations = 0;            // Krylov iterations of its last successful solve
+    double iterations_per_digit = 0;  // Krylov iterations of its last successful solve / tolerance_digits
     std::string failure;           // the message of its last failure
   };
   Candidate candidates[kAutoCandidates];
   sk_linear_solver_kind current = SK_LINEAR_AUTO;  // the candidate in use (SK_LINEAR_AUTO: none yet)
+  int solves = 0;                                  // solves so far (a direct set-up recurs per pattern of them)
   int trial_solves_left = 0;                       // solves left in a trial of another candidate
   int iteration_cap = 0;                           // Krylov iterations allowed in this solve (0: max_iterations)
   sk_linear_solver_kind before_trial = SK_LINEAR_AUTO;  // the candidate a trial replaced
@@ -127,6 +131,7 @@ struct sk_linear_system {
   std::vector<double> coordinates;   // of the owned nodes, node-major in row order
   RCP<const Teuchos::Comm<int>> tcomm;
   int pattern_generation = 0;        // counts set_pattern calls: `auto` remembers failures per pattern
+  double setup_cpu_seconds = 0;      // CPU time of the one-time set-up within the last solve (`auto` keeps it apart)
 
   // Layout: rank r owns the rows [row_offsets[r], row_offsets[r+1]) — its nodal rows (whole nodes, the count the
   // caller gives) and, on the last rank, the constraint rows [n_nodal, n) after every nodal row.
@@ -267,8 +272,9 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys);
 // After an iterative candidate failed (recorded), for this solve: the candidate a failed trial replaced, or the
 // direct solver.
 sk_linear_solver_kind auto_fallback(sk_linear_system *sys);
+// `seconds`: CPU time of the attempt, of which `setup_seconds` went to a one-time set-up.
 void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
-                 int iterations);
+                 double setup_seconds, int iterations);
 
 // system_dump.cpp
 void dump_system(sk_linear_system *sys, const double *b);

@@ -181,6 +181,41 @@ static void check_auto(void) {
   test_csr_free(&a);
 }
 
+/* AUTO on one pattern, solve after solve: the trials of GMRES + SGS and GMRES + Jacobi (capped at 4x the iterations
+ * GMRES + MueLu needs at the same tolerance) fail on this Laplacian, each once; from then on neither runs again on
+ * the pattern, every solve is right, and the decision names the failures it excluded. */
+static void check_auto_excludes_failed(void) {
+  test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns: near the size rule's crossover, all four compete */
+  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+  double *x = malloc(sizeof(double) * (size_t)a.n);
+  test_reference_solution(a.n, x_ref);
+  test_csr_multiply(&a, x_ref, b);
+  sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-10, 500, &a);
+  SK_CHECK(sys != NULL);
+  int failed[SK_LINEAR_GMRES_JACOBI + 1] = {0};
+  int ran_after_failure = 0;
+  for (int solve = 0; sys && solve < 16; ++solve) {
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    sk_linear_report report;
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-7);
+    printf("auto solve %2d: %-12s %3d iterations%s%s\n", solve, sk_linear_solver_name(report.solver), report.iterations,
+           report.decision ? " — " : "", report.decision ? report.decision : "");
+    if (failed[report.solver]) ++ran_after_failure;
+    if (report.decision && strstr(report.decision, "failed (")) {
+      if (strstr(report.decision, "gmres-sgs failed")) failed[SK_LINEAR_GMRES_SGS] = 1;
+      if (strstr(report.decision, "gmres-jacobi failed")) failed[SK_LINEAR_GMRES_JACOBI] = 1;
+    }
+  }
+  SK_CHECK(failed[SK_LINEAR_GMRES_SGS] && failed[SK_LINEAR_GMRES_JACOBI]);
+  SK_CHECK(ran_after_failure == 0);
+  if (sys) sk_linsys_destroy(sys);
+  free(x_ref);
+  free(b);
+  free(x);
+  test_csr_free(&a);
+}
+
 /* AUTO on a saddle point (zero-diagonal multiplier rows) large enough for MueLu: AMG cannot smooth those rows, so
  * AUTO goes straight to the direct solver (no GMRES iterations spent on a doomed attempt). */
 static void check_auto_saddle(void) {
@@ -413,6 +448,7 @@ int main(int argc, char **argv) {
   check_kind(SK_LINEAR_AUTO, 1e-12, 1e-8);
   check_auto();
   check_auto_saddle();
+  check_auto_excludes_failed();
   check_constraint_systems();
   check_failures();
   const int result = sk_test_finish("bridge linear system");

@@ -1,0 +1,28 @@
+// stickslip — the comparison `auto` makes between its measured candidates, free of Trilinos so that it can be
+// tested on given costs (tests/unit/bridge/test_auto_rule.cpp). auto_choice.cpp feeds it its measurements.
+#pragma once
+
+namespace stickslip::bridge {
+
+// What `auto` predicts for one candidate on the system at hand.
+struct AutoEstimate {
+  bool eligible = false;        // may run here (no failure on this pattern, not in back-off, measured at this size)
+  double solve_seconds = 0;     // CPU seconds of one solve at this size and tolerance, one-time set-ups excluded
+  double setup_seconds = 0;     // CPU seconds of its one-time set-up (symbolic factorisation, AMG hierarchy)
+  double setups_per_solve = 0;  // how often that set-up recurs per solve from now on
+};
+
+// The cost `auto` compares: a solve plus the share of the set-up that recurs with it. Every candidate is charged
+// alike; a set-up that is paid once (an AMG hierarchy kept across patterns) is not spread over the few solves of a
+// trial, which made GMRES + MueLu look 4x dearer than it is.
+double auto_cost_per_solve(const AutoEstimate &estimate);
+
+// The cheapest eligible candidate; the current one (if eligible) is kept unless another is cheaper by
+// `switch_margin` (measurements are noisy on a shared machine). -1 if none is eligible.
+int auto_cheapest(const AutoEstimate *estimates, int count, int current, double switch_margin);
+
+// Decimal digits a Krylov solve to relative residual `tolerance` gains (at least 1): its iterations, and so its
+// cost, grow with them. Measurements taken at one tolerance are compared at another by this factor.
+double tolerance_digits(double tolerance);
+
+}  // namespace stickslip::bridge
