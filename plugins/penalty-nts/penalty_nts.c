@@ -113,17 +113,20 @@ struct sk_instance {
   int pattern_capacity;
   /* TRI6 slaves: the pressure reported at node k is (T^T f)_k / A_k (see tributary_weights), a combination of the
    * nodal forces of node k and its edge nodes: CSR rows rec_start[k] .. rec_start[k+1] of (rec_node, rec_coef) over
-   * view nodes; rec_force holds every view node's normal and tangential force and whether it is in contact
+   * view nodes; rec_force holds every view node's normal and tangential force, whether it is in contact and its gap
    * (REC_STRIDE per node) while points() reports. */
   int *rec_start, *rec_node;
   double *rec_coef, *rec_force;
 };
-enum { REC_STRIDE = 5 };
+enum { REC_STRIDE = 6 };
+/* An open TRI6 node within this many times its neighbours' penetration of the master reports the recovered traction
+ * (pnts_points). */
+#define RIM_GAP_FACTOR 4.0
 
 static const char *const pnts_strategies[] = {"none", NULL};
 static const char *const pnts_parameters[] = {
     "penalty: normal penalty eps_n > 0; pressure/length when area_weighted, force/length otherwise [computed from "
-    "the scene: 10 E*/h on first-order slave faces, 100 E*/h on second-order ones (E*: contact modulus of the "
+    "the scene: 10 E*/h on first-order slave faces, 300 E*/h on second-order ones (E*: contact modulus of the "
     "pair, h: mean edge of the slave surface); times the mean tributary area when area_weighted is 0]",
     "mu: Coulomb friction coefficient >= 0 [0]",
     "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [computed from the scene: penalty]",
@@ -605,7 +608,9 @@ static void pnts_destroy(sk_instance *in) {
  * with c = PENALTY_FACTOR[order of the slave faces], E* the pair's contact modulus and h the slave surface's mean
  * edge; times the mean tributary area per slave node when the penalty is a nodal stiffness (area_weighted 0);
  * eps_T = eps_N. */
-static const double PENALTY_FACTOR[3] = {0.0, 10.0, 100.0};
+/* Second-order faces: 300 (docs/plugins/penalty-nts.md#defaults: on tet10 Hertz 100 left the profile error at 0.079
+ * where 300 gives 0.039, on quad9 Hertz 300 is as good as 100 for the same iterations). */
+static const double PENALTY_FACTOR[3] = {0.0, 10.0, 300.0};
 
 static sk_status read_penalties(sk_instance *in) {
   return sk_defaults_penalties(in->api, in->host, PENALTY_FACTOR, !in->area_weighted, in->mu > 0.0, &in->penalty, &in->penalty_t);
@@ -1019,6 +1024,7 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     stored[0] = e.p;
     for (int i = 0; i < 3; ++i) stored[1 + i] = e.traction[i];
     stored[4] = e.state != STATE_INACTIVE;
+    stored[5] = e.gap;
   }
   for (int k = 0; k < in->n_slave; ++k) {
     if (!in->slave->owned[k]) continue;
@@ -1029,20 +1035,28 @@ static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callb
     /* Pressure eps_n <-g> (force / reference area) when area weighted, the nodal force otherwise. */
     double scale = in->area_weighted && in->area[k] > 0.0 ? 1.0 / in->area[k] : 1.0;
     if (in->rec_start) {
-      /* The recovered traction. An open node reports it when every edge node next to it is in contact: it lies inside
-       * the contact zone (a TRI6 corner opens where its consistent load would be tensile: hertz-3d tet10, refine 1.25,
-       * a corner at r = 0.7 a opens by 1.5e-5 while the edge nodes around it penetrate 7e-6); an open node at the rim
-       * (some neighbours open too) reports none. */
+      /* The recovered traction. A TRI6 corner opens where its consistent load would be tensile, inside the contact
+       * zone and at its rim, by about the penetration of the edge nodes around it (hertz-3d tet10, refine 1.25: a
+       * corner at r = 0.7 a opens by 1.5e-5 where they penetrate 7e-6); a node beyond the zone opens by the
+       * geometry's gap (refine 1: 3.1e-4 at r = 1.01 a, 70x its neighbours' penetration). So an open node reports
+       * the recovered traction when every edge node next to it is in contact (inside the zone), or when one is and
+       * the node opens by at most RIM_GAP_FACTOR times the deepest one's penetration (at the rim: requiring every
+       * neighbour there zeroed the corners at 0.95 <= r/a <= 1, most of the tet10 profile error at 71k unknowns;
+       * docs/hertz.md). */
       int surrounded = 1;
+      double deepest = 0.0;
       e.p = 0.0;
       memset(e.traction, 0, sizeof e.traction);
       for (int r = in->rec_start[k]; r < in->rec_start[k + 1]; ++r) {
         const double *stored = in->rec_force + REC_STRIDE * in->rec_node[r];
         e.p += in->rec_coef[r] * stored[0];
         for (int i = 0; i < 3; ++i) e.traction[i] += in->rec_coef[r] * stored[1 + i];
-        if (in->rec_node[r] != k) surrounded &= stored[4] != 0.0;
+        if (in->rec_node[r] == k) continue;
+        surrounded &= stored[4] != 0.0;
+        if (stored[4] != 0.0) deepest = fmax(deepest, -stored[5]);
       }
-      if (e.state == STATE_INACTIVE && !(surrounded && in->rec_start[k + 1] - in->rec_start[k] > 1)) {
+      const int interior = surrounded && in->rec_start[k + 1] - in->rec_start[k] > 1;
+      if (e.state == STATE_INACTIVE && !interior && !(deepest > 0.0 && e.gap <= RIM_GAP_FACTOR * deepest)) {
         e.p = 0.0;
         memset(e.traction, 0, sizeof e.traction);
       }

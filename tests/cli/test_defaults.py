@@ -43,6 +43,15 @@ def explain_defaults(c):
                 c.check(reason in got[key][1], "%s: %s's reason has '%s' (%s)" % (plugin, key, reason, got[key][1]))
 
 
+def second_order_faces(c):
+    # the order of the slave faces sets penalty-nts' constant: 300 E*/h on QUAD9 (h still the corner-to-corner edge)
+    c.run_scene(ONLY_MU, "--set", "mesh.order=2", "--explain", command="check")
+    c.no_crash()
+    got = computed(c).get("penalty")
+    c.check(got is not None and abs(got[0] - 300 * E_STAR / H) <= 1e-5 * 300 * E_STAR / H and "300 E*/h" in got[1],
+            "second-order faces: penalty = 300 E*/h = %g (got %s)" % (300 * E_STAR / H, got))
+
+
 def given_value_wins(c):
     c.run_scene(replace(ONLY_MU, "{mu: 0.3}", "{mu: 0.3, penalty: 123}"), "--explain", command="check")
     got = computed(c)
@@ -83,5 +92,5 @@ def only_mu_runs(c):
 
 
 if __name__ == "__main__":
-    main({f.__name__: f for f in [explain_defaults, given_value_wins, run_explain, plugins_state_rules,
-                                  only_mu_runs]})
+    main({f.__name__: f for f in [explain_defaults, second_order_faces, given_value_wins, run_explain,
+                                  plugins_state_rules, only_mu_runs]})

@@ -887,7 +887,7 @@ static void test_computed_defaults(void) {
   const double pair = 1.0 / (0.91 / 1000.0 + 0.91 / 1.0e6), rigid = 1000.0 / 0.91, h = 0.5;
   SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, NULL, 0, NULL, 0, "penalty"), 10.0 * pair / h, 1e-12);
   SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 1, NULL, 0, NULL, 0, "penalty"), 10.0 * rigid / h, 1e-12);
-  SK_CHECK_CLOSE(computed_penalty(SK_LINE3, 0, NULL, 0, NULL, 0, "penalty"), 100.0 * pair / h, 1e-12);
+  SK_CHECK_CLOSE(computed_penalty(SK_LINE3, 0, NULL, 0, NULL, 0, "penalty"), 300.0 * pair / h, 1e-12);
   /* a nodal stiffness: times the slave's length per node (0.5 over 2 nodes) */
   SK_CHECK_CLOSE(computed_penalty(SK_LINE2, 0, "area_weighted", 0, NULL, 0, "penalty"), 10.0 * pair / h * 0.25,
                  1e-12);
@@ -1057,6 +1057,46 @@ static void test_tri6_slave(void) {
   scene_destroy(&s);
 }
 
+/* The rim of a contact zone on a TRI6 slave (the flat face of test_tri6_slave): corner 4 opens, its edge node 9 is
+ * off the master, its edge node 7 penetrates by d. A corner open by about the penetration around it (2 d) reports the
+ * recovered pressure alpha f_7 / (2/15 A), where requiring every neighbour in contact reported 0 (the tet10 Hertz
+ * rim); a corner open by the geometry's gap (10 d) reports none. */
+static void test_tri6_slave_rim(void) {
+  const double eps = 1e3, A = 2.0, d = 1e-3, alpha = 0.2;
+  double X[10 * 3];
+  const double square[4][2] = {{-1, -1}, {3, -1}, {3, 3}, {-1, 3}};
+  for (int a = 0; a < 4; ++a) X[3 * a] = square[a][0], X[3 * a + 1] = square[a][1], X[3 * a + 2] = 0.0;
+  for (int a = 0; a < 6; ++a) {
+    double *x = X + 3 * (4 + a);
+    x[0] = 2.0 * tri6_xi[a][0], x[1] = 2.0 * tri6_xi[a][1], x[2] = 0.0;
+  }
+  const int master[] = {0, 1, 2, 3}, slave[] = {4, 6, 5, 9, 8, 7};
+  scene s;
+  scene_init(&s, 3, 10, X);
+  scene_master(&s, SK_QUAD4, 4, 1, master);
+  scene_slave(&s, SK_TRI6, 6, 1, slave);
+  scene_param(&s, "penalty", eps);
+  SK_CHECK(scene_create(&s) == SK_OK);
+  for (int lifted = 0; lifted < 2; ++lifted) {
+    const double opening = lifted ? 10.0 * d : 2.0 * d;
+    double q[30];
+    memcpy(q, X, sizeof q);
+    q[3 * 4 + 2] = opening; /* corner 4 open */
+    q[3 * 7 + 2] = -d;      /* its edge node 7 (between corners 4 and 5) penetrates */
+    q[3 * 9 + 2] = 0.1;     /* its edge node 9 (between corners 4 and 6) is off the master */
+    q[3 * 8 + 2] = -d;
+    test_step st = make_state(&s, s.X, q, 0.0, 1.0);
+    SK_CHECK(scene_begin(&s, &st) == SK_OK);
+    point_list list;
+    points_at(&s, &st, q, &list);
+    const sk_contact_point *corner = point_of(&list, 4);
+    SK_CHECK(corner != NULL && corner->state == 0 && corner->gap > 0.0);
+    const double expected = lifted ? 0.0 : alpha * (eps * d * A / 5.0) / (2.0 * A / 15.0);
+    if (corner) SK_CHECK_CLOSE(corner->pressure, expected, 1e-9);
+  }
+  scene_destroy(&s);
+}
+
 /* QUAD8 slave faces are refused with a message that names the way out; as a master QUAD8 works. */
 static void test_quad8_slave_refused(void) {
   double X[12 * 3] = {0};
@@ -1215,6 +1255,7 @@ int main(void) {
   test_reject_keeps_history();
   test_tri6_master();
   test_tri6_slave();
+  test_tri6_slave_rim();
   test_quad8_slave_refused();
   test_stiff_tangential_penalty();
   test_friction_switch_memory();
