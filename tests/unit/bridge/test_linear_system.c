@@ -181,15 +181,32 @@ static void check_auto(void) {
   test_csr_free(&a);
 }
 
+/* A manufactured problem on `a`: the reference solution x_ref, b = A x_ref, and room for x. */
+typedef struct {
+  double *x_ref, *b, *x;
+} manufactured;
+
+static manufactured manufacture(const test_csr *a) {
+  manufactured m = {malloc(sizeof(double) * (size_t)a->n), malloc(sizeof(double) * (size_t)a->n),
+                    malloc(sizeof(double) * (size_t)a->n)};
+  test_reference_solution(a->n, m.x_ref);
+  test_csr_multiply(a, m.x_ref, m.b);
+  return m;
+}
+
+static void manufactured_free(manufactured *m) {
+  free(m->x_ref);
+  free(m->b);
+  free(m->x);
+}
+
 /* AUTO on one pattern, solve after solve: the trials of GMRES + SGS and GMRES + Jacobi (capped at 4x the iterations
  * GMRES + MueLu needs at the same tolerance) fail on this Laplacian, each once; from then on neither runs again on
  * the pattern, every solve is right, and the decision names the failures it excluded. */
 static void check_auto_excludes_failed(void) {
   test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns: near the size rule's crossover, all four compete */
-  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
-  double *x = malloc(sizeof(double) * (size_t)a.n);
-  test_reference_solution(a.n, x_ref);
-  test_csr_multiply(&a, x_ref, b);
+  manufactured m = manufacture(&a);
+  double *x_ref = m.x_ref, *b = m.b, *x = m.x;
   sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-10, 500, &a);
   SK_CHECK(sys != NULL);
   int failed[SK_LINEAR_GMRES_JACOBI + 1] = {0};
@@ -210,9 +227,7 @@ static void check_auto_excludes_failed(void) {
   SK_CHECK(failed[SK_LINEAR_GMRES_SGS] && failed[SK_LINEAR_GMRES_JACOBI]);
   SK_CHECK(ran_after_failure == 0);
   if (sys) sk_linsys_destroy(sys);
-  free(x_ref);
-  free(b);
-  free(x);
+  manufactured_free(&m);
   test_csr_free(&a);
 }
 
@@ -220,10 +235,8 @@ static void check_auto_excludes_failed(void) {
  * AUTO goes straight to the direct solver (no GMRES iterations spent on a doomed attempt). */
 static void check_auto_saddle(void) {
   test_csr a = test_saddle_2d(120, 40); /* 14440 unknowns, ~5 per row: MueLu's side of the size rule */
-  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
-  double *x = malloc(sizeof(double) * (size_t)a.n);
-  test_reference_solution(a.n, x_ref);
-  test_csr_multiply(&a, x_ref, b);
+  manufactured m = manufacture(&a);
+  double *x_ref = m.x_ref, *b = m.b, *x = m.x;
   sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-10, 500, &a);
   SK_CHECK(sys != NULL);
   if (sys) {
@@ -248,9 +261,7 @@ static void check_auto_saddle(void) {
     SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-9);
     sk_linsys_destroy(sys);
   }
-  free(x_ref);
-  free(b);
-  free(x);
+  manufactured_free(&m);
   test_csr_free(&a);
 }
 

@@ -1008,6 +1008,23 @@ static void test_tri6_master(void) {
   }
 }
 
+/* A flat TRI6 slave (nodes 4-9 at 2 tri6_xi, legs 2, area 2; corners 4, 5, 6) over a flat QUAD4 master (nodes 0-3),
+ * area weighted, penalty eps: X gets the reference positions. */
+static void tri6_slave_scene(scene *s, double X[30], double eps) {
+  const double square[4][2] = {{-1, -1}, {3, -1}, {3, 3}, {-1, 3}};
+  for (int a = 0; a < 4; ++a) X[3 * a] = square[a][0], X[3 * a + 1] = square[a][1], X[3 * a + 2] = 0.0;
+  for (int a = 0; a < 6; ++a) {
+    double *x = X + 3 * (4 + a);
+    x[0] = 2.0 * tri6_xi[a][0], x[1] = 2.0 * tri6_xi[a][1], x[2] = 0.0; /* flat in the reference: weights exact */
+  }
+  const int master[] = {0, 1, 2, 3}, slave[] = {4, 6, 5, 9, 8, 7}; /* clockwise seen from above: normal -z */
+  scene_init(s, 3, 10, X);
+  scene_master(s, SK_QUAD4, 4, 1, master);
+  scene_slave(s, SK_TRI6, 6, 1, slave);
+  scene_param(s, "penalty", eps);
+  SK_CHECK(scene_create(s) == SK_OK);
+}
+
 /* A flat TRI6 slave (legs 2, area 2) over a flat QUAD4 master, area weighted. Weights of the modified basis: 2/15 of
  * the area at the corners, 1/5 at the edge nodes. With the corners touching and the edge nodes penetrating so that
  * their forces are the consistent loads of a uniform pressure p (0 at corners, A/3 at edge nodes), every node reports
@@ -1016,22 +1033,11 @@ static void test_tri6_master(void) {
 static void test_tri6_slave(void) {
   const double eps = 1e3, p = 2.0, A = 2.0;
   double X[10 * 3];
-  const double square[4][2] = {{-1, -1}, {3, -1}, {3, 3}, {-1, 3}};
-  for (int a = 0; a < 4; ++a) X[3 * a] = square[a][0], X[3 * a + 1] = square[a][1], X[3 * a + 2] = 0.0;
-  for (int a = 0; a < 6; ++a) {
-    double *x = X + 3 * (4 + a);
-    x[0] = 2.0 * tri6_xi[a][0], x[1] = 2.0 * tri6_xi[a][1], x[2] = 0.0; /* flat in the reference: weights exact */
-  }
+  scene s;
+  tri6_slave_scene(&s, X, eps);
   double q0[30];
   memcpy(q0, X, sizeof q0);
   for (int a = 3; a < 6; ++a) q0[3 * (4 + a) + 2] = -p * (A / 3.0) / (eps * A / 5.0);
-  const int master[] = {0, 1, 2, 3}, slave[] = {4, 6, 5, 9, 8, 7}; /* clockwise seen from above: normal -z */
-  scene s;
-  scene_init(&s, 3, 10, X);
-  scene_master(&s, SK_QUAD4, 4, 1, master);
-  scene_slave(&s, SK_TRI6, 6, 1, slave);
-  scene_param(&s, "penalty", eps);
-  SK_CHECK(scene_create(&s) == SK_OK);
   test_step st = make_state(&s, s.X, q0, 0.0, 1.0);
   SK_CHECK(scene_begin(&s, &st) == SK_OK);
   double F[MAX_DOFS];
@@ -1064,19 +1070,8 @@ static void test_tri6_slave(void) {
 static void test_tri6_slave_rim(void) {
   const double eps = 1e3, A = 2.0, d = 1e-3, alpha = 0.2;
   double X[10 * 3];
-  const double square[4][2] = {{-1, -1}, {3, -1}, {3, 3}, {-1, 3}};
-  for (int a = 0; a < 4; ++a) X[3 * a] = square[a][0], X[3 * a + 1] = square[a][1], X[3 * a + 2] = 0.0;
-  for (int a = 0; a < 6; ++a) {
-    double *x = X + 3 * (4 + a);
-    x[0] = 2.0 * tri6_xi[a][0], x[1] = 2.0 * tri6_xi[a][1], x[2] = 0.0;
-  }
-  const int master[] = {0, 1, 2, 3}, slave[] = {4, 6, 5, 9, 8, 7};
   scene s;
-  scene_init(&s, 3, 10, X);
-  scene_master(&s, SK_QUAD4, 4, 1, master);
-  scene_slave(&s, SK_TRI6, 6, 1, slave);
-  scene_param(&s, "penalty", eps);
-  SK_CHECK(scene_create(&s) == SK_OK);
+  tri6_slave_scene(&s, X, eps);
   for (int lifted = 0; lifted < 2; ++lifted) {
     const double opening = lifted ? 10.0 * d : 2.0 * d;
     double q[30];
