@@ -192,7 +192,8 @@ sk_status sk_surface_build_boundary(const sk_mesh *mesh, const sk_group *body, i
     if (!on_boundary[r]) continue;
     const int e = (int)(r / n_elem_faces), f = (int)(r % n_elem_faces);
     for (int k = 0; k < face_nen; ++k)
-      boundary.conn[(size_t)boundary.n_elems * face_nen + k] = body->conn[(size_t)e * body->nen + face_nodes[f * face_nen + k]];
+      boundary.conn[(size_t)boundary.n_elems * face_nen + k] =
+          body->conn[(size_t)e * body->nen + face_nodes[f * face_nen + k]];
     ++boundary.n_elems;
   }
   free(on_boundary);

@@ -665,7 +665,8 @@ static sk_status read_contact(const sk_cfg *root, sk_scene *scene) {
   }
   if (status == SK_OK) {
     model->pairs = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_contact_pair));
-    if (!model->pairs) status = sk_error_set(SK_ERR_NOMEM, "%s: out of memory for %d contact pairs", sk_cfg_where(root), n);
+    if (!model->pairs)
+      status = sk_error_set(SK_ERR_NOMEM, "%s: out of memory for %d contact pairs", sk_cfg_where(root), n);
   }
   int k = 0;
   for (int e = 0; e < n_entries && status == SK_OK; ++e) {

@@ -777,7 +777,10 @@ static sk_status exclude_own_faces(sk_instance *in, int k) {
     int near = 0;
     for (int a = 0; a < master->nen && !near; ++a) {
       double d2 = 0.0;
-      for (int i = 0; i < dim; ++i) d2 += (master->X[conn[a] * dim + i] - Xs[i]) * (master->X[conn[a] * dim + i] - Xs[i]);
+      for (int i = 0; i < dim; ++i) {
+        const double d = master->X[conn[a] * dim + i] - Xs[i];
+        d2 += d * d;
+      }
       near = d2 <= in->self_exclusion * in->self_exclusion;
     }
     if (near) continue;

@@ -43,43 +43,44 @@ def explain_lists_pairs(c):
             "obstacle pairs are listed")
 
 
+def refused(c, old, new, *patterns):
+    """`check` of the scene with `old` replaced by `new` fails cleanly with a message matching every pattern."""
+    c.run_scene(replace(SCENE, old, new), command="check")
+    c.expect_failure(*patterns)
+
+
 def unknown_body(c):
-    c.run_scene(replace(SCENE, "bodies: all", "bodies: [left, centre]"), command="check")
-    c.expect_failure(r"scene\.yaml:\d+:\d+: unknown body 'centre' \(the scene's bodies: left, middle, right\)")
+    refused(c, "bodies: all", "bodies: [left, centre]",
+            r"scene\.yaml:\d+:\d+: unknown body 'centre' \(the scene's bodies: left, middle, right\)")
 
 
 def body_listed_twice(c):
-    c.run_scene(replace(SCENE, "bodies: all", "bodies: [left, middle, left]"), command="check")
-    c.expect_failure(r"scene\.yaml:\d+:\d+: key 'contact\[0\]\.bodies\[2\]': body 'left' is listed twice")
+    refused(c, "bodies: all", "bodies: [left, middle, left]",
+            r"scene\.yaml:\d+:\d+: key 'contact\[0\]\.bodies\[2\]': body 'left' is listed twice")
 
 
 def one_body(c):
-    text = replace(SCENE, "bodies: all", "bodies: [left]")
-    c.run_scene(replace(text, "    obstacles: [{type: plane, name: floor, point: [0, -0.6, 0], normal: [0, 1, 0]}]\n",
-                        ""), command="check")
-    c.expect_failure(r"scene\.yaml:\d+:\d+: `bodies` gives 1 body and no `obstacles`: no pair to create")
+    refused(c, "bodies: all\n    obstacles: [{type: plane, name: floor, point: [0, -0.6, 0], normal: [0, 1, 0]}]",
+            "bodies: [left]", r"scene\.yaml:\d+:\d+: `bodies` gives 1 body and no `obstacles`: no pair to create")
 
 
 def not_a_body_list(c):
-    c.run_scene(replace(SCENE, "bodies: all", "bodies: every"), command="check")
-    c.expect_failure(r"scene\.yaml:\d+:\d+: .*expects `all` or a list of body names")
+    refused(c, "bodies: all", "bodies: every", r"scene\.yaml:\d+:\d+: .*expects `all` or a list of body names")
 
 
 def pair_given_twice(c):
-    c.run_scene(replace(SCENE, "time:", "  - {name: extra, plugin: penalty-nts, slave: a.boundary, master: c.boundary}\n"
-                        "time:"), command="check")
-    c.expect_failure(r"contact pair 'extra' puts bodies 'left' and 'right' in contact, and so does pair "
-                     r"'all:left/right'", r"given once")
+    refused(c, "time:", "  - {name: extra, plugin: penalty-nts, slave: a.boundary, master: c.boundary}\ntime:",
+            r"contact pair 'extra' puts bodies 'left' and 'right' in contact, and so does pair 'all:left/right'",
+            r"given once")
 
 
 def bodies_with_slave(c):
-    c.run_scene(replace(SCENE, "bodies: all", "bodies: all\n    slave: a.boundary"), command="check")
-    c.expect_failure(r"scene\.yaml:\d+:\d+: `slave` does not go with `bodies`")
+    refused(c, "bodies: all", "bodies: all\n    slave: a.boundary",
+            r"scene\.yaml:\d+:\d+: `slave` does not go with `bodies`")
 
 
 def obstacles_without_bodies(c):
-    c.run_scene(replace(SCENE, "bodies: all", "slave: a.boundary\n    master: b.boundary"), command="check")
-    c.expect_failure(r"scene\.yaml:\d+:\d+: .*goes with `bodies`")
+    refused(c, "bodies: all", "slave: a.boundary\n    master: b.boundary", r"scene\.yaml:\d+:\d+: .*goes with `bodies`")
 
 
 CASES = {f.__name__: f for f in [explain_lists_pairs, unknown_body, body_listed_twice, one_body, not_a_body_list,

@@ -21,7 +21,8 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 COLUMNS = ["bodies", "pairs", "steps", "newton_iterations", "wall_seconds", "broad_phase_seconds",
-           "broad_phase_per_step", "broad_phase_share", "sweeps", "broad_phase_per_sweep", "pair_attempts", "pair_attempts_apart", "contact_seconds",
+           "broad_phase_per_step", "broad_phase_share", "sweeps", "broad_phase_per_sweep", "pair_attempts",
+           "pair_attempts_apart", "contact_seconds",
            "contact_seconds_without", "wall_seconds_without"]
 
 
