@@ -142,6 +142,67 @@ static sk_status build_nodes(sk_surface *s) {
   return SK_OK;
 }
 
+/* Faces of the body's elements that no other element of the body shares: its whole boundary, as a face group in the
+ * order of the elements (deterministic), then built as any face group is. */
+sk_status sk_surface_build_boundary(const sk_mesh *mesh, const sk_group *body, int body_index, const char *name,
+                                    sk_surface *surface) {
+  memset(surface, 0, sizeof *surface);
+  if (!mesh || !body) return sk_error_set(SK_ERR_INPUT, "body boundary: missing mesh or body group");
+  sk_elem_type face_type;
+  const int *face_nodes;
+  int face_nen;
+  const int n_elem_faces = sk_elem_faces(body->type, &face_type, &face_nodes, &face_nen);
+  if (n_elem_faces <= 0 || face_nen > SK_FACE_KEY_MAX)
+    return sk_error_set(SK_ERR_INPUT, "body %s: its %s elements have no contact face type", body->name,
+                        sk_elem_name(body->type));
+  const size_t n_records = (size_t)body->n_elems * n_elem_faces;
+  face_record *records = malloc((n_records ? n_records : 1) * sizeof *records);
+  sk_group boundary = {.dim = mesh->dim - 1, .type = face_type, .nen = face_nen, .n_elems = 0};
+  snprintf(boundary.name, sizeof boundary.name, "%s", name);
+  boundary.conn = malloc((n_records ? n_records : 1) * (size_t)face_nen * sizeof *boundary.conn);
+  if (!records || !boundary.conn) {
+    free(records);
+    free(boundary.conn);
+    return sk_error_set(SK_ERR_NOMEM, "body %s: out of memory for its boundary", body->name);
+  }
+  for (int e = 0; e < body->n_elems; ++e)
+    for (int f = 0; f < n_elem_faces; ++f) {
+      face_record *r = &records[(size_t)e * n_elem_faces + f];
+      int nodes[SK_FACE_KEY_MAX];
+      for (int k = 0; k < face_nen; ++k) nodes[k] = body->conn[(size_t)e * body->nen + face_nodes[f * face_nen + k]];
+      sorted_key(nodes, face_nen, r->key);
+      r->elem = e;
+      r->local_face = f;
+    }
+  qsort(records, n_records, sizeof *records, compare_face_record);
+  /* a face met once is on the boundary; kept in (element, local face) order so the surface does not depend on qsort */
+  unsigned char *on_boundary = calloc(n_records ? n_records : 1, 1);
+  if (!on_boundary) {
+    free(records);
+    free(boundary.conn);
+    return sk_error_set(SK_ERR_NOMEM, "body %s: out of memory for its boundary", body->name);
+  }
+  for (size_t i = 0; i < n_records;) {
+    size_t j = i + 1;
+    while (j < n_records && compare_face_record(&records[i], &records[j]) == 0) ++j;
+    if (j == i + 1) on_boundary[(size_t)records[i].elem * n_elem_faces + records[i].local_face] = 1;
+    i = j;
+  }
+  for (size_t r = 0; r < n_records; ++r) {
+    if (!on_boundary[r]) continue;
+    const int e = (int)(r / n_elem_faces), f = (int)(r % n_elem_faces);
+    for (int k = 0; k < face_nen; ++k)
+      boundary.conn[(size_t)boundary.n_elems * face_nen + k] =
+          body->conn[(size_t)e * body->nen + face_nodes[f * face_nen + k]];
+    ++boundary.n_elems;
+  }
+  free(on_boundary);
+  free(records);
+  sk_status status = sk_surface_build(mesh, &boundary, body, body_index, surface);
+  free(boundary.conn);
+  return status;
+}
+
 sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_group *body, int body_index,
                            sk_surface *surface) {
   memset(surface, 0, sizeof *surface);

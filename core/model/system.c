@@ -4,6 +4,7 @@
  * at layout time, outside the loop. */
 #define _GNU_SOURCE
 #include "system.h"
+#include "broad_phase.h"
 
 #include <limits.h>
 #include <math.h>
@@ -20,6 +21,8 @@ static double now_seconds(void) {
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+double sk_system_seconds(void) { return now_seconds(); }
 
 static sk_status out_of_memory(const char *what, int64_t count) {
   return sk_error_set(SK_ERR_NOMEM, "out of memory for %s (%lld entries)", what, (long long)count);
@@ -177,6 +180,7 @@ void sk_system_destroy(sk_system *sys) {
   if (!sys) return;
   for (int k = sys->n_terms - 1; k >= 0; --k) sys->terms[k]->ops->destroy(sys->terms[k]);
   free(sys->terms);
+  sk_broad_phase_free(sys);
   free_unknown_arrays(sys);
   free(sys->x);
   free(sys->u_n);

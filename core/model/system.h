@@ -116,6 +116,10 @@ struct sk_system {
   unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
+  double t_broad_phase;       /* the host's broad phase over pairs (term_plugin.c), part of t_contact */
+  struct sk_broad_phase *broad; /* its boxes and sweep (broad_phase.c), NULL without created pairs */
+  int64_t pair_attempts, far_pair_attempts; /* pairs' step attempts, and those the broad phase kept idle */
+  int64_t broad_phase_sweeps;  /* the broad phase's passes (one per iterate at which a created pair asks) */
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
   int verbose;
@@ -213,5 +217,8 @@ void sk_system_describe_worst(const sk_system *sys, char *text, size_t size);
 /* The support reactions of every Dirichlet condition, 3 per condition (summed over ranks), from the last residual
  * (collective). */
 void sk_system_reactions(const sk_system *sys, double *sums);
+
+/* Wall-clock seconds (monotonic) for the phases' timings. */
+double sk_system_seconds(void);
 
 #endif

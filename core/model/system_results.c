@@ -29,7 +29,8 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
   totals->obstacle_force = obstacle_force;
   double sums[10] = {0};
   sk_status status = SK_OK;
-  int n_obstacles = 0;
+  const int n_obstacles = sys->model->n_obstacle_columns;
+  if (obstacle_force) memset(obstacle_force, 0, sizeof(double) * 3 * (size_t)n_obstacles);
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
     sk_term *term = sys->terms[k];
     if (!term->ops->report) continue;
@@ -49,10 +50,9 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
     sums[8] += (double)r.slip;
     sums[9] += r.dissipated;
     totals->constraint = fmax(totals->constraint, r.constraint_norm);
-    if (obstacle_force && sk_term_plugin_has_obstacle(term)) {
-      for (int i = 0; i < 3; ++i) obstacle_force[3 * n_obstacles + i] = -r.force[i];
-      ++n_obstacles;
-    }
+    const int column = sk_term_plugin_obstacle_column(term);
+    if (obstacle_force && column >= 0)
+      for (int i = 0; i < 3; ++i) obstacle_force[3 * column + i] -= r.force[i];
   }
   SK_TRY(sk_system_collective(sys, status));
   totals->active_local = sums[6];

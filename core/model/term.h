@@ -101,8 +101,9 @@ sk_status sk_term_resultant_create(sk_system *sys, int k, sk_term **term);    /*
 sk_status sk_term_dirichlet_create(sk_system *sys, sk_term **term);           /* term_dirichlet.c */
 /* A plugin instance attached to body `body` (>= 0) or contact pair `pair` (>= 0); term_plugin.c. */
 sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **term);
-/* 1 for a plugin term of a pair with a rigid obstacle; the pair index of a plugin term (-1 for a body). */
-int sk_term_plugin_has_obstacle(const sk_term *term);
+/* The obstacle's reaction column of a plugin term of a pair with a rigid obstacle (sk_contact_pair.obstacle_column,
+ * -1 otherwise); the pair index of a plugin term (-1 for a body). */
+int sk_term_plugin_obstacle_column(const sk_term *term);
 int sk_term_plugin_pair(const sk_term *term);
 /* Checkpoints (plugin.h: stickslip.checkpoint.v1): for a plugin term, 1 when its plugin offers the extension and
  * *plugin its name, 0 when it does not; -1 for other terms. save: the history after a commit (the state of report);
@@ -117,5 +118,8 @@ sk_status sk_term_plugin_scheme_energy(sk_term *term, sk_system *sys, int initia
 /* The parameters a plugin term computed from the scene (stickslip.scene.v1), one line each into `out` (--explain;
  * NULL: none); returns how many. */
 int sk_term_plugin_explain_defaults(const sk_term *term, FILE *out);
+/* A contact pair created by `bodies:`: one line with its surfaces and what the broad phase does with it (1), or 0
+ * for other terms (nothing printed; out NULL only counts). */
+int sk_term_plugin_explain_pair(const sk_term *term, FILE *out);
 
 #endif

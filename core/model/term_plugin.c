@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "term_plugin.h"
+#include "broad_phase.h"
 #include "stickslip/fe.h"
 
 static double *zeros(int64_t n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
@@ -110,8 +111,24 @@ static sk_status plugin_predict(sk_term *base, sk_system *sys) {
   return SK_OK;
 }
 
+static int surfaces_apart(const plugin_term *term, sk_system *sys) {
+  const sk_contact_pair *pair = &sys->model->pairs[term->pair];
+  return sk_broad_phase_apart(sys, pair->slave.body, pair->master.body, term->broad_margin);
+}
+
 static sk_status plugin_begin_step(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
+  if (term->broad_phase) {
+    const int far = surfaces_apart(term, sys);
+    if (far != term->far)
+      sk_log_message(sys->rank, 2, "%s: %s at step %lld", base->name,
+                     far ? "surfaces apart (broad phase): no plugin call" : "surfaces near (broad phase): called again",
+                     (long long)sys->step);
+    term->far = far;
+    sys->pair_attempts++;
+    sys->far_pair_attempts += far;
+    if (far) return SK_OK;
+  }
   sk_plugin_term_refresh(term, sys, 0);
   return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
 }
@@ -204,6 +221,15 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   term->state.extra_offset = base->extra_offset;
   term->state.extra = NULL;
   term->state.n_extra = 0;
+  if (term->far) { /* no extra unknowns (broad_phase is only on without multipliers) and no call */
+    base->n_extra = 0;
+    base->initial = NULL;
+    base->eliminated = NULL;
+    base->recover_needs_jdx = 0;
+    SK_TRY(combine_anchors(term, sys));
+    term->idle = 1;
+    return SK_OK;
+  }
   const int64_t pairs_before = sys->n_pairs;
   SK_TRY(PLUGIN_CALL(term, layout, term->instance, &term->state, layout));
   const uint64_t caps = term->plugin->caps;
@@ -257,7 +283,7 @@ static sk_status plugin_pattern(sk_term *base, sk_system *sys, unsigned char *ro
       return sk_error_set(SK_ERR_NOMEM, "out of memory for solve_again (%lld unknowns)", (long long)sys->capacity);
     term->again_size = sys->capacity;
   }
-  if (!term->table.pattern) return SK_OK;
+  if (!term->table.pattern || term->far) return SK_OK;
   pattern_relay relay = {.abi = {SK_TABLE_HEADER(sk_pattern), .add_block = relay_block}, .sys = sys, .status = SK_OK};
   SK_TRY(PLUGIN_CALL(term, pattern, term->instance, &term->state, &relay.abi));
   return relay.status;
@@ -312,6 +338,18 @@ static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, 
 
 static sk_status plugin_converged(sk_term *base, sk_system *sys, int *accept) {
   plugin_term *term = (plugin_term *)base;
+  if (term->far) {
+    /* the step's boxes were made with the predictor: a converged point that brought the surfaces near runs Newton
+     * again with the plugin's search done from it */
+    if (surfaces_apart(term, sys)) return SK_OK;
+    term->far = 0;
+    sys->far_pair_attempts--;
+    sk_log_message(sys->rank, 2, "%s: surfaces near at the converged point of step %lld (broad phase): Newton again",
+                   base->name, (long long)sys->step);
+    sk_plugin_term_refresh(term, sys, 0);
+    *accept = 0;
+    return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
+  }
   if (!term->table.converged) return SK_OK;
   refresh_x(term, sys);
   return PLUGIN_CALL(term, converged, term->instance, &term->state, accept);
@@ -328,6 +366,7 @@ static sk_status plugin_commit(sk_term *base, sk_system *sys) {
     scatter_body(term, sys, term->pending_v, sys->v);
   }
   term->has_pending_state = 0;
+  if (term->far) return SK_OK; /* nothing happened to the pair: its history stays */
   status = sk_system_collective(sys, PLUGIN_CALL(term, commit_step, term->instance, &term->state));
   if (status != SK_OK) return status;
   int pending = term->has_pending_state, anywhere = 0;
@@ -350,13 +389,14 @@ static void plugin_reject(sk_term *base, sk_system *sys) {
 
 static sk_status plugin_report(sk_term *base, sk_system *sys, int initial, sk_contact_report *report) {
   plugin_term *term = (plugin_term *)base;
+  if (term->far && !initial) return SK_OK; /* no contact point: the report stays zero */
   sk_plugin_term_refresh(term, sys, initial);
   return PLUGIN_CALL(term, report, term->instance, &term->state, report);
 }
 
 static sk_status plugin_points(sk_term *base, sk_system *sys, int initial, sk_point_callback callback, void *ctx) {
   plugin_term *term = (plugin_term *)base;
-  if (!term->table.points) return SK_OK;
+  if (!term->table.points || (term->far && !initial)) return SK_OK; /* apart: no point near contact */
   sk_plugin_term_refresh(term, sys, initial);
   return PLUGIN_CALL(term, points, term->instance, &term->state, callback, ctx);
 }
@@ -377,9 +417,10 @@ static const sk_term_ops plugin_ops = {.kind = "plugin",
                                        .report = plugin_report,
                                        .points = plugin_points};
 
-int sk_term_plugin_has_obstacle(const sk_term *base) {
-  if (base->ops != &plugin_ops) return 0;
-  return ((const plugin_term *)base)->attach.obstacle != NULL;
+int sk_term_plugin_obstacle_column(const sk_term *base) {
+  if (base->ops != &plugin_ops) return -1;
+  const plugin_term *term = (const plugin_term *)base;
+  return term->pair >= 0 ? term->host.sys->model->pairs[term->pair].obstacle_column : -1;
 }
 
 static const sk_checkpoint_ext *checkpoint_ext(const plugin_term *term) {
@@ -499,6 +540,22 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
     }
     attach->self_contact = pair->self_contact;
     sk_describe_pair(m, pair_index, &term->scene);
+    /* The broad phase keeps pairs created by `bodies:` from calling their plugin while their surfaces are apart
+     * (docs/contact-services.md); not for plugins with extra unknowns, whose layout must stay the plugin's. The
+     * margin, the larger face size of the two surfaces, lets a pair wake a step before its surfaces meet. */
+    term->broad_phase = pair->generated && !pair->has_obstacle && !pair->self_contact &&
+                        !(pair->plugin->caps & SK_CAP_MULTIPLIERS) && !sk_need_forced(SK_NEED_IDLE_CALLS);
+    for (int s = 0; s < 2 && term->broad_phase; ++s) {
+      const sk_surface *side = s ? &pair->master : &pair->slave;
+      double h_min, h_mean, h_max, measure;
+      if (side->whole_sizes) h_max = side->whole_h_max;
+      else sk_surface_sizes(side, m->X, m->dim, &h_min, &h_mean, &h_max, &measure);
+      term->broad_margin = fmax(term->broad_margin, h_max);
+    }
+    if (term->broad_phase) {
+      SK_TRY(sk_broad_phase_add(sys, pair, term->broad_margin));
+      term->apart_at_start = sk_broad_phase_apart_at_start(sys, pair, term->broad_margin);
+    }
   } else {
     const sk_body *b = &m->bodies[body];
     term->plugin = b->plugin;
@@ -658,9 +715,29 @@ const sk_term_ops *sk_plugin_term_ops(void) { return &plugin_ops; }
 int sk_term_plugin_explain_defaults(const sk_term *base, FILE *out) {
   if (base->ops != &plugin_ops) return 0;
   const plugin_term *term = (const plugin_term *)base;
+  const sk_contact_pair *pair = term->pair >= 0 ? &term->host.sys->model->pairs[term->pair] : NULL;
   for (int k = 0; out && k < term->n_computed; ++k)
-    fprintf(out, "  %s[%d].parameters.%s = %.6g (computed: %s)\n", term->pair >= 0 ? "contact" : "bodies",
-            term->pair >= 0 ? term->pair : term->body, term->computed[k].key, term->computed[k].value,
-            term->computed[k].reason);
+    fprintf(out, "  %s[%d].parameters.%s = %.6g (%s%s%scomputed: %s)\n", pair ? "contact" : "bodies",
+            pair ? pair->entry : term->body, term->computed[k].key, term->computed[k].value,
+            pair && pair->generated ? "pair '" : "", pair && pair->generated ? pair->name : "",
+            pair && pair->generated ? "'; " : "", term->computed[k].reason);
   return term->n_computed;
+}
+
+int sk_term_plugin_explain_pair(const sk_term *base, FILE *out) {
+  if (base->ops != &plugin_ops) return 0;
+  const plugin_term *term = (const plugin_term *)base;
+  if (term->pair < 0 || !term->host.sys->model->pairs[term->pair].generated) return 0;
+  const sk_contact_pair *pair = &term->host.sys->model->pairs[term->pair];
+  if (!out) return 1;
+  fprintf(out, "  contact[%d] '%s': slave %s (%d faces), master %s", pair->entry, pair->name, pair->slave.name,
+          pair->slave.n_faces_global, pair->has_obstacle ? pair->obstacle.name : pair->master.name);
+  if (term->broad_phase)
+    fprintf(out, " (%d faces): %s\n", pair->master.n_faces_global,
+            term->apart_at_start ? "apart at the start: idle (no plugin call) until their boxes come within the margin"
+                                 : "near at the start: active");
+  else
+    fprintf(out, ": %s\n", pair->has_obstacle ? "an obstacle: no broad phase (the plugin's own idle test)"
+                               : "the plugin has extra unknowns: no broad phase (the plugin's own idle test)");
+  return 1;
 }

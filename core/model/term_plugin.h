@@ -33,6 +33,10 @@ typedef struct plugin_term {
   uint64_t x_version;
   sk_layout layout;
   int idle; /* this attempt: the plugin said sk_layout.idle on every rank, so its calls are skipped */
+  /* the host's broad phase (pairs created by `bodies:`, plugins without extra unknowns): far = the two surfaces'
+   * boxes, swept over the step and inflated by broad_margin, do not overlap, so no call of the plugin this attempt */
+  int broad_phase, far, apart_at_start;
+  double broad_margin;
   int64_t *anchor;                 /* sk_layout.extra_anchor combined over ranks (n_extra), or NULL */
   int *extra_owner;                /* the owner of each extra this rank holds, else -1 (n_extra) */
   int64_t anchor_size, anchor_count;

@@ -203,7 +203,7 @@ sk_status sk_obstacle_output_open(const sk_model *model, sk_obstacle_output **ou
     hi[i] += 0.25 * sqrt(diagonal);
   }
   for (int k = 0; k < model->n_pairs; ++k) {
-    if (!model->pairs[k].has_obstacle) continue;
+    if (!model->pairs[k].has_obstacle || model->pairs[k].obstacle_column != o->n_obstacles) continue;
     o->obstacle[o->n_obstacles] = &model->pairs[k].obstacle;
     SK_TRY(tessellate(o, o->n_obstacles, &model->pairs[k].obstacle, lo, hi));
     o->n_obstacles++;

@@ -117,7 +117,7 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
    * sk_bulk_invariants sums over ranks and the progress line is rank 0's; STICKSLIP_NO_SKIP=invariants forces them */
   rec->wants_invariants = options->out_dir || options->progress || sk_skip_forced("invariants");
   MPI_Allreduce(MPI_IN_PLACE, &rec->wants_invariants, 1, MPI_INT, MPI_MAX, m->comm);
-  for (int k = 0; k < m->n_pairs; ++k) rec->n_obstacles += m->pairs[k].has_obstacle;
+  rec->n_obstacles = m->n_obstacle_columns;
   rec->n_columns = N_FIXED_COLUMNS + 3 * (m->n_dirichlet + rec->n_obstacles) + 1;
   rec->names = calloc((size_t)rec->n_columns, sizeof(char *));
   rec->name_storage = calloc((size_t)rec->n_columns, sizeof *rec->name_storage);
@@ -136,8 +136,8 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
       ++c;
     }
   /* the force each rigid obstacle receives (minus the contact force on its slave surface) */
-  for (int k = 0; k < m->n_pairs; ++k)
-    if (m->pairs[k].has_obstacle)
+  for (int k = 0, columns = 0; k < m->n_pairs; ++k)
+    if (m->pairs[k].has_obstacle && m->pairs[k].obstacle_column == columns++)
       for (int i = 0; i < 3; ++i) {
         snprintf(rec->name_storage[c], sizeof rec->name_storage[c], "reaction_%s_%c", m->pairs[k].obstacle.name,
                  "xyz"[i]);
@@ -533,6 +533,10 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_number(json, "wall_seconds", sum->wall_seconds);
   sk_json_number(json, "assembly_seconds", sum->assembly_seconds);
   sk_json_number(json, "contact_seconds", sum->contact_seconds);
+  sk_json_number(json, "broad_phase_seconds", rec->sys->t_broad_phase);
+  sk_json_int(json, "broad_phase_sweeps", (long)rec->sys->broad_phase_sweeps);
+  sk_json_int(json, "pair_attempts", (long)rec->sys->pair_attempts);
+  sk_json_int(json, "pair_attempts_apart", (long)rec->sys->far_pair_attempts);
   sk_json_number(json, "solve_seconds", sum->solve_seconds);
   sk_contact_balance_write(&rec->balance, json);
   return sk_json_close(json);

@@ -90,6 +90,9 @@ struct sk_instance {
   const char *name;             /* the pair's name */
   int dim;
   double penalty, penalty_t, mu, margin;
+  int self;                     /* self contact: slave and master are the same surface */
+  double self_exclusion;        /* self contact: faces with a node this close to the slave node (reference) are not
+                                   its candidates */
   double touch_tolerance;       /* points with g <= this are active (see evaluate_point) */
   double extension;             /* master_extension: band beyond the master's border, fraction of a face */
   int area_weighted;
@@ -135,6 +138,9 @@ static const char *const pnts_parameters[] = {
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
     "master_extension: a slave node up to this fraction of a face beyond the master's border stays in contact with "
     "the extrapolated face (0 switches it off) [0.1]",
+    "self_exclusion: self contact only: a face with a node within this distance of the slave node in the reference "
+    "configuration is not a candidate of that node (length) [computed from the scene: the largest face of the "
+    "surface, so the faces at the node and their neighbours]",
     NULL};
 
 /* ---- small dense helpers --------------------------------------------------------------------------------------- */
@@ -654,7 +660,7 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
                       in->name, in->extension);
 
   /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
-  double mean_size = 0.0;
+  double mean_size = 0.0, max_size = 0.0;
   if (master && master->n_cells > 0) {
     for (int f = 0; f < master->n_cells; ++f) {
       const int32_t *c = master->conn + f * master->nen;
@@ -666,8 +672,17 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
         }
       for (int i = 0; i < in->dim; ++i) diag2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
       mean_size += sqrt(diag2);
+      max_size = fmax(max_size, sqrt(diag2));
     }
     mean_size /= master->n_cells;
+  }
+  in->self = attach->self_contact;
+  if (in->self) {
+    char why[300];
+    snprintf(why, sizeof why, "the largest face of surface '%s' (diagonal of its reference box): the faces at "
+             "the node and their neighbours", master->name);
+    SK_TRY(sk_defaults_param(api, host, sk_defaults_scene(api, host), "self_exclusion", max_size, why,
+                             &in->self_exclusion));
   }
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_size, &in->margin));
   /* Round-off scale of gaps: 1e-10 of the mean slave face size (of the faces this rank sees). */
@@ -750,6 +765,41 @@ static sk_status pnts_create(const sk_host_api *api, sk_host *host, const sk_att
 
 /* ---- step -------------------------------------------------------------------------------------------------------- */
 
+/* Self contact: the candidates of slave node k without the faces a point of the surface cannot touch: those with a
+ * node within self_exclusion of it (its own faces and their neighbours), and those it lies behind in the reference
+ * configuration (negative gap: the body's material between them, e.g. the other side of a thin wall; the
+ * undeformed body does not penetrate itself, so it reaches them only through a face in front). A body's boundary
+ * is closed and its normals point out of the material, so the faces a point can meet face it: one-sided normals
+ * suffice. */
+static sk_status exclude_own_faces(sk_instance *in, int k) {
+  const sk_view *master = in->master;
+  const int dim = in->dim;
+  const double *Xs = in->slave->X + (size_t)k * dim;
+  int *faces = in->cand.faces + in->cand_start[k], kept = 0;
+  for (int c = 0; c < in->cand_count[k]; ++c) {
+    const int f = faces[c];
+    const int32_t *conn = master->conn + (size_t)f * master->nen;
+    int near = 0;
+    for (int a = 0; a < master->nen && !near; ++a) {
+      double d2 = 0.0;
+      for (int i = 0; i < dim; ++i) {
+        const double d = master->X[conn[a] * dim + i] - Xs[i];
+        d2 += d * d;
+      }
+      near = d2 <= in->self_exclusion * in->self_exclusion;
+    }
+    if (near) continue;
+    sk_projection proj = {.struct_size = sizeof proj};
+    sk_status status = in->cs->project(master, master->X, Xs, &f, 1, &proj);
+    if (status != SK_OK && status != SK_ERR_DIVERGED) return status;
+    if (proj.face >= 0 && proj.gap < 0.0) continue;
+    faces[kept++] = f;
+  }
+  in->cand_count[k] = kept;
+  in->cand.used = in->cand_start[k] + kept;
+  return SK_OK;
+}
+
 /* Candidate faces of every slave node from boxes swept between x_n and x (the predictor at begin_step, the
  * converged point in pnts_converged), inflated by the search margin. */
 static sk_status find_candidates(sk_instance *in, const double *const *x_n, const double *const *x) {
@@ -762,6 +812,7 @@ static sk_status find_candidates(sk_instance *in, const double *const *x_n, cons
     if (cand_query_swept(in->cs, in->search, x0, x1, in->dim, in->margin, &in->cand, &in->cand_start[k],
                          &in->cand_count[k]) != 0)
       return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
+    if (in->self) SK_TRY(exclude_own_faces(in, k));
   }
   return SK_OK;
 }
@@ -1136,7 +1187,7 @@ static const sk_plugin pnts_plugin = {
     .summary = "node-to-surface penalty contact with penalty-regularised Coulomb friction (baseline)",
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
-            SK_CAP_DEFORMABLE_MASTER | SK_CAP_SAYS_IDLE,
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_SAYS_IDLE | SK_CAP_SELF_CONTACT,
     .strategies = pnts_strategies,
     .parameters = pnts_parameters,
     .create = pnts_create,

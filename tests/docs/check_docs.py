@@ -248,6 +248,7 @@ KEY_SCENES = [
      "area: current}", "--set", "mesh.rotate={axis: [0, 0, 1], degrees: 10}"),
     ("scenes/mortar-patch-test-3d.yaml",),
     ("scenes/corot-ball-on-plane.yaml",),
+    ("scenes/disks-in-box-2d.yaml",),
 ]
 
 

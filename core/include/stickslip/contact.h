@@ -44,6 +44,9 @@ typedef struct {
  * it. Error if a face is not a face of that body (message names the group and the face). */
 sk_status sk_surface_build(const sk_mesh *mesh, const sk_group *faces, const sk_group *body, int body_index,
                            sk_surface *surface);
+/* The whole boundary of a body (the faces of its elements that no other element of it shares), named `name`. */
+sk_status sk_surface_build_boundary(const sk_mesh *mesh, const sk_group *body, int body_index, const char *name,
+                                    sk_surface *surface);
 void sk_surface_free(sk_surface *surface);
 /* Sizes of a surface at positions X_nodes (`stride` entries per node of the surface's numbering: 3 for the mesh's
  * coordinates): corner-to-corner edge lengths (min, mean and max over every face's edges; a 2D face is one edge,

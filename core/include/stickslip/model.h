@@ -86,6 +86,11 @@ typedef struct {
   int self_contact;        /* slave and master are the same surface (master then copies slave) */
   int strategy;            /* index into plugin->strategies */
   const void *params;      /* the scene node of the pair's `parameters` (sk_cfg), or NULL */
+  int entry;               /* index of the scene's `contact` entry that gives it */
+  int obstacle_column;     /* with an obstacle: its reaction's columns in history.csv (the pairs an entry with
+                              `bodies:` creates against one obstacle share them), else -1 */
+  int generated;           /* created by an entry with `bodies:` (between two bodies' whole boundaries, or a body's
+                              boundary and an obstacle); the host's broad phase may keep it idle (term_plugin.c) */
 } sk_contact_pair;
 
 typedef struct {
@@ -120,6 +125,7 @@ typedef struct sk_model {
   double body_force[3];    /* per unit mass */
   int n_pairs;
   sk_contact_pair *pairs;
+  int n_obstacle_columns;  /* distinct obstacles (contact_pair.obstacle_column) */
   sk_time_options time;
 
   /* consistent mass: nodal scalar CSR (n_nodes x n_nodes; its graph is the bulk's node graph). The graph is built

@@ -15,7 +15,9 @@ int main(void) {
     SK_CHECK(plugin->recover == NULL && plugin->integrator == NULL);
     int n_params = 0;
     while (plugin->parameters[n_params]) ++n_params;
-    SK_CHECK(n_params == 6);
+    SK_CHECK(n_params == 7);
+    SK_CHECK(strncmp(plugin->parameters[6], "self_exclusion:", 15) == 0);
+    SK_CHECK(plugin->caps & SK_CAP_SELF_CONTACT); /* a pair whose master is its slave (docs/plugins/penalty-nts.md) */
   }
   /* the covariant kernel is linked in statically, and not exported */
   void *module = dlopen(PNTS_MODULE_PATH, RTLD_NOW | RTLD_LOCAL);
