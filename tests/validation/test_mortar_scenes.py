@@ -135,6 +135,42 @@ def mortar_hertz_2d_quadratic(c):
             "refine 0.5: condensed = saddle-point, nodal pressures to %.1e of p0" % worst)
 
 
+RING_QUAD9 = "scenes/mortar-ring-on-block-quad9.yaml"
+
+
+def mortar_ring_on_block_quad9(c):
+    """The two-layer ring on quad9 (curved LINE3 faces) pressed onto the block with mu = 0.3, mortar-dual given only
+    mu (the scene: no solver section either), refine 0.5 (1946 unknowns), against penalty-nts given only mu on the
+    same mesh. Measured: 80 steps without a cut, 430 Newton iterations (penalty-nts 372); final reaction at the ends
+    1827.987 (penalty-nts 1828.036: 2.7e-5 apart), equal to the base's and the contact force to 1e-12; every active
+    node slips at the end (16 of 16) with |t_t| = mu p to 1e-12; dissipated 148.41 (penalty-nts 149.34). About 16 s
+    of CPU."""
+    results, _ = run(RING_QUAD9, "--set", "mesh.parameters.refine=0.5", "--set", "output.vtu_every=0")
+    penalty, _ = run(RING_QUAD9, "--set", "mesh.parameters.refine=0.5", "--set", "output.vtu_every=0",
+                     "--plugin", "penalty-nts", "--replace", "contact.0.parameters={mu: 0.3}")
+    last, other = results.rows[-1], penalty.rows[-1]
+    print("mortar-dual: %d steps, %d Newton iterations, %d cuts, reaction %.6f, %d active, %d slipping, dissipated "
+          "%.4f; penalty-nts: %d Newton iterations, reaction %.6f, dissipated %.4f"
+          % (results.summary["steps"], results.summary["newton_iterations"], results.summary["step_cuts"],
+             -last["reaction_ends_y"], last["active_points"], last["slip_points"], last["dissipated_energy"],
+             penalty.summary["newton_iterations"], -other["reaction_ends_y"], other["dissipated_energy"]))
+    c.check(abs(last["time"] - 1.0) < 1e-12 and results.summary["step_cuts"] == 0,
+            "the whole run, no step cut (%d steps)" % results.summary["steps"])
+    scale = abs(last["reaction_ends_y"])
+    c.check(abs(last["reaction_ends_y"] + last["reaction_base_y"]) <= 1e-10 * scale and
+            abs(last["contact_force_y"] - last["reaction_base_y"]) <= 1e-10 * scale,
+            "equilibrium: ends %.10g, base %.10g, contact %.10g" % (last["reaction_ends_y"], last["reaction_base_y"],
+                                                                   last["contact_force_y"]))
+    difference = abs(last["reaction_ends_y"] - other["reaction_ends_y"]) / scale
+    c.check(difference <= 1e-4, "final reaction within %.1e of penalty-nts's on the same quad9 mesh" % difference)
+    active = [q for q in results.contact_points() if q["state"] > 0]
+    ratio = [math.hypot(q["traction_x"], q["traction_y"]) / q["pressure"] for q in active if q["state"] == 2]
+    c.check(len(active) > 0 and len(ratio) == len(active), "every active node slips (%d of %d)" % (len(ratio),
+                                                                                              len(active)))
+    c.check(all(abs(r - 0.3) <= 1e-9 for r in ratio), "|t_t| / p = mu at every slipping node (%.12f .. %.12f)"
+            % (min(ratio), max(ratio)))
+
+
 def mortar_patch_test_3d(c):
     """3D patch test: 3 x 3 lower against 4 x 4 upper hexahedra (QUAD4 faces, auxiliary-plane clipping) and
     unstructured tetrahedra (h = 0.34 against 0.25, TRI3 faces). Measured pressure spread 2.5e-15 (quad4) and 1.3e-13
@@ -392,6 +428,7 @@ def mortar_obstacle_3d(c):
 
 
 if __name__ == "__main__":
-    main([mortar_patch_test_2d, mortar_patch_test_2d_quadratic, mortar_hertz_2d_quadratic, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_block_on_plane, mortar_mpi,
+    main([mortar_patch_test_2d, mortar_patch_test_2d_quadratic, mortar_hertz_2d_quadratic,
+          mortar_ring_on_block_quad9, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_block_on_plane, mortar_mpi,
           mortar_hertz_3d, mortar_ironing_2d, mortar_condensed, mortar_condensed_krylov, mortar_large_sliding,
           mortar_obstacle_3d, mortar_ironing_3d_conforming])
