@@ -135,6 +135,31 @@ def mortar_hertz_2d_quadratic(c):
             "refine 0.5: condensed = saddle-point, nodal pressures to %.1e of p0" % worst)
 
 
+def mortar_quadratic_3d_refused(c):
+    """Second-order 3D faces are refused at check, naming the face type (the dual basis of TRI6 and QUAD8 needs the
+    transformed quadratic functions, docs/plugins/mortar-dual.md section 3.5): TRI6 (tet10), QUAD9 (hex27), QUAD8
+    (hex20); the same check accepts LINE3 faces in 2D (quad9 and tri6)."""
+    import os
+    import subprocess
+    from stickslip_results import ROOT
+    binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
+    mortar = ("--plugin", "mortar-dual", "--replace", "contact.0.parameters={}", "--set", "mesh.order=2")
+    cases = (("scenes/hertz-3d.yaml", (), "TRI6"), ("scenes/hertz-3d-hex.yaml", (), "QUAD9"),
+             ("scenes/hertz-3d-hex.yaml", ("--set", "mesh.serendipity=true"), "QUAD8"),
+             ("scenes/hertz-2d.yaml", (), None), ("scenes/hertz-2d.yaml", ("--set", "mesh.parameters.quads=0"), None))
+    for scene, extra, face in cases:
+        proc = subprocess.run([binary, "check", os.path.join(ROOT, scene), *mortar, *extra], capture_output=True,
+                              text=True)
+        message = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ""
+        if face:
+            c.check(proc.returncode == 1 and "slave surface 'sphere-contact' has %s faces" % face in message
+                    and "first-order faces only in 3D" in message, "%s %s: %s refused: %s"
+                    % (scene, " ".join(extra), face, message))
+        else:
+            c.check(proc.returncode == 0, "%s %s: LINE3 faces accepted (%s)" % (scene, " ".join(extra),
+                                                                             message or "no message"))
+
+
 RING_QUAD9 = "scenes/mortar-ring-on-block-quad9.yaml"
 
 
@@ -429,6 +454,6 @@ def mortar_obstacle_3d(c):
 
 if __name__ == "__main__":
     main([mortar_patch_test_2d, mortar_patch_test_2d_quadratic, mortar_hertz_2d_quadratic,
-          mortar_ring_on_block_quad9, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_block_on_plane, mortar_mpi,
+          mortar_ring_on_block_quad9, mortar_quadratic_3d_refused, mortar_patch_test_3d, mortar_hammer_benchmark, mortar_block_on_plane, mortar_mpi,
           mortar_hertz_3d, mortar_ironing_2d, mortar_condensed, mortar_condensed_krylov, mortar_large_sliding,
           mortar_obstacle_3d, mortar_ironing_3d_conforming])
