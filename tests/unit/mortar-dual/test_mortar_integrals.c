@@ -539,21 +539,20 @@ int main(void) {
   const mortar_face_type *mt3[] = {&ft_tri3, &ft_quad4, &ft_tri3, &ft_quad4};
   for (int basis = 0; basis < 2; ++basis) {
     char label[96];
-    snprintf(label, sizeof label, "2D segments (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 3});
-    snprintf(label, sizeof label, "2D points A (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_A, 4});
-    snprintf(label, sizeof label, "2D points M (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_M, 4});
     const mortar_basis b = (mortar_basis)basis;
-    snprintf(label, sizeof label, "2D segments line3 (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line3, &ft_line3, (mortar_basis)basis, MODE_SEGMENTS, 5});
-    snprintf(label, sizeof label, "2D segments line3/line2 (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line3, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 5});
-    snprintf(label, sizeof label, "2D points A line3 (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line3, &ft_line3, (mortar_basis)basis, MODE_POINTS_A, 4});
-    snprintf(label, sizeof label, "2D points M line3 (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line3, &ft_line3, (mortar_basis)basis, MODE_POINTS_M, 4});
+    /* 2D pairs: slave, master, segment rule (LINE3: the plugin's default 5); points on LINE2 and LINE3 pairs */
+    const struct { const mortar_face_type *s, *m; int segment_rule, points; } pairs2d[] = {
+        {&ft_line2, &ft_line2, 3, 1}, {&ft_line3, &ft_line3, 5, 1}, {&ft_line3, &ft_line2, 5, 0}};
+    for (int t = 0; t < 3; ++t) {
+      const char *s_name = sk_elem_name(pairs2d[t].s->type), *m_name = sk_elem_name(pairs2d[t].m->type);
+      snprintf(label, sizeof label, "2D segments %s/%s (%s)", s_name, m_name, basis ? "dual" : "standard");
+      check_derivatives(label, (pair_case){2, pairs2d[t].s, pairs2d[t].m, b, MODE_SEGMENTS, pairs2d[t].segment_rule});
+      for (int mode = MODE_POINTS_A; pairs2d[t].points && mode <= MODE_POINTS_M; ++mode) {
+        snprintf(label, sizeof label, "2D points %s %s/%s (%s)", mode == MODE_POINTS_A ? "A" : "M", s_name, m_name,
+                 basis ? "dual" : "standard");
+        check_derivatives(label, (pair_case){2, pairs2d[t].s, pairs2d[t].m, b, (pair_mode)mode, 4});
+      }
+    }
     check_derivatives("2D obstacle plane", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_PLANE, 3});
     check_derivatives("2D obstacle circle", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_SPHERE, 3});
     for (int t = 0; t < 4; ++t) {
