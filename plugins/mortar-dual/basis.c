@@ -9,6 +9,7 @@ int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_
                           mortar_shape_hessian_fn shape_hessian) {
   switch (type) {
     case SK_LINE2: ft->nen = 2; ft->pdim = 1; break;
+    case SK_LINE3: ft->nen = 3; ft->pdim = 1; break;
     case SK_TRI3: ft->nen = 3; ft->pdim = 2; break;
     case SK_QUAD4: ft->nen = 4; ft->pdim = 2; break;
     default: return -1;
@@ -86,9 +87,10 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
   for (int j = 0; j < nen; ++j)
     for (int k = 0; k < nen; ++k) A->coeff[j][k] = fwd_const(j == k ? 1.0 : 0.0);
   if (basis == MORTAR_STANDARD) return;
-  /* D_e and M_e over the whole face (exact: N_j N_k J is polynomial of degree <= 2 per direction on affine faces) */
+  /* D_e and M_e over the whole face with the rule of D (mortar_face_exact_order: exact on affine faces, to round-off
+   * on curved LINE3 faces) */
   double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
-  const int nq = mortar_face_rule(ft->type, 3, xi, w);
+  const int nq = mortar_face_rule(ft->type, mortar_face_exact_order(ft->type), xi, w);
   fwd De[MORTAR_MAX_NEN], Me[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   for (int j = 0; j < nen; ++j) {
     De[j] = fwd_const(0.0);
@@ -135,9 +137,13 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
 void mortar_face_normal_at_node(const mortar_face_type *ft, int dim, const double *x, int a, double c[3],
                                 double dc[][3][3]) {
   static const double line2[] = {-1, 1};
+  static const double line3[] = {-1, 1, 0}; /* gmsh order: the ends, then the middle */
   static const double tri3[] = {0, 0, 1, 0, 0, 1};
   static const double quad4[] = {-1, -1, 1, -1, 1, 1, -1, 1};
-  const double *nodes = ft->type == SK_LINE2 ? line2 : ft->type == SK_TRI3 ? tri3 : quad4;
+  const double *nodes = ft->type == SK_LINE2   ? line2
+                        : ft->type == SK_LINE3 ? line3
+                        : ft->type == SK_TRI3  ? tri3
+                                               : quad4;
   const int pd = ft->pdim, nen = ft->nen;
   double N[MORTAR_MAX_NEN], dN[2 * MORTAR_MAX_NEN];
   ft->shape(ft->type, nodes + a * pd, N, dN);
@@ -309,6 +315,13 @@ int mortar_triangle_rule(int n, const double **xi, const double **w) {
   }
 }
 
+int mortar_face_exact_order(sk_elem_type type) {
+  /* LINE3: N_j N_k J of degree 4 on a straight face with the middle node in the middle, 5 with it moved along the
+   * chord (3 points suffice); a curved face's J is not polynomial: 10 points give int Phi_j N_k = delta_jk int N_k
+   * to 1.5e-16 on a 30-degree arc (5 points: 7.4e-8; test_mortar_integrals) */
+  return type == SK_LINE3 ? 10 : 3;
+}
+
 int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w) {
   if (order < 1) order = 1;
   if (order > MORTAR_MAX_RULE) order = MORTAR_MAX_RULE;
@@ -322,7 +335,7 @@ int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w) {
     return n;
   }
   mortar_gauss_legendre(order, g, gw);
-  if (type == SK_LINE2) {
+  if (type == SK_LINE2 || type == SK_LINE3) {
     memcpy(xi, g, sizeof(double) * (size_t)order);
     memcpy(w, gw, sizeof(double) * (size_t)order);
     return order;

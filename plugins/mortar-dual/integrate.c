@@ -294,8 +294,12 @@ void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, 
   }
 }
 
+static int segments_2d_curved(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n_gauss,
+                              mortar_integrals *I);
+
 int mortar_segments_2d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n_gauss,
                        mortar_integrals *I) {
+  if (p->slave->type != SK_LINE2 || p->master->type != SK_LINE2) return segments_2d_curved(p, A, basis, n_gauss, I);
   /* slave x1(xi) = c + xi h, n(xi) = nm + xi nd; master x2(eta) = cm + eta hm (LINE2 faces) */
   fwd c[2], h[2], nm[2], nd[2], cm[2], hm[2];
   for (int i = 0; i < 2; ++i) {
@@ -402,6 +406,115 @@ static int project_fwd(const mortar_pair *p, mortar_normal normal, const fwd *x1
   for (int i = 0; i < 3; ++i) diff[i] = fwd_sub(x1[i], x2[i]);
   *g = fwd_dot(dim, diff, nbar);
   return 0;
+}
+
+/* ---- 2D segments on curved (LINE3) faces ------------------------------------------------------------------------
+ * The LINE2 construction with the closed forms replaced by local Newton iterations: x1(xi) and n(xi) = sum N_k n_k are
+ * quadratic, the master's end nodes are placed on the slave line by f(xi) = (x1(xi) - x_b) x n(xi) = 0 (a quartic),
+ * and every Gauss point is projected onto the quadratic master along n(xi) (project_fwd, variant A). The Jacobian of
+ * the slave face varies along the segment and is evaluated at each point. */
+
+/* x1, its tangent, n and dn/dxi of the slave face at a plain parameter (values). */
+static void slave_line_values(const mortar_pair *p, double xi, double x[2], double a[2], double n[2], double dn[2]) {
+  double N[MORTAR_MAX_NEN], dN[MORTAR_MAX_NEN];
+  const double xq[2] = {xi, 0.0};
+  p->slave->shape(p->slave->type, xq, N, dN);
+  for (int i = 0; i < 2; ++i) {
+    x[i] = a[i] = n[i] = dn[i] = 0.0;
+    for (int k = 0; k < p->nen_s; ++k) {
+      x[i] += N[k] * p->xs[k][i].v;
+      a[i] += dN[k] * p->xs[k][i].v;
+      n[i] += N[k] * p->ns[k][i].v;
+      dn[i] += dN[k] * p->ns[k][i].v;
+    }
+  }
+}
+
+/* The slave parameter whose interpolated normal passes through xb, with its derivatives. Returns 0; -1 when Newton
+ * fails (no such point near the face), with *guess the start: the projection onto the chord of the face's ends. */
+static int point_on_slave_line(const mortar_pair *p, const fwd *xb, fwd *out, double *guess) {
+  double h[2], c[2];
+  for (int i = 0; i < 2; ++i) {
+    c[i] = 0.5 * (p->xs[0][i].v + p->xs[1][i].v);
+    h[i] = 0.5 * (p->xs[1][i].v - p->xs[0][i].v);
+  }
+  double xi = ((xb[0].v - c[0]) * h[0] + (xb[1].v - c[1]) * h[1]) / (h[0] * h[0] + h[1] * h[1]);
+  *guess = xi;
+  double previous = INFINITY, df = 0.0;
+  int done = 0;
+  for (int it = 0; it < 40 && !done; ++it) {
+    double x[2], a[2], n[2], dn[2];
+    slave_line_values(p, xi, x, a, n, dn);
+    const double d[2] = {x[0] - xb[0].v, x[1] - xb[1].v};
+    const double f = d[0] * n[1] - d[1] * n[0];
+    df = a[0] * n[1] - a[1] * n[0] + d[0] * dn[1] - d[1] * dn[0];
+    if (!(fabs(df) > 0.0)) return -1;
+    const double step = f / df;
+    xi -= step;
+    if (!isfinite(xi) || fabs(xi) > 10.0) return -1;
+    done = mortar_newton_done(fabs(step), previous, fabs(xi));
+    previous = fabs(step);
+  }
+  if (!done) return -1;
+  const fwd xc[2] = {fwd_const(xi), fwd_const(0.0)};
+  fwd N[MORTAR_MAX_NEN], x1[3], n1[3], d[2];
+  fwd xs[MORTAR_MAX_NEN][3];
+  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
+  mortar_shape(p->slave, xc, N, NULL);
+  mortar_face_point(p->slave, xs, xc, x1, NULL);
+  mortar_slave_normal(p, N, n1);
+  for (int i = 0; i < 2; ++i) d[i] = fwd_sub(x1[i], xb[i]);
+  /* df at the root: the last iterate's, one step of round-off away */
+  *out = fwd_implicit(xi, fwd_cross2(d, n1), df);
+  return 0;
+}
+
+static int segments_2d_curved(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n_gauss,
+                              mortar_integrals *I) {
+  /* only faces that face each other: the master's outward normal a_m x e_z at its middle against the slave normal */
+  double x0[2], a0[2], n0[2], dn0[2], xmid[3], am[2][3], aam[2][2][3];
+  slave_line_values(p, 0.0, x0, a0, n0, dn0);
+  fwd xm[MORTAR_MAX_NEN][3];
+  memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
+  const double zero[2] = {0.0, 0.0};
+  mortar_face_values(p->master, xm, zero, xmid, am, aam);
+  if (am[0][1] * n0[0] - am[0][0] * n0[1] >= 0.0) return 0;
+  /* the master's end nodes (local 0 and 1 on LINE2 and LINE3) on the slave line */
+  fwd ends[2];
+  for (int b = 0; b < 2; ++b) {
+    double guess;
+    if (point_on_slave_line(p, p->xm[b], &ends[b], &guess) != 0) {
+      /* far beyond the face: the chord says on which side; near it, no segment can be built */
+      if (fabs(guess) <= 1.5) return 0;
+      ends[b] = fwd_const(guess < 0.0 ? -1.0 : 1.0);
+    }
+  }
+  fwd lo = ends[0].v < ends[1].v ? ends[0] : ends[1];
+  fwd hi = ends[0].v < ends[1].v ? ends[1] : ends[0];
+  if (lo.v < -1.0) lo = fwd_const(-1.0);
+  if (hi.v > 1.0) hi = fwd_const(1.0);
+  if (!(hi.v - lo.v > 1e-12)) return 0;
+  /* a genuine segment's middle projects onto the master face (mortar_segments_2d) */
+  {
+    double x[2], a[2], n[2], dn[2], eta[2] = {0.0, 0.0}, t = 0.0;
+    slave_line_values(p, 0.5 * (lo.v + hi.v), x, a, n, dn);
+    const fwd xf[3] = {fwd_const(x[0]), fwd_const(x[1]), fwd_const(0.0)};
+    const fwd nf[3] = {fwd_const(n[0]), fwd_const(n[1]), fwd_const(0.0)};
+    if (mortar_along(p->master, xm, 2, xf, nf, eta, &t) != 0 || !(fabs(eta[0]) <= 1.5)) return 0;
+  }
+  double eta[MORTAR_MAX_RULE], w[MORTAR_MAX_RULE];
+  mortar_gauss_legendre(n_gauss, eta, w);
+  const fwd half = fwd_scale(0.5, fwd_sub(hi, lo));
+  double start[2] = {0.0, 0.0};
+  for (int g = 0; g < n_gauss; ++g) {
+    const fwd xi1[2] = {fwd_lin(0.5 * (1.0 - eta[g]), lo, 0.5 * (1.0 + eta[g]), hi), fwd_const(0.0)};
+    fwd x1[3], n1[3], jac, xi2[2], g_n;
+    slave_point(p, xi1, x1, n1, &jac);
+    if (project_fwd(p, MORTAR_NORMAL_A, x1, n1, start, xi2, &g_n) != 0) continue;
+    mortar_add_point(p, A, basis, xi1, xi2, fwd_scale(w[g], fwd_mul(half, jac)), g_n, I);
+  }
+  I->n_cells += 1;
+  return 1;
 }
 
 void mortar_points(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, mortar_normal normal,

@@ -10,7 +10,8 @@
  *   u = [x_s (nen_s * dim) | x_m (nen_m * dim) | n_s (nen_s * dim)]
  * with n_s the unit averaged nodal normals of the slave face's nodes (their own derivatives with respect to the
  * coordinates of the neighbouring faces come from mortar_face_normal_at_node and are chained by the caller).
- * Faces: LINE2 in 2D, TRI3 and QUAD4 in 3D (at most bilinear, so third parametric derivatives vanish). */
+ * Faces: LINE2 and LINE3 in 2D, TRI3 and QUAD4 in 3D (third parametric derivatives vanish: at most bilinear or
+ * quadratic in one parameter). */
 #ifndef MORTAR_KERNEL_H
 #define MORTAR_KERNEL_H
 
@@ -24,13 +25,13 @@ typedef void (*mortar_shape_fn)(sk_elem_type type, const double *xi, double *N, 
 typedef void (*mortar_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
 
 typedef struct {
-  sk_elem_type type; /* SK_LINE2, SK_TRI3 or SK_QUAD4 */
+  sk_elem_type type; /* SK_LINE2, SK_LINE3, SK_TRI3 or SK_QUAD4 */
   int nen, pdim;
   mortar_shape_fn shape;
   mortar_shape_hessian_fn shape_hessian;
 } mortar_face_type;
 
-/* Fills a face descriptor; returns -1 for a face type the kernel does not handle (curved faces). */
+/* Fills a face descriptor; returns -1 for a face type the kernel does not handle (second-order 3D faces). */
 int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_fn shape,
                           mortar_shape_hessian_fn shape_hessian);
 
@@ -60,7 +61,7 @@ static inline int mortar_slot_ns(const mortar_pair *p, int a, int i) {
 }
 
 /* ---- shape functions, face geometry ---------------------------------------------------------------------------- */
-/* N and dN at parameters xi given as fwd (derivatives flow through xi; the shape functions are at most bilinear). */
+/* N and dN at parameters xi given as fwd (derivatives flow through xi, dN's through the shape functions' Hessian). */
 void mortar_shape(const mortar_face_type *ft, const fwd *xi, fwd *N, fwd dN[][2]);
 /* Position x(xi) and tangents a_alpha(xi) of a face with node positions x (fwd, 3 per node). */
 void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fwd *pos, fwd a[2][3]);
@@ -69,7 +70,9 @@ void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fw
 /* Phi_j = sum_k coeff[j][k] N_k on the slave face. The coefficients depend on x_s alone, whose slots are the same in a
  * face-only pair and in every pair of that face: one computation serves them all. Standard: the identity. Dual (Wohlmuth 2000): A_e = D_e M_e^-1
  * with D_e = diag(int N_j), M_e = int N_j N_k over the whole current slave face, so int Phi_j N_k = delta_jk int N_k.
- * LINE2 and TRI3 give the constants (2, -1 / 3, -1), QUAD4 depends on the face's shape (derivatives included). */
+ * LINE2 and TRI3 give the constants (2, -1 / 3, -1), QUAD4 and LINE3 depend on the face's shape (derivatives
+ * included). LINE3's shape functions integrate to the positive weights 1/6, 1/6, 2/3 of a straight face with its
+ * middle node in the middle, so this standard dual basis is admissible there (D_jj = int N_j > 0). */
 typedef struct {
   int nen;
   fwd coeff[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
@@ -105,7 +108,9 @@ void mortar_slave_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, 
 /* Segment-based integration, 2D (Popp, Gee, Wall 2009; McDevitt & Laursen 2000): the master nodes are projected onto
  * the slave line along the interpolated averaged slave normal, the overlap [xi_a, xi_b] gets n_gauss Gauss points,
  * each projected onto the master along n(xi^(1)). Exact D and M for straight edges with parallel nodal normals
- * (the patch test). Returns 1 if the faces overlap (integrals added), 0 otherwise. */
+ * (the patch test). LINE3 faces (either side): the same construction by local Newton iterations on the quadratic
+ * slave line and master (n_gauss points on the segment, the slave Jacobian at each). Returns 1 if the faces
+ * overlap (integrals added), 0 otherwise. */
 int mortar_segments_2d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int n_gauss,
                        mortar_integrals *I);
 
@@ -214,5 +219,7 @@ int mortar_triangle_rule(int n, const double **xi, const double **w);
 /* Reference rule on a whole slave face with about `order` points per direction: LINE2 n Gauss points, QUAD4 n x n,
  * TRI3 the triangle rule of the nearest supported size. Returns the number of points (<= MORTAR_MAX_RULE^2). */
 int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w);
+/* Points per direction of the whole-face rule of the dual coefficients and of D: exact on straight/flat faces. */
+int mortar_face_exact_order(sk_elem_type type);
 
 #endif

@@ -22,7 +22,7 @@ static const char *const parameters[] = {
     "c_n: complementarity parameter of the normal condition, traction per length [computed from the scene: 10 E*/h "
     "(E*: contact modulus of the pair, h: mean edge of the slave surface)]",
     "c_t: complementarity parameter of the tangential condition, traction per length [computed from the scene: c_n]",
-    "segment_gauss: Gauss points per 2D integration segment [3]",
+    "segment_gauss: Gauss points per 2D integration segment [3; 5 with line3 faces]",
     "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
     "there; else 6, exact on parallelograms]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
@@ -214,7 +214,9 @@ static sk_status read_parameters(sk_instance *inst) {
   SK_TRY(read_choice(inst, "active_set", sets, &inst->active_set));
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->ncp.mu));
   SK_TRY(read_complementarity(inst));
-  SK_TRY(api->param_int(host, "segment_gauss", 0, 3, &inst->segment_gauss));
+  /* straight faces: Phi_j N_l of degree 2 (line2) or 4 (line3) on a segment; curved LINE3 faces are not polynomial */
+  const int curved = inst->slave->cell_type == SK_LINE3 || (inst->master && inst->master->cell_type == SK_LINE3);
+  SK_TRY(api->param_int(host, "segment_gauss", 0, curved ? 5 : 3, &inst->segment_gauss));
   /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
   const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
   SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : 6, &inst->cell_rule));
@@ -292,14 +294,30 @@ static int scheme_refused(const char *scheme, double alpha, char *reason, int si
   return 1;
 }
 
-static int first_order_face(sk_elem_type type) { return type == SK_LINE2 || type == SK_TRI3 || type == SK_QUAD4; }
+/* Faces the kernel integrates: first-order ones, and LINE3 in 2D (the standard dual basis of a LINE3 face is
+ * admissible: its shape functions integrate to the positive weights 1/6, 2/3, 1/6). TRI6 and QUAD8 need the
+ * transformed quadratic bases of Popp, Wohlmuth, Gee & Wall (2012), whose vertex functions integrate to 0 (TRI6) or a
+ * negative value (QUAD8); QUAD9 and the second-order 3D faces are not built yet. */
+static int face_supported(sk_elem_type type) {
+  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4;
+}
+
+static const char *face_name(sk_elem_type type) {
+  switch (type) {
+    case SK_TRI6: return "TRI6";
+    case SK_QUAD8: return "QUAD8";
+    case SK_QUAD9: return "QUAD9";
+    default: return "second-order";
+  }
+}
 
 static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, int has_master,
                          sk_elem_type master, char *reason, int size) {
-  if (first_order_face(slave) && (!has_master || first_order_face(master))) return 0;
-  snprintf(reason, (size_t)size, "mortar-dual handles first-order faces only (line2 in 2D, tri3 and quad4 in 3D); "
-           "%s surface '%s' has second-order faces (mesh.order: 2?)", first_order_face(slave) ? "master" : "slave",
-           first_order_face(slave) ? master_name : slave_name);
+  const int slave_ok = face_supported(slave);
+  if (slave_ok && (!has_master || face_supported(master))) return 0;
+  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3 and quad4 in 3D (first-order "
+           "faces only in 3D); %s surface '%s' has %s faces (mesh.order: 2 in 3D)", slave_ok ? "master" : "slave",
+           slave_ok ? master_name : slave_name, face_name(slave_ok ? master : slave));
   return 1;
 }
 
@@ -332,7 +350,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   else if (mortar_face_type_init(&inst->st, sv->cell_type, api->contact->shape, api->contact->shape_hessian) != 0 ||
            (inst->master && mortar_face_type_init(&inst->mt, inst->master->cell_type, api->contact->shape,
                                                   api->contact->shape_hessian) != 0))
-    st = api->error(host, SK_ERR_INTERNAL, "%s: mortar-dual: no face type for a first-order face", attach->name);
+    st = api->error(host, SK_ERR_INTERNAL, "%s: mortar-dual: no face type for a supported face", attach->name);
   if (st == SK_OK) st = read_parameters(inst);
   if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
     inst->condense = api->get_extension(host, SK_EXT_CONDENSE);
@@ -347,7 +365,7 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
   }
   /* rules: D and the dual coefficients (degree 2 per direction suffices on affine faces; 3 points per direction),
    * the whole face (concentrated points, obstacles), the 2D segments */
-  inst->n_d_points = mortar_face_rule(sv->cell_type, 3, inst->d_xi, inst->d_w);
+  inst->n_d_points = mortar_face_rule(sv->cell_type, mortar_face_exact_order(sv->cell_type), inst->d_xi, inst->d_w);
   inst->n_face_points = mortar_face_rule(sv->cell_type, inst->face_gauss, inst->face_xi, inst->face_w);
   mortar_gauss_legendre(inst->segment_gauss, inst->seg_eta, inst->seg_w);
   /* topology */

@@ -203,7 +203,7 @@ def quadratic_refusals(c):
     binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
     for plugin, needle in (("nts-augmented", "first-order slave faces only"),
                            ("covariant-penalty", "(not TRI6 or QUAD8)"),
-                           ("mortar-dual", "first-order faces only")):
+                           ("mortar-dual", "first-order faces only in 3D")):
         proc = subprocess.run([binary, "check", os.path.join(ROOT, "scenes/hertz-3d.yaml"), "--plugin", plugin,
                                "--set", "mesh.order=2", "--replace", "contact.0.parameters={}"],
                               capture_output=True, text=True)

@@ -11,10 +11,11 @@
 #include "sk_test.h"
 #include "stickslip/fe.h"
 
-static mortar_face_type ft_line2, ft_tri3, ft_quad4;
+static mortar_face_type ft_line2, ft_line3, ft_tri3, ft_quad4;
 
 static inline void test_face_types(void) {
   mortar_face_type_init(&ft_line2, SK_LINE2, sk_elem_shape, sk_elem_shape_hessian);
+  mortar_face_type_init(&ft_line3, SK_LINE3, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_tri3, SK_TRI3, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_quad4, SK_QUAD4, sk_elem_shape, sk_elem_shape_hessian);
 }

@@ -38,6 +38,26 @@ static void mesh_2d(kit *k, int with_master) {
   if (with_master) kit_surface(k, 1, SK_LINE2, 2, 4, master);
 }
 
+/* 2D, LINE3 faces (mesh.order: 2): an upper body's curved bottom (2 faces, 5 slave nodes, normal -y) over a lower
+ * body's curved top (3 faces, 7 master nodes), non-matching, the mid-side nodes off the chords' middles (distorted
+ * parametrisations). gmsh order: the ends, then the middle. */
+static void mesh_2d_line3(kit *k) {
+  static const double xs[5] = {0.0, 0.27, 0.5, 0.78, 1.0}, xm[7] = {1.2, 1.04, 0.85, 0.62, 0.4, 0.18, -0.2};
+  double X[24];
+  for (int i = 0; i < 5; ++i) {
+    X[2 * i] = xs[i];
+    X[2 * i + 1] = 0.03 * sin(3.0 * xs[i]);
+  }
+  for (int i = 0; i < 7; ++i) {
+    X[2 * (5 + i)] = xm[i];
+    X[2 * (5 + i) + 1] = -0.004 + 0.05 * xm[i] * xm[i];
+  }
+  kit_init(k, 2, 12, X);
+  static const int slave[6] = {0, 2, 1, 2, 4, 3}, master[9] = {5, 7, 6, 7, 9, 8, 9, 11, 10};
+  kit_surface(k, 0, SK_LINE3, 3, 2, slave);
+  kit_surface(k, 1, SK_LINE3, 3, 3, master);
+}
+
 /* 3D: a 2 x 2 quad4 slave patch (normal -z, slightly warped) over a tri3 master (2 x 2 squares split in two,
  * normal +z, curved), offset and rotated against each other. */
 static void mesh_3d(kit *k) {
@@ -135,6 +155,7 @@ static double check_case(const fd_case *c) {
   kit k;
   if (c->dim == 3 && c->with_master == 2) mesh_3d_matching(&k);
   else if (c->dim == 3) mesh_3d(&k);
+  else if (c->with_master == 3) mesh_2d_line3(&k);
   else mesh_2d(&k, c->with_master);
   if (c->obstacle) kit_obstacle(&k, c->obstacle);
   params(&k, c->kv);
@@ -231,6 +252,11 @@ int main(void) {
       {"2D concentrated M, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, con_m, 0.0},
       {"2D moving line obstacle, mu 0.3", 2, 0, STRATEGY_SADDLE_POINT, &line, dual, 0.0},
       {"2D moving circle obstacle, mu 0.3 (condensed)", 2, 0, STRATEGY_CONDENSED, &circle, dual, 0.0},
+      {"2D segments line3 dual, mu 0.3", 2, 3, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
+      {"2D segments line3 dual, mu 0.3 (condensed)", 2, 3, STRATEGY_CONDENSED, NULL, dual, 0.0},
+      {"2D segments line3 dual, mu 0.05 (condensed)", 2, 3, STRATEGY_CONDENSED, NULL, slip, 0.0},
+      {"2D segments line3 standard frictionless", 2, 3, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},
+      {"2D concentrated line3 A, mu 0.3", 2, 3, STRATEGY_SADDLE_POINT, NULL, con_a, 0.0},
       {"3D segments quad4/tri3 dual, mu 0.3", 3, 1, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
       {"3D segments quad4/tri3 dual, mu 0.3 (condensed)", 3, 1, STRATEGY_CONDENSED, NULL, dual, 0.0},
       {"3D segments quad4/tri3 standard frictionless", 3, 1, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},

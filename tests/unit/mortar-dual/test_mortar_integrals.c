@@ -39,7 +39,7 @@ static void check_quadrature(void) {
 }
 
 /* int_e Phi_j N_k = delta_jk int_e N_k on the current face, with a rule finer than the kernel's. Exact on planar
- * faces; on a warped QUAD4 only up to the error of the kernel's 3 x 3 rule for D_e, M_e (the Jacobian is not
+ * faces and on LINE3 faces, straight or curved (the kernel's 10 points there); on a warped QUAD4 only up to the error of the kernel's 3 x 3 rule for D_e, M_e (the Jacobian is not
  * polynomial there): `tol`. */
 static void check_biorthogonality(const mortar_face_type *ft, const double *x, double tol) {
   mortar_pair p;
@@ -48,7 +48,7 @@ static void check_biorthogonality(const mortar_face_type *ft, const double *x, d
   mortar_basis_coeffs A;
   mortar_basis_coefficients(&p, MORTAR_DUAL, &A);
   double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
-  const int nq = mortar_face_rule(ft->type, 8, xi, w);
+  const int nq = mortar_face_rule(ft->type, ft->pdim == 1 ? MORTAR_MAX_RULE : 8, xi, w);
   double PN[4][4] = {{0}}, intN[4] = {0};
   for (int q = 0; q < nq; ++q) {
     fwd xq[2] = {fwd_const(xi[q * ft->pdim]), fwd_const(ft->pdim > 1 ? xi[q * ft->pdim + 1] : 0.0)};
@@ -75,6 +75,26 @@ static void check_biorthogonality(const mortar_face_type *ft, const double *x, d
     for (int k = 0; k < ft->nen; ++k) err = fmax(err, fabs(PN[j][k] - (j == k ? intN[k] : 0.0)));
   printf("  biorthogonality %s: max |int Phi_j N_k - delta_jk int N_k| = %.2e\n", sk_elem_name(ft->type), err);
   SK_CHECK(err < tol);
+  /* LINE3: D_jj = int Phi_j = int N_j > 0 (the standard dual basis is admissible); on a straight face with its middle
+   * node in the middle, L (1/6, 1/6, 2/3) */
+  if (ft->type == SK_LINE3) {
+    mortar_integrals I;
+    mortar_integrals_zero(&I, &p);
+    const int nd = mortar_face_rule(ft->type, mortar_face_exact_order(ft->type), xi, w);
+    mortar_slave_integrals(&p, &A, MORTAR_DUAL, nd, xi, w, &I);
+    double length = 0.0;
+    for (int j = 0; j < 3; ++j) length += I.D[j][j].v;
+    printf("  line3 weights D_jj / L: %.15f %.15f %.15f\n", I.D[0][0].v / length, I.D[1][1].v / length,
+           I.D[2][2].v / length);
+    for (int j = 0; j < 3; ++j) SK_CHECK(I.D[j][j].v > 0.0);
+    const double chord = hypot(x[3] - x[0], x[4] - x[1]);
+    const double off = fabs((x[6] - x[0]) * (x[4] - x[1]) - (x[7] - x[1]) * (x[3] - x[0])) / chord;
+    const double mid = hypot(x[6] - 0.5 * (x[0] + x[3]), x[7] - 0.5 * (x[1] + x[4]));
+    if (off < 1e-15 * chord && mid < 1e-15 * chord) {
+      SK_CHECK_CLOSE(I.D[0][0].v / length, 1.0 / 6.0, 1e-14);
+      SK_CHECK_CLOSE(I.D[2][2].v / length, 2.0 / 3.0, 1e-14);
+    }
+  }
   /* the affine faces give the textbook constants */
   if (ft->type == SK_LINE2) {
     SK_CHECK_CLOSE(A.coeff[0][0].v, 2.0, 1e-13);
@@ -147,7 +167,7 @@ static int integrate_case(const pair_case *c, const double *xs, const double *xm
   mortar_basis_coefficients(p, c->basis, &A);
   mortar_integrals_zero(I, p);
   double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
-  int nq = mortar_face_rule(c->st->type, 3, xi, w);
+  int nq = mortar_face_rule(c->st->type, mortar_face_exact_order(c->st->type), xi, w);
   mortar_slave_integrals(p, &A, c->basis, nq, xi, w, I);
   nq = mortar_face_rule(c->st->type, c->order, xi, w);
   int dim = c->dim;
@@ -189,7 +209,8 @@ static int eval_pair(void *ctx, const double *u, int derivatives, fwd *out) {
  * up, perturbed nodal normals. */
 static void generic_configuration(const pair_case *c, double *u) {
   const int d = c->dim, es = c->st->nen, em = c->mt ? c->mt->nen : 0;
-  static const double line_s[2][2] = {{0, 0}, {1, 0.1}}, line_m[2][2] = {{0.7, -0.05}, {-0.4, 0.02}};
+  static const double line_s[3][2] = {{0, 0}, {1, 0.1}, {0.58, 0.09}}, line_m[3][2] = {{0.7, -0.05}, {-0.4, 0.02},
+                                                                                      {0.2, -0.07}};
   static const double tri_s[3][3] = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}};
   static const double quad_s[4][3] = {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
   static const double tri_m[3][3] = {{-0.2, -0.1, -0.05}, {0.9, -0.2, -0.04}, {0.1, 0.8, -0.06}};
@@ -496,6 +517,20 @@ int main(void) {
   check_biorthogonality(&ft_tri3, tri, 1e-15);
   check_biorthogonality(&ft_quad4, quad, 1e-15);
   check_biorthogonality(&ft_quad4, warped, 3e-6); /* measured 2.1e-6 (face area 1.4) */
+  /* LINE3 (gmsh order: ends, middle): straight with the middle node in the middle, straight with it moved by 10 % of
+   * the length (a distorted parametrisation: N_j N_k J is not polynomial), a curved arc (30 degrees) */
+  const double line3_straight[] = {0.1, 0.2, 0, 1.3, 0.7, 0, 0.7, 0.45, 0};
+  const double line3_distorted[] = {0.1, 0.2, 0, 1.3, 0.7, 0, 0.82, 0.5, 0};
+  double line3_arc[9];
+  for (int a = 0; a < 3; ++a) {
+    const double angle = (a == 2 ? 0.0 : a == 0 ? -1.0 : 1.0) * 3.14159265358979323846 / 12.0;
+    line3_arc[3 * a] = 2.0 * sin(angle);
+    line3_arc[3 * a + 1] = 2.0 * cos(angle);
+    line3_arc[3 * a + 2] = 0.0;
+  }
+  check_biorthogonality(&ft_line3, line3_straight, 1e-15);
+  check_biorthogonality(&ft_line3, line3_distorted, 1e-15); /* measured 3.9e-16 */
+  check_biorthogonality(&ft_line3, line3_arc, 1e-15);       /* measured 1.5e-16 with the kernel's 10 points */
   check_patch();
   check_vertex_event_continuity();
   check_sliver_derivatives();
@@ -504,13 +539,20 @@ int main(void) {
   const mortar_face_type *mt3[] = {&ft_tri3, &ft_quad4, &ft_tri3, &ft_quad4};
   for (int basis = 0; basis < 2; ++basis) {
     char label[96];
-    snprintf(label, sizeof label, "2D segments (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 3});
-    snprintf(label, sizeof label, "2D points A (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_A, 4});
-    snprintf(label, sizeof label, "2D points M (%s)", basis ? "dual" : "standard");
-    check_derivatives(label, (pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_POINTS_M, 4});
     const mortar_basis b = (mortar_basis)basis;
+    /* 2D pairs: slave, master, segment rule (LINE3: the plugin's default 5); points on LINE2 and LINE3 pairs */
+    const struct { const mortar_face_type *s, *m; int segment_rule, points; } pairs2d[] = {
+        {&ft_line2, &ft_line2, 3, 1}, {&ft_line3, &ft_line3, 5, 1}, {&ft_line3, &ft_line2, 5, 0}};
+    for (int t = 0; t < 3; ++t) {
+      const char *s_name = sk_elem_name(pairs2d[t].s->type), *m_name = sk_elem_name(pairs2d[t].m->type);
+      snprintf(label, sizeof label, "2D segments %s/%s (%s)", s_name, m_name, basis ? "dual" : "standard");
+      check_derivatives(label, (pair_case){2, pairs2d[t].s, pairs2d[t].m, b, MODE_SEGMENTS, pairs2d[t].segment_rule});
+      for (int mode = MODE_POINTS_A; pairs2d[t].points && mode <= MODE_POINTS_M; ++mode) {
+        snprintf(label, sizeof label, "2D points %s %s/%s (%s)", mode == MODE_POINTS_A ? "A" : "M", s_name, m_name,
+                 basis ? "dual" : "standard");
+        check_derivatives(label, (pair_case){2, pairs2d[t].s, pairs2d[t].m, b, (pair_mode)mode, 4});
+      }
+    }
     check_derivatives("2D obstacle plane", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_PLANE, 3});
     check_derivatives("2D obstacle circle", (pair_case){2, &ft_line2, NULL, b, MODE_OBSTACLE_SPHERE, 3});
     for (int t = 0; t < 4; ++t) {
@@ -525,6 +567,7 @@ int main(void) {
     check_derivatives("3D obstacle sphere quad4", (pair_case){3, &ft_quad4, NULL, b, MODE_OBSTACLE_SPHERE, 3});
     check_derivatives("3D obstacle sphere tri3", (pair_case){3, &ft_tri3, NULL, b, MODE_OBSTACLE_SPHERE, 3});
     check_rigid_motion((pair_case){2, &ft_line2, &ft_line2, (mortar_basis)basis, MODE_SEGMENTS, 3});
+    check_rigid_motion((pair_case){2, &ft_line3, &ft_line3, (mortar_basis)basis, MODE_SEGMENTS, 5});
     check_rigid_motion((pair_case){3, &ft_quad4, &ft_tri3, (mortar_basis)basis, MODE_SEGMENTS, 7});
     check_rigid_motion((pair_case){3, &ft_tri3, &ft_quad4, (mortar_basis)basis, MODE_POINTS_A, 3});
   }
