@@ -156,7 +156,11 @@ def deprecated_strategies(plugins):
 def second_order_accepted(name, scene):
     """True when `stickslip check` accepts the plugin's scene on second-order elements, False when the plugin
     refuses them (its message says first-order), None when the check fails for another reason."""
-    proc = subprocess.run([BINARY, "check", scene, "--set", "mesh.order=2"], capture_output=True, text=True)
+    import yaml
+    meshes = (yaml.safe_load(open(scene)) or {}).get("mesh")
+    keys = ["mesh.%d.order" % k for k in range(len(meshes))] if isinstance(meshes, list) else ["mesh.order"]
+    settings = [arg for key in keys for arg in ("--set", key + "=2")]
+    proc = subprocess.run([BINARY, "check", scene, *settings], capture_output=True, text=True)
     if proc.returncode == 0:
         return True
     return False if "first-order" in proc.stderr else None
