@@ -229,6 +229,8 @@ void scatter_vector(const sk_linear_system *sys, const double *whole, double *ow
 // ||b - A x|| / ||b|| (||b - A x|| when b = 0); the residual b - A x into *residual when given
 double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual = nullptr);
 sk_status agree(MPI_Comm comm, sk_status local, const char *what);
+// Drops the pattern and everything built on it (matrix, maps, solver set-ups that depend on it).
+void release_pattern(sk_linear_system *sys);
 RCP<Matrix> build_matrix(const RCP<const Map> &row_map, const RCP<const Map> &domain_map,
                          const std::vector<int64_t> &row_ptr, const std::vector<int> &cols, int first_row,
                          std::vector<LocalOrdinal> &slots);
