@@ -5,10 +5,16 @@ thin ring (radii 0.9 and 1, E 1e4, nu 0.3) crushed between two plates until its 
   more than the penalty's order (the mean pressure the plates transmit, |F_top| over the flattened length pi r_mid,
   over the computed penalty 10 E*/h of the inner surface); without the pair (the same scene, the pair deleted) the
   walls pass through each other by more than ten times that, so the pair is what holds them apart.
+- tube_crush_self_contact: the same in 3D on scenes/tube-crush-3d.yaml (a thin tube, radii 0.9 and 1, flattened by a
+  plate onto a floor until its inner wall meets itself), run coarser for CI (half the length, 2 element layers along
+  it, dt 0.04): with the pair `inner-self` the top wall's inner surface enters the bottom wall's by no more than the
+  penalty's order (|F_plate| over the flattened area pi r_mid L, over the computed penalty 10 E*/h); without the
+  pair the walls pass through each other by more than ten times that.
 - self_contact_refused: a plugin without the self-contact capability is refused at `check`, naming penalty-nts.
 
 Penetration is measured on the output geometry: each inner node of the top half against the polyline of the bottom
-half's inner nodes at the same x (every output step)."""
+half's inner nodes at the same x, in the same cross-section (same reference z) in 3D (every output step)."""
+import csv
 import math
 import os
 import subprocess
@@ -19,30 +25,39 @@ from stickslip_compare.results import collection
 
 SCENE = os.path.join(ROOT, "scenes", "ring-crush-2d.yaml")
 R_INNER, R_OUTER, E, NU, N_AROUND = 0.9, 1.0, 1.0e4, 0.3, 96
+TUBE = os.path.join(ROOT, "scenes", "tube-crush-3d.yaml")
+# the CI version of the tube: half its length, 2 layers along it (faces 0.125 long, as in the scene), dt 0.04
+TUBE_LENGTH, TUBE_LAYERS, TUBE_AROUND = 0.25, 2, 48
+TUBE_CI = ["--set", "mesh.parameters.length=%g" % TUBE_LENGTH, "--set", "mesh.parameters.n_length=%d" % TUBE_LAYERS,
+           "--set", "time.dt=0.04"]
 
 
 def inner_penetration(folder):
-    """Largest depth of a top-half inner node below the bottom half's inner surface, over the output steps."""
+    """Largest depth of a top-half inner node below the bottom half's inner surface, over the output steps: in each
+    cross-section (nodes of one reference z; the only one in 2D), against the bottom's polyline at the same x."""
     worst = -math.inf
     for _, name in collection(folder):
         vtu = read_vtu(os.path.join(folder, name))
-        top, bottom = [], []
+        sections = {}
         for p, u in zip(vtu["Points"], vtu["displacement"]):
             X = (p[0] - u[0], p[1] - u[1])
             if abs(math.hypot(*X) - R_INNER) < 1e-6:
+                top, bottom = sections.setdefault(round(p[2] - u[2], 9), ([], []))
                 (top if X[1] > 0 else bottom).append((p[0], p[1]))
-        bottom.sort()
-        for x, y in top:
-            for (x0, y0), (x1, y1) in zip(bottom, bottom[1:]):
-                if x0 <= x <= x1 and x1 > x0:
-                    worst = max(worst, y0 + (x - x0) * (y1 - y0) / (x1 - x0) - y)
+        for top, bottom in sections.values():
+            bottom.sort()
+            for x, y in top:
+                for (x0, y0), (x1, y1) in zip(bottom, bottom[1:]):
+                    if x0 <= x <= x1 and x1 > x0:
+                        worst = max(worst, y0 + (x - x0) * (y1 - y0) / (x1 - x0) - y)
     return worst
 
 
-def without_self_pair():
-    text = open(SCENE).read().replace("../meshes", os.path.join(ROOT, "meshes"))
+def without_self_pair(scene):
+    """A copy of the scene without its pair `inner-self` (the last contact entry, before `time:`)."""
+    text = open(scene).read().replace("../meshes", os.path.join(ROOT, "meshes"))
     start = text.index("  - name: inner-self")
-    fd, path = tempfile.mkstemp(suffix=".yaml", prefix="stickslip-ring-")
+    fd, path = tempfile.mkstemp(suffix=".yaml", prefix="stickslip-self-")
     with os.fdopen(fd, "w") as f:
         f.write(text[:start] + text[text.index("time:"):])
     return path
@@ -50,7 +65,7 @@ def without_self_pair():
 
 def ring_crush_self_contact(checks):
     with_pair, _ = run(SCENE)
-    path = without_self_pair()
+    path = without_self_pair(SCENE)
     without, _ = run(path)
     os.remove(path)
     force = abs(with_pair.rows[-1]["reaction_top_y"])
@@ -61,6 +76,34 @@ def ring_crush_self_contact(checks):
     checks.check(with_pair.rows[-1]["active_points"] > N_AROUND, "the inner surface folded onto itself: %d active "
                  "points at the end (plates and self contact)" % with_pair.rows[-1]["active_points"])
     checks.check(deep_with <= bound, "with self contact the inner surface enters itself by %.3g <= the penalty's "
+                 "order %.3g (mean pressure %.4g / penalty %.4g)" % (deep_with, bound, bound * penalty, penalty))
+    checks.check(deep_without > 10 * bound, "without it the walls pass through each other: %.3g > 10 x %.3g" %
+                 (deep_without, bound))
+
+
+def self_pair_active(folder, pair=2):
+    """Active points of contact pair `pair` (its index in the scene) at the last step, from contact.csv."""
+    with open(os.path.join(folder, "contact.csv")) as f:
+        rows = [r for r in csv.DictReader(f) if int(r["pair"]) == pair]
+    last = max(int(r["step"]) for r in rows)
+    return sum(1 for r in rows if int(r["step"]) == last and int(r["state"]) != 0)
+
+
+def tube_crush_self_contact(checks):
+    with_pair, _ = run(TUBE, *TUBE_CI)
+    path = without_self_pair(TUBE)
+    without, _ = run(path, *TUBE_CI)
+    os.remove(path)
+    force = abs(with_pair.rows[-1]["reaction_plate_y"])
+    # h: the mean corner-to-corner edge of the inner faces (the plugin's rule): the chord around and the layer along
+    h = 0.5 * (2 * R_INNER * math.sin(math.pi / TUBE_AROUND) + TUBE_LENGTH / TUBE_LAYERS)
+    penalty = 10 * (E / (2 * (1 - NU ** 2))) / h
+    bound = force / (math.pi * 0.5 * (R_INNER + R_OUTER) * TUBE_LENGTH) / penalty
+    deep_with, deep_without = inner_penetration(with_pair.folder), inner_penetration(without.folder)
+    self_active = self_pair_active(with_pair.folder)
+    checks.check(self_active > TUBE_LAYERS + 1, "the inner wall met itself: %d active points of the pair inner-self "
+                 "at the end (more than one line of nodes along the tube)" % self_active)
+    checks.check(deep_with <= bound, "with self contact the inner wall enters itself by %.3g <= the penalty's "
                  "order %.3g (mean pressure %.4g / penalty %.4g)" % (deep_with, bound, bound * penalty, penalty))
     checks.check(deep_without > 10 * bound, "without it the walls pass through each other: %.3g > 10 x %.3g" %
                  (deep_without, bound))
@@ -77,4 +120,4 @@ def self_contact_refused(checks):
 
 
 if __name__ == "__main__":
-    main([ring_crush_self_contact, self_contact_refused])
+    main([ring_crush_self_contact, tube_crush_self_contact, self_contact_refused])
