@@ -35,3 +35,4 @@ EndFor
 Physical Surface("body") = {1 : 4};
 Physical Curve("inner") = {1 : 4};
 Physical Curve("outer") = {5 : 8};
+Physical Curve("boundary") = {1 : 8};   // inner and outer: the whole boundary

@@ -153,6 +153,10 @@ static sk_status read_explicit_pair(const sk_cfg *entry, sk_model *model, int k)
     return sk_scene_fail_at(sk_cfg_get(entry, "obstacles"), "%s",
                    "goes with `bodies` (every listed body against each obstacle); a pair with one obstacle gives it "
                    "as `obstacle`");
+  if (sk_cfg_peek(entry, "self"))
+    return sk_scene_fail_at(sk_cfg_peek(entry, "self"), "%s",
+                   "goes with `bodies` (each listed body's whole boundary against itself); a single self pair gives "
+                   "`master` equal to `slave`");
   SK_TRY(sk_cfg_string(entry, "slave", 1, NULL, &slave_name));
   SK_TRY(build_surface(model, sk_cfg_get(entry, "slave"), slave_name, &pair->slave));
   SK_TRY(sk_cfg_string(entry, "master", 0, NULL, &master_name));
@@ -178,6 +182,7 @@ typedef struct {
   int n_bodies;
   int *bodies;     /* model body indices, in the order listed (`all`: the scene's order) */
   int n_obstacles;
+  int self;        /* `self: true`: each listed body's boundary also meets itself (a self pair per body) */
 } body_set;
 
 static int body_index_of(const sk_model *model, const char *name) {
@@ -187,7 +192,7 @@ static int body_index_of(const sk_model *model, const char *name) {
 }
 
 /* The bodies of an entry with `bodies:`: `all`, or a list of body names (each known, none twice), at least two of
- * them unless obstacles are listed too. */
+ * them unless obstacles are listed too or `self: true` asks for each body's self pair. */
 static sk_status read_body_set(const sk_cfg *entry, const sk_model *model, body_set *set) {
   const sk_cfg *node = sk_cfg_get(entry, "bodies");
   const sk_cfg *obstacles = sk_cfg_get(entry, "obstacles");
@@ -200,6 +205,7 @@ static sk_status read_body_set(const sk_cfg *entry, const sk_model *model, body_
   if (obstacles && sk_cfg_kind_of(obstacles) != SK_CFG_SEQ)
     return sk_scene_fail_at(obstacles, "%s", "expects a list of obstacles (each as a pair's `obstacle`)");
   set->n_obstacles = sk_cfg_size(obstacles);
+  SK_TRY(sk_cfg_bool(entry, "self", 0, 0, &set->self));
   set->bodies = malloc(sizeof(int) * (size_t)(model->n_bodies > 0 ? model->n_bodies : 1));
   if (!set->bodies) return sk_error_set(SK_ERR_NOMEM, "%s: out of memory", sk_cfg_where(node));
   set->n_bodies = 0;
@@ -227,15 +233,16 @@ static sk_status read_body_set(const sk_cfg *entry, const sk_model *model, body_
   } else {
     return sk_scene_fail_at(node, "%s", "expects `all` or a list of body names, e.g. [disk-1, disk-2]");
   }
-  if (set->n_bodies < 2 && set->n_obstacles == 0)
-    return sk_error_set(SK_ERR_INPUT, "%s: `bodies` gives %d body and no `obstacles`: no pair to create (contact among "
-                        "bodies needs two of them; a body against a rigid obstacle is a pair with `obstacle`)",
+  if (set->n_bodies < 2 && set->n_obstacles == 0 && !set->self)
+    return sk_error_set(SK_ERR_INPUT, "%s: `bodies` gives %d body, no `obstacles` and no `self: true`: no pair to "
+                        "create (contact among bodies needs two of them; a body against a rigid obstacle is a pair "
+                        "with `obstacle`; a body against itself needs `self: true`)",
                         sk_cfg_where(node), set->n_bodies);
   return SK_OK;
 }
 
 static int pairs_of_set(const body_set *set) {
-  return set->n_bodies * (set->n_bodies - 1) / 2 + set->n_bodies * set->n_obstacles;
+  return set->n_bodies * (set->n_bodies - 1) / 2 + set->n_bodies * set->n_obstacles + (set->self ? set->n_bodies : 0);
 }
 
 /* Reference sizes of a body's boundary: the mean corner-to-corner edge length decides which side is slave. */
@@ -247,7 +254,7 @@ static double mean_face_size(const sk_model *model, const sk_surface *surface) {
 
 /* The pairs of one `bodies:` entry, from pairs[*k] on. Between two bodies the slave is the one whose boundary has the
  * smaller mean face size (the finer mesh: its nodes do not fall between the master's); within 1e-9 relative the
- * one listed first (deterministic). */
+ * one listed first (deterministic). With `self: true` each body's self pair follows, in the order listed. */
 static sk_status create_body_pairs(const sk_cfg *entry, int entry_index, sk_model *model, const body_set *set,
                                    int *k) {
   const char *name;
@@ -289,22 +296,44 @@ static sk_status create_body_pairs(const sk_cfg *entry, int entry_index, sk_mode
       SK_TRY(check_pair(entry, model, *k - 1));
     }
   }
+  for (int i = 0; set->self && i < set->n_bodies; ++i) {
+    sk_contact_pair *pair = &model->pairs[*k];
+    pair->entry = entry_index;
+    pair->generated = 1;
+    SK_TRY(read_pair_plugin(entry, name, pair));
+    const sk_body *a = &model->bodies[set->bodies[i]];
+    char boundary_name[SK_NAME_MAX + 16];
+    snprintf(boundary_name, sizeof boundary_name, "%s-boundary", a->name);
+    SK_TRY(sk_surface_build_boundary(&model->mesh, a->group, set->bodies[i], boundary_name, &pair->slave));
+    pair->self_contact = 1;
+    pair->master = pair->slave; /* shares the slave's arrays (freed once), as an explicit pair with master = slave */
+    snprintf(pair->name, sizeof pair->name, "%s:%s/self", name, a->name);
+    model->n_pairs = ++*k;
+    SK_TRY(check_pair(entry, model, *k - 1));
+  }
   return SK_OK;
 }
 
-/* Two entries must not both create contact between the same two bodies (or a body and the same obstacle entry):
- * the forces would be added twice. Explicit pairs between two bodies count as that pair of bodies. */
+/* Two entries must not both create contact between the same two bodies (or a body and the same obstacle entry), nor
+ * both a body's self contact: the forces would be added twice. Explicit pairs between two bodies count as that pair
+ * of bodies, an explicit self pair on a body's surface as that body's self contact. */
 static sk_status check_pairs_unique(const sk_cfg *list, const sk_model *model) {
   for (int k = 0; k < model->n_pairs; ++k) {
     const sk_contact_pair *p = &model->pairs[k];
-    if (p->has_obstacle || p->self_contact) continue;
+    if (p->has_obstacle) continue;
     for (int l = k + 1; l < model->n_pairs; ++l) {
       const sk_contact_pair *q = &model->pairs[l];
-      if (q->has_obstacle || q->self_contact || (!p->generated && !q->generated)) continue;
+      if (q->has_obstacle || q->self_contact != p->self_contact || (!p->generated && !q->generated)) continue;
       const int same = (p->slave.body == q->slave.body && p->master.body == q->master.body) ||
                        (p->slave.body == q->master.body && p->master.body == q->slave.body);
       if (!same) continue;
       const sk_cfg *at = sk_cfg_at(list, q->entry);
+      if (p->self_contact)
+        return sk_error_set(SK_ERR_INPUT,
+                            "%s: contact pair '%s' puts body '%s' in contact with itself, and so does pair '%s' (%s): "
+                            "a body's self contact is given once (drop `self: true` or the explicit self pair)",
+                            sk_cfg_where(at), q->name, model->bodies[q->slave.body].name, p->name,
+                            sk_cfg_where(sk_cfg_at(list, p->entry)));
       return sk_error_set(SK_ERR_INPUT,
                           "%s: contact pair '%s' puts bodies '%s' and '%s' in contact, and so does pair '%s' (%s): "
                           "contact between two bodies is given once (leave one of them out of `bodies`, or drop the "

@@ -738,6 +738,7 @@ int sk_term_plugin_explain_pair(const sk_term *base, FILE *out) {
                                  : "near at the start: active");
   else
     fprintf(out, ": %s\n", pair->has_obstacle ? "an obstacle: no broad phase (the plugin's own idle test)"
-                               : "the plugin has extra unknowns: no broad phase (the plugin's own idle test)");
+                            : pair->self_contact ? "self contact: no broad phase (the plugin's own search and exclusion)"
+                                                 : "the plugin has extra unknowns: no broad phase (the plugin's own idle test)");
   return 1;
 }

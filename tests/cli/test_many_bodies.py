@@ -1,6 +1,7 @@
 """`contact: [{bodies: ...}]` through the driver: `check --explain` lists the pairs it creates and which the broad
 phase keeps idle at the start; each mistake (an unknown body, a body listed twice, one body and no obstacle, a pair
-given twice) fails cleanly with a message naming the key and the fix. Usage: python3 test_many_bodies.py CASE."""
+given twice) fails cleanly with a message naming the key and the fix; `self: true` adds each listed body's self
+pair, listed too, and refused for a plugin without self contact. Usage: python3 test_many_bodies.py CASE."""
 import os
 import sys
 
@@ -61,7 +62,8 @@ def body_listed_twice(c):
 
 def one_body(c):
     refused(c, "bodies: all\n    obstacles: [{type: plane, name: floor, point: [0, -0.6, 0], normal: [0, 1, 0]}]",
-            "bodies: [left]", r"scene\.yaml:\d+:\d+: `bodies` gives 1 body and no `obstacles`: no pair to create")
+            "bodies: [left]", r"scene\.yaml:\d+:\d+: `bodies` gives 1 body, no `obstacles` and no `self: true`: no pair "
+            r"to create")
 
 
 def not_a_body_list(c):
@@ -83,8 +85,44 @@ def obstacles_without_bodies(c):
     refused(c, "bodies: all", "slave: a.boundary\n    master: b.boundary", r"scene\.yaml:\d+:\d+: .*goes with `bodies`")
 
 
+def self_pairs_listed(c):
+    c.run_scene(replace(SCENE, "bodies: all", "bodies: all\n    self: true"), "--explain", command="check")
+    out = c.proc.stdout
+    c.check(c.proc.returncode == 0, "check exits 0")
+    c.check("contact pairs created by `bodies:` (9;" in out, "--explain counts 9 pairs (3 between bodies, 3 against "
+            "the floor, 3 self pairs)")
+    for body, faces in (("left", 16), ("middle", 32), ("right", 16)):
+        c.check("'all:%s/self': slave %s-boundary (%d faces), master %s-boundary: self contact: no broad phase" %
+                (body, body, faces, body) in out, "the self pair of %s is listed" % body)
+    c.run_scene(replace(SCENE, "bodies: all", "bodies: [middle]\n    self: true"), command="check")
+    c.check(c.proc.returncode == 0, "one body with `self: true` and no other pair is enough")
+
+
+def self_refused(c):
+    # example-spring meets bodies and obstacles in 2D but declares no self contact: the created self pair is refused
+    refused(c, "bodies: all\n    obstacles: [{type: plane, name: floor, point: [0, -0.6, 0], normal: [0, 1, 0]}]\n"
+            "    plugin: penalty-nts", "bodies: all\n    self: true\n    plugin: example-spring",
+            r"scene\.yaml:\d+:\d+: contact pair 'all:left/self': plugin 'example-spring' cannot run it: it lacks what "
+            r"this scene needs: self-contact\. Plugins that can: .*penalty-nts")
+
+
+def self_given_twice(c):
+    scene = replace(SCENE, "bodies: all", "bodies: all\n    self: true")
+    c.run_scene(replace(scene, "time:", "  - {name: extra, plugin: penalty-nts, slave: b.boundary, master: b.boundary}"
+                        "\ntime:"), command="check")
+    c.expect_failure(r"contact pair 'extra' puts body 'middle' in contact with itself, and so does pair "
+                     r"'all:middle/self' \(.*scene\.yaml:\d+:\d+\): a body's self contact is given once")
+
+
+def self_without_bodies(c):
+    refused(c, "bodies: all\n    obstacles: [{type: plane, name: floor, point: [0, -0.6, 0], normal: [0, 1, 0]}]",
+            "slave: a.boundary\n    master: a.boundary\n    self: true", r"scene\.yaml:\d+:\d+: .*'contact\[0\]\.self': "
+            r"goes with `bodies`.*a single self pair gives `master` equal to `slave`")
+
+
 CASES = {f.__name__: f for f in [explain_lists_pairs, unknown_body, body_listed_twice, one_body, not_a_body_list,
-                                 pair_given_twice, bodies_with_slave, obstacles_without_bodies]}
+                                 pair_given_twice, bodies_with_slave, obstacles_without_bodies, self_pairs_listed,
+                                 self_refused, self_given_twice, self_without_bodies]}
 
 if __name__ == "__main__":
     main(CASES)
