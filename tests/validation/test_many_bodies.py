@@ -7,7 +7,13 @@
 - disks_in_box: scenes/disks-in-box-2d.yaml, short: the disks fall on the floor and on each other; no boundary node
   of a disk lies inside its master disk or beyond a wall by more than the penalty's order (the floor impact's
   speed times sqrt(mass / (penalty face size))), checked on the output geometry itself, so that a pair the broad
-  phase wrongly kept idle would show."""
+  phase wrongly kept idle would show.
+- tori_on_plane: scenes/tori-on-plane-3d.yaml short (4 steps, 4 elements around each tube) on 1 and 2 ranks: the
+  bottom tori rest on the floor and at least two tori touch each other; no point enters beyond the penalty's order
+  (a torus of mass m falling at v onto its ring of n_around floor springs eps A, as backward Euler resolves an impact
+  shorter than dt: v dt m / (m + n eps A dt^2)); and the two runs agree to 1e-10 of each quantity's scale (reactions,
+  contact force, energies) with the same active points."""
+import csv
 import math
 import os
 import tempfile
@@ -139,5 +145,50 @@ def disks_in_box(checks):
     checks.check(worst <= bound, "no slave node lies inside its master disk or beyond a wall by more than the "
                  "penalty's order: deepest %.3g <= %.3g (every output step)" % (worst, bound))
 
+TORI = "scenes/tori-on-plane-3d.yaml"
+# the CI version: 4 elements around each tube (the scene's 8 halved: its top and bottom rings of nodes stay)
+TORI_CI = ["--set", "time.end=0.04", "--set", "output.vtu_every=4"] + [
+    a for k in range(8) for a in ("--set", "mesh.%d.parameters.n_tube=4" % k)]
+# pair indices of the `bodies: all` entry: torus i (1-based) meets tori i+1..8, then the floor
+FLOOR_PAIRS = {7, 14, 20, 25, 29, 32, 34, 35}
+BOTTOM_ON_FLOOR = {7, 14, 20, 25}
+
+
+def tori_on_plane(checks):
+    one, _ = run(TORI, *TORI_CI)
+    two, _ = run(TORI, *TORI_CI, np=2)
+    checks.check(two.summary["ranks"] == 2, "the second run used 2 ranks")
+    with open(os.path.join(one.folder, "contact.csv")) as f:
+        points = [r for r in csv.DictReader(f) if int(r["state"]) != 0]
+    last = max(int(r["step"]) for r in points)
+    active = {int(r["pair"]) for r in points if int(r["step"]) == last}
+    checks.check(BOTTOM_ON_FLOOR <= active, "the four bottom tori rest on the floor (active pairs %s)" % sorted(active))
+    checks.check(len(active - FLOOR_PAIRS) >= 2, "tori touch each other: %d torus-torus pairs active at the end" %
+                 len(active - FLOOR_PAIRS))
+    # the penalty's order: a bottom torus (R 3, tube radii 1 and 0.8, density 1) falls 0.02 at 1 onto its ring of
+    # n_around = 16 nodes, each a spring eps A (eps = 10 E*/h against the rigid floor, E* = E / (1 - nu^2), h the
+    # mean edge 1.222 that --explain prints; A the nodes' mean tributary area from contact.csv)
+    mass = 2 * math.pi * 3 * math.pi * (1 - 0.8 ** 2)
+    v = math.sqrt(1 + 2 * 9.81 * 0.02)
+    eps = 10 * 1.0e4 / (1 - 0.3 ** 2) / 1.222
+    floor = [float(r["area"]) for r in points if int(r["pair"]) == 7]
+    k, dt = 16 * eps * sum(floor) / len(floor), 0.01
+    bound = v * dt * mass / (mass + k * dt * dt)
+    deepest = max(-float(r["gap"]) for r in points)
+    checks.check(0 < deepest <= bound, "deepest point %.3g <= the penalty's order %.3g (every pair, every output "
+                 "step)" % (deepest, bound))
+    worst, where = 0.0, ""
+    for column in ("reaction_floor_x", "reaction_floor_y", "reaction_floor_z", "contact_force_z", "kinetic_energy",
+                   "strain_energy"):
+        family = "reaction_floor_z" if "floor" in column or "force" in column else column
+        scale = max(abs(x) for x in one.column(family))
+        diff = max(abs(x - y) for x, y in zip(one.column(column), two.column(column))) / scale
+        if diff > worst:
+            worst, where = diff, column
+    checks.check(worst <= 1e-10, "1 and 2 ranks agree to %.1e of each quantity's scale (worst: %s)" % (worst, where))
+    checks.check(one.column("active_points") == two.column("active_points"), "the same active points on 1 and 2 "
+                 "ranks (%s)" % one.column("active_points"))
+
+
 if __name__ == "__main__":
-    main([bodies_all_matches_explicit, disks_in_box])
+    main([bodies_all_matches_explicit, disks_in_box, tori_on_plane])
