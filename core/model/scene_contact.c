@@ -252,6 +252,20 @@ static double mean_face_size(const sk_model *model, const sk_surface *surface) {
   return h_mean;
 }
 
+/* A created pair's shared part: its entry, the entry's plugin, strategy and parameters. */
+static sk_status start_created_pair(const sk_cfg *entry, int entry_index, const char *name, sk_contact_pair *pair) {
+  pair->entry = entry_index;
+  pair->generated = 1;
+  return read_pair_plugin(entry, name, pair);
+}
+
+/* The whole boundary of body b as a surface named <body>-boundary. */
+static sk_status body_boundary(const sk_model *model, int b, sk_surface *surface) {
+  char boundary_name[SK_NAME_MAX + 16];
+  snprintf(boundary_name, sizeof boundary_name, "%s-boundary", model->bodies[b].name);
+  return sk_surface_build_boundary(&model->mesh, model->bodies[b].group, b, boundary_name, surface);
+}
+
 /* The pairs of one `bodies:` entry, from pairs[*k] on. Between two bodies the slave is the one whose boundary has the
  * smaller mean face size (the finer mesh: its nodes do not fall between the master's); within 1e-9 relative the
  * one listed first (deterministic). With `self: true` each body's self pair follows, in the order listed. */
@@ -262,14 +276,10 @@ static sk_status create_body_pairs(const sk_cfg *entry, int entry_index, sk_mode
   for (int i = 0; i < set->n_bodies; ++i) {
     for (int j = i + 1; j < set->n_bodies + set->n_obstacles; ++j) {
       sk_contact_pair *pair = &model->pairs[*k];
-      pair->entry = entry_index;
-      pair->generated = 1;
-      SK_TRY(read_pair_plugin(entry, name, pair));
+      SK_TRY(start_created_pair(entry, entry_index, name, pair));
       const sk_body *a = &model->bodies[set->bodies[i]];
-      char boundary_name[SK_NAME_MAX + 16];
-      snprintf(boundary_name, sizeof boundary_name, "%s-boundary", a->name);
       sk_surface first;
-      SK_TRY(sk_surface_build_boundary(&model->mesh, a->group, set->bodies[i], boundary_name, &first));
+      SK_TRY(body_boundary(model, set->bodies[i], &first));
       if (j >= set->n_bodies) {
         pair->slave = first;
         pair->has_obstacle = 1;
@@ -279,9 +289,8 @@ static sk_status create_body_pairs(const sk_cfg *entry, int entry_index, sk_mode
         snprintf(pair->name, sizeof pair->name, "%s:%s/%s", name, a->name, pair->obstacle.name);
       } else {
         const sk_body *b = &model->bodies[set->bodies[j]];
-        snprintf(boundary_name, sizeof boundary_name, "%s-boundary", b->name);
         sk_surface second;
-        sk_status status = sk_surface_build_boundary(&model->mesh, b->group, set->bodies[j], boundary_name, &second);
+        sk_status status = body_boundary(model, set->bodies[j], &second);
         if (status != SK_OK) {
           sk_surface_free(&first);
           return status;
@@ -298,16 +307,11 @@ static sk_status create_body_pairs(const sk_cfg *entry, int entry_index, sk_mode
   }
   for (int i = 0; set->self && i < set->n_bodies; ++i) {
     sk_contact_pair *pair = &model->pairs[*k];
-    pair->entry = entry_index;
-    pair->generated = 1;
-    SK_TRY(read_pair_plugin(entry, name, pair));
-    const sk_body *a = &model->bodies[set->bodies[i]];
-    char boundary_name[SK_NAME_MAX + 16];
-    snprintf(boundary_name, sizeof boundary_name, "%s-boundary", a->name);
-    SK_TRY(sk_surface_build_boundary(&model->mesh, a->group, set->bodies[i], boundary_name, &pair->slave));
+    SK_TRY(start_created_pair(entry, entry_index, name, pair));
+    SK_TRY(body_boundary(model, set->bodies[i], &pair->slave));
     pair->self_contact = 1;
     pair->master = pair->slave; /* shares the slave's arrays (freed once), as an explicit pair with master = slave */
-    snprintf(pair->name, sizeof pair->name, "%s:%s/self", name, a->name);
+    snprintf(pair->name, sizeof pair->name, "%s:%s/self", name, model->bodies[set->bodies[i]].name);
     model->n_pairs = ++*k;
     SK_TRY(check_pair(entry, model, *k - 1));
   }

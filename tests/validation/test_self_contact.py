@@ -26,6 +26,7 @@ import tempfile
 
 from stickslip_results import ROOT, main, read_vtu, run
 from stickslip_compare.results import collection
+from test_many_bodies import write as write_scene
 
 SCENE = os.path.join(ROOT, "scenes", "ring-crush-2d.yaml")
 R_INNER, R_OUTER, E, NU, N_AROUND = 0.9, 1.0, 1.0e4, 0.3, 96
@@ -122,13 +123,6 @@ bodies:
 FLOOR = "{type: plane, name: floor, point: [0, -1, 0], normal: [0, 1, 0]}"
 TOP = "{type: plane, name: top, point: [0, 1, 0], normal: [0, -1, 0], motion: [[0, 0, 0, 0], [1, 0, -1.84, 0]]}"
 RING_TIME = "time: {scheme: backward-euler, dt: 0.01, end: 1}\noutput: {vtu: false}\n"
-
-
-def write_scene(text):
-    fd, path = tempfile.mkstemp(suffix=".yaml", prefix="stickslip-self-")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    return path
 
 
 def bodies_self_matches_explicit(checks):
