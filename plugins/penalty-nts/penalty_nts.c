@@ -36,6 +36,7 @@
 #include "records.h"
 #include "covariant.h"
 #include "defaults.h"
+#include "self_contact.h"
 #include "stickslip/plugin.h"
 
 #define PNTS_EXPORT __attribute__((visibility("default")))
@@ -138,9 +139,7 @@ static const char *const pnts_parameters[] = {
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
     "master_extension: a slave node up to this fraction of a face beyond the master's border stays in contact with "
     "the extrapolated face (0 switches it off) [0.1]",
-    "self_exclusion: self contact only: a face with a node within this distance of the slave node in the reference "
-    "configuration is not a candidate of that node (length) [computed from the scene: the largest face of the "
-    "surface, so the faces at the node and their neighbours]",
+    SELF_EXCLUSION_HELP,
     NULL};
 
 /* ---- small dense helpers --------------------------------------------------------------------------------------- */
@@ -660,7 +659,7 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
                       in->name, in->extension);
 
   /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
-  double mean_size = 0.0, max_size = 0.0;
+  double mean_size = 0.0;
   if (master && master->n_cells > 0) {
     for (int f = 0; f < master->n_cells; ++f) {
       const int32_t *c = master->conn + f * master->nen;
@@ -672,18 +671,11 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
         }
       for (int i = 0; i < in->dim; ++i) diag2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
       mean_size += sqrt(diag2);
-      max_size = fmax(max_size, sqrt(diag2));
     }
     mean_size /= master->n_cells;
   }
   in->self = attach->self_contact;
-  if (in->self) {
-    char why[300];
-    snprintf(why, sizeof why, "the largest face of surface '%s' (diagonal of its reference box): the faces at "
-             "the node and their neighbours", master->name);
-    SK_TRY(sk_defaults_param(api, host, sk_defaults_scene(api, host), "self_exclusion", max_size, why,
-                             &in->self_exclusion));
-  }
+  if (in->self) SK_TRY(self_contact_exclusion(api, host, master, &in->self_exclusion));
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_size, &in->margin));
   /* Round-off scale of gaps: 1e-10 of the mean slave face size (of the faces this rank sees). */
   double slave_size = 0.0;
@@ -765,36 +757,12 @@ static sk_status pnts_create(const sk_host_api *api, sk_host *host, const sk_att
 
 /* ---- step -------------------------------------------------------------------------------------------------------- */
 
-/* Self contact: the candidates of slave node k without the faces a point of the surface cannot touch: those with a
- * node within self_exclusion of it (its own faces and their neighbours), and those it lies behind in the reference
- * configuration (negative gap: the body's material between them, e.g. the other side of a thin wall; the
- * undeformed body does not penetrate itself, so it reaches them only through a face in front). A body's boundary
- * is closed and its normals point out of the material, so the faces a point can meet face it: one-sided normals
- * suffice. */
+/* Self contact: the candidates of slave node k without the faces it cannot touch (self_contact.h). */
 static sk_status exclude_own_faces(sk_instance *in, int k) {
-  const sk_view *master = in->master;
-  const int dim = in->dim;
-  const double *Xs = in->slave->X + (size_t)k * dim;
-  int *faces = in->cand.faces + in->cand_start[k], kept = 0;
-  for (int c = 0; c < in->cand_count[k]; ++c) {
-    const int f = faces[c];
-    const int32_t *conn = master->conn + (size_t)f * master->nen;
-    int near = 0;
-    for (int a = 0; a < master->nen && !near; ++a) {
-      double d2 = 0.0;
-      for (int i = 0; i < dim; ++i) {
-        const double d = master->X[conn[a] * dim + i] - Xs[i];
-        d2 += d * d;
-      }
-      near = d2 <= in->self_exclusion * in->self_exclusion;
-    }
-    if (near) continue;
-    sk_projection proj = {.struct_size = sizeof proj};
-    sk_status status = in->cs->project(master, master->X, Xs, &f, 1, &proj);
-    if (status != SK_OK && status != SK_ERR_DIVERGED) return status;
-    if (proj.face >= 0 && proj.gap < 0.0) continue;
-    faces[kept++] = f;
-  }
+  sk_status status;
+  const int kept = self_contact_filter(in->cs, in->master, in->slave->X + (size_t)k * in->dim, in->self_exclusion,
+                                       in->cand.faces + in->cand_start[k], in->cand_count[k], &status);
+  if (kept < 0) return status;
   in->cand_count[k] = kept;
   in->cand.used = in->cand_start[k] + kept;
   return SK_OK;
