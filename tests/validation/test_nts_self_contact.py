@@ -8,6 +8,17 @@
   same scene (the mean pressure the plates transmit over penalty-nts's computed penalty, tests/validation/
   test_self_contact.py). Without the pair the walls pass through each other by more than ten times that bound.
 
+- nts_disk_pile_energy: scenes/disks-in-box-2d.yaml (ten disks dropped into a rigid box, midpoint, mu 0.3, one
+  `bodies: all` entry) with nts-augmented, its first 100 steps (t = 0.5: the bottom row lands, the upper rows hit it;
+  disk-disk contacts in steps where the floor carries nothing). Energy is never created over the run: at every step
+  E_n + D_n <= E_0 + W_n + round-off, with E = total_energy, D = dissipated_energy and W_n the work of gravity,
+  g dt (P_y,n + P_y,n+1) / 2 summed (under the midpoint rule M (u_n+1 - u_n) = dt M v_n+1/2, and the body force's
+  load vector is M g). The difference is the energy the friction law stores (psi >= 0, not in total_energy) and
+  loses at activations; step by step it cannot be asserted with friction, because psi is released in stick. The
+  momenta: the box exerts forces on the pile (reaction_<obstacle> is the force the obstacle receives), so the pile's
+  momentum changes per step by dt (M g - sum of the box's reactions), to round-off: the disk-disk contacts, internal
+  forces, create none.
+
 Penetration is measured on the output geometry: each inner node of one half against the polyline of the other
 half's inner nodes at the same x (every output step), both ways."""
 import math
@@ -61,5 +72,40 @@ def nts_ring_crush_self_contact(checks):
                  (deep_without, bound))
 
 
+def gravity_work(rows, g):
+    """W_n: the work of the body force g (y) up to each row, from the momentum under the midpoint rule."""
+    work = [0.0]
+    for a, b in zip(rows, rows[1:]):
+        work.append(work[-1] + g * b["dt"] * 0.5 * (a["momentum_y"] + b["momentum_y"]))
+    return work
+
+
+def nts_disk_pile_energy(checks):
+    results, _ = run("scenes/disks-in-box-2d.yaml", "--plugin", "nts-augmented", "--steps", "100")
+    rows = results.rows
+    g = -9.81
+    mass = (rows[1]["momentum_y"] - rows[0]["momentum_y"]) / (rows[1]["dt"] * g)  # the first step is free fall
+    work = gravity_work(rows, g)
+    scale = max(abs(r["total_energy"]) + abs(w) for r, w in zip(rows, work))
+    excess = [r["total_energy"] + r["dissipated_energy"] - rows[0]["total_energy"] - w for r, w in zip(rows, work)]
+    walls = ("floor", "left", "right")
+    imbalance, impulse = 0.0, 0.0
+    for a, b in zip(rows, rows[1:]):
+        for axis, load in (("x", 0.0), ("y", mass * g)):
+            change = b["momentum_" + axis] - a["momentum_" + axis]
+            box = sum(b["reaction_%s_%s" % (w, axis)] for w in walls)
+            imbalance = max(imbalance, abs(change - b["dt"] * (load - box)))
+            impulse = max(impulse, abs(change))
+    between_disks = sum(1 for r in rows if r["active_points"] > 0 and all(r["reaction_%s_%s" % (w, axis)] == 0.0
+                                                                              for w in walls for axis in "xy"))
+    checks.check(rows[-1]["step"] == 100 and between_disks >= 3, "100 steps; %d steps with contacts between disks "
+                 "only (the box carries nothing)" % between_disks)
+    checks.check(max(excess) <= 1e-12 * scale, "E + D never exceeds E_0 + W: largest excess %.3g <= 1e-12 x %.3g; "
+                 "at the end E + D = E_0 + W %+.4g (friction's stored energy and activation losses)"
+                 % (max(excess), scale, excess[-1]))
+    checks.check(imbalance <= 1e-12 * impulse, "momentum change per step = dt (M g - box reactions) to %.3g (largest "
+                 "change %.3g, M = %.6g)" % (imbalance, impulse, mass))
+
+
 if __name__ == "__main__":
-    main([nts_ring_crush_self_contact])
+    main([nts_ring_crush_self_contact, nts_disk_pile_energy])
