@@ -13,19 +13,17 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "nts_kit_support.h"
 #include "nts_test_support.h"
 #include "plugin_kit.h"
 #include "sk_test.h"
 #include "stickslip/contact.h"
-
-const sk_plugin *stickslip_plugin_entry(void);
 
 enum { MAX_N = 64 };
 /* as in test_nts_assembled: central differences with step 1e-6, the direct strategies' local Newton adds ~1e-8 */
 static const double FD_STEP = 1e-6, SCHUR_TOL = 1e-7;
 static const char *const STRATEGY[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint"};
 enum { PAPER = 2 };
-enum { FRICTIONLESS = 0, STICK = 1, SLIP = 2 };
 /* below the walls' distance 0.06, so that the facing wall is a candidate */
 static const double EXCLUSION = 0.03;
 
@@ -74,8 +72,6 @@ static void build(scene *s, int dim, double slide) {
   s->k.attach.self_contact = 1;
 }
 
-static int stride_of(const scene *s) { return s->k.dim == 3 ? 5 : 3; }
-
 static int expected(const scene *s, int64_t node) {
   for (int i = 0; i < s->n_expected; ++i)
     if (s->expected[i] == node) return 1;
@@ -87,23 +83,7 @@ static int expected(const scene *s, int64_t node) {
 static int prepare(scene *s, int dim, int strategy, double alpha, int friction) {
   build(s, dim, friction == SLIP ? 0.1 : 0.002);
   kit_param(&s->k, "self_exclusion", EXCLUSION);
-  if (friction != FRICTIONLESS) {
-    kit_param(&s->k, "mu", 0.5);
-    kit_param(&s->k, "epsilon_t", 100.0);
-  }
-  SK_CHECK(kit_create(&s->k, stickslip_plugin_entry(), strategy) == SK_OK);
-  kit_integrator(&s->k, alpha, alpha != 1.0);
-  kit_state(&s->k, s->q_n, s->q, 0.0, 1.0, NULL);
-  SK_CHECK(kit_begin(&s->k) == SK_OK);
-  const int stride = stride_of(s);
-  for (int64_t j = 0; j < s->k.layout.n_extra; ++j) {
-    const int slot = (int)(j % stride);
-    if (slot == 0) s->k.extra[j] = friction == STICK ? -100.0 : -1.0;
-    else if (slot <= stride / 2) s->k.extra[j] += 0.01 + 0.01 * slot;
-    else s->k.extra[j] = 0.1 * slot - 0.25;
-  }
-  int changed = 0;
-  SK_CHECK(kit_update_active_set(&s->k, s->q, &changed) == SK_OK);
+  nts_kit_start(&s->k, s->q_n, s->q, strategy, alpha, friction);
   kit_points pts;
   SK_CHECK(kit_points_at(&s->k, &pts) == SK_OK);
   int active = 0, ok = 1;
