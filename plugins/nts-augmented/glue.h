@@ -68,6 +68,13 @@ struct sk_instance {
   double c_n, search_margin;
   int max_flips;
   int slide_search;            /* converged() moves nodes that slid beyond their facet (nts_research_facet) */
+  int self;                    /* self contact: slave and master are the same surface */
+  double self_exclusion;       /* self contact: the reach of the faces a node cannot touch (self_contact.h) */
+  double *self_table;          /* self contact (self.c): per node of the surface its facet's nodes and state */
+  int *self_colour;            /* self contact: the side of each node in its zone */
+  int64_t *self_queue;         /* self contact: the breadth-first sweep's nodes */
+  unsigned char *self_master_only; /* self contact: 1 for a node on the master side of its zone this step */
+  sk_projection *projections;  /* begin_step: each point's projection on its facet */
   sk_search *search;
   int n_points;
   slave_point *points;
@@ -131,6 +138,13 @@ void nts_element_traction(const sk_instance *inst, const nts_element *e, double 
 const double *nts_element_constraints(const nts_element *e);
 const nts_friction *nts_element_friction(const nts_element *e);
 const nts_geometry *nts_element_geometry(const nts_element *e, int at_hat);
+
+/* self.c */
+sk_status nts_self_setup(sk_instance *inst);
+void nts_self_free(sk_instance *inst);
+/* Self contact, at begin_step after the search: per zone of facing nodes one side is slave; the other side's
+ * projections get face -1 (those nodes are master nodes only this step). */
+sk_status nts_self_sides(sk_instance *inst, sk_projection *proj);
 
 /* step.c */
 sk_status nts_begin_step(sk_instance *inst, const sk_state *state);

@@ -15,6 +15,7 @@
 #include "defaults.h"
 #include "glue.h"
 #include "records.h"
+#include "self_contact.h"
 
 static const char *const strategies[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint",
                                          "reduced",   "none",      NULL};
@@ -32,6 +33,7 @@ static const char *const parameters[] = {
     "max_flips: active-set changes of one node per step before its state is frozen [4]",
     "slide_search: 1 moves a node that slid beyond its facet into the master onto that face at the converged point "
     "(large sliding per step; docs/plugins/nts-augmented.md) [0]",
+    SELF_EXCLUSION_HELP,
     NULL};
 
 /* A frozen node (max_flips) is set right at a converged point when it is in tension or penetrates beyond these
@@ -48,6 +50,8 @@ static void destroy(sk_instance *inst) {
   free(inst->anchor);
   free(inst->node_flags);
   free(inst->candidates);
+  free(inst->projections);
+  nts_self_free(inst);
   free(inst);
 }
 
@@ -188,6 +192,11 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_edge(master ? master : slave), &inst->search_margin));
   SK_TRY(api->param_int(host, "max_flips", 0, 4, &inst->max_flips));
   SK_TRY(api->param_int(host, "slide_search", 0, 0, &inst->slide_search));
+  inst->self = attach->self_contact;
+  if (inst->self) {
+    SK_TRY(self_contact_exclusion(api, host, master, &inst->self_exclusion));
+    SK_TRY(nts_self_setup(inst));
+  }
   if (inst->friction.mu < 0.0 || (inst->friction.mu > 0.0 && inst->friction.epsilon_t <= 0.0) || inst->c_n <= 0.0 ||
       inst->search_margin < 0.0)
     return api->error(host, SK_ERR_INPUT,
@@ -201,8 +210,10 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   inst->eliminated = calloc((size_t)inst->n_extra + 1, 1);
   inst->anchor = malloc(sizeof(int64_t) * ((size_t)inst->n_extra + 1));
   inst->node_flags = calloc((size_t)slave->n_nodes_global + 1, sizeof *inst->node_flags);
+  inst->projections = calloc((size_t)(slave->n_nodes > 0 ? slave->n_nodes : 1), sizeof *inst->projections);
   inst->candidates = malloc(sizeof(int) * (size_t)(master && master->n_cells > 0 ? master->n_cells : 1));
-  if (!inst->points || !inst->initial || !inst->eliminated || !inst->anchor || !inst->node_flags || !inst->candidates)
+  if (!inst->points || !inst->initial || !inst->eliminated || !inst->anchor || !inst->node_flags || !inst->candidates ||
+      !inst->projections)
     return api->error(host, SK_ERR_NOMEM, "%s: out of memory", inst->name);
   for (int k = 0; k < slave->n_nodes; ++k) {
     slave_point *p = &inst->points[k];
@@ -710,7 +721,7 @@ static const sk_plugin plugin = {
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS |
             SK_CAP_ENERGY_MOMENTUM | SK_CAP_RIGID_OBSTACLE | SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS |
-            SK_CAP_CONDENSATION | SK_CAP_SAYS_IDLE,
+            SK_CAP_CONDENSATION | SK_CAP_SAYS_IDLE | SK_CAP_SELF_CONTACT,
     .strategies = strategies,
     .parameters = parameters,
     .create = create,

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "glue.h"
+#include "self_contact.h"
 
 /* A committed closest point counts as on its facet up to this parametric distance beyond the border: nodes placed
  * on a master corner sit there to round-off (1e-16), closest points converge to LOCAL_NEWTON_TOL. */
@@ -58,9 +59,44 @@ static void set_facet(sk_instance *inst, slave_point *p, int facet) {
   for (int I = 0; I < inst->facet.nen; ++I) p->facet_nodes[I] = inst->master->conn[facet * inst->master->nen + I];
 }
 
+/* The candidate master faces of slave node p in the box lo..hi, into inst->candidates; a self-contact node's without
+ * the faces it cannot touch (self_contact.h). Returns their number, or -1 with *status set. */
+static int query_candidates(sk_instance *inst, const slave_point *p, const double *lo, const double *hi,
+                            sk_status *status) {
+  const sk_contact_services *cs = inst->api->contact;
+  const sk_view *master = inst->master;
+  *status = SK_OK;
+  int n = cs->search_query(inst->search, lo, hi, inst->candidates, master->n_cells);
+  if (n > master->n_cells) n = master->n_cells;
+  if (n <= 0 || !inst->self) return n;
+  return self_contact_filter(cs, master, inst->slave->X + inst->dim * p->k, inst->self_exclusion, inst->candidates,
+                             n, status);
+}
+
+/* The closest point of q (slave node p at positions x) on the n candidates. The projection walks across the faces'
+ * edges, so from a candidate face of a self-contact node it may end on a face the node cannot touch (its own face,
+ * at gap 0): there each candidate is projected alone and a result on such a face is not taken. */
+static sk_status project_candidates(sk_instance *inst, const slave_point *p, const double *x, const double *q, int n,
+                                    sk_projection *proj) {
+  const sk_contact_services *cs = inst->api->contact;
+  const sk_view *master = inst->master;
+  if (!inst->self) return cs->project(master, x, q, inst->candidates, n, proj);
+  const double *X = inst->slave->X + inst->dim * p->k;
+  for (int c = 0; c < n; ++c) {
+    sk_projection one = {.struct_size = sizeof one, .face = -1};
+    sk_status status = cs->project(master, x, q, inst->candidates + c, 1, &one);
+    if (status == SK_ERR_DIVERGED) continue;
+    if (status != SK_OK) return status;
+    int face = one.face;
+    if (face < 0 || self_contact_filter(cs, master, X, inst->self_exclusion, &face, 1, &status) != 1) continue;
+    if (proj->face < 0 || one.distance < proj->distance || (one.distance == proj->distance && face < proj->face))
+      *proj = one;
+  }
+  return SK_OK;
+}
+
 /* The step's facet of a node, its projection (xi, gap) and whether anything is reachable. */
 static sk_status find_facet(sk_instance *inst, slave_point *p, const sk_state *state, sk_projection *proj) {
-  const sk_contact_services *cs = inst->api->contact;
   const int dim = inst->dim;
   *proj = (sk_projection){.struct_size = sizeof *proj, .face = -1};
   const double *x_n = state->x_n[0] + dim * p->k, *x_p = state->x[0] + dim * p->k;
@@ -73,17 +109,16 @@ static sk_status find_facet(sk_instance *inst, slave_point *p, const sk_state *s
     proj->kind = SK_PROJ_INTERIOR;
     return SK_OK;
   }
-  const sk_view *master = inst->master;
   double lo[3] = {-inst->search_margin, -inst->search_margin, -inst->search_margin};
   double hi[3] = {inst->search_margin, inst->search_margin, inst->search_margin};
   for (int i = 0; i < dim; ++i) {
     lo[i] = fmin(x_n[i], x_p[i]) - inst->search_margin;
     hi[i] = fmax(x_n[i], x_p[i]) + inst->search_margin;
   }
-  const int n_cand = cs->search_query(inst->search, lo, hi, inst->candidates, master->n_cells);
-  if (n_cand > 0)
-    SK_TRY(cs->project(master, state->x[1], x_p, inst->candidates, n_cand < master->n_cells ? n_cand : master->n_cells,
-                       proj));
+  sk_status status;
+  const int n_cand = query_candidates(inst, p, lo, hi, &status);
+  if (n_cand < 0) return status;
+  if (n_cand > 0) SK_TRY(project_candidates(inst, p, state->x[1], x_p, n_cand, proj));
   return SK_OK;
 }
 
@@ -112,11 +147,12 @@ static void start_on_new_facet(const sk_instance *inst, slave_point *p, const sk
 sk_status nts_begin_step(sk_instance *inst, const sk_state *state) {
   inst->alpha = state->alpha;
   if (inst->search) inst->api->contact->search_update(inst->search, state->x_n[1], state->x[1], inst->search_margin);
+  for (int k = 0; k < inst->n_points; ++k) SK_TRY(find_facet(inst, &inst->points[k], state, &inst->projections[k]));
+  if (inst->self) SK_TRY(nts_self_sides(inst, inst->projections));
   for (int k = 0; k < inst->n_points; ++k) {
     slave_point *p = &inst->points[k];
     double *init = inst->initial + inst->stride * p->index;
-    sk_projection proj;
-    SK_TRY(find_facet(inst, p, state, &proj));
+    sk_projection proj = inst->projections[k];
     p->flips = 0;
     p->corrections = 0;
     p->switches = 0;
@@ -207,8 +243,6 @@ sk_status nts_research_facet(sk_instance *inst, slave_point *p, const sk_state *
   if (nts_gap_on_facet(inst, p, state->x, state->t, f) == HUGE_VAL ||
       nts_facet_outside(&inst->facet, f) <= FACET_BORDER_BAND)
     return SK_OK;
-  const sk_contact_services *cs = inst->api->contact;
-  const sk_view *master = inst->master;
   const int dim = inst->dim;
   const double *q = state->x[0] + dim * p->k;
   double lo[3] = {-inst->search_margin, -inst->search_margin, -inst->search_margin};
@@ -217,11 +251,12 @@ sk_status nts_research_facet(sk_instance *inst, slave_point *p, const sk_state *
     lo[i] = q[i] - inst->search_margin;
     hi[i] = q[i] + inst->search_margin;
   }
-  const int n_cand = cs->search_query(inst->search, lo, hi, inst->candidates, master->n_cells);
-  if (n_cand <= 0) return SK_OK;
+  sk_status status;
+  const int n_cand = query_candidates(inst, p, lo, hi, &status);
+  if (n_cand < 0) return status;
+  if (n_cand == 0) return SK_OK;
   sk_projection proj = {.struct_size = sizeof proj, .face = -1};
-  SK_TRY(cs->project(master, state->x[1], q, inst->candidates, n_cand < master->n_cells ? n_cand : master->n_cells,
-                     &proj));
+  SK_TRY(project_candidates(inst, p, state->x[1], q, n_cand, &proj));
   if (proj.face < 0 || proj.face == p->facet || proj.kind == SK_PROJ_OUTSIDE || proj.gap == HUGE_VAL ||
       proj.gap >= -RESEARCH_PENETRATION * inst->search_margin)
     return SK_OK;

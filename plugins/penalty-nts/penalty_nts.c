@@ -36,36 +36,12 @@
 
 /* ---- step -------------------------------------------------------------------------------------------------------- */
 
-/* Self contact: the candidates of slave node k without the faces a point of the surface cannot touch: those with a
- * node within self_exclusion of it (its own faces and their neighbours), and those it lies behind in the reference
- * configuration (negative gap: the body's material between them, e.g. the other side of a thin wall; the
- * undeformed body does not penetrate itself, so it reaches them only through a face in front). A body's boundary
- * is closed and its normals point out of the material, so the faces a point can meet face it: one-sided normals
- * suffice. */
+/* Self contact: the candidates of slave node k without the faces it cannot touch (self_contact.h). */
 static sk_status exclude_own_faces(sk_instance *in, int k) {
-  const sk_view *master = in->master;
-  const int dim = in->dim;
-  const double *Xs = in->slave->X + (size_t)k * dim;
-  int *faces = in->cand.faces + in->cand_start[k], kept = 0;
-  for (int c = 0; c < in->cand_count[k]; ++c) {
-    const int f = faces[c];
-    const int32_t *conn = master->conn + (size_t)f * master->nen;
-    int near = 0;
-    for (int a = 0; a < master->nen && !near; ++a) {
-      double d2 = 0.0;
-      for (int i = 0; i < dim; ++i) {
-        const double d = master->X[conn[a] * dim + i] - Xs[i];
-        d2 += d * d;
-      }
-      near = d2 <= in->self_exclusion * in->self_exclusion;
-    }
-    if (near) continue;
-    sk_projection proj = {.struct_size = sizeof proj};
-    sk_status status = in->cs->project(master, master->X, Xs, &f, 1, &proj);
-    if (status != SK_OK && status != SK_ERR_DIVERGED) return status;
-    if (proj.face >= 0 && proj.gap < 0.0) continue;
-    faces[kept++] = f;
-  }
+  sk_status status;
+  const int kept = self_contact_filter(in->cs, in->master, in->slave->X + (size_t)k * in->dim, in->self_exclusion,
+                                       in->cand.faces + in->cand_start[k], in->cand_count[k], &status);
+  if (kept < 0) return status;
   in->cand_count[k] = kept;
   in->cand.used = in->cand_start[k] + kept;
   return SK_OK;

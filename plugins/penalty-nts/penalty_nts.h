@@ -14,6 +14,7 @@
 #include "records.h"
 #include "covariant.h"
 #include "defaults.h"
+#include "self_contact.h"
 #include "stickslip/plugin.h"
 
 #define PNTS_EXPORT __attribute__((visibility("default")))

@@ -19,9 +19,7 @@ const char *const pnts_parameters[] = {
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
     "master_extension: a slave node up to this fraction of a face beyond the master's border stays in contact with "
     "the extrapolated face (0 switches it off) [0.1]",
-    "self_exclusion: self contact only: a face with a node within this distance of the slave node in the reference "
-    "configuration is not a candidate of that node (length) [computed from the scene: the largest face of the "
-    "surface, so the faces at the node and their neighbours]",
+    SELF_EXCLUSION_HELP,
     NULL};
 
 /* ---- creation ---------------------------------------------------------------------------------------------------- */
@@ -215,7 +213,7 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
                       in->name, in->extension);
 
   /* Default margin: half the mean master face size (reference), enough for Newton to move past the predictor. */
-  double mean_size = 0.0, max_size = 0.0;
+  double mean_size = 0.0;
   if (master && master->n_cells > 0) {
     for (int f = 0; f < master->n_cells; ++f) {
       const int32_t *c = master->conn + f * master->nen;
@@ -227,18 +225,11 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
         }
       for (int i = 0; i < in->dim; ++i) diag2 += (hi[i] - lo[i]) * (hi[i] - lo[i]);
       mean_size += sqrt(diag2);
-      max_size = fmax(max_size, sqrt(diag2));
     }
     mean_size /= master->n_cells;
   }
   in->self = attach->self_contact;
-  if (in->self) {
-    char why[300];
-    snprintf(why, sizeof why, "the largest face of surface '%s' (diagonal of its reference box): the faces at "
-             "the node and their neighbours", master->name);
-    SK_TRY(sk_defaults_param(api, host, sk_defaults_scene(api, host), "self_exclusion", max_size, why,
-                             &in->self_exclusion));
-  }
+  if (in->self) SK_TRY(self_contact_exclusion(api, host, master, &in->self_exclusion));
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_size, &in->margin));
   /* Round-off scale of gaps: 1e-10 of the mean slave face size (of the faces this rank sees). */
   double slave_size = 0.0;

@@ -278,7 +278,8 @@ static void describe(kit *k) {
   k->scene = (sk_scene_info){.struct_size = sizeof k->scene, .kind = SK_KIND_PAIR, .name = k->attach.name,
                              .dim = k->dim, .scheme = k->alpha == 1.0 ? "quasi-static" : "midpoint",
                              .alpha = k->alpha, .dynamic = k->dynamic, .n_ranks = 1, .strategy = k->attach.strategy,
-                             .slave = &k->sides[0], .master = &k->sides[1]};
+                             .self_contact = k->attach.self_contact, .slave = &k->sides[0],
+                             .master = &k->sides[1]};
 }
 
 void kit_integrator(kit *k, double alpha, int dynamic) {

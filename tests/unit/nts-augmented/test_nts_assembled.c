@@ -12,12 +12,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "nts_kit_support.h"
 #include "nts_test_support.h"
 #include "plugin_kit.h"
 #include "sk_test.h"
 #include "stickslip/contact.h"
-
-const sk_plugin *stickslip_plugin_entry(void);
 
 enum { MAX_N = 64 };
 /* Central differences with step 1e-6; worst relative errors measured: 2.5e-8 (Schur complements: the local Newton
@@ -25,7 +24,6 @@ enum { MAX_N = 64 };
 static const double FD_STEP = 1e-6, SCHUR_TOL = 1e-7, PAPER_TOL = 5e-9;
 static const char *const STRATEGY[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint"};
 enum { PAPER = 2 };
-enum { FRICTIONLESS = 0, STICK = 1, SLIP = 2 };
 enum { GEO_QUAD4, GEO_TRI3, GEO_LINE2, GEO_PLANE3, GEO_PLANE2, N_GEO };
 static const char *const GEO_NAME[N_GEO] = {"quad4", "tri3", "line2 (2D)", "plane obstacle", "plane obstacle (2D)"};
 
@@ -103,23 +101,7 @@ static int stride_of(const scene *s) { return s->k.dim == 3 ? 5 : 3; }
  * when every slave node is active in the wanted friction state. */
 static int prepare(scene *s, int geo, int strategy, double alpha, int friction) {
   build(s, geo, friction == SLIP ? 0.1 : 0.002);
-  if (friction != FRICTIONLESS) {
-    kit_param(&s->k, "mu", 0.5);
-    kit_param(&s->k, "epsilon_t", 100.0);
-  }
-  SK_CHECK(kit_create(&s->k, stickslip_plugin_entry(), strategy) == SK_OK);
-  kit_integrator(&s->k, alpha, alpha != 1.0);
-  kit_state(&s->k, s->q_n, s->q, 0.0, 1.0, NULL);
-  SK_CHECK(kit_begin(&s->k) == SK_OK);
-  const int stride = stride_of(s);
-  for (int64_t j = 0; j < s->k.layout.n_extra; ++j) {
-    const int slot = (int)(j % stride);
-    if (slot == 0) s->k.extra[j] = friction == STICK ? -100.0 : -1.0;   /* lambda_n: the cone mu |lambda_n| */
-    else if (slot <= stride / 2) s->k.extra[j] += 0.01 + 0.01 * slot;   /* f, off the closest point */
-    else s->k.extra[j] = 0.1 * slot - 0.25;                             /* lambda_aug */
-  }
-  int changed = 0;
-  SK_CHECK(kit_update_active_set(&s->k, s->q, &changed) == SK_OK);
+  nts_kit_start(&s->k, s->q_n, s->q, strategy, alpha, friction);
   kit_points pts;
   SK_CHECK(kit_points_at(&s->k, &pts) == SK_OK);
   int ok = pts.n == s->n_slave;
