@@ -24,7 +24,7 @@ static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
 /* The hits of every needed slave face: the master faces whose boxes (refitted over the master's x_n -> xm,
  * inflated by the search margin) meet the box of the slave face swept from x_n to xs, inflated by the margin —
  * cand_query_swept with the face's box in place of a point's path. */
-static sk_status search_faces(sk_instance *inst, const sk_state *state, const double *xs, const double *xm) {
+sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const double *xs, const double *xm) {
   const sk_view *sv = inst->slave;
   const int dim = inst->dim;
   inst->api->contact->search_update(inst->search, state->x_n[1], xm, inst->search_margin);
@@ -138,7 +138,11 @@ sk_status mortar_step_candidates(sk_instance *inst, const sk_state *state) {
   const sk_view *sv = inst->slave;
   memset(inst->cand_ptr, 0, sizeof(int) * ((size_t)sv->n_cells + 1));
   if (!inst->master) return SK_OK;
-  SK_TRY(search_faces(inst, state, state->x[0], state->x[1]));
+  SK_TRY(mortar_search_faces(inst, state, state->x[0], state->x[1]));
+  if (inst->self) {
+    int added;
+    return mortar_self_assign(inst, state->x[0], 0, &added);
+  }
   if (inst->integration == INTEGRATION_CONCENTRATED) mortar_compute_normals(inst, state->x[0]);
   int n = 0;
   for (int f = 0; f < sv->n_cells; ++f) {
@@ -191,7 +195,11 @@ sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int
   if (!inst->master) return SK_OK;
   const sk_view *sv = inst->slave;
   const double *xs = state->x[0], *xm = state->x[1];
-  SK_TRY(search_faces(inst, state, xs, xm));
+  SK_TRY(mortar_search_faces(inst, state, xs, xm));
+  if (inst->self) {
+    SK_TRY(mortar_self_assign(inst, xs, 1, added));
+    return *added ? mortar_build_columns(inst) : SK_OK;
+  }
   mortar_compute_normals(inst, xs);
   int n = 0;
   for (int f = 0; f < sv->n_cells; ++f) {

@@ -1,0 +1,90 @@
+"""Self contact in mortar-dual (docs/plugins/mortar-dual.md section 3.6: the surface split into a slave and a master
+side per step), on scenes/ring-crush-2d.yaml with its self pair `inner-self` run by mortar-dual (the plates stay
+penalty-nts): a thin ring (radii 0.9 and 1, E 1e4, nu 0.3) crushed between two plates until its inner surface folds
+onto itself.
+
+- mortar_ring_crush_self_contact: with the self pair the inner surface's halves enter each other by at most 1.5e-4
+  (measured 1.07e-4, the deepest of either half into the other over the run: the mortar constraint holds the
+  weighted gap, the pointwise penetration left is the interpolation's; penalty-nts's self pair on the same scene
+  1.56e-3); the slave side holds one half's nodes in contact (45 of 96 measured), the other half is its master;
+  without the pair the walls pass through each other by more than 100 times the bound (0.052).
+- mortar_self_contact_condensed: strategy `condensed` on the self pair (the nodes on no master-side face condensed,
+  the others kept) gives the saddle-point result: the plates' reactions equal to 1e-12, the same Newton iterations.
+
+Penetration is measured on the output geometry: each inner node of one half (by reference y) against the polyline
+of the other half's inner nodes at the same x, every output step."""
+import math
+import os
+import tempfile
+
+from stickslip_results import ROOT, main, read_vtu, run
+from stickslip_compare.results import collection
+
+SCENE = os.path.join(ROOT, "scenes", "ring-crush-2d.yaml")
+R_INNER = 0.9
+MORTAR_SELF = ("--set", "contact.2.plugin=mortar-dual")
+
+
+def inner_penetration(folder):
+    """Largest depth of an inner node of either half below the other half's inner surface, over the output steps."""
+    worst = -math.inf
+    for _, name in collection(folder):
+        vtu = read_vtu(os.path.join(folder, name))
+        top, bottom = [], []
+        for p, u in zip(vtu["Points"], vtu["displacement"]):
+            X = (p[0] - u[0], p[1] - u[1])
+            if abs(math.hypot(*X) - R_INNER) < 1e-6:
+                (top if X[1] > 0 else bottom).append((p[0], p[1]))
+        for nodes, surface, sign in ((top, bottom, 1.0), (bottom, top, -1.0)):
+            surface = sorted(surface)
+            for x, y in nodes:
+                for (x0, y0), (x1, y1) in zip(surface, surface[1:]):
+                    if x0 <= x <= x1 and x1 > x0:
+                        worst = max(worst, sign * (y0 + (x - x0) * (y1 - y0) / (x1 - x0) - y))
+    return worst
+
+
+def without_self_pair():
+    text = open(SCENE).read().replace("../meshes", os.path.join(ROOT, "meshes"))
+    start = text.index("  - name: inner-self")
+    fd, path = tempfile.mkstemp(suffix=".yaml", prefix="stickslip-ring-")
+    with os.fdopen(fd, "w") as f:
+        f.write(text[:start] + text[text.index("time:"):])
+    return path
+
+
+def self_points(result):
+    """Active points of the self pair (contact.csv pair 2) at the last step."""
+    return sum(1 for r in result.contact_points() if r["pair"] == 2 and r["state"] != 0)
+
+
+def mortar_ring_crush_self_contact(checks):
+    with_pair, _ = run(SCENE, *MORTAR_SELF)
+    path = without_self_pair()
+    without, _ = run(path)
+    os.remove(path)
+    deep_with, deep_without = inner_penetration(with_pair.folder), inner_penetration(without.folder)
+    active = self_points(with_pair)
+    checks.check(with_pair.rows[-1]["time"] == 1.0, "the crush ran to t = 1 (t = %g)" % with_pair.rows[-1]["time"])
+    checks.check(30 <= active <= 60, "one half of the inner surface (96 nodes) is the slave side in contact at the "
+                 "end: %d active nodes of the self pair" % active)
+    checks.check(deep_with <= 1.5e-4, "with mortar self contact the inner surface enters itself by %.3g <= 1.5e-4 "
+                 "(measured 1.07e-4)" % deep_with)
+    checks.check(deep_without > 100 * 1.5e-4, "without the self pair the walls pass through each other: %.3g > "
+                 "1.5e-2" % deep_without)
+
+
+def mortar_self_contact_condensed(checks):
+    saddle, _ = run(SCENE, *MORTAR_SELF)
+    condensed, _ = run(SCENE, *MORTAR_SELF, "--set", "contact.2.strategy=condensed")
+    for key in ("reaction_top_y", "reaction_floor_y"):
+        a, b = saddle.rows[-1][key], condensed.rows[-1][key]
+        checks.check(abs(a - b) <= 1e-12 * abs(a), "%s: condensed %.15g = saddle-point %.15g" % (key, b, a))
+    iterations = [sum(r["newton_iterations"] for r in res.rows) for res in (saddle, condensed)]
+    checks.check(iterations[0] == iterations[1], "the same Newton iterations: %d and %d" % tuple(iterations))
+    checks.check(self_points(saddle) == self_points(condensed) > 0, "the same active nodes of the self pair: %d, %d" %
+                 (self_points(saddle), self_points(condensed)))
+
+
+if __name__ == "__main__":
+    main([mortar_ring_crush_self_contact, mortar_self_contact_condensed])
