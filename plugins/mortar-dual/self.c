@@ -44,10 +44,16 @@ static int excluded(sk_instance *inst, int f, int m) {
   return 0;
 }
 
-static int has_edge(const sk_instance *inst, int f, int m, int n) {
-  for (int e = 0; e < n; ++e)
-    if (inst->edge[2 * e] == f && inst->edge[2 * e + 1] == m) return 1;
-  return 0;
+/* Face pairs (f, m), f < m, in lexicographic order. */
+static int edge_order(const void *a, const void *b) {
+  const int *p = a, *q = b;
+  return p[0] != q[0] ? (p[0] > q[0]) - (p[0] < q[0]) : (p[1] > q[1]) - (p[1] < q[1]);
+}
+
+/* 1 when (lo, hi) is among the first n pairs (sorted). */
+static int has_edge(const sk_instance *inst, int lo, int hi, int n) {
+  const int key[2] = {lo, hi};
+  return n > 0 && bsearch(key, inst->edge, (size_t)n, 2 * sizeof(int), edge_order) != NULL;
 }
 
 static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
@@ -61,7 +67,8 @@ static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
 }
 
 /* The pairs (f < m) among the search hits that are not excluded and have a mortar segment within the search
- * margin's reach either way round, appended to the edge list when new; returns how many were new. */
+ * margin's reach either way round, added to the sorted edge list when new; returns how many were new. A pair found
+ * from both of its faces' hits is tested twice (the tests are symmetric) and kept once. */
 static sk_status find_pairs(sk_instance *inst, const double *xs, int *added) {
   const sk_view *v = inst->slave;
   const int known = inst->n_edge;
@@ -69,7 +76,7 @@ static sk_status find_pairs(sk_instance *inst, const double *xs, int *added) {
   for (int f = 0; f < v->n_cells; ++f)
     for (int h = inst->hit_ptr[f]; h < inst->hit_ptr[f + 1]; ++h) {
       const int m = inst->hits.faces[h], lo = f < m ? f : m, hi = f < m ? m : f;
-      if (m == f || has_edge(inst, lo, hi, inst->n_edge) || excluded(inst, f, m)) continue;
+      if (m == f || has_edge(inst, lo, hi, known) || excluded(inst, f, m)) continue;
       if (!mortar_pair_reaches(inst, f, m, xs, xs, inst->search_margin) &&
           !mortar_pair_reaches(inst, m, f, xs, xs, inst->search_margin))
         continue;
@@ -78,7 +85,16 @@ static sk_status find_pairs(sk_instance *inst, const double *xs, int *added) {
       inst->edge[2 * inst->n_edge + 1] = hi;
       ++inst->n_edge;
     }
-  *added = inst->n_edge - known;
+  qsort(inst->edge, (size_t)inst->n_edge, 2 * sizeof(int), edge_order);
+  int n = 0;
+  for (int e = 0; e < inst->n_edge; ++e)
+    if (n == 0 || edge_order(inst->edge + 2 * e, inst->edge + 2 * (n - 1)) != 0) {
+      inst->edge[2 * n] = inst->edge[2 * e];
+      inst->edge[2 * n + 1] = inst->edge[2 * e + 1];
+      ++n;
+    }
+  inst->n_edge = n;
+  *added = n - known;
   return SK_OK;
 }
 
