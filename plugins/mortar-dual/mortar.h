@@ -187,6 +187,9 @@ sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int
  * candidates (self.c). *added: the pairs new to the list. */
 sk_status mortar_self_assign(sk_instance *inst, const double *xs, int keep, int *added);
 
+/* An int array grown to hold `need` entries (search.c). */
+sk_status mortar_grow(sk_instance *inst, int **array, int *cap, int need);
+
 /* Self contact: checks what it needs (2D, frictionless, segments, the whole surface on this rank), reads
  * self_exclusion and allocates its arrays (self.c). */
 sk_status mortar_self_create(sk_instance *inst);

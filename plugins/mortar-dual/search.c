@@ -11,7 +11,7 @@ static sk_status nomem(sk_instance *inst) {
   return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (candidate faces)");
 }
 
-static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
+sk_status mortar_grow(sk_instance *inst, int **array, int *cap, int need) {
   if (need <= *cap) return SK_OK;
   const int grown = 2 * need + 64;
   int *a = realloc(*array, sizeof(int) * (size_t)grown);
@@ -123,7 +123,7 @@ static int select_master(sk_instance *inst, int f, int q, const double *xs, cons
 
 /* The distinct master faces of face f's Gauss points: appended to cand from *n. */
 static sk_status point_faces(sk_instance *inst, int f, int **cand, int *cap, int *n) {
-  SK_TRY(grow(inst, cand, cap, *n + inst->n_face_points));
+  SK_TRY(mortar_grow(inst, cand, cap, *n + inst->n_face_points));
   const int first = *n;
   for (int q = 0; q < inst->n_face_points; ++q) {
     const int m = inst->ip_master[f * inst->n_face_points + q];
@@ -149,7 +149,7 @@ sk_status mortar_step_candidates(sk_instance *inst, const sk_state *state) {
     inst->cand_ptr[f] = n;
     const int h0 = inst->hit_ptr[f], nh = inst->hit_ptr[f + 1] - h0;
     if (inst->integration == INTEGRATION_SEGMENTS) {
-      SK_TRY(grow(inst, &inst->cand, &inst->cand_cap, n + nh));
+      SK_TRY(mortar_grow(inst, &inst->cand, &inst->cand_cap, n + nh));
       if (nh > 0) memcpy(inst->cand + n, inst->hits.faces + h0, sizeof(int) * (size_t)nh); /* cand may be NULL */
       n += nh;
       continue;
@@ -207,7 +207,7 @@ sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int
     const int c0 = inst->cand_ptr[f], nc = inst->cand_ptr[f + 1] - c0;
     const int h0 = inst->hit_ptr[f], nh = inst->hit_ptr[f + 1] - h0;
     if (inst->integration == INTEGRATION_SEGMENTS) {
-      SK_TRY(grow(inst, &inst->cand_next, &inst->cand_next_cap, n + nc + nh));
+      SK_TRY(mortar_grow(inst, &inst->cand_next, &inst->cand_next_cap, n + nc + nh));
       if (nc > 0) memcpy(inst->cand_next + n, inst->cand + c0, sizeof(int) * (size_t)nc); /* either may be NULL */
       n += nc;
       for (int h = h0; h < h0 + nh; ++h) {

@@ -56,16 +56,6 @@ static int has_edge(const sk_instance *inst, int lo, int hi, int n) {
   return n > 0 && bsearch(key, inst->edge, (size_t)n, 2 * sizeof(int), edge_order) != NULL;
 }
 
-static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
-  if (need <= *cap) return SK_OK;
-  const int grown = 2 * need + 64;
-  int *a = realloc(*array, sizeof(int) * (size_t)grown);
-  if (!a) return nomem(inst);
-  *array = a;
-  *cap = grown;
-  return SK_OK;
-}
-
 /* The pairs (f < m) among the search hits that are not excluded and have a mortar segment within the search
  * margin's reach either way round, added to the sorted edge list when new; returns how many were new. A pair found
  * from both of its faces' hits is tested twice (the tests are symmetric) and kept once. */
@@ -80,7 +70,7 @@ static sk_status find_pairs(sk_instance *inst, const double *xs, int *added) {
       if (!mortar_pair_reaches(inst, f, m, xs, xs, inst->search_margin) &&
           !mortar_pair_reaches(inst, m, f, xs, xs, inst->search_margin))
         continue;
-      SK_TRY(grow(inst, &inst->edge, &inst->edge_cap, 2 * inst->n_edge + 2));
+      SK_TRY(mortar_grow(inst, &inst->edge, &inst->edge_cap, 2 * inst->n_edge + 2));
       inst->edge[2 * inst->n_edge] = lo;
       inst->edge[2 * inst->n_edge + 1] = hi;
       ++inst->n_edge;
@@ -137,7 +127,7 @@ sk_status mortar_self_assign(sk_instance *inst, const double *xs, int keep, int 
   if (!keep) inst->n_edge = 0;
   SK_TRY(find_pairs(inst, xs, added));
   if (keep && *added == 0) return SK_OK;
-  SK_TRY(grow(inst, &inst->adj, &inst->adj_cap, 2 * inst->n_edge));
+  SK_TRY(mortar_grow(inst, &inst->adj, &inst->adj_cap, 2 * inst->n_edge));
   build_graph(inst);
   /* seeds: the faces that keep their side (the last committed one, or the attempt's when the point is extended),
    * slave before master, then the rest by index as slave */
@@ -161,7 +151,7 @@ sk_status mortar_self_assign(sk_instance *inst, const double *xs, int keep, int 
       const int m = inst->adj[k];
       if (inst->role[m] == inst->role[f]) inst->dropped += f < m;
       else if (inst->role[f] == FACE_SLAVE) {
-        SK_TRY(grow(inst, &inst->cand, &inst->cand_cap, n + 1));
+        SK_TRY(mortar_grow(inst, &inst->cand, &inst->cand_cap, n + 1));
         inst->cand[n++] = m;
       }
     }

@@ -15,10 +15,10 @@ Penetration is measured on the output geometry: each inner node of one half (by 
 of the other half's inner nodes at the same x, every output step."""
 import math
 import os
-import tempfile
 
 from stickslip_results import ROOT, main, read_vtu, run
 from stickslip_compare.results import collection
+from test_self_contact import without_self_pair  # the scene without its pair `inner-self`
 
 SCENE = os.path.join(ROOT, "scenes", "ring-crush-2d.yaml")
 R_INNER = 0.9
@@ -42,15 +42,6 @@ def inner_penetration(folder):
                     if x0 <= x <= x1 and x1 > x0:
                         worst = max(worst, sign * (y0 + (x - x0) * (y1 - y0) / (x1 - x0) - y))
     return worst
-
-
-def without_self_pair():
-    text = open(SCENE).read().replace("../meshes", os.path.join(ROOT, "meshes"))
-    start = text.index("  - name: inner-self")
-    fd, path = tempfile.mkstemp(suffix=".yaml", prefix="stickslip-ring-")
-    with os.fdopen(fd, "w") as f:
-        f.write(text[:start] + text[text.index("time:"):])
-    return path
 
 
 def self_points(result):
