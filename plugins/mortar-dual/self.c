@@ -158,8 +158,8 @@ sk_status mortar_self_assign(sk_instance *inst, const double *xs, int keep, int 
   }
   inst->cand_ptr[nf] = n;
   if (inst->dropped > 0)
-    inst->api->log(inst->host, 1, "mortar-dual: self contact: %d face pair(s) whose faces reach each other and "
-                   "a third face left out (no slave/master split of an odd cycle)", inst->dropped);
+    inst->api->log(inst->host, 1, "mortar-dual: self contact: %d face pair(s) left out: both faces fell on one "
+                   "side (an odd cycle of pairs, three or more parts of the surface meeting)", inst->dropped);
   memset(inst->on_master, 0, (size_t)v->n_nodes);
   for (int f = 0; f < nf; ++f)
     if (inst->role[f] == FACE_MASTER)
