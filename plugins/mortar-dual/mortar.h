@@ -13,6 +13,7 @@ enum { STRATEGY_SADDLE_POINT = 0, STRATEGY_CONDENSED = 1 };
 enum { INTEGRATION_SEGMENTS = 0, INTEGRATION_CONCENTRATED = 1 };
 enum { ACTIVE_SET_SEMISMOOTH = 0, ACTIVE_SET_NESTED = 1 };
 enum { SIDE_SLAVE = 0, SIDE_MASTER = 1 };
+enum { FACE_IDLE = 0, FACE_SLAVE = 1, FACE_MASTER = 2 };
 
 /* One owned slave node: its constraint rows live on a column list fixed for the step attempt. */
 typedef struct {
@@ -128,6 +129,18 @@ struct sk_instance {
   double obstacle_d[3], obstacle_d_n[3];
   const sk_condense_ext *condense;
 
+  /* self contact (self.c, docs/plugins/mortar-dual.md section 3.6): the surface's faces split into the step's slave
+   * and master sides; the views are two copies of the one surface (same numbering) */
+  int self;
+  double self_exclusion;    /* faces with nodes this close in the reference configuration never meet */
+  unsigned char *role, *role_committed; /* per face: FACE_IDLE, FACE_SLAVE, FACE_MASTER (now / last committed step) */
+  unsigned char *role_preferred;        /* per face: scratch of mortar_self_assign */
+  unsigned char *on_master; /* per node: lies on a master-side face (its row then holds other nodes' z) */
+  int *edge, n_edge, edge_cap; /* face pairs (f < m) that reach each other: 2 per pair */
+  int *adj_ptr, *adj, *queue;  /* the pairs as a graph over faces (CSR) and the colouring's queue */
+  int adj_cap;
+  int dropped;              /* pairs left out of the colouring (both faces on one side: an odd cycle) */
+
   /* results of the committed step (EVAL_COMMIT), for report() */
   double force[3], moment[3], dissipated;
 
@@ -168,6 +181,21 @@ sk_status mortar_step_candidates(sk_instance *inst, const sk_state *state);
  * concentrated integration, a Gauss point left its frozen face): the candidates and columns are extended and the
  * point must be rejected (search.c). */
 sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int *added);
+
+/* Self contact: the step's face pairs (the hits of search_faces at xs, less the excluded pairs and those that do not
+ * reach each other, united with the pairs found so far when `keep`), the faces' sides and the slave faces'
+ * candidates (self.c). *added: the pairs new to the list. */
+sk_status mortar_self_assign(sk_instance *inst, const double *xs, int keep, int *added);
+
+/* An int array grown to hold `need` entries (search.c). */
+sk_status mortar_grow(sk_instance *inst, int **array, int *cap, int need);
+
+/* Self contact: checks what it needs (2D, frictionless, segments, the whole surface on this rank), reads
+ * self_exclusion and allocates its arrays (self.c). */
+sk_status mortar_self_create(sk_instance *inst);
+
+/* Self contact: the search hits of every face over the step x_n -> xs (search.c). */
+sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const double *xs, const double *xm);
 
 /* The attempt's columns of every owned node's rows (after the candidates; begin_step). */
 sk_status mortar_build_columns(sk_instance *inst);

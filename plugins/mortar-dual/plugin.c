@@ -32,6 +32,8 @@ static const char *const parameters[] = {
     "max_flips: active-set changes of a node within a step before its branch is frozen (semismooth) [8]",
     "min_cover: share of a node's support the master must cover for it to enter contact [0.5]",
     "search_margin: inflation of the search boxes (length) [the mean master edge length]",
+    "self_exclusion: self contact only: faces with nodes within this distance of each other in the reference "
+    "configuration never meet [computed from the scene: the surface's largest face (diagonal of its reference box)]",
     NULL};
 
 /* ---- helpers ----------------------------------------------------------------------------------------------------- */
@@ -49,7 +51,8 @@ static void destroy(sk_instance *inst) {
                   inst->hist_node, inst->hist_value, inst->pair_extra, inst->pair_row, inst->anchor, inst->chain.side,
                   inst->chain.node, inst->chain.entry, inst->block, inst->block_cols, inst->pos_map,
                   inst->commit_rows, inst->tmp_entries, inst->master_star_ptr, inst->master_star,
-                  inst->master_border};
+                  inst->master_border, inst->role, inst->role_committed, inst->role_preferred,
+                  inst->on_master, inst->edge, inst->adj_ptr, inst->adj, inst->queue};
   for (size_t i = 0; i < sizeof ptrs / sizeof ptrs[0]; ++i) free(ptrs[i]);
   free(inst);
 }
@@ -321,9 +324,27 @@ static int faces_refused(const char *slave_name, sk_elem_type slave, const char 
   return 1;
 }
 
+/* Self contact (section 3.6 of the plugin page): 2D, one rank, frictionless. */
+static int self_refused(int self, int dim, int n_ranks, int friction, char *reason, int size) {
+  if (!self) return 0;
+  if (dim == 3)
+    snprintf(reason, (size_t)size, "mortar-dual's self contact is 2D only (the dynamic slave/master assignment is not "
+             "tested on 3D faces)");
+  else if (n_ranks > 1)
+    snprintf(reason, (size_t)size, "mortar-dual's self contact runs on one rank (the slave/master assignment colours "
+             "the whole surface's face pairs on one rank; this run has %d)", n_ranks);
+  else if (friction)
+    snprintf(reason, (size_t)size, "mortar-dual's self contact is frictionless (a node that changes side between "
+             "steps has no committed D and M for the objective slip); give mu: 0 on the self pair");
+  else
+    return 0;
+  return 1;
+}
+
 static sk_status check(const sk_scene_info *scene, char *reason, int size) {
   const sk_scene_side *slave = scene->slave, *master = scene->master;
   if (scheme_refused(scene->scheme, scene->alpha, reason, size) ||
+      self_refused(scene->self_contact, scene->dim, scene->n_ranks, scene->friction, reason, size) ||
       faces_refused(slave->name, slave->cell_type, master->name, !master->rigid, master->cell_type, reason, size))
     return SK_ERR_PLUGIN;
   return SK_OK;
@@ -352,6 +373,8 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
                                                   api->contact->shape_hessian) != 0))
     st = api->error(host, SK_ERR_INTERNAL, "%s: mortar-dual: no face type for a supported face", attach->name);
   if (st == SK_OK) st = read_parameters(inst);
+  inst->self = attach->self_contact;
+  if (st == SK_OK && inst->self) st = mortar_self_create(inst);
   if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
     inst->condense = api->get_extension(host, SK_EXT_CONDENSE);
     if (!inst->condense)
@@ -549,12 +572,17 @@ static sk_status layout(sk_instance *inst, const sk_state *state, sk_layout *lay
   if (inst->strategy != STRATEGY_CONDENSED) return SK_OK;
   /* z_j paired with the slave rows of node j: their D block is D_jj I (dual basis) */
   const int dim = inst->dim;
-  for (int oi = 0; oi < inst->n_owned; ++oi)
+  int n_pairs = 0;
+  for (int oi = 0; oi < inst->n_owned; ++oi) {
+    /* self contact: a node on a master-side face has other nodes' z in its rows; its z stays in the system */
+    if (inst->self && inst->on_master[inst->owned[oi].node]) continue;
     for (int i = 0; i < dim; ++i) {
-      inst->pair_extra[oi * dim + i] = inst->owned[oi].extra + i;
-      inst->pair_row[oi * dim + i] = inst->slave->dofs[(int64_t)inst->owned[oi].node * dim + i];
+      inst->pair_extra[n_pairs * dim + i] = inst->owned[oi].extra + i;
+      inst->pair_row[n_pairs * dim + i] = inst->slave->dofs[(int64_t)inst->owned[oi].node * dim + i];
     }
-  return inst->condense->pair(inst->host, inst->n_owned, dim, inst->pair_extra, inst->pair_row);
+    ++n_pairs;
+  }
+  return inst->condense->pair(inst->host, n_pairs, dim, inst->pair_extra, inst->pair_row);
 }
 
 static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *pat) {
@@ -656,6 +684,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
 
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
   SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
+  if (inst->self) memcpy(inst->role_committed, inst->role, (size_t)inst->slave->n_cells);
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
   for (int oi = 0; oi < inst->n_owned; ++oi) {
     owned_node *o = &inst->owned[oi];
@@ -869,7 +898,8 @@ static const sk_plugin plugin = {
                "(Hammer 2012; Popp et al.)",
     .kinds = SK_KIND_PAIR,
     .caps = SK_CAP_2D | SK_CAP_3D | SK_CAP_FRICTION | SK_CAP_QUASISTATIC | SK_CAP_DYNAMICS | SK_CAP_RIGID_OBSTACLE |
-            SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS | SK_CAP_CONDENSATION | SK_CAP_SAYS_IDLE,
+            SK_CAP_DEFORMABLE_MASTER | SK_CAP_MULTIPLIERS | SK_CAP_CONDENSATION | SK_CAP_SAYS_IDLE |
+            SK_CAP_SELF_CONTACT,
     .strategies = strategies,
     .parameters = parameters,
     .create = create,

@@ -11,7 +11,7 @@ static sk_status nomem(sk_instance *inst) {
   return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (candidate faces)");
 }
 
-static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
+sk_status mortar_grow(sk_instance *inst, int **array, int *cap, int need) {
   if (need <= *cap) return SK_OK;
   const int grown = 2 * need + 64;
   int *a = realloc(*array, sizeof(int) * (size_t)grown);
@@ -24,7 +24,7 @@ static sk_status grow(sk_instance *inst, int **array, int *cap, int need) {
 /* The hits of every needed slave face: the master faces whose boxes (refitted over the master's x_n -> xm,
  * inflated by the search margin) meet the box of the slave face swept from x_n to xs, inflated by the margin —
  * cand_query_swept with the face's box in place of a point's path. */
-static sk_status search_faces(sk_instance *inst, const sk_state *state, const double *xs, const double *xm) {
+sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const double *xs, const double *xm) {
   const sk_view *sv = inst->slave;
   const int dim = inst->dim;
   inst->api->contact->search_update(inst->search, state->x_n[1], xm, inst->search_margin);
@@ -123,7 +123,7 @@ static int select_master(sk_instance *inst, int f, int q, const double *xs, cons
 
 /* The distinct master faces of face f's Gauss points: appended to cand from *n. */
 static sk_status point_faces(sk_instance *inst, int f, int **cand, int *cap, int *n) {
-  SK_TRY(grow(inst, cand, cap, *n + inst->n_face_points));
+  SK_TRY(mortar_grow(inst, cand, cap, *n + inst->n_face_points));
   const int first = *n;
   for (int q = 0; q < inst->n_face_points; ++q) {
     const int m = inst->ip_master[f * inst->n_face_points + q];
@@ -138,14 +138,18 @@ sk_status mortar_step_candidates(sk_instance *inst, const sk_state *state) {
   const sk_view *sv = inst->slave;
   memset(inst->cand_ptr, 0, sizeof(int) * ((size_t)sv->n_cells + 1));
   if (!inst->master) return SK_OK;
-  SK_TRY(search_faces(inst, state, state->x[0], state->x[1]));
+  SK_TRY(mortar_search_faces(inst, state, state->x[0], state->x[1]));
+  if (inst->self) {
+    int added;
+    return mortar_self_assign(inst, state->x[0], 0, &added);
+  }
   if (inst->integration == INTEGRATION_CONCENTRATED) mortar_compute_normals(inst, state->x[0]);
   int n = 0;
   for (int f = 0; f < sv->n_cells; ++f) {
     inst->cand_ptr[f] = n;
     const int h0 = inst->hit_ptr[f], nh = inst->hit_ptr[f + 1] - h0;
     if (inst->integration == INTEGRATION_SEGMENTS) {
-      SK_TRY(grow(inst, &inst->cand, &inst->cand_cap, n + nh));
+      SK_TRY(mortar_grow(inst, &inst->cand, &inst->cand_cap, n + nh));
       if (nh > 0) memcpy(inst->cand + n, inst->hits.faces + h0, sizeof(int) * (size_t)nh); /* cand may be NULL */
       n += nh;
       continue;
@@ -191,7 +195,11 @@ sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int
   if (!inst->master) return SK_OK;
   const sk_view *sv = inst->slave;
   const double *xs = state->x[0], *xm = state->x[1];
-  SK_TRY(search_faces(inst, state, xs, xm));
+  SK_TRY(mortar_search_faces(inst, state, xs, xm));
+  if (inst->self) {
+    SK_TRY(mortar_self_assign(inst, xs, 1, added));
+    return *added ? mortar_build_columns(inst) : SK_OK;
+  }
   mortar_compute_normals(inst, xs);
   int n = 0;
   for (int f = 0; f < sv->n_cells; ++f) {
@@ -199,7 +207,7 @@ sk_status mortar_extend_candidates(sk_instance *inst, const sk_state *state, int
     const int c0 = inst->cand_ptr[f], nc = inst->cand_ptr[f + 1] - c0;
     const int h0 = inst->hit_ptr[f], nh = inst->hit_ptr[f + 1] - h0;
     if (inst->integration == INTEGRATION_SEGMENTS) {
-      SK_TRY(grow(inst, &inst->cand_next, &inst->cand_next_cap, n + nc + nh));
+      SK_TRY(mortar_grow(inst, &inst->cand_next, &inst->cand_next_cap, n + nc + nh));
       if (nc > 0) memcpy(inst->cand_next + n, inst->cand + c0, sizeof(int) * (size_t)nc); /* either may be NULL */
       n += nc;
       for (int h = h0; h < h0 + nh; ++h) {

@@ -24,29 +24,8 @@ half's inner nodes at the same x (every output step), both ways."""
 import math
 import os
 
-from stickslip_results import ROOT, main, read_vtu, run
-from stickslip_compare.results import collection
-from test_self_contact import E, NU, N_AROUND, R_INNER, R_OUTER, SCENE, without_self_pair
-
-
-def penetrations(folder):
-    """Largest depth of a top-half inner node below the bottom half's inner polyline, and of a bottom-half inner node
-    above the top half's, over the output steps."""
-    worst = [-math.inf, -math.inf]
-    for _, name in collection(folder):
-        vtu = read_vtu(os.path.join(folder, name))
-        halves = ([], [])
-        for p, u in zip(vtu["Points"], vtu["displacement"]):
-            X = (p[0] - u[0], p[1] - u[1])
-            if abs(math.hypot(*X) - R_INNER) < 1e-6:
-                halves[0 if X[1] > 0 else 1].append((p[0], p[1]))
-        for side, sign in ((0, 1.0), (1, -1.0)):
-            other = sorted(halves[1 - side])
-            for x, y in halves[side]:
-                for (x0, y0), (x1, y1) in zip(other, other[1:]):
-                    if x0 <= x <= x1 and x1 > x0:
-                        worst[side] = max(worst[side], sign * (y0 + (x - x0) * (y1 - y0) / (x1 - x0) - y))
-    return worst
+from stickslip_results import main, run
+from test_self_contact import E, NU, N_AROUND, R_INNER, R_OUTER, SCENE, penetrations, without_self_pair
 
 
 def nts_ring_crush_self_contact(checks):

@@ -113,6 +113,24 @@ static void mesh_3d_matching(kit *k) {
   kit_surface(k, 1, SK_QUAD4, 4, 4, master);
 }
 
+/* 2D self contact: one closed surface, the boundary of a thin slot (a hole 0.01 high between two walls, rounded
+ * ends), traversed so that its outward normal points into the slot: the top wall (faces 0-2, normal -y) and the
+ * bottom wall (faces 4-6, normal +y) face each other with non-matching nodes; slave and master are the same view. */
+static void mesh_2d_self(kit *k) {
+  static const double X[16] = {0.0, 0.005, 0.35, 0.006, 0.7, 0.004, 1.0, 0.005, 1.1, 0.0,
+                               1.0, -0.005, 0.65, -0.004, 0.3, -0.006};
+  static const double more[2] = {-0.1, 0.0};
+  double Y[18];
+  memcpy(Y, X, sizeof X);
+  memcpy(Y + 16, more, sizeof more);
+  kit_init(k, 2, 9, Y);
+  /* top left -> right, the right end, bottom right -> left, the left end */
+  static const int loop[18] = {0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 0};
+  kit_surface(k, 0, SK_LINE2, 2, 9, loop);
+  kit_surface(k, 1, SK_LINE2, 2, 9, loop);
+  k->attach.self_contact = 1;
+}
+
 /* key=value pairs, numbers as numbers */
 static void params(kit *k, const char *const *kv) {
   for (int i = 0; kv[i]; i += 2) {
@@ -123,12 +141,15 @@ static void params(kit *k, const char *const *kv) {
   }
 }
 
-/* The condense pairs: every owned slave node's `dim` z with its `dim` displacement rows; in a paired row no other
- * pair's z, the own D_jj block diagonal and nonzero. */
+/* The condense pairs: every owned slave node's `dim` z with its `dim` displacement rows (self contact: the nodes on
+ * no master-side face); in a paired row no other pair's z, the own D_jj block diagonal and nonzero. */
 static void check_pairs(const kit *k, const double *J) {
   const int64_t n = k->n, nd = k->n_dofs;
   SK_CHECK(k->pair_block == k->dim);
-  SK_CHECK(k->n_pairs == k->layout.n_extra);
+  int64_t expected = k->layout.n_extra;
+  if (k->instance->self)
+    for (int j = 0; j < k->instance->slave->n_nodes; ++j) expected -= k->dim * k->instance->on_master[j];
+  SK_CHECK(k->n_pairs == expected);
   int bad = 0;
   for (int64_t p = 0; p < k->n_pairs; ++p) {
     const int64_t row = k->pair_row[p], own = nd + k->pair_extra[p];
@@ -156,6 +177,7 @@ static double check_case(const fd_case *c) {
   if (c->dim == 3 && c->with_master == 2) mesh_3d_matching(&k);
   else if (c->dim == 3) mesh_3d(&k);
   else if (c->with_master == 3) mesh_2d_line3(&k);
+  else if (c->with_master == 4) mesh_2d_self(&k);
   else mesh_2d(&k, c->with_master);
   if (c->obstacle) kit_obstacle(&k, c->obstacle);
   params(&k, c->kv);
@@ -194,6 +216,15 @@ static double check_case(const fd_case *c) {
   SK_CHECK(k.outside_pattern == 0);
   SK_CHECK(scale > 0.0);
   SK_CHECK(states[1] + states[2] > 0);
+  if (k.instance->self) {
+    /* the top wall and the right end's upper face slave (face 0 seeds the colouring), the lower one and the bottom
+     * wall master, the left end idle (excluded: within self_exclusion of both walls); node 4 at the right end's tip
+     * lies on a slave and a master face: its z is not condensed */
+    static const unsigned char sides[9] = {FACE_SLAVE, FACE_SLAVE, FACE_SLAVE, FACE_SLAVE, FACE_MASTER, FACE_MASTER,
+                                           FACE_MASTER, FACE_MASTER, FACE_IDLE};
+    SK_CHECK(memcmp(k.instance->role, sides, sizeof sides) == 0);
+    SK_CHECK(k.instance->on_master[4] && !k.instance->on_master[1]);
+  }
   if (c->strategy == STRATEGY_CONDENSED) {
     double *J = calloc((size_t)(k.n * k.n), sizeof(double));
     SK_CHECK(kit_jacobian(&k, q, J, NULL) == SK_OK);
@@ -219,6 +250,37 @@ static void check_errors(void) {
   kit_free(&k);
 }
 
+/* Self contact at check (sk_plugin.check): 2D frictionless on one rank runs; 3D, friction and several ranks are
+ * refused with their reasons. */
+static void check_self_refusals(void) {
+  const sk_plugin *plugin = stickslip_plugin_entry();
+  SK_CHECK((plugin->caps & SK_CAP_SELF_CONTACT) != 0);
+  sk_scene_side side = {.struct_size = sizeof side, .name = "inner", .body = 0, .body_name = "ring",
+                        .E = 1e4, .nu = 0.3, .cell_type = SK_LINE2, .order = 1};
+  sk_scene_info info = {.struct_size = sizeof info, .kind = SK_KIND_PAIR, .name = "self", .dim = 2,
+                        .scheme = "quasi-static", .alpha = 1.0, .n_ranks = 1, .self_contact = 1, .slave = &side,
+                        .master = &side};
+  char reason[300] = "";
+  SK_CHECK(plugin->check(&info, reason, sizeof reason) == SK_OK);
+  static const struct {
+    int dim, ranks, friction;
+    const char *says;
+  } refused[] = {{3, 1, 0, "2D only"}, {2, 2, 0, "one rank"}, {2, 1, 1, "frictionless"}};
+  for (size_t i = 0; i < sizeof refused / sizeof refused[0]; ++i) {
+    sk_scene_side s = side;
+    if (refused[i].dim == 3) s.cell_type = SK_QUAD4;
+    sk_scene_info c = info;
+    c.dim = refused[i].dim;
+    c.n_ranks = refused[i].ranks;
+    c.friction = refused[i].friction;
+    c.slave = c.master = &s;
+    reason[0] = '\0';
+    SK_CHECK(plugin->check(&c, reason, sizeof reason) == SK_ERR_PLUGIN);
+    SK_CHECK(strstr(reason, refused[i].says) != NULL);
+    printf("  self contact refused: %s\n", reason);
+  }
+}
+
 int main(void) {
   sk_obstacle line, circle;
   memset(&line, 0, sizeof line);
@@ -242,7 +304,10 @@ int main(void) {
   static const char *const con_m[] = {"mu", "0.3", "c_n", "30", "integration", "concentrated", "normal", "M", NULL};
   static const char *const con_3d[] = {"mu", "0.3", "c_n", "30", "integration", "concentrated", "face_gauss", "3",
                                        NULL};
+  static const char *const self[] = {"c_n", "30", "self_exclusion", "0.008", NULL};
   const fd_case cases[] = {
+      {"2D self contact (slot), frictionless", 2, 4, STRATEGY_SADDLE_POINT, NULL, self, 0.0},
+      {"2D self contact (slot), frictionless (condensed)", 2, 4, STRATEGY_CONDENSED, NULL, self, 0.0},
       {"2D segments dual, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
       {"2D segments dual, mu 0.3 (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, dual, 0.0},
       {"2D segments dual, mu 0.05 (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, slip, 0.0},
@@ -268,5 +333,6 @@ int main(void) {
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) worst = fmax(worst, check_case(&cases[i]));
   printf("worst |J - FD| / max|J| over %zu cases: %.2e\n", sizeof cases / sizeof cases[0], worst);
   check_errors();
+  check_self_refusals();
   return sk_test_finish("test_mortar_assembled");
 }
