@@ -8,7 +8,7 @@
 extern "C" {
 #endif
 
-/* A checkpoint read for a restart (core/time/checkpoint.c). */
+/* A checkpoint read for a restart (core/time/restart.c). */
 typedef struct sk_restart sk_restart;
 
 typedef struct {
