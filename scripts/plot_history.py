@@ -7,9 +7,9 @@ The kind of run decides the panels (printed with the file name):
                          run), energy (strain, and with friction the dissipation, against the work of the supports
                          and obstacles where it is known), contact forces, and with friction the ratio of tangential
                          to normal contact force against mu, else Newton iterations per step
-  dynamic, free bodies   energies, their conservation (E - E0, with friction E + D - E0, and the angular momentum
-                         without obstacles, relative to the run's energy and momentum scales), linear momentum,
-                         contact forces
+  dynamic, free bodies   energies, their balance (E - E0 - W, with friction E + D - E0 - W, W the work of the loads
+                         and moving obstacles; and the angular momentum without obstacles and loads, relative to the
+                         run's energy and momentum scales), linear momentum, contact forces
   dynamic, supported     energies (with the work of the supports where known), load-displacement, contact forces,
                          Newton iterations
 Contact panels appear only with contact; friction adds the dissipated energy and the stick/slip counts.
@@ -153,21 +153,27 @@ class Run:
             largest = max((abs(r[column]) for column in supports for r in self.rows), default=0.0)
             drivers = [("%s against %s" % (column, label), load, column) for column in supports
                        if max(abs(r[column]) for r in self.rows) > 1e-9 * largest]
-        return drivers, force_driven, force_driven or bool(self.scene.get("body_force"))
+        self.loads = force_driven or self.body_force_in(self.scene)
+        # history.csv's external_work holds the loads' work (tractions, resultants, body force); older files do not
+        return drivers, force_driven, self.loads and "external_work" not in self.columns
+
+    @staticmethod
+    def body_force_in(scene):
+        return any(number(v) not in (None, 0.0) for v in scene.get("body_force", []) or [])
 
     def external_work(self):
-        """The work of the supports and moving obstacles on the bodies, per row (trapezoidal in time), or None when
-        other loads act (their work needs displacements history.csv does not hold)."""
+        """The work on the bodies per row: the loads' (history.csv's external_work) plus the supports' and moving
+        obstacles' (trapezoidal in time), or None when it is not known (a history.csv without external_work)."""
         if self.unknown_work or not self.scene:
             return None
-        work, total = [0.0], 0.0
+        work, total = [self.rows[0].get("external_work", 0.0)], 0.0
         for a, b in zip(self.rows, self.rows[1:]):
             for label, x, column in self.drivers:
                 i = self.rows.index(b)
                 dx = x[i] - x[i - 1]
                 force = 0.5 * (a[column] + b[column])
                 total += force * dx if column in self.support_columns else -force * dx  # an obstacle receives it
-            work.append(total)
+            work.append(total + b.get("external_work", 0.0))
         return work
 
 
@@ -193,7 +199,8 @@ def write_data(run, path):
             normal = abs(r["contact_force_" + vertical])
             tangential = math.sqrt(max(sum(r["contact_force_" + k] ** 2 for k in "xyz") - normal * normal, 0.0))
             run.friction_ratio.append(tangential / normal if normal > 0 else float("nan"))
-            values = list(r.values()) + [(e - e0) / e_scale, (e + d - e0) / e_scale] + \
+            w = work[i] if work else 0.0
+            values = list(r.values()) + [(e - e0 - w) / e_scale, (e + d - e0 - w) / e_scale] + \
                 [(r["angular_momentum_" + k] - rows[0]["angular_momentum_" + k]) / l_scale for k in "xyz"] + \
                 [work[i] if work else float("nan"), r["strain_energy"] + r["kinetic_energy"] + d, e + d,
                  run.friction_ratio[-1]]
@@ -232,7 +239,7 @@ def gnuplot_panel(panel, run, data, e_scale, l_scale):
     friction, lines = run.friction, []
     plot = lambda curves: lines.append("plot " + ", \\\n     ".join(curves))  # noqa: E731
     if panel == "energy":
-        work = run.external_work() is not None and run.drivers
+        work = run.external_work() is not None and (run.drivers or run.loads)
         if run.dynamic:
             title = "energy" + (" and dissipation" if friction else "")
             curves = [curve("kinetic_energy", "kinetic"), curve("strain_energy", "strain"),
@@ -246,16 +253,21 @@ def gnuplot_panel(panel, run, data, e_scale, l_scale):
                        curve("E_plus_D" if run.dynamic else "strain_plus_dissipated",
                              "E + D" if run.dynamic else "strain + D", 'with lines lw 2 dt 2 lc rgb "black"')]
         if work:
-            curves.append(curve("work", "work of supports and obstacles", 'with lines lw 2 dt 3 lc rgb "#a00000"'))
+            doers = (["loads"] if run.loads else []) + (["supports and obstacles"] if run.drivers else [])
+            curves.append(curve("work", "work of the " + " and ".join(doers), 'with lines lw 2 dt 3 lc rgb "#a00000"'))
         lines.append('set title "%s"' % title)
         plot(curves)
     elif panel == "conservation":
-        lines.append('set title "conservation: (E%s - E0) / %.3g%s"' % (
-            " + D" if friction else "", e_scale, "" if run.obstacles else ", (L - L0) / %.3g" % l_scale))
+        # W: the loads' and moving obstacles' work; unknown (an older history.csv with loads): E - E0 alone
+        w = " - W" if run.external_work() is not None and (run.loads or run.drivers) else ""
+        torque_free = not run.obstacles and not run.loads
+        lines.append('set title "%s: (E%s - E0%s) / %.3g%s"' % (
+            "balance" if w else "conservation", " + D" if friction else "", w, e_scale,
+            ", (L - L0) / %.3g" % l_scale if torque_free else ""))
         lines.append('set format y "%.1e"')
         curves = [curve("EplusD_change" if friction else "E_change",
-                        "(E + D - E0)/scale" if friction else "(E - E0)/scale")]
-        if not run.obstacles:
+                        "(E + D - E0%s)/scale" % w if friction else "(E - E0%s)/scale" % w)]
+        if torque_free:
             curves += [curve("L%s_change" % k, "(L%s - L%s0)/|L|" % (k, k)) for k in "xyz"]
         plot(curves)
         lines.append('set format y "%g"')

@@ -217,6 +217,12 @@ void sk_system_describe_worst(const sk_system *sys, char *text, size_t size);
 /* The support reactions of every Dirichlet condition, 3 per condition (summed over ranks), from the last residual
  * (collective). */
 void sk_system_reactions(const sk_system *sys, double *sums);
+/* The work the prescribed loads (body force, tractions, resultants) did over the step from u_n to x, with each load
+ * taken where the body's integrator balances forces (the time force_time, and for a current-area resultant the
+ * configuration): the discrete external work of the scheme, so that an energy-consistent scheme keeps
+ * E_{n+1} - E_n = W on a step without contact, friction or supports doing work. Not counted: supports, moving
+ * obstacles, contact. scratch: room for the local dofs (model nodes times dim). Collective. */
+sk_status sk_system_load_work(sk_system *sys, double *scratch, double *work);
 
 /* Wall-clock seconds (monotonic) for the phases' timings. */
 double sk_system_seconds(void);

@@ -146,3 +146,41 @@ void sk_system_describe_worst(const sk_system *sys, char *text, size_t size) {
   if (sys->worst_rank >= 0) MPI_Bcast(mine, (int)sizeof mine, MPI_CHAR, sys->worst_rank, sys->comm);
   snprintf(text, size, "%s", mine);
 }
+
+/* ---- the work of the loads ---------------------------------------------------------------------------------------- */
+
+sk_status sk_system_load_work(sk_system *sys, double *scratch, double *work) {
+  const sk_model *m = sys->model;
+  const int dim = m->dim;
+  const int64_t n_dofs = (int64_t)m->n_nodes * dim;
+  double w = 0.0;
+  /* the body force: b . M (u - u_n) over the owned nodes' mass rows (the load vector is M b for every scheme) */
+  const double *b = m->body_force;
+  if ((b[0] != 0 || b[1] != 0 || b[2] != 0) && m->mass_row_ptr) {
+    for (int a = 0; a < m->n_nodes; ++a) {
+      if (m->node_owner[a] != m->rank) continue;
+      for (int64_t k = m->mass_row_ptr[a]; k < m->mass_row_ptr[a + 1]; ++k) {
+        const int64_t col = (int64_t)m->mass_cols[k] * dim;
+        for (int i = 0; i < dim; ++i) w += b[i] * m->mass_values[k] * (sys->x[col + i] - sys->u_n[col + i]);
+      }
+    }
+  }
+  /* tractions and resultants: the forces they add to the residual (with a minus sign), each written by one rank */
+  memset(scratch, 0, sizeof(double) * (size_t)n_dofs);
+  for (int k = 0; k < m->n_tractions; ++k) {
+    const sk_group *g = m->tractions[k].faces;
+    const int body = g->n_elems > 0 ? sk_model_body_of_node(m, g->conn[0]) : -1;
+    const sk_time_integrator *integrator = body >= 0 ? m->bodies[body].integrator : sys->integrator;
+    sk_traction_add(m, k, integrator->force_time(sys->t_n, sys->t), scratch);
+  }
+  double *const residual = sys->F_local;
+  sys->F_local = scratch;
+  sk_status status = SK_OK;
+  for (int k = 0; status == SK_OK && k < sys->n_terms; ++k)
+    if (strcmp(sys->terms[k]->ops->kind, "resultant") == 0) status = sys->terms[k]->ops->residual(sys->terms[k], sys);
+  sys->F_local = residual;
+  for (int64_t k = 0; k < n_dofs; ++k) w -= scratch[k] * (sys->x[k] - sys->u_n[k]);
+  MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, m->comm);
+  *work = w;
+  return status;
+}

@@ -296,7 +296,8 @@ static sk_status write_description(const char *path, const sk_run_options *optio
           p->good_steps, (long long)p->newton_iterations, (long long)p->cuts);
   fprintf(f, "linear_solves: %d\nactive_set_loops: %d\nlinear_fallback: %d\n", sys->linear_solves,
           sys->active_set_loops, sys->linear_fallback);
-  fprintf(f, "dissipated: %.17g\nlast_vtu_step: %lld\n", rec->dissipated, (long long)rec->last_vtu_step);
+  fprintf(f, "dissipated: %.17g\nexternal_work: %.17g\nlast_vtu_step: %lld\n", rec->dissipated, rec->external_work,
+          (long long)rec->last_vtu_step);
   const int ok = fflush(f) == 0 && fsync(fileno(f)) == 0;
   if (fclose(f) != 0 || !ok) return sk_error_set(SK_ERR_IO, "checkpoint: writing '%s' failed: %s", path, strerror(errno));
   return SK_OK;

@@ -21,6 +21,7 @@ typedef struct {
 /* The recorder's part of a checkpoint (recorder.c). */
 typedef struct sk_recorder_state_s {
   double dissipated;      /* accumulated dissipated energy */
+  double external_work;   /* accumulated work of the loads */
   int64_t last_vtu_step;
   const char *history_path; /* rank 0: the history.csv written so far (NULL: none) */
   const char *contact_path; /* rank 0: the contact.csv written so far (NULL: none) */
@@ -45,7 +46,7 @@ struct sk_restart {
   int n_nodes, dim;
   double time;
   sk_progress progress;
-  double dissipated;
+  double dissipated, external_work;
   int64_t last_vtu_step;
   int64_t linear_solves, active_set_loops;
   int linear_fallback;

@@ -23,7 +23,7 @@
 typedef enum {
   COL_TIME, COL_STEP, COL_SUBSTEP, COL_DT, COL_NEWTON, COL_KINETIC, COL_STRAIN, COL_TOTAL, COL_MOMENTUM_X, COL_MOMENTUM_Y,
   COL_MOMENTUM_Z, COL_ANGULAR_X, COL_ANGULAR_Y, COL_ANGULAR_Z, COL_FORCE_X, COL_FORCE_Y, COL_FORCE_Z, COL_ACTIVE,
-  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, COL_MATERIAL,
+  COL_STICK, COL_SLIP, COL_DISSIPATED, COL_CONSTRAINT, COL_MOMENT_X, COL_MOMENT_Y, COL_MOMENT_Z, COL_MATERIAL, COL_EXTERNAL_WORK,
   N_FIXED_COLUMNS
 } history_column;
 
@@ -31,7 +31,8 @@ static const char *const fixed_columns[N_FIXED_COLUMNS] = {
     "time", "step", "substep", "dt", "newton_iterations", "kinetic_energy", "strain_energy", "total_energy", "momentum_x",
     "momentum_y", "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z", "contact_force_x",
     "contact_force_y", "contact_force_z", "active_points", "stick_points", "slip_points", "dissipated_energy",
-    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z", "material_total_energy"};
+    "constraint_violation", "contact_moment_x", "contact_moment_y", "contact_moment_z", "material_total_energy",
+    "external_work"};
 
 struct sk_recorder {
   sk_scene *scene;
@@ -51,6 +52,8 @@ struct sk_recorder {
   double *obstacle_force;  /* 3 per obstacle pair */
   int n_obstacles;
   double dissipated;       /* accumulated over the steps */
+  double external_work;    /* of the loads, accumulated over the steps (sk_system_load_work) */
+  double *load_scratch;    /* room for the local dofs, for sk_system_load_work */
   double total_energy;     /* of the last row */
   int wants_invariants;    /* someone reads the energies and momenta: history.csv (--out) or the progress line */
   int vtu_count;
@@ -85,6 +88,7 @@ void sk_recorder_free(sk_recorder *rec) {
   free(rec->row);
   free(rec->reactions);
   free(rec->obstacle_force);
+  free(rec->load_scratch);
   free(rec);
 }
 
@@ -124,8 +128,9 @@ sk_status sk_recorder_open(sk_scene *scene, sk_system *sys, const sk_run_options
   rec->row = calloc((size_t)rec->n_columns, sizeof(double));
   rec->reactions = calloc(3 * (size_t)m->n_dirichlet + 1, sizeof(double));
   rec->obstacle_force = calloc(3 * (size_t)rec->n_obstacles + 1, sizeof(double));
+  rec->load_scratch = calloc((size_t)m->n_nodes * (size_t)m->dim + 1, sizeof(double));
   *out = rec;
-  if (!rec->names || !rec->name_storage || !rec->row || !rec->reactions || !rec->obstacle_force)
+  if (!rec->names || !rec->name_storage || !rec->row || !rec->reactions || !rec->obstacle_force || !rec->load_scratch)
     return no_memory("the history columns");
   int c = 0;
   for (; c < N_FIXED_COLUMNS; ++c) rec->names[c] = fixed_columns[c];
@@ -357,6 +362,7 @@ static sk_status history_row(sk_recorder *rec, const double *u, const double *v,
   row[COL_STRAIN] = inv.strain - host[1] + scheme[1];
   row[COL_TOTAL] = row[COL_KINETIC] + row[COL_STRAIN];
   row[COL_MATERIAL] = inv.kinetic + inv.strain;
+  row[COL_EXTERNAL_WORK] = rec->external_work;
   for (int i = 0; i < 3; ++i) {
     row[COL_MOMENTUM_X + i] = inv.momentum[i];
     row[COL_ANGULAR_X + i] = inv.angular_momentum[i];
@@ -418,6 +424,7 @@ static sk_status carry_rows(const sk_restart *restart, const char *name, sk_csv 
 
 sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart) {
   rec->dissipated = restart->dissipated;
+  rec->external_work = restart->external_work;
   rec->last_output_step = restart->last_vtu_step;
   rec->last_step = restart->progress.steps;
   snprintf(rec->restarted_from, sizeof rec->restarted_from, "%s", restart->dir);
@@ -435,6 +442,7 @@ sk_status sk_recorder_resume(sk_recorder *rec, const sk_restart *restart) {
 void sk_recorder_checkpoint_state(sk_recorder *rec, sk_recorder_state *state) {
   static char path[1300];
   state->dissipated = rec->dissipated;
+  state->external_work = rec->external_work;
   state->last_vtu_step = rec->last_output_step;
   static char contact_path[1300];
   state->history_path = state->contact_path = NULL;
@@ -481,6 +489,9 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   note_solvers(rec, (int)sys->step);
   sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
+  double load_work = 0.0;
+  SK_TRY(sk_system_load_work(sys, rec->load_scratch, &load_work));
+  rec->external_work += load_work;
   if (rec->scene->model.n_pairs > 0) sk_contact_balance_step(&rec->balance, sys, &contact, sys->step, rec->options->verbose);
   sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, substep, sys->newton.iterations, &contact);
   status = sk_system_collective(sys, status);

@@ -118,6 +118,7 @@ static sk_status read_description(sk_restart *r) {
   if (status == SK_OK) status = read_int64(cfg, "active_set_loops", &loops);
   if (status == SK_OK) status = sk_cfg_int(cfg, "linear_fallback", 1, 0, &fallback);
   if (status == SK_OK) status = sk_cfg_double(cfg, "dissipated", 1, 0, &r->dissipated);
+  if (status == SK_OK) status = sk_cfg_double(cfg, "external_work", 1, 0, &r->external_work);
   if (status == SK_OK) status = read_int64(cfg, "last_vtu_step", &vtu);
   const sk_cfg *sets = sk_cfg_get(cfg, "sets");
   const int n_sets = sets && sk_cfg_kind_of(sets) == SK_CFG_SEQ ? sk_cfg_size(sets) : 0;
@@ -172,14 +173,15 @@ static sk_status share(sk_restart *r, MPI_Comm comm, int rank) {
   int64_t longs[7] = {r->progress.steps, r->progress.scheduled, r->progress.newton_iterations, r->progress.cuts,
                       r->last_vtu_step, r->linear_solves, r->active_set_loops};
   MPI_Bcast(longs, 7, MPI_INT64_T, 0, comm);
-  double doubles[3] = {r->time, r->progress.dt, r->dissipated};
-  MPI_Bcast(doubles, 3, MPI_DOUBLE, 0, comm);
+  double doubles[4] = {r->time, r->progress.dt, r->dissipated, r->external_work};
+  MPI_Bcast(doubles, 4, MPI_DOUBLE, 0, comm);
   if (rank != 0) {
     r->ranks = ints[0], r->n_nodes = ints[1], r->dim = ints[2], r->progress.substep = ints[3];
     r->progress.cuts_in_a_row = ints[4], r->progress.good_steps = ints[5], r->linear_fallback = ints[6];
     r->progress.steps = longs[0], r->progress.scheduled = longs[1], r->progress.newton_iterations = longs[2];
     r->progress.cuts = longs[3], r->last_vtu_step = longs[4], r->linear_solves = longs[5], r->active_set_loops = longs[6];
     r->time = doubles[0], r->progress.dt = doubles[1], r->dissipated = doubles[2];
+    r->external_work = doubles[3];
     r->sets = calloc((size_t)ints[7] + 1, sizeof(char *));
     r->set_modes = calloc((size_t)ints[7] + 1, sizeof *r->set_modes);
     if (!r->sets || !r->set_modes) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");

@@ -84,6 +84,9 @@ def nts_disk_pile_energy(checks):
                  % (max(excess), scale, excess[-1]))
     checks.check(imbalance <= 1e-12 * impulse, "momentum change per step = dt (M g - box reactions) to %.3g (largest "
                  "change %.3g, M = %.6g)" % (imbalance, impulse, mass))
+    column = max(abs(r["external_work"] - w) for r, w in zip(rows, work))
+    checks.check(column <= 1e-12 * scale, "history.csv's external_work is W_n to %.3g (<= 1e-12 x %.3g)"
+                 % (column, scale))
 
 
 if __name__ == "__main__":
