@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <Amesos.h>
+#include <Amesos_Mumps.h>
 #include <Epetra_CrsGraph.h>
 #include <Epetra_Object.h>
 #include <Teuchos_DefaultMpiComm.hpp>
@@ -212,6 +213,86 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
   return SK_OK;
 }
 
+namespace {
+
+// MUMPS's INFO(1) of the last call, the most negative over the ranks (0 for KLU or without a solver).
+int mumps_info(sk_linear_system *sys, sk_linear_solver_kind kind) {
+  int info = 0, worst = 0;
+  if (kind == SK_LINEAR_DIRECT_MUMPS && !sys->amesos.is_null())
+    if (auto *mumps = dynamic_cast<Amesos_Mumps *>(sys->amesos.get())) info = mumps->GetINFO()[0];
+  MPI_Allreduce(&info, &worst, 1, MPI_INT, MPI_MIN, sys->comm);
+  return worst;
+}
+
+bool mumps_workspace_short(int info) {
+  return info == -8 || info == -9 || info == -11 || info == -12 || info == -14 || info == -15 || info == -17 ||
+         info == -20;
+}
+
+// What MUMPS's INFO(1) means, for the messages.
+const char *mumps_meaning(int info) {
+  if (info == -10) return "numerically singular matrix";
+  if (info == -6) return "structurally singular matrix";
+  if (info == -13) return "out of memory";
+  if (mumps_workspace_short(info)) return "workspace too small";
+  return "see the MUMPS manual";
+}
+
+// The symbolic (once per pattern and backend) and numeric factorisation of the values in sys->epetra_matrix; *info:
+// MUMPS's INFO(1) when it failed (mumps_info), else 0.
+sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk_linear_report *report, int *info) {
+  *info = 0;
+  const char *backend = amesos_backend_name(kind);
+  // all ranks see the same return codes (MUMPS's are global) but agree anyway: a mismatch would deadlock
+  auto failed = [sys](int code) {
+    int worst = code < 0 ? code : (code > 0 ? -code : 0), result = 0;
+    MPI_Allreduce(&worst, &result, 1, MPI_INT, MPI_MIN, sys->comm);
+    return result;
+  };
+  char mumps[128] = "";
+  auto describe = [&](int info) {
+    if (info != 0)
+      std::snprintf(mumps, sizeof mumps, "; MUMPS INFO(1) = %d: %s, ICNTL(14) = %d %%", info, mumps_meaning(info),
+                    sys->mumps_workspace_percent);
+    return mumps;
+  };
+  if (sys->amesos.is_null() || sys->amesos_kind != kind) {
+    const double setup_start = cpu_seconds();
+    Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
+    Amesos factory;
+    sys->amesos = rcp(factory.Create(kind == SK_LINEAR_DIRECT_MUMPS ? "Amesos_Mumps" : "Amesos_Klu",
+                                     *sys->epetra_problem));
+    if (sys->amesos.is_null())
+      return sk_error_set(SK_ERR_INTERNAL, "direct solve (%s): Amesos has no such solver", backend);
+    sys->amesos_kind = kind;
+    Teuchos::ParameterList params;
+    params.set("OutputLevel", sys->options.verbose ? 1 : 0);
+    params.set("ComputeTrueResidual", false);
+    params.set("ComputeVectorNorms", false);
+    sys->amesos->SetParameters(params);
+    if (auto *mumps = dynamic_cast<Amesos_Mumps *>(sys->amesos.get())) mumps->SetICNTL(14, sys->mumps_workspace_percent);
+    if (const int code = failed(sys->amesos->SymbolicFactorization())) {
+      describe(*info = mumps_info(sys, kind));
+      sys->amesos = Teuchos::null;
+      report->failure = SK_LINEAR_FAILURE_SINGULAR;
+      return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): symbolic factorisation failed (error %d%s)", backend,
+                          code, mumps);
+    }
+    report->refactored_symbolic = 1;
+    sys->setup_cpu_seconds = cpu_seconds() - setup_start;
+  }
+  if (const int code = failed(sys->amesos->NumericFactorization())) {
+    describe(*info = mumps_info(sys, kind));
+    sys->amesos = Teuchos::null;  // start afresh (symbolic included) next time
+    report->failure = SK_LINEAR_FAILURE_SINGULAR;
+    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): numeric factorisation failed (error %d%s)", backend,
+                        code, mumps[0] ? mumps : ", singular matrix");
+  }
+  return SK_OK;
+}
+
+}  // namespace
+
 // Direct solve by Amesos v1 (MUMPS or KLU) on the distributed Epetra matrix: both are correct on several ranks
 // (MUMPS factorises in parallel; Amesos_Klu gathers to rank 0 itself). The symbolic factorisation is computed once
 // per pattern (with the first values: MUMPS's analysis uses them for its scaling / zero-free-diagonal permutation,
@@ -235,40 +316,17 @@ sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const 
       if (saved) std::cerr.rdbuf(saved);  // rdbuf(sb) also clears the badbit set while muted
     }
   } mute(!sys->options.verbose);
-  // all ranks see the same return codes (MUMPS's are global) but agree anyway: a mismatch would deadlock
-  auto failed = [sys](int code) {
-    int worst = code < 0 ? code : (code > 0 ? -code : 0), result = 0;
-    MPI_Allreduce(&worst, &result, 1, MPI_INT, MPI_MIN, sys->comm);
-    return result;
-  };
-  if (sys->amesos.is_null() || sys->amesos_kind != kind) {
-    const double setup_start = cpu_seconds();
-    Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
-    Amesos factory;
-    sys->amesos = rcp(factory.Create(kind == SK_LINEAR_DIRECT_MUMPS ? "Amesos_Mumps" : "Amesos_Klu",
-                                     *sys->epetra_problem));
-    if (sys->amesos.is_null())
-      return sk_error_set(SK_ERR_INTERNAL, "direct solve (%s): Amesos has no such solver", backend);
-    sys->amesos_kind = kind;
-    Teuchos::ParameterList params;
-    params.set("OutputLevel", sys->options.verbose ? 1 : 0);
-    params.set("ComputeTrueResidual", false);
-    params.set("ComputeVectorNorms", false);
-    sys->amesos->SetParameters(params);
-    if (const int code = failed(sys->amesos->SymbolicFactorization())) {
-      sys->amesos = Teuchos::null;
-      report->failure = SK_LINEAR_FAILURE_SINGULAR;
-      return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): symbolic factorisation failed (error %d)", backend,
-                          code);
-    }
-    report->refactored_symbolic = 1;
-    sys->setup_cpu_seconds = cpu_seconds() - setup_start;
-  }
-  if (const int code = failed(sys->amesos->NumericFactorization())) {
-    sys->amesos = Teuchos::null;  // start afresh (symbolic included) next time
-    report->failure = SK_LINEAR_FAILURE_SINGULAR;
-    return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): numeric factorisation failed (error %d, singular matrix)",
-                        backend, code);
+
+  // MUMPS sizes its workspace at the analysis, from the first values; pivots delayed by values that changed since (a
+  // contact constraint switching on) can need more: INFO(1) -8, -9, -11, -12, -14, -15, -17 or -20. The analysis is
+  // then redone with ICNTL(14), the workspace's relaxation in percent, five times larger (up to 2500 %), and the
+  // larger value kept for the run.
+  int info = 0;
+  for (sk_status status; (status = factorise_amesos(sys, kind, report, &info)) != SK_OK;) {
+    if (!mumps_workspace_short(info) || sys->mumps_workspace_percent >= 2500) return status;
+    sys->mumps_workspace_percent *= 5;
+    report->failure = SK_LINEAR_FAILURE_NONE;
+    sk_error_clear();
   }
   SK_TRY(solve_factorised(sys, b, x, report));
   SK_TRY(refine_solution(sys, b, x, report));

@@ -198,6 +198,7 @@ struct sk_linear_system {
   RCP<Epetra_LinearProblem> epetra_problem;
   RCP<Amesos_BaseSolver> amesos;
   sk_linear_solver_kind amesos_kind = SK_LINEAR_DIRECT;
+  int mumps_workspace_percent = 20;  // MUMPS ICNTL(14): raised, for the rest of the run, when a factorisation ran short
   sk_linear_solver_kind last_kind = SK_LINEAR_AUTO;  // the backend of the last solve (sk_linsys_solve_again)
 
   // iterative: the nodal block K (the matrix itself when there are no constraint rows) and its preconditioner,
