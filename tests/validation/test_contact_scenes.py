@@ -165,6 +165,21 @@ def hertz_2d_mpi(c):
             "ghost nodes per rank with master faces ghosted by boxes %s, fewer than replicated %s" % (ghosted, replicated))
 
 
+def master_ghosting_refused(c):
+    """ring-on-block on 2 ranks with master faces ghosted by swept boxes, set up once: the ring comes down onto block
+    faces that were beyond its rank's reach at set-up, and the step that needs them is refused before its Newton loop
+    (re-ghosting during a run is not built) with a message naming the pair and the variable, the results so far
+    kept. Measured: refused at step 6 (t = 0.3) with dt = 0.05, 36 faces."""
+    results, proc = run("scenes/ring-on-block.yaml", "--set", "time.dt=0.05", np=2, expect_ok=False,
+                        env={"STICKSLIP_MASTER_GHOSTING": "boxes"})
+    c.check(proc.returncode != 0, "the run stops (exit %d)" % proc.returncode)
+    c.check("contact pair ring: at step 6" in proc.stderr and "STICKSLIP_MASTER_GHOSTING" in proc.stderr
+            and "re-ghost" in proc.stderr, "the refusal names the pair, the step and the variable: %s"
+            % proc.stderr.strip().splitlines()[0][:200] if proc.stderr.strip() else "(no message)")
+    c.check(results is not None and results.summary.get("status") == "failed" and int(results.rows[-1]["step"]) == 5,
+            "the results up to step 5 are kept, status failed")
+
+
 def hertz_3d_errors(refine):
     results, _ = run("scenes/hertz-3d.yaml", "--set", "mesh.parameters.refine=%g" % refine)
     Es, d = e_star(1000.0, 1.0e6), 0.02
@@ -278,5 +293,5 @@ def two_elements_penalty_friction(c):
 
 
 if __name__ == "__main__":
-    main([hertz_2d, hertz_2d_rotated, hertz_2d_mpi, hertz_3d, patch_test_2d, block_on_plane,
+    main([hertz_2d, hertz_2d_rotated, hertz_2d_mpi, master_ghosting_refused, hertz_3d, patch_test_2d, block_on_plane,
           two_elements_penalty, two_elements_penalty_friction])
