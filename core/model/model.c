@@ -5,6 +5,8 @@
 
 #include "stickslip/model.h"
 
+#include "master_ghosts.h"
+
 double sk_history_value(const sk_history *history, double t) {
   if (history->n == 0) return 1.0;
   if (t <= history->t[0]) return history->v[0];
@@ -215,12 +217,22 @@ sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
         if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
     }
   }
-  /* master surfaces: a slave point may reach any of their faces */
+  /* master surfaces: a slave point may reach any of their faces; with ghost boxes, the faces ghosted to this rank */
   for (int k = 0; k < m->n_pairs; ++k) {
     const sk_contact_pair *pair = &m->pairs[k];
+    const sk_surface *s = &pair->master;
     if (pair->has_obstacle) continue;
-    for (int j = 0; j < pair->master.n_nodes; ++j)
-      if (!role[pair->master.nodes[j]]) role[pair->master.nodes[j]] = SK_NODE_GHOST;
+    if (!pair->ghost_boxes) {
+      for (int j = 0; j < s->n_nodes; ++j)
+        if (!role[s->nodes[j]]) role[s->nodes[j]] = SK_NODE_GHOST;
+      continue;
+    }
+    for (int f = 0; f < s->n_faces; ++f) {
+      const int *conn = s->conn + (size_t)f * s->nen;
+      if (!sk_master_face_ghosted(m, pair, conn, m->rank)) continue;
+      for (int a = 0; a < s->nen; ++a)
+        if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
+    }
   }
   /* rank 0 assembles the current-area resultant loads (each couples all nodes of its group) */
   for (int k = 0; m->rank == 0 && k < m->n_resultants; ++k) {
@@ -246,6 +258,7 @@ void sk_model_free(sk_model *model) {
     sk_contact_pair *pair = &model->pairs[k];
     sk_surface_free(&pair->slave);
     if (!pair->has_obstacle && !pair->self_contact) sk_surface_free(&pair->master);
+    free(pair->ghost_boxes);
   }
   free(model->pairs);
   for (int k = 0; k < model->n_dirichlet; ++k) free(model->dirichlet[k].nodes);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "host.h"
+#include "master_ghosts.h"
 #include "stickslip/model.h"
 
 static sk_status no_memory(const char *what) {
@@ -235,6 +236,22 @@ static int localize_group(sk_group *g, const int *local_of, const unsigned char 
   return kept;
 }
 
+/* Master faces ghosted by swept boxes (master_ghosts.h), when on: every deformable, distinct master surface. */
+static sk_status plan_master_ghosts(sk_model *m) {
+  if (!sk_master_ghosting_on() || m->n_ranks < 2) return SK_OK;
+  sk_status status = SK_OK;
+  for (int k = 0; k < m->n_pairs && status == SK_OK; ++k) {
+    sk_contact_pair *pair = &m->pairs[k];
+    if (pair->has_obstacle || pair->self_contact) continue;
+    int *owner = malloc(sizeof(int) * (size_t)(pair->slave.n_faces > 0 ? pair->slave.n_faces : 1));
+    if (!owner) return no_memory("master ghost boxes");
+    status = face_owners(m, &pair->slave, owner);
+    if (status == SK_OK) status = sk_master_ghosts_plan(m, pair, owner);
+    free(owner);
+  }
+  return status;
+}
+
 sk_status sk_model_distribute(sk_model *m) {
   const int n_global = m->n_nodes, dim = m->dim;
   unsigned char *role = malloc((size_t)(n_global > 0 ? n_global : 1));
@@ -244,7 +261,8 @@ sk_status sk_model_distribute(sk_model *m) {
     free(role), free(local_of), free(held);
     return no_memory("nodes");
   }
-  sk_status status = sk_model_node_roles(m, role);
+  sk_status status = plan_master_ghosts(m);
+  if (status == SK_OK) status = sk_model_node_roles(m, role);
   /* the elements this rank holds: its own and those holding a node it owns (one ghost layer) */
   for (int b = 0; b < m->n_bodies; ++b) {
     const sk_group *g = m->bodies[b].group;

@@ -5,6 +5,7 @@
 #define _GNU_SOURCE
 #include "system.h"
 #include "broad_phase.h"
+#include "master_ghosts.h"
 
 #include <limits.h>
 #include <math.h>
@@ -282,6 +283,7 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   sk_exchange_forward(&sys->ghost_dofs, sys->x);
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
+  SK_TRY(sk_master_ghosts_check(sys)); /* the ghosted master faces still reach every slave point (collective) */
   for (int k = 0; k < sys->n_terms; ++k) {
     sk_term *term = sys->terms[k];
     if (!term->ops->begin_step) continue;

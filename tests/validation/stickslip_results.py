@@ -9,8 +9,9 @@ sys.path.insert(0, os.path.join(ROOT, "tools"))
 from stickslip_compare.results import Results, read_vtu  # noqa: E402,F401  (the one reader, shared with the compare tool)
 
 
-def run(scene, *args, np=1, expect_ok=True, out=None):
-    """Runs `stickslip run scene --out DIR args...` (under mpirun for np > 1); returns (Results or None, stderr)."""
+def run(scene, *args, np=1, expect_ok=True, out=None, env=None):
+    """Runs `stickslip run scene --out DIR args...` (under mpirun for np > 1), with `env` added to the environment;
+    returns (Results or None, stderr)."""
     binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
     out = out or tempfile.mkdtemp(prefix="stickslip-test-")
     target = os.path.join(out, "results")
@@ -18,7 +19,7 @@ def run(scene, *args, np=1, expect_ok=True, out=None):
     if np > 1:
         mpiexec = os.environ.get("STICKSLIP_MPIEXEC", "mpirun")
         command = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", str(np), *command]
-    proc = subprocess.run(command, capture_output=True, text=True)
+    proc = subprocess.run(command, capture_output=True, text=True, env=dict(os.environ, **(env or {})))
     if expect_ok and proc.returncode != 0:
         raise AssertionError("run failed (%d): %s\n%s" % (proc.returncode, " ".join(command), proc.stderr))
     results = Results(target) if os.path.exists(os.path.join(target, "history.csv")) else None

@@ -2,7 +2,9 @@
 docs/validation.md, the contact patch test, stick/slip of a block on a plane, momentum of the Franke-Hesch-Betsch
 two-element impact, frame indifference and MPI equality. Usage: python3 test_contact_scenes.py CASE (CASES at the
 bottom); exit code 0 when every check holds. Measured numbers are quoted in each check's docstring."""
+import json
 import math
+import tempfile
 
 from stickslip_results import Checks, run, main
 
@@ -136,17 +138,46 @@ def hertz_2d_rotated(c):
             "points found in only one frame are separated (%d such points)" % len(one_sided))
 
 
+def ghost_nodes(prefix, ranks):
+    """The ghost nodes of each rank from the rank statistics (STICKSLIP_RANK_STATS=prefix, core/time/run.c)."""
+    return [json.load(open("%s-%04d.json" % (prefix, r)))["nodes_ghost"] for r in range(ranks)]
+
+
 def hertz_2d_mpi(c):
-    """hertz-2d (refine 1) on 1 and 2 ranks: the same reactions and contact force to round-off."""
+    """hertz-2d (refine 1) on 1 and 2 ranks: the same reactions and contact force to round-off; on 2 ranks with the
+    master surface replicated (the default) and with master faces ghosted by swept boxes
+    (STICKSLIP_MASTER_GHOSTING=boxes), which holds fewer ghost nodes on every rank."""
     one, _ = run("scenes/hertz-2d.yaml")
-    two, _ = run("scenes/hertz-2d.yaml", np=2)
-    c.check(two.summary["ranks"] == 2, "the second run used 2 ranks")
-    for name in ("reaction_top_y", "reaction_base_y", "reaction_base_x", "contact_force_y", "strain_energy"):
-        a, b = one.column(name), two.column(name)
-        scale = max(abs(v) for v in one.column("reaction_top_y")) if name != "strain_energy" else max(a)
-        diff = max(abs(x - y) for x, y in zip(a, b)) / scale
-        c.check(diff <= 1e-10, "np 1 vs 2: %s equal to %.1e relative" % (name, diff))
-    c.check(one.column("active_points") == two.column("active_points"), "np 1 vs 2: same active point counts")
+    stats = tempfile.mkdtemp(prefix="stickslip-stats-")
+    two, _ = run("scenes/hertz-2d.yaml", np=2, env={"STICKSLIP_RANK_STATS": stats + "/replicated"})
+    boxes, _ = run("scenes/hertz-2d.yaml", np=2,
+                   env={"STICKSLIP_RANK_STATS": stats + "/boxes", "STICKSLIP_MASTER_GHOSTING": "boxes"})
+    for label, other in (("np 1 vs 2", two), ("np 1 vs 2, master ghosted by boxes", boxes)):
+        c.check(other.summary["ranks"] == 2, "%s: the second run used 2 ranks" % label)
+        for name in ("reaction_top_y", "reaction_base_y", "reaction_base_x", "contact_force_y", "strain_energy"):
+            a, b = one.column(name), other.column(name)
+            scale = max(abs(v) for v in one.column("reaction_top_y")) if name != "strain_energy" else max(a)
+            diff = max(abs(x - y) for x, y in zip(a, b)) / scale
+            c.check(diff <= 1e-10, "%s: %s equal to %.1e relative" % (label, name, diff))
+        c.check(one.column("active_points") == other.column("active_points"), "%s: same active point counts" % label)
+    replicated, ghosted = ghost_nodes(stats + "/replicated", 2), ghost_nodes(stats + "/boxes", 2)
+    c.check(all(g < r for g, r in zip(ghosted, replicated)),
+            "ghost nodes per rank with master faces ghosted by boxes %s, fewer than replicated %s" % (ghosted, replicated))
+
+
+def master_ghosting_refused(c):
+    """ring-on-block on 2 ranks with master faces ghosted by swept boxes, set up once: the ring comes down onto block
+    faces that were beyond its rank's reach at set-up, and the step that needs them is refused before its Newton loop
+    (re-ghosting during a run is not built) with a message naming the pair and the variable, the results so far
+    kept. Measured: refused at step 6 (t = 0.3) with dt = 0.05, 36 faces."""
+    results, proc = run("scenes/ring-on-block.yaml", "--set", "time.dt=0.05", np=2, expect_ok=False,
+                        env={"STICKSLIP_MASTER_GHOSTING": "boxes"})
+    c.check(proc.returncode != 0, "the run stops (exit %d)" % proc.returncode)
+    c.check("contact pair ring: at step 6" in proc.stderr and "STICKSLIP_MASTER_GHOSTING" in proc.stderr
+            and "re-ghost" in proc.stderr, "the refusal names the pair, the step and the variable: %s"
+            % proc.stderr.strip().splitlines()[0][:200] if proc.stderr.strip() else "(no message)")
+    c.check(results is not None and results.summary.get("status") == "failed" and int(results.rows[-1]["step"]) == 5,
+            "the results up to step 5 are kept, status failed")
 
 
 def hertz_3d_errors(refine):
@@ -262,5 +293,5 @@ def two_elements_penalty_friction(c):
 
 
 if __name__ == "__main__":
-    main([hertz_2d, hertz_2d_rotated, hertz_2d_mpi, hertz_3d, patch_test_2d, block_on_plane,
+    main([hertz_2d, hertz_2d_rotated, hertz_2d_mpi, master_ghosting_refused, hertz_3d, patch_test_2d, block_on_plane,
           two_elements_penalty, two_elements_penalty_friction])

@@ -91,6 +91,10 @@ typedef struct {
                               `bodies:` creates against one obstacle share them), else -1 */
   int generated;           /* created by an entry with `bodies:` (between two bodies' whole boundaries, or a body's
                               boundary and an obstacle); the host's broad phase may keep it idle (term_plugin.c) */
+  /* master faces ghosted by swept boxes (core/model/master_ghosts.h; NULL: the master surface is whole on every rank
+   * with the pair): per rank its grown slave box of the set-up, then (second half) the step's swept boxes */
+  double *ghost_boxes;
+  double ghost_capture, ghost_reach; /* the capture distance and the reach the set-up's boxes were grown by */
 } sk_contact_pair;
 
 typedef struct {
@@ -158,7 +162,8 @@ sk_status sk_model_build_mass(sk_model *model);
 void sk_model_free(sk_model *model);
 /* What a rank holds of each node (docs/design.md, "What each rank holds"): the nodes it owns, and as ghosts the
  * other nodes of its elements' ghost layer (every element it owns or that holds a node it owns), of the master
- * surfaces of its contact pairs, and on rank 0 of the current-area resultant loads' groups. */
+ * surfaces of its contact pairs (with ghost boxes, of the master faces ghosted to it), and on rank 0 of the
+ * current-area resultant loads' groups. */
 enum { SK_NODE_OWNED = 1, SK_NODE_GHOST = 2 };
 /* role[node] = SK_NODE_OWNED, SK_NODE_GHOST or 0 for every node of the model, for this rank. */
 sk_status sk_model_node_roles(const sk_model *model, unsigned char *role);
