@@ -235,12 +235,7 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
     sk_term *term = live[k];
     term->extra_offset = abi;
     term->extra_local = n;
-    term->n_extra = 0;
-    term->initial = NULL;
-    term->eliminated = NULL;
-    term->anchor = NULL;
-    term->extra_owner = NULL;
-    term->recover_needs_jdx = 0;
+    sk_term_no_extras(term);
     if (!term->ops->layout) continue;
     sk_status status = term->ops->layout(term, sys);
     if (status != SK_OK) return sk_error_prefix(status, "%s: layout: ", term->name);

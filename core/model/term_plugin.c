@@ -131,13 +131,7 @@ void sk_term_plugin_set_far(sk_term *base, sk_system *sys, int far) {
                    (long long)sys->step);
   term->far = far;
   if (!far) return;
-  /* what the layout of an apart pair was: no extra unknowns, no call (the layout loop skips sleeping terms) */
-  base->n_extra = 0;
-  base->initial = NULL;
-  base->eliminated = NULL;
-  base->anchor = NULL;
-  base->extra_owner = NULL;
-  base->recover_needs_jdx = 0;
+  sk_term_no_extras(base); /* the layout of an apart pair (the layout loop skips sleeping terms) */
   term->idle = 1;
 }
 
