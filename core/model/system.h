@@ -116,7 +116,7 @@ struct sk_system {
   unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
-  double t_broad_phase;       /* the host's broad phase over pairs (term_plugin.c), part of t_contact */
+  double t_broad_phase;       /* the host's broad phase over pairs (broad_phase.c), part of t_contact */
   struct sk_broad_phase *broad; /* its boxes and sweep (broad_phase.c), NULL without created pairs */
   sk_term **live;             /* with a broad phase: the terms an attempt visits (sk_system_live_terms) */
   int n_live;
