@@ -8,6 +8,7 @@
 #include "contact_internal.h"
 #include "stickslip/contact.h"
 #include "stickslip/fe.h"
+#include "stickslip/modified_basis.h"
 
 /* One parametric domain per face shape; they differ only in the Lebesgue constant max sum |N_a| of the face's
  * interpolation (linear 1; line3 5/4; tri6 5/3 in the centroid, where the corner functions are -1/9 and the edge
@@ -418,21 +419,6 @@ void sk_surface_nodal_normals(const sk_surface *surface, const double *q, double
   }
 }
 
-/* The modified basis (Popp et al., SIAM J. Sci. Comput. 34, 2012) on the face's integrals A[]: each corner takes
- * alpha of its two edge nodes' integrals, the edge nodes keep 1 - 2 alpha of theirs (a partition of unity with
- * positive integrals: flat TRI6 2/15 and 1/5 of the area, QUAD8 1/20 and 1/5). */
-static void modified_basis_weights(sk_elem_type type, double *A) {
-  const double alpha = 0.2;
-  const int corners = type == SK_TRI6 ? 3 : type == SK_QUAD8 ? 4 : 0;
-  double edge[4];
-  for (int e = 0; e < corners; ++e) edge[e] = A[corners + e];
-  for (int e = 0; e < corners; ++e) {
-    A[e] += alpha * edge[e];
-    A[(e + 1) % corners] += alpha * edge[e];
-    A[corners + e] = (1.0 - 2.0 * alpha) * edge[e];
-  }
-}
-
 void sk_surface_tributary_measures(const sk_surface *surface, const double *q, double *measure) {
   memset(measure, 0, (size_t)surface->n_nodes * sizeof *measure);
   enum { MAX_POINTS = 16 };
@@ -447,7 +433,7 @@ void sk_surface_tributary_measures(const sk_surface *surface, const double *q, d
       sk_surface_geometry(surface, f, xi[p], q, &point);
       for (int a = 0; a < surface->nen; ++a) A[a] += point.N[a] * point.jacobian * w[p];
     }
-    modified_basis_weights(type, A);
+    sk_modified_basis_weights(type, A); /* TRI6/QUAD8: positive weights (modified_basis.h) */
     for (int a = 0; a < surface->nen; ++a) {
       const int index = surface_node_index(surface, surface->conn[(size_t)f * surface->nen + a]);
       if (index >= 0) measure[index] += A[a];

@@ -248,8 +248,10 @@ static sk_status update_active_set(sk_system *sys) {
   for (int64_t k = 0; k < sys->n_owned; ++k) sys->set_x[sys->owned[k]] = sys->owned_work[k];
   sys->set_valid = 1;
   sk_status status = SK_OK;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->update_active_set) continue;
     int changed = 0;
     const double t0 = now_seconds();
@@ -275,8 +277,10 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   if (!sys->x) SK_TRY(sk_system_ensure_capacity(sys, m->n_dofs));
   memcpy(sys->x, sys->u_n, sizeof(double) * (size_t)m->n_dofs);
   sk_status status = SK_OK;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
-    if (sys->terms[k]->ops->predict) status = sys->terms[k]->ops->predict(sys->terms[k], sys);
+  int n_live; /* the last attempt's: a created pair has no predictor */
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k)
+    if (live[k]->ops->predict) status = live[k]->ops->predict(live[k], sys);
   SK_TRY(sk_system_collective(sys, status));
   /* the predictors write the dofs of their bodies' elements; the ghosts outside them (master surface nodes held for
    * contact) get their owners' predicted values */
@@ -284,8 +288,10 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
   SK_TRY(sk_master_ghosts_check(sys)); /* the ghosted master faces still reach every slave point (collective) */
-  for (int k = 0; k < sys->n_terms; ++k) {
-    sk_term *term = sys->terms[k];
+  SK_TRY(sk_system_collective(sys, sk_broad_phase_begin(sys))); /* the pairs near at the predictor: live terms */
+  live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->begin_step) continue;
     const double t0 = now_seconds(); /* the contact search: contact work (contact_seconds) */
     status = term->ops->begin_step(term, sys);
@@ -420,8 +426,10 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
   sk_status status = update_active_set(sys);
   memset(sys->F_local, 0, sizeof(double) * (size_t)sys->n);
   sys->sink.failed = 0;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->residual) continue;
     const double t0 = now_seconds();
     status = term->ops->residual(term, sys);
@@ -436,9 +444,8 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
   /* the ghosts' rows summed into their owners */
   sk_exchange_reverse(&sys->ghost_dofs, sys->F_local);
   sk_exchange_reverse(&sys->ghost_extras, sys->F_local);
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
-    if (sys->terms[k]->ops->finish_residual)
-      status = sys->terms[k]->ops->finish_residual(sys->terms[k], sys, sys->F_local);
+  for (int k = 0; k < n_live && status == SK_OK; ++k)
+    if (live[k]->ops->finish_residual) status = live[k]->ops->finish_residual(live[k], sys, sys->F_local);
   for (int64_t k = 0; k < sys->n_owned; ++k) F[k] = sys->F_local[sys->owned[k]];
   note_worst(sys, F);
   return status;
@@ -451,8 +458,10 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
   sk_linsys_zero(sys->linsys);
   memset(sys->rhs_local, 0, sizeof(double) * (size_t)sys->n);
   sys->sink.failed = 0;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->jacobian) continue;
     const double t0 = now_seconds();
     status = term->ops->jacobian(term, sys);
@@ -460,14 +469,14 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
     if (status != SK_OK) sk_error_prefix(status, "%s: jacobian: ", term->name);
     *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
   }
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k)
-    if (sys->terms[k]->ops->finish_jacobian) status = sys->terms[k]->ops->finish_jacobian(sys->terms[k], sys);
+  for (int k = 0; k < n_live && status == SK_OK; ++k)
+    if (live[k]->ops->finish_jacobian) status = live[k]->ops->finish_jacobian(live[k], sys);
   status = note_fatal(sys, sk_system_collective(sys, status));
   if (status != SK_OK) return status;
   sk_exchange_reverse(&sys->ghost_dofs, sys->rhs_local);
   sk_exchange_reverse(&sys->ghost_extras, sys->rhs_local);
-  for (int k = 0; k < sys->n_terms; ++k)
-    if (sys->terms[k]->ops->finish_rhs) sys->terms[k]->ops->finish_rhs(sys->terms[k], sys, sys->rhs_local);
+  for (int k = 0; k < n_live; ++k)
+    if (live[k]->ops->finish_rhs) live[k]->ops->finish_rhs(live[k], sys, sys->rhs_local);
   const double t0 = now_seconds();
   status = sys->condensing ? sk_condenser_assemble(sys->condenser, sys->linsys) : sk_linsys_assemble(sys->linsys);
   sys->t_assembly += now_seconds() - t0;
@@ -529,10 +538,11 @@ static sk_status cb_solve(void *ctx, const double *x, const double *F, double *d
   for (int64_t k = 0; k < sys->n_owned; ++k) local[sys->owned[k]] = -F[k] + sys->rhs_local[sys->owned[k]];
   SK_TRY(sk_system_to_rows(sys, local, sys->b));
   SK_TRY(linear_solve(sys, sys->b, sys->y));
-  int any_jdx = 0, any_recover = 0;
-  for (int k = 0; k < sys->n_terms; ++k) {
-    any_jdx |= sys->terms[k]->recover_needs_jdx;
-    any_recover |= sys->terms[k]->ops->recover != NULL && sys->terms[k]->n_extra > 0;
+  int any_jdx = 0, any_recover = 0, n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live; ++k) {
+    any_jdx |= live[k]->recover_needs_jdx;
+    any_recover |= live[k]->ops->recover != NULL && live[k]->n_extra > 0;
   }
   MPI_Allreduce(MPI_IN_PLACE, &any_recover, 1, MPI_INT, MPI_MAX, sys->comm);
   memset(local, 0, sizeof(double) * (size_t)sys->n);
@@ -557,8 +567,8 @@ static sk_status cb_solve(void *ctx, const double *x, const double *F, double *d
     double *F_local = sys->q_work;
     owned_to_local(sys, F, F_local);
     sk_status status = SK_OK;
-    for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-      sk_term *term = sys->terms[k];
+    for (int k = 0; k < n_live && status == SK_OK; ++k) {
+      sk_term *term = live[k];
       if (!term->ops->recover) continue;
       status = term->ops->recover(term, sys, F_local, local);
       if (status != SK_OK) sk_error_prefix(status, "%s: recover: ", term->name);
@@ -649,16 +659,18 @@ sk_status sk_system_solve(sk_system *sys) {
     refresh_iterate(sys);
     if (status != SK_OK) return status;
     /* every term accepts the converged point, or Newton runs again from it (outer active-set loop) */
-    int accept = 1;
+    int accept = 1, n_live;
     status = SK_OK;
-    for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-      sk_term *term = sys->terms[k];
+    sk_term *const *live = sk_system_live_terms(sys, &n_live);
+    for (int k = 0; k < n_live && status == SK_OK; ++k) {
+      sk_term *term = live[k];
       if (!term->ops->converged) continue;
       int mine = 1;
       status = term->ops->converged(term, sys, &mine);
       if (status != SK_OK) sk_error_prefix(status, "%s: converged: ", term->name);
       accept = accept && mine;
     }
+    if (status == SK_OK) status = sk_broad_phase_converged(sys, &accept); /* sleeping pairs brought near: woken */
     SK_TRY(sk_system_collective(sys, status));
     int all = 0;
     MPI_Allreduce(&accept, &all, 1, MPI_INT, MPI_MIN, sys->comm);
@@ -680,8 +692,10 @@ sk_status sk_system_solve(sk_system *sys) {
 sk_status sk_system_commit(sk_system *sys) {
   memset(sys->v, 0, sizeof(double) * (size_t)sys->model->n_dofs);
   sk_status status = SK_OK;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->commit) continue;
     const double t0 = now_seconds();
     status = term->ops->commit(term, sys);
@@ -695,8 +709,10 @@ sk_status sk_system_commit(sk_system *sys) {
 }
 
 void sk_system_reject(sk_system *sys) {
-  for (int k = 0; k < sys->n_terms; ++k)
-    if (sys->terms[k]->ops->reject) sys->terms[k]->ops->reject(sys->terms[k], sys);
+  int n_live; /* the attempt's: a sleeping pair did nothing in it */
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live; ++k)
+    if (live[k]->ops->reject) live[k]->ops->reject(live[k], sys);
 }
 
 void sk_system_advance(sk_system *sys) {

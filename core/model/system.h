@@ -116,10 +116,13 @@ struct sk_system {
   unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
-  double t_broad_phase;       /* the host's broad phase over pairs (term_plugin.c), part of t_contact */
+  double t_broad_phase;       /* the host's broad phase over pairs (broad_phase.c), part of t_contact */
   struct sk_broad_phase *broad; /* its boxes and sweep (broad_phase.c), NULL without created pairs */
+  sk_term **live;             /* with a broad phase: the terms an attempt visits (sk_system_live_terms) */
+  int n_live;
   int64_t pair_attempts, far_pair_attempts; /* pairs' step attempts, and those the broad phase kept idle */
-  int64_t broad_phase_sweeps;  /* the broad phase's passes (one per iterate at which a created pair asks) */
+  int64_t broad_phase_sweeps;  /* the broad phase's passes (at each attempt's start, and at converged points while a
+                                  created pair sleeps) */
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
   int verbose;
@@ -172,6 +175,12 @@ sk_status sk_system_declare(sk_system *sys, int nr, const int64_t *rows, int nc,
 sk_status sk_system_declare_local(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols);
 /* A status agreed by all ranks: the worst, with a message on every rank. */
 sk_status sk_system_collective(const sk_system *sys, sk_status local);
+/* The terms a step attempt visits, in the terms' order: every term but the created pairs the broad phase keeps
+ * apart (broad_phase.c), which cost nothing per step; all terms without a broad phase. */
+static inline sk_term *const *sk_system_live_terms(const sk_system *sys, int *n) {
+  *n = sys->live ? sys->n_live : sys->n_terms;
+  return sys->live ? sys->live : sys->terms;
+}
 /* Internal to system*.c: the plugins' sink; the attempt's pattern from the terms' declarations (system_pattern.c). */
 void sk_system_sink_init(sk_system *sys);
 sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);

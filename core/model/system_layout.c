@@ -144,8 +144,10 @@ static sk_status plan_extras(sk_system *sys) {
   int *owner = malloc(sizeof(int) * (size_t)(n_ghosts + 1));
   sk_status status = local && gid && owner ? SK_OK : out_of_memory("the ghost extras", n_ghosts);
   int64_t g = 0;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    const sk_term *term = sys->terms[k];
+  int n_live; /* a sleeping pair has no extra unknowns (sk_term_plugin_set_far) */
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    const sk_term *term = live[k];
     for (int64_t j = 0; j < term->n_extra; ++j) {
       const int64_t i = term->extra_local + j;
       if (sys->role[i] != SK_NODE_GHOST) continue;
@@ -227,16 +229,13 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
   sk_model *m = sys->model;
   int64_t n = m->n_dofs, abi = m->n_dofs_global;
   sys->n_pairs = 0;
-  for (int k = 0; k < sys->n_terms; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live; /* a sleeping pair keeps the layout of an apart pair: no extra unknowns (sk_term_plugin_set_far) */
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live; ++k) {
+    sk_term *term = live[k];
     term->extra_offset = abi;
     term->extra_local = n;
-    term->n_extra = 0;
-    term->initial = NULL;
-    term->eliminated = NULL;
-    term->anchor = NULL;
-    term->extra_owner = NULL;
-    term->recover_needs_jdx = 0;
+    sk_term_no_extras(term);
     if (!term->ops->layout) continue;
     sk_status status = term->ops->layout(term, sys);
     if (status != SK_OK) return sk_error_prefix(status, "%s: layout: ", term->name);
@@ -277,8 +276,8 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
   sys->extra_shift = m->n_dofs - m->n_dofs_global;
   for (int64_t i = 0; i < m->n_dofs; ++i) sys->role[i] = sys->node_role[i / m->dim];
   int64_t kept = sys->n_nodal;
-  for (int k = 0; k < sys->n_terms; ++k) {
-    const sk_term *term = sys->terms[k];
+  for (int k = 0; k < n_live; ++k) {
+    const sk_term *term = live[k];
     for (int64_t j = 0; j < term->n_extra; ++j) {
       const int64_t i = term->extra_local + j;
       const int owner = term->extra_owner ? term->extra_owner[j] : 0;

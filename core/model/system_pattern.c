@@ -587,8 +587,10 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   /* extras this rank holds: it may add to an entity's rows (its owner sums) */
   for (int64_t r = sys->model->n_dofs; r < n; ++r) sys->row_local[r] = sys->role[r] != 0;
   sk_status status = SK_OK;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live; /* a sleeping pair declares nothing */
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->pattern) continue;
     status = term->ops->pattern(term, sys, sys->row_local);
     if (status != SK_OK) sk_error_prefix(status, "%s: pattern: ", term->name);

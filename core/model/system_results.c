@@ -31,8 +31,11 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
   sk_status status = SK_OK;
   const int n_obstacles = sys->model->n_obstacle_columns;
   if (obstacle_force) memset(obstacle_force, 0, sizeof(double) * 3 * (size_t)n_obstacles);
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live; /* after a step a sleeping pair reports nothing (zeros); at the start every term reports */
+  sk_term *const *live = initial ? sys->terms : sk_system_live_terms(sys, &n_live);
+  if (initial) n_live = sys->n_terms;
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->report) continue;
     sk_contact_report r = {.struct_size = sizeof r};
     status = term->ops->report(term, sys, initial, &r);
@@ -109,8 +112,11 @@ static void relay_point(void *ctx, const sk_contact_point *point) {
 sk_status sk_system_points(sk_system *sys, int initial,
                            void (*callback)(void *ctx, int pair, const sk_contact_point *point), void *ctx) {
   sk_status status = SK_OK;
-  for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    sk_term *term = sys->terms[k];
+  int n_live; /* after a step a sleeping pair has no point near contact; at the start every term gives its points */
+  sk_term *const *live = initial ? sys->terms : sk_system_live_terms(sys, &n_live);
+  if (initial) n_live = sys->n_terms;
+  for (int k = 0; k < n_live && status == SK_OK; ++k) {
+    sk_term *term = live[k];
     if (!term->ops->points) continue;
     points_relay relay = {callback, ctx, sk_term_plugin_pair(term)};
     status = term->ops->points(term, sys, initial, relay_point, &relay);

@@ -94,6 +94,17 @@ struct sk_term {
   sk_needs needs;                  /* declared at create (see sk_need) */
 };
 
+/* A term without extra unknowns for the attempt: what each layout starts from, and the layout of a created pair the
+ * broad phase puts to sleep. */
+static inline void sk_term_no_extras(sk_term *term) {
+  term->n_extra = 0;
+  term->initial = NULL;
+  term->eliminated = NULL;
+  term->anchor = NULL;
+  term->extra_owner = NULL;
+  term->recover_needs_jdx = 0;
+}
+
 /* The terms of core/model (each returns a new term or an error). */
 sk_status sk_term_bulk_create(sk_system *sys, int body, sk_term **term);      /* term_bulk.c */
 sk_status sk_term_traction_create(sk_system *sys, sk_term **term);            /* term_bulk.c */

@@ -111,24 +111,38 @@ static sk_status plugin_predict(sk_term *base, sk_system *sys) {
   return SK_OK;
 }
 
-static int surfaces_apart(const plugin_term *term, sk_system *sys) {
-  const sk_contact_pair *pair = &sys->model->pairs[term->pair];
-  return sk_broad_phase_apart(sys, pair->slave.body, pair->master.body, term->broad_margin);
-}
-
+/* A created pair's term is visited only while the broad phase keeps it awake (broad_phase.c): it is near then. */
 static sk_status plugin_begin_step(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
-  if (term->broad_phase) {
-    const int far = surfaces_apart(term, sys);
-    if (far != term->far)
-      sk_log_message(sys->rank, 2, "%s: %s at step %lld", base->name,
-                     far ? "surfaces apart (broad phase): no plugin call" : "surfaces near (broad phase): called again",
-                     (long long)sys->step);
-    term->far = far;
-    sys->pair_attempts++;
-    sys->far_pair_attempts += far;
-    if (far) return SK_OK;
-  }
+  sk_plugin_term_refresh(term, sys, 0);
+  return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
+}
+
+int sk_term_plugin_broad_id(const sk_term *base) {
+  const plugin_term *term = (const plugin_term *)base;
+  return base->ops == sk_plugin_term_ops() && term->broad_phase ? term->broad_id : -1;
+}
+
+void sk_term_plugin_set_far(sk_term *base, sk_system *sys, int far) {
+  plugin_term *term = (plugin_term *)base;
+  if (far != term->far)
+    sk_log_message(sys->rank, 2, "%s: %s at step %lld", base->name,
+                   far ? "surfaces apart (broad phase): no plugin call" : "surfaces near (broad phase): called again",
+                   (long long)sys->step);
+  term->far = far;
+  if (!far) return;
+  sk_term_no_extras(base); /* the layout of an apart pair (the layout loop skips sleeping terms) */
+  term->idle = 1;
+}
+
+/* The step's boxes were made with the predictor: a converged point that brought the surfaces near runs Newton again
+ * with the plugin's search done from it. */
+sk_status sk_term_plugin_wake(sk_term *base, sk_system *sys) {
+  plugin_term *term = (plugin_term *)base;
+  term->far = 0;
+  sys->far_pair_attempts--;
+  sk_log_message(sys->rank, 2, "%s: surfaces near at the converged point of step %lld (broad phase): Newton again",
+                 base->name, (long long)sys->step);
   sk_plugin_term_refresh(term, sys, 0);
   return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
 }
@@ -338,18 +352,6 @@ static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, 
 
 static sk_status plugin_converged(sk_term *base, sk_system *sys, int *accept) {
   plugin_term *term = (plugin_term *)base;
-  if (term->far) {
-    /* the step's boxes were made with the predictor: a converged point that brought the surfaces near runs Newton
-     * again with the plugin's search done from it */
-    if (surfaces_apart(term, sys)) return SK_OK;
-    term->far = 0;
-    sys->far_pair_attempts--;
-    sk_log_message(sys->rank, 2, "%s: surfaces near at the converged point of step %lld (broad phase): Newton again",
-                   base->name, (long long)sys->step);
-    sk_plugin_term_refresh(term, sys, 0);
-    *accept = 0;
-    return PLUGIN_CALL(term, begin_step, term->instance, &term->state);
-  }
   if (!term->table.converged) return SK_OK;
   refresh_x(term, sys);
   return PLUGIN_CALL(term, converged, term->instance, &term->state, accept);
@@ -553,7 +555,7 @@ static sk_status setup(plugin_term *term, sk_system *sys, int body, int pair_ind
       term->broad_margin = fmax(term->broad_margin, h_max);
     }
     if (term->broad_phase) {
-      SK_TRY(sk_broad_phase_add(sys, pair, term->broad_margin));
+      SK_TRY(sk_broad_phase_add(sys, pair, term->broad_margin, &term->broad_id));
       term->apart_at_start = sk_broad_phase_apart_at_start(sys, pair, term->broad_margin);
     }
   } else {

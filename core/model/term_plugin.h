@@ -33,9 +33,10 @@ typedef struct plugin_term {
   uint64_t x_version;
   sk_layout layout;
   int idle; /* this attempt: the plugin said sk_layout.idle on every rank, so its calls are skipped */
-  /* the host's broad phase (pairs created by `bodies:`, plugins without extra unknowns): far = the two surfaces'
-   * boxes, swept over the step and inflated by broad_margin, do not overlap, so no call of the plugin this attempt */
-  int broad_phase, far, apart_at_start;
+  /* the host's broad phase (pairs created by `bodies:`, plugins without extra unknowns; broad_phase.c): far = the
+   * two surfaces' boxes, swept over the step and inflated by broad_margin, do not overlap, so the term is not among
+   * the attempt's live terms and its plugin is not called; broad_id: its number in the broad phase */
+  int broad_phase, broad_id, far, apart_at_start;
   double broad_margin;
   int64_t *anchor;                 /* sk_layout.extra_anchor combined over ranks (n_extra), or NULL */
   int *extra_owner;                /* the owner of each extra this rank holds, else -1 (n_extra) */
@@ -64,5 +65,11 @@ typedef struct plugin_term {
 void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial);
 /* The ops of plugin terms (to tell them apart from core terms). */
 const sk_term_ops *sk_plugin_term_ops(void);
+/* The broad phase's side of a created pair's term (broad_phase.c): its number there, or -1 when the broad phase does
+ * not drive it; far = 1 puts it to sleep (idle, no extra unknowns) and 0 wakes it for the attempt about to start;
+ * wake brings it near at a converged point (its plugin's begin_step from there). */
+int sk_term_plugin_broad_id(const sk_term *term);
+void sk_term_plugin_set_far(sk_term *term, sk_system *sys, int far);
+sk_status sk_term_plugin_wake(sk_term *term, sk_system *sys);
 
 #endif

@@ -93,10 +93,10 @@ struct sk_instance {
   double (*sel_xi)[2];          /* start of the closest-point Newton on the selected face */
   int64_t *pattern_dofs;        /* the dofs of a slave node's neighbourhood (pattern) */
   int pattern_capacity;
-  /* TRI6 slaves: the pressure reported at node k is (T^T f)_k / A_k (see tributary_weights), a combination of the
-   * nodal forces of node k and its edge nodes: CSR rows rec_start[k] .. rec_start[k+1] of (rec_node, rec_coef) over
-   * view nodes; rec_force holds every view node's normal and tangential force, whether it is in contact and its gap
-   * (REC_STRIDE per node) while points() reports. */
+  /* TRI6 slaves: the pressure reported at node k is (T^T f)_k / A_k (see sk_modified_basis_weights), a combination
+   * of the nodal forces of node k and its edge nodes: CSR rows rec_start[k] .. rec_start[k+1] of (rec_node,
+   * rec_coef) over view nodes; rec_force holds every view node's normal and tangential force, whether it is in
+   * contact and its gap (REC_STRIDE per node) while points() reports. */
   int *rec_start, *rec_node;
   double *rec_coef, *rec_force;
 };

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "penalty_nts.h"
+#include "stickslip/modified_basis.h"
 
 const char *const pnts_strategies[] = {"none", NULL};
 const char *const pnts_parameters[] = {
@@ -65,20 +66,7 @@ sk_status pnts_check(const sk_scene_info *scene, char *reason, int size) {
  * TRI6: 2/15 and 1/5 of the area; QUAD8: 1/20 and 1/5). The consistent nodal loads of a uniform pressure remain the
  * integrals of N_I, so collocating at the nodes with these weights does not pass the patch test
  * (docs/plugins/penalty-nts.md has the measured error). QUAD9 and LINE3 integrals are positive and used as they are.
- * A[] holds integral N_I per face node on entry; edge node e joins corners e and e + 1. */
-#define MODIFIED_BASIS_ALPHA 0.2
-static int modified_corners(sk_elem_type type) { return type == SK_TRI6 ? 3 : type == SK_QUAD8 ? 4 : 0; }
-
-static void tributary_weights(sk_elem_type type, double *A) {
-  const int corners = modified_corners(type);
-  double edge[4];
-  for (int e = 0; e < corners; ++e) edge[e] = A[corners + e];
-  for (int e = 0; e < corners; ++e) {
-    A[e] += MODIFIED_BASIS_ALPHA * edge[e];
-    A[(e + 1) % corners] += MODIFIED_BASIS_ALPHA * edge[e];
-    A[corners + e] = (1.0 - 2.0 * MODIFIED_BASIS_ALPHA) * edge[e];
-  }
-}
+ * The weights: sk_modified_basis_weights (stickslip/modified_basis.h, shared with the host's tributary measures). */
 
 /* The rows of T^T for the pressure recovery of TRI6 slaves: a corner takes its own force and alpha times the force of
  * each edge node next to it (each edge once, however many faces share it), an edge node (1 - 2 alpha) times its own.
@@ -87,7 +75,7 @@ static void tributary_weights(sk_elem_type type, double *A) {
  * an owned node, so an owned node's row is complete. */
 static sk_status build_recovery(sk_instance *in) {
   const sk_view *slave = in->slave;
-  const int corners = modified_corners(slave->cell_type);
+  const int corners = sk_modified_basis_corners(slave->cell_type);
   if (corners == 0 || !in->area_weighted) return SK_OK;
   const int ns = in->n_slave, n_pairs = slave->n_cells * corners * 2;
   int *pair_corner = malloc(((size_t)n_pairs + 1) * sizeof(int));
@@ -127,9 +115,9 @@ static sk_status build_recovery(sk_instance *in) {
   }
   for (int k = 0; k < n; ++k) {
     in->rec_node[fill[pair_corner[k]]] = pair_edge[k];
-    in->rec_coef[fill[pair_corner[k]]++] = MODIFIED_BASIS_ALPHA;
+    in->rec_coef[fill[pair_corner[k]]++] = SK_MODIFIED_BASIS_ALPHA;
   }
-  for (int k = 0; k < n; ++k) in->rec_coef[in->rec_start[pair_edge[k]]] = 1.0 - 2.0 * MODIFIED_BASIS_ALPHA;
+  for (int k = 0; k < n; ++k) in->rec_coef[in->rec_start[pair_edge[k]]] = 1.0 - 2.0 * SK_MODIFIED_BASIS_ALPHA;
 done:
   free(pair_corner);
   free(pair_edge);
@@ -269,7 +257,7 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
 
   /* Tributary areas A_I = integral of N_I over the slave faces in the reference configuration (exact for the owned
-   * nodes: the view holds every face around them); on TRI6 faces of the modified basis (tributary_weights). */
+   * nodes: the view holds every face around them); on TRI6 faces of the modified basis (sk_modified_basis_weights). */
   if (in->area_weighted) {
     double qxi[AREA_POINTS_MAX][2], qw[AREA_POINTS_MAX];
     const int order = slave->cell_type == SK_TRI3 ? 2 : slave->cell_type == SK_TRI6 ? 4 : 5;
@@ -282,7 +270,7 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
         in->cs->geometry(slave, f, qxi[g], slave->X, &pt);
         for (int I = 0; I < slave->nen; ++I) A[I] += pt.N[I] * pt.jacobian * qw[g];
       }
-      tributary_weights(slave->cell_type, A);
+      sk_modified_basis_weights(slave->cell_type, A);
       for (int I = 0; I < slave->nen; ++I) in->area[slave->conn[f * slave->nen + I]] += A[I];
     }
   } else {

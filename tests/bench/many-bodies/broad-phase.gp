@@ -19,8 +19,8 @@ plot csv u 1:7 every ::1 w lp pt 7 lc rgb "#1f77b4" t "broad phase per step", \
      csv u 1:10 every ::1 w lp pt 6 lc rgb "#1f77b4" dt 2 t "broad phase per sweep", \
      csv u 1:($13/$3) every ::1 w lp pt 5 lc rgb "#2ca02c" t "contact, with the broad phase", \
      csv u 1:($14/$3) every ::1 w lp pt 4 lc rgb "#d62728" t "contact, without (every pair calls its plugin)", \
-     [2:32] b0 * x * log(x) / (n0 * log(n0)) w l lc rgb "#555555" dt 3 lw 2 t "∝ N log N", \
-     [2:32] b0 * (x / n0)**2 w l lc rgb "black" dt 4 t "∝ N^{2}"
+     [2:128] b0 * x * log(x) / (n0 * log(n0)) w l lc rgb "#555555" dt 3 lw 2 t "∝ N log N", \
+     [2:128] b0 * (x / n0)**2 w l lc rgb "black" dt 4 t "∝ N^{2}"
 set ylabel "share of the run's wall time [%]"
 set yrange [1e-3:10]
 set key top left font ",9"

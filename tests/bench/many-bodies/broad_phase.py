@@ -2,12 +2,14 @@
 """The host's broad phase over contact pairs created by `bodies: all` (docs/contact-services.md, "Pairs among many
 bodies"): its share of a step and its growth with the number of bodies N.
 
-For each N (default 2, 4, 8, 16, 32) the scene is N elastic disks (radius 0.5, 48 quad4 each) on a square-ish grid
+For each N (default 2, 4, 8, 16, 32, 64, 128) the scene is N elastic disks (radius 0.5, 48 quad4 each) on a square-ish grid
 in a rigid box (floor and two walls), dropped under gravity for a number of midpoint steps with penalty-nts and
 friction: N (N - 1) / 2 disk pairs and 3 N wall pairs, all created by one `bodies: all` entry. Each N runs twice:
 with the broad phase, and with it off (STICKSLIP_NO_SKIP=idle-calls, every pair calls its plugin every step), so the
-contact seconds show what the broad phase saves. Reads summary.json (broad_phase_seconds, pair_attempts,
-pair_attempts_apart, contact_seconds, wall_seconds) and writes OUT/broad-phase.csv and OUT/broad-phase.png.
+contact seconds show what the broad phase saves (up to --without-up-to bodies: without it every pair searches at
+every iterate, which takes long for many bodies). Reads summary.json (broad_phase_seconds, pair_attempts,
+pair_attempts_apart, contact_seconds, wall_seconds) and writes OUT/broad-phase.csv and OUT/broad-phase.png, and
+prints the exponent p of a least-squares fit time ~ N^p of the broad phase per sweep and per step over N >= 4.
 
 Wall times on a shared machine are noisy: the share and the growth are what matters, not the seconds.
 Example: tests/bench/many-bodies/broad_phase.py --out /tmp/broad-phase"""
@@ -69,7 +71,8 @@ def run(binary, path, env=None):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--bodies", default="2,4,8,16,32")
+    p.add_argument("--bodies", default="2,4,8,16,32,64,128")
+    p.add_argument("--without-up-to", type=int, default=32, help="largest N also run without the broad phase")
     p.add_argument("--steps", type=int, default=60)
     p.add_argument("--out", required=True)
     p.add_argument("--binary", default=os.path.join(ROOT, "build", "bin", "stickslip"))
@@ -81,7 +84,7 @@ def main():
         with open(path, "w") as f:
             f.write(scene(n, args.steps))
         on = run(args.binary, path)
-        off = run(args.binary, path, {"STICKSLIP_NO_SKIP": "idle-calls"})
+        off = run(args.binary, path, {"STICKSLIP_NO_SKIP": "idle-calls"}) if n <= args.without_up_to else {}
         steps = on["steps"]
         row = {"bodies": n, "pairs": n * (n - 1) // 2 + 3 * n, "steps": steps,
                "newton_iterations": on["newton_iterations"], "wall_seconds": on["wall_seconds"],
@@ -91,8 +94,8 @@ def main():
                "sweeps": on["broad_phase_sweeps"],
                "broad_phase_per_sweep": on["broad_phase_seconds"] / max(on["broad_phase_sweeps"], 1),
                "pair_attempts": on["pair_attempts"], "pair_attempts_apart": on["pair_attempts_apart"],
-               "contact_seconds": on["contact_seconds"], "contact_seconds_without": off["contact_seconds"],
-               "wall_seconds_without": off["wall_seconds"]}
+               "contact_seconds": on["contact_seconds"], "contact_seconds_without": off.get("contact_seconds", ""),
+               "wall_seconds_without": off.get("wall_seconds", "")}
         rows.append(row)
         print(" ".join("%s=%.4g" % (k, v) if isinstance(v, float) else "%s=%s" % (k, v) for k, v in row.items()),
               flush=True)
@@ -104,6 +107,13 @@ def main():
     png = os.path.join(args.out, "broad-phase.png")
     subprocess.run(["gnuplot", "-c", os.path.join(os.path.dirname(os.path.abspath(__file__)), "broad-phase.gp"),
                     table, png], check=True)
+    for column in ("broad_phase_per_sweep", "broad_phase_per_step"):
+        points = [(math.log(r["bodies"]), math.log(r[column])) for r in rows if r["bodies"] >= 4 and r[column] > 0]
+        if len(points) >= 2:
+            mx, my = sum(x for x, _ in points) / len(points), sum(y for _, y in points) / len(points)
+            slope = sum((x - mx) * (y - my) for x, y in points) / sum((x - mx) ** 2 for x, _ in points)
+            print("%s ~ N^%.2f (least squares over N = %s)" % (column, slope, ", ".join(
+                str(r["bodies"]) for r in rows if r["bodies"] >= 4)))
     print("wrote %s and %s" % (table, png))
 
 
