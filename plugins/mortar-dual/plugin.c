@@ -324,13 +324,10 @@ static int faces_refused(const char *slave_name, sk_elem_type slave, const char 
   return 1;
 }
 
-/* Self contact (section 3.6 of the plugin page): 2D, one rank, frictionless. */
-static int self_refused(int self, int dim, int n_ranks, int friction, char *reason, int size) {
+/* Self contact (section 3.6 of the plugin page): 2D and 3D, one rank, frictionless. */
+static int self_refused(int self, int n_ranks, int friction, char *reason, int size) {
   if (!self) return 0;
-  if (dim == 3)
-    snprintf(reason, (size_t)size, "mortar-dual's self contact is 2D only (the dynamic slave/master assignment is not "
-             "tested on 3D faces)");
-  else if (n_ranks > 1)
+  if (n_ranks > 1)
     snprintf(reason, (size_t)size, "mortar-dual's self contact runs on one rank (the slave/master assignment colours "
              "the whole surface's face pairs on one rank; this run has %d)", n_ranks);
   else if (friction)
@@ -344,7 +341,7 @@ static int self_refused(int self, int dim, int n_ranks, int friction, char *reas
 static sk_status check(const sk_scene_info *scene, char *reason, int size) {
   const sk_scene_side *slave = scene->slave, *master = scene->master;
   if (scheme_refused(scene->scheme, scene->alpha, reason, size) ||
-      self_refused(scene->self_contact, scene->dim, scene->n_ranks, scene->friction, reason, size) ||
+      self_refused(scene->self_contact, scene->n_ranks, scene->friction, reason, size) ||
       faces_refused(slave->name, slave->cell_type, master->name, !master->rigid, master->cell_type, reason, size))
     return SK_ERR_PLUGIN;
   return SK_OK;
