@@ -199,10 +199,7 @@ sk_status mortar_self_create(sk_instance *inst) {
   const sk_host_api *api = inst->api;
   const sk_view *s = inst->slave, *m = inst->master;
   const char *refused = NULL;
-  if (inst->friction)
-    refused = "is frictionless (a node that changes side between steps has no committed D and M for the objective "
-              "slip); give mu: 0 on the self pair";
-  else if (inst->integration != INTEGRATION_SEGMENTS)
+  if (inst->integration != INTEGRATION_SEGMENTS)
     refused = "integrates segments (integration: segments): the slave/master split is made per face pair";
   else if (!m || s->n_cells != m->n_cells || s->n_nodes != m->n_nodes || s->nen != m->nen ||
            s->n_nodes != s->n_nodes_global ||

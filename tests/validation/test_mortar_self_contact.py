@@ -19,9 +19,16 @@ onto itself.
   measured); without it they pass through each other by 0.063. The full scene (4 layers, 50 steps) and the pair at
   the penalty test's CI size are measured in docs/plugins/mortar-dual.md section 3.6.
 
+- mortar_ring_crush_self_friction: the ring crush with mu 0.3 on the self pair (each step's sides get their D^n,
+  M^n at the step's start): it runs to t = 1, the halves enter each other by at most 6e-5 (measured 4.07e-5), the
+  slave side holds 30-60 nodes in contact (45 measured), every active node's tangential traction is within the
+  Coulomb disc (|t_t| <= mu p) and friction carries load (the largest |t_t| / (mu p) 0.23 measured, > 0.1 asserted;
+  0 without friction).
+
 Penetration is measured on the output geometry: each inner node of one half (by reference y) against the polyline
 of the other half's inner nodes at the same x (in 3D in each cross-section), every output step (the helpers of
 test_self_contact.py)."""
+import math
 import os
 
 from stickslip_results import main, run
@@ -82,5 +89,28 @@ def mortar_tube_crush_self_contact(checks):
                  "(measured 0.063)" % deep_without)
 
 
+def mortar_ring_crush_self_friction(checks):
+    mu = 0.3
+    result, _ = run(SCENE, *MORTAR_SELF, "--set", "contact.2.parameters.mu=%g" % mu)
+    deep = max(penetrations(result.folder))
+    last = [r for r in result.contact_points() if r["pair"] == 2 and r["state"] != 0]
+    ratios = []
+    for r in last:
+        t = [r["traction_" + c] for c in "xyz"]
+        n = [r["normal_" + c] for c in "xyz"]
+        tn = sum(a * b for a, b in zip(t, n))
+        ratios.append(math.sqrt(max(0.0, sum(a * a for a in t) - tn * tn)) / (mu * r["pressure"]))
+    checks.check(result.rows[-1]["time"] == 1.0, "the crush ran to t = 1 (t = %g)" % result.rows[-1]["time"])
+    checks.check(30 <= len(last) <= 60, "one half in contact at the end: %d active nodes of the self pair (measured "
+                 "45)" % len(last))
+    checks.check(deep <= 6e-5, "with friction on the self pair the inner surface enters itself by %.3g <= 6e-5 "
+                 "(measured 4.07e-5)" % deep)
+    checks.check(max(ratios) <= 1.0 + 1e-9, "every active node within the Coulomb disc: |t_t| / (mu p) <= %.6f" %
+                 max(ratios))
+    checks.check(max(ratios) > 0.1, "friction carries load on the self pair: the largest |t_t| / (mu p) is %.3f "
+                 "(measured 0.23)" % max(ratios))
+
+
 if __name__ == "__main__":
-    main([mortar_ring_crush_self_contact, mortar_self_contact_condensed, mortar_tube_crush_self_contact])
+    main([mortar_ring_crush_self_contact, mortar_self_contact_condensed, mortar_tube_crush_self_contact,
+          mortar_ring_crush_self_friction])

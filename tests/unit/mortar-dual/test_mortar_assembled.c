@@ -294,8 +294,8 @@ static void check_errors(void) {
   kit_free(&k);
 }
 
-/* Self contact at check (sk_plugin.check): frictionless on one rank runs, in 2D and on 3D first-order faces;
- * friction and several ranks are refused with their reasons. */
+/* Self contact at check (sk_plugin.check): on one rank it runs, in 2D and on 3D first-order faces, with and without
+ * friction; several ranks are refused with the reason. */
 static void check_self_refusals(void) {
   const sk_plugin *plugin = stickslip_plugin_entry();
   SK_CHECK((plugin->caps & SK_CAP_SELF_CONTACT) != 0);
@@ -306,18 +306,19 @@ static void check_self_refusals(void) {
                         .master = &side};
   char reason[300] = "";
   SK_CHECK(plugin->check(&info, reason, sizeof reason) == SK_OK);
-  for (int t = 0; t < 2; ++t) {
+  for (int t = 0; t < 4; ++t) {
     sk_scene_side s3 = side;
-    s3.cell_type = t ? SK_TRI3 : SK_QUAD4;
+    s3.cell_type = t % 2 ? SK_TRI3 : SK_QUAD4;
     sk_scene_info c = info;
     c.dim = 3;
+    c.friction = t / 2;
     c.slave = c.master = &s3;
     SK_CHECK(plugin->check(&c, reason, sizeof reason) == SK_OK);
   }
   static const struct {
     int dim, ranks, friction;
     const char *says;
-  } refused[] = {{2, 2, 0, "one rank"}, {3, 2, 0, "one rank"}, {2, 1, 1, "frictionless"}, {3, 1, 1, "frictionless"}};
+  } refused[] = {{2, 2, 0, "one rank"}, {3, 2, 1, "one rank"}};
   for (size_t i = 0; i < sizeof refused / sizeof refused[0]; ++i) {
     sk_scene_side s = side;
     if (refused[i].dim == 3) s.cell_type = SK_QUAD4;
@@ -357,11 +358,17 @@ int main(void) {
   static const char *const con_3d[] = {"mu", "0.3", "c_n", "30", "integration", "concentrated", "face_gauss", "3",
                                        NULL};
   static const char *const self[] = {"c_n", "30", "self_exclusion", "0.008", NULL};
+  static const char *const self_stick[] = {"mu", "0.3", "c_n", "30", "self_exclusion", "0.008", NULL};
+  static const char *const self_slip[] = {"mu", "0.05", "c_n", "30", "self_exclusion", "0.008", NULL};
   const fd_case cases[] = {
       {"2D self contact (slot), frictionless", 2, 4, STRATEGY_SADDLE_POINT, NULL, self, 0.0},
       {"2D self contact (slot), frictionless (condensed)", 2, 4, STRATEGY_CONDENSED, NULL, self, 0.0},
       {"3D self contact (slot), quad4, frictionless", 3, 4, STRATEGY_SADDLE_POINT, NULL, self, 0.0},
       {"3D self contact (slot), tri3, frictionless (condensed)", 3, 5, STRATEGY_CONDENSED, NULL, self, 0.0},
+      {"2D self contact (slot), mu 0.3", 2, 4, STRATEGY_SADDLE_POINT, NULL, self_stick, 0.0},
+      {"2D self contact (slot), mu 0.05 (condensed)", 2, 4, STRATEGY_CONDENSED, NULL, self_slip, 0.0},
+      {"3D self contact (slot), quad4, mu 0.3", 3, 4, STRATEGY_SADDLE_POINT, NULL, self_stick, 0.0},
+      {"3D self contact (slot), tri3, mu 0.05 (condensed)", 3, 5, STRATEGY_CONDENSED, NULL, self_slip, 0.0},
       {"2D segments dual, mu 0.3", 2, 1, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
       {"2D segments dual, mu 0.3 (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, dual, 0.0},
       {"2D segments dual, mu 0.05 (condensed)", 2, 1, STRATEGY_CONDENSED, NULL, slip, 0.0},
