@@ -435,6 +435,7 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
   const double *frozen_dir = dlen > 0.0 ? dir : NULL;
   mortar_ncp r;
   mortar_ncp_eval_dir(nt, zn, zt, g, s, &inst->ncp, force, force == o->state ? frozen_dir : NULL, &r);
+  if (ec->mode == EVAL_COMMIT && inst->recording_start) return SK_OK;
   if (ec->mode == EVAL_COMMIT) {
     o->dissipation = 0.0; /* z_t . u~_t: friction force times the weighted slip of the step */
     for (int a = 0; a < nt; ++a) o->dissipation += zt[a] * s[a] * A;

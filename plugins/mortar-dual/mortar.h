@@ -156,6 +156,7 @@ struct sk_instance {
   int block_cap;
   double *commit_rows;      /* EVAL_COMMIT: D_jk (+) and -M_jl on the owned nodes' columns (component 0) */
   int deciding;             /* EVAL_SET of the nested loop's outer update (converged): decide the branches */
+  int recording_start;      /* EVAL_COMMIT at x_n for D^n, M^n only: the committed step's results stay */
   struct column_entry *tmp_entries;
   int tmp_cap;
 };

@@ -324,27 +324,18 @@ static int faces_refused(const char *slave_name, sk_elem_type slave, const char 
   return 1;
 }
 
-/* Self contact (section 3.6 of the plugin page): 2D, one rank, frictionless. */
-static int self_refused(int self, int dim, int n_ranks, int friction, char *reason, int size) {
-  if (!self) return 0;
-  if (dim == 3)
-    snprintf(reason, (size_t)size, "mortar-dual's self contact is 2D only (the dynamic slave/master assignment is not "
-             "tested on 3D faces)");
-  else if (n_ranks > 1)
-    snprintf(reason, (size_t)size, "mortar-dual's self contact runs on one rank (the slave/master assignment colours "
-             "the whole surface's face pairs on one rank; this run has %d)", n_ranks);
-  else if (friction)
-    snprintf(reason, (size_t)size, "mortar-dual's self contact is frictionless (a node that changes side between "
-             "steps has no committed D and M for the objective slip); give mu: 0 on the self pair");
-  else
-    return 0;
+/* Self contact (section 3.6 of the plugin page): 2D and 3D, one rank. */
+static int self_refused(int self, int n_ranks, char *reason, int size) {
+  if (!self || n_ranks <= 1) return 0;
+  snprintf(reason, (size_t)size, "mortar-dual's self contact runs on one rank (the slave/master assignment colours "
+           "the whole surface's face pairs on one rank; this run has %d)", n_ranks);
   return 1;
 }
 
 static sk_status check(const sk_scene_info *scene, char *reason, int size) {
   const sk_scene_side *slave = scene->slave, *master = scene->master;
   if (scheme_refused(scene->scheme, scene->alpha, reason, size) ||
-      self_refused(scene->self_contact, scene->dim, scene->n_ranks, scene->friction, reason, size) ||
+      self_refused(scene->self_contact, scene->n_ranks, reason, size) ||
       faces_refused(slave->name, slave->cell_type, master->name, !master->rigid, master->cell_type, reason, size))
     return SK_ERR_PLUGIN;
   return SK_OK;
@@ -527,6 +518,27 @@ static sk_status store_history(sk_instance *inst) {
   return SK_OK;
 }
 
+/* D^n, M^n at the step's start x_n with the step's pairs, for the objective slip: the first step of any pair, and
+ * every side assignment of a self pair (a node slave now may have been master or idle at the last commit, without
+ * D^n of its own; a node that keeps its side and partners gets the committed values again, the same integrals at
+ * the same x_n). The committed step's results (forces, slip, dissipation for report()) stay. */
+static sk_status record_start_history(sk_instance *inst, const sk_state *state) {
+  sk_state start = *state;
+  start.x = state->x_n;
+  start.extra = NULL;
+  double force[3], moment[3];
+  memcpy(force, inst->force, sizeof force);
+  memcpy(moment, inst->moment, sizeof moment);
+  inst->recording_start = 1;
+  const sk_status st = mortar_evaluate(inst, &start, EVAL_COMMIT, NULL, NULL);
+  inst->recording_start = 0;
+  memcpy(inst->force, force, sizeof force);
+  memcpy(inst->moment, moment, sizeof moment);
+  SK_TRY(st);
+  SK_TRY(store_history(inst));
+  return mortar_build_columns(inst);
+}
+
 /* ---- the step ---------------------------------------------------------------------------------------------------- */
 static sk_status begin_step(sk_instance *inst, const sk_state *state) {
   char reason[300];
@@ -548,15 +560,8 @@ static sk_status begin_step(sk_instance *inst, const sk_state *state) {
   }
   SK_TRY(mortar_step_candidates(inst, state));
   SK_TRY(mortar_build_columns(inst));
-  if (inst->friction && !inst->history_ready) {
-    /* the first step: the slip is measured from the start configuration, whose D and M it needs */
-    sk_state start = *state;
-    start.x = state->x_n;
-    start.extra = NULL;
-    SK_TRY(mortar_evaluate(inst, &start, EVAL_COMMIT, NULL, NULL));
-    SK_TRY(store_history(inst));
-    SK_TRY(mortar_build_columns(inst));
-  }
+  /* the first step: the slip is measured from the start configuration, whose D and M it needs */
+  if (inst->friction && (!inst->history_ready || inst->self)) SK_TRY(record_start_history(inst, state));
   return SK_OK;
 }
 
@@ -656,6 +661,7 @@ static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sin
 static sk_status converged(sk_instance *inst, const sk_state *state, int *accept) {
   int added = 0, changed = 0;
   SK_TRY(mortar_extend_candidates(inst, state, &added));
+  if (added > 0 && inst->self && inst->friction) SK_TRY(record_start_history(inst, state)); /* new sides */
   double pairs = added;
   SK_TRY(inst->api->reduce(inst->host, 0, &pairs, 1));
   if (pairs > 0.0) {

@@ -15,12 +15,24 @@ static sk_status nomem(sk_instance *inst) {
   return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (self contact)");
 }
 
+/* The point and normal of face f at its parametric centre in the reference configuration. */
+static void reference_centre(const sk_instance *inst, int f, sk_surface_point *p) {
+  const sk_view *v = inst->master;
+  const int simplex = v->cell_type == SK_TRI3 || v->cell_type == SK_TRI6;
+  const double xi[2] = {simplex ? 1.0 / 3.0 : 0.0, simplex ? 1.0 / 3.0 : 0.0};
+  *p = (sk_surface_point){.struct_size = sizeof *p};
+  inst->api->contact->geometry(v, f, xi, v->X, p);
+}
+
 /* 1 when faces f and m never meet: a node of one within self_exclusion of a node of the other in the reference
- * configuration (the faces sharing a node and their neighbours), or one lying behind the other there (the material
- * between them: the undeformed body does not penetrate itself, so it reaches such a face only through one in
- * front). The rule of penalty-nts (exclude_own_faces) taken from a slave node to a slave face: any of its nodes,
- * and its centre for the side test, both ways round. */
-static int excluded(sk_instance *inst, int f, int m) {
+ * configuration (the faces sharing a node and their neighbours), or the centre of one lying behind the other's
+ * plane there (the material between them: the undeformed body does not penetrate itself, so it reaches such a face
+ * only through one in front). The node-to-surface rule (plugins/common/self_contact.c) taken from a point to a
+ * face: any node for the distance, both ways round. The side is read off the face's tangent plane at its centre,
+ * not off a closest-point projection: the projection walks across the surface from the face it starts on, and on
+ * the one surface that holds both faces it ends at the centre itself (gap 0 to round-off, whose sign then decided:
+ * on the tube of scenes/tube-crush-3d.yaml it excluded facing walls, which then passed through each other). */
+static int excluded(const sk_instance *inst, int f, int m) {
   const sk_view *v = inst->master;
   const int dim = inst->dim, nen = v->nen;
   const double r2 = inst->self_exclusion * inst->self_exclusion;
@@ -32,16 +44,15 @@ static int excluded(sk_instance *inst, int f, int m) {
       for (int i = 0; i < dim; ++i) d2 += (Xa[i] - Xb[i]) * (Xa[i] - Xb[i]);
       if (d2 <= r2) return 1;
     }
-  for (int side = 0; side < 2; ++side) {
-    const int from = side ? m : f, onto = side ? f : m;
-    double centre[3] = {0, 0, 0};
-    for (int a = 0; a < nen; ++a)
-      for (int i = 0; i < dim; ++i) centre[i] += v->X[(int64_t)v->conn[(int64_t)from * nen + a] * dim + i] / nen;
-    sk_projection proj = {.struct_size = sizeof proj};
-    const sk_status st = inst->api->contact->project(v, v->X, centre, &onto, 1, &proj);
-    if ((st == SK_OK || st == SK_ERR_DIVERGED) && proj.face >= 0 && proj.gap < 0.0) return 1;
+  sk_surface_point pf, pm;
+  reference_centre(inst, f, &pf);
+  reference_centre(inst, m, &pm);
+  double f_over_m = 0.0, m_over_f = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    f_over_m += (pf.x[i] - pm.x[i]) * pm.n[i];
+    m_over_f += (pm.x[i] - pf.x[i]) * pf.n[i];
   }
-  return 0;
+  return f_over_m < 0.0 || m_over_f < 0.0;
 }
 
 /* Face pairs (f, m), f < m, in lexicographic order. */
@@ -188,11 +199,7 @@ sk_status mortar_self_create(sk_instance *inst) {
   const sk_host_api *api = inst->api;
   const sk_view *s = inst->slave, *m = inst->master;
   const char *refused = NULL;
-  if (inst->dim != 2) refused = "is 2D only (the dynamic slave/master assignment is not tested on 3D faces)";
-  else if (inst->friction)
-    refused = "is frictionless (a node that changes side between steps has no committed D and M for the objective "
-              "slip); give mu: 0 on the self pair";
-  else if (inst->integration != INTEGRATION_SEGMENTS)
+  if (inst->integration != INTEGRATION_SEGMENTS)
     refused = "integrates segments (integration: segments): the slave/master split is made per face pair";
   else if (!m || s->n_cells != m->n_cells || s->n_nodes != m->n_nodes || s->nen != m->nen ||
            s->n_nodes != s->n_nodes_global ||
