@@ -171,21 +171,27 @@ sk_status sk_system_load_work(sk_system *sys, double *scratch, double *work) {
       }
     }
   }
-  /* tractions and resultants: the forces they add to the residual (with a minus sign), each written by one rank */
-  memset(scratch, 0, sizeof(double) * (size_t)n_dofs);
-  for (int k = 0; k < m->n_tractions; ++k) {
-    const sk_group *g = m->tractions[k].faces;
-    const int body = g->n_elems > 0 ? sk_model_body_of_node(m, g->conn[0]) : -1;
-    const sk_time_integrator *integrator = body >= 0 ? m->bodies[body].integrator : sys->integrator;
-    sk_traction_add(m, k, integrator->force_time(sys->t_n, sys->t), scratch);
-  }
-  double *const residual = sys->F_local;
-  sys->F_local = scratch;
+  /* tractions and resultants: the forces they add to the residual (with a minus sign), each written by one rank;
+   * a scene without them costs no sweep over the dofs */
+  int n_resultants = 0;
+  for (int k = 0; k < sys->n_terms; ++k) n_resultants += strcmp(sys->terms[k]->ops->kind, "resultant") == 0;
   sk_status status = SK_OK;
-  for (int k = 0; status == SK_OK && k < sys->n_terms; ++k)
-    if (strcmp(sys->terms[k]->ops->kind, "resultant") == 0) status = sys->terms[k]->ops->residual(sys->terms[k], sys);
-  sys->F_local = residual;
-  for (int64_t k = 0; k < n_dofs; ++k) w -= scratch[k] * (sys->x[k] - sys->u_n[k]);
+  if (m->n_tractions > 0 || n_resultants > 0) {
+    memset(scratch, 0, sizeof(double) * (size_t)n_dofs);
+    for (int k = 0; k < m->n_tractions; ++k) {
+      const sk_group *g = m->tractions[k].faces;
+      const int body = g->n_elems > 0 ? sk_model_body_of_node(m, g->conn[0]) : -1;
+      const sk_time_integrator *integrator = body >= 0 ? m->bodies[body].integrator : sys->integrator;
+      sk_traction_add(m, k, integrator->force_time(sys->t_n, sys->t), scratch);
+    }
+    double *const residual = sys->F_local;
+    sys->F_local = scratch;
+    for (int k = 0; status == SK_OK && k < sys->n_terms; ++k)
+      if (strcmp(sys->terms[k]->ops->kind, "resultant") == 0)
+        status = sys->terms[k]->ops->residual(sys->terms[k], sys);
+    sys->F_local = residual;
+    for (int64_t k = 0; k < n_dofs; ++k) w -= scratch[k] * (sys->x[k] - sys->u_n[k]);
+  }
   MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, m->comm);
   *work = w;
   return status;

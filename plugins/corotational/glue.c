@@ -25,10 +25,10 @@ static sk_status ensure_attempt(sk_instance *inst, const sk_state *state) {
   b->rejections = 0;
   /* g's row in F: g / g_ref times a typical nodal inertial force a (m / nodes) omega_ref L, so that its round-off
    * floor (|g| ~ 1e-12 g_ref, where w is known to its last bits) sits at the body rows' (~1e-7 of ~1e5 for the
-   * 6.3 ball): a row scaled as a torque / L stayed at 1.7e-5 there and kept NOX from converging */
-  const double g_ref = corot_world_g_ref(&b->world);
-  const double omega_ref = g_ref / ((b->model == COROT_MODEL_1 ? b->world.a : 0.5 * state->dt) * b->body.inertia);
-  b->g_scale = b->world.a * (b->body.mass_total / b->body.n_nodes) * omega_ref * b->l_scale / g_ref;
+   * 6.3 ball): a row scaled as a torque / L stayed at 1.7e-5 there and kept NOX from converging. omega_ref cancels
+   * (g_ref = c I_e omega_ref), which keeps the scale finite for a body at rest (omega_ref = 0) */
+  b->g_scale = b->world.a * (b->body.mass_total / b->body.n_nodes) * b->l_scale /
+               ((b->model == COROT_MODEL_1 ? b->world.a : 0.5 * state->dt) * b->body.inertia);
   return SK_OK;
 }
 

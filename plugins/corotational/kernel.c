@@ -407,6 +407,14 @@ double corot_row_scale(const corot_body *body, corot_model model, double dt, dou
   return sqrt(corot_dot(dd, B, B) / dim);
 }
 
+double corot_omega_ref(const corot_body *body, double w, double energy_n, const double *f_world, double dt) {
+  /* a body at rest has E^n = 0: the loads' energy keeps the scale of a body they set moving from zero (0/0 else) */
+  double load_energy = 0.0;
+  for (int i = 0; f_world && i < body->n; ++i) load_energy += f_world[i] * f_world[i];
+  load_energy *= 0.5 * dt * dt * body->n_nodes / body->mass_total;
+  return fmax(fabs(w), sqrt(fmax(2.0 * fmax(energy_n, load_energy), 0.0) / body->inertia));
+}
+
 void corot_step_begin(corot_step *step, const corot_state *state_n, double dt, const double *f_world) {
   step->state_n = state_n;
   step->dt = dt;
@@ -584,7 +592,7 @@ int corot_step_evaluate(corot_step *step, const double *y) {
   } else {
     step->g = corot_dot(n, body->c, step->u_h);
   }
-  step->omega_ref = fmax(fabs(w), sqrt(fmax(2.0 * step->energy_n, 0.0) / body->inertia));
+  step->omega_ref = corot_omega_ref(body, w, step->energy_n, step->f_world, step->dt);
   step->g_ref = (step->model == COROT_MODEL_1 ? a : half_dt) * body->inertia * step->omega_ref;
   step->set_changes = step->contact ? corot_contact_update(step->contact, dim, step->R, s) : 0;
   return step->set_changes;

@@ -179,7 +179,7 @@ typedef struct {
   double *rhs;                   /* b(w) */
   double *y, *dy;                /* (s, alpha) and d(s, alpha)/dw */
   double g, dg, g_ref;           /* rotation equation, its derivative, its scale */
-  double omega_ref;              /* max(|w|, sqrt(2 E^n / I_e)): the body's rotation-rate scale */
+  double omega_ref;              /* the body's rotation-rate scale (corot_omega_ref) */
   int set_changes;               /* set changes proposed by the last evaluation */
   int iterations;                /* factorisations in this step */
 } corot_step;
@@ -273,7 +273,7 @@ typedef struct {
   const double *f_world;
   double dt, a, w;
   double R1[9], Rm[9], P[9];
-  double energy_n, omega_ref;
+  double energy_n;
   double *f, *u1, *u_h, *s, *Su_h, *Rin, *work, *work2; /* n each */
   double T_h[3];
 } corot_world;
@@ -308,6 +308,9 @@ void corot_world_jacobian_eval(corot_world *cw, const double *y, corot_world_jac
 void corot_world_dw(corot_world *cw, const double *y, double *dF, double *dg_dy, double *dg_dw);
 /* The scale of g (as corot_step) and g's row scale in F: 1/L (Model 1, a torque) or a^2/L (Model 2). */
 double corot_world_g_ref(const corot_world *cw);
+/* The body's rotation-rate scale max(|w|, sqrt(2 E / I_e)), E the larger of E^n and the kinetic energy the step's
+ * world loads f_world (n, or NULL) give nodes at rest, 1/2 dt^2 sum |f_a|^2 / (m / nodes). */
+double corot_omega_ref(const corot_body *body, double w, double energy_n, const double *f_world, double dt);
 /* The predictor: positions y[0..n) at t from s = s^n and w = state_n->w, border values (alpha = 0, tau), lambda from
  * the committed multipliers (contact->lambda). */
 void corot_world_predict(corot_world *cw, double *y);

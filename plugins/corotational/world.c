@@ -374,7 +374,7 @@ void corot_world_dw(corot_world *cw, const double *y, double *dF, double *dg_dy,
 
 double corot_world_g_ref(const corot_world *cw) {
   const corot_body *body = cw->body;
-  const double omega = fmax(fabs(cw->w), sqrt(fmax(2.0 * cw->energy_n, 0.0) / body->inertia));
+  const double omega = corot_omega_ref(body, cw->w, cw->energy_n, cw->f_world, cw->dt);
   return (cw->model == COROT_MODEL_1 ? cw->a : 0.5 * cw->dt) * body->inertia * omega;
 }
 
