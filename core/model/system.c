@@ -193,6 +193,7 @@ void sk_system_destroy(sk_system *sys) {
   free(sys->body_plugin);
   free(sys->claimed);
   free(sys->declared);
+  free(sys->declared_recent);
   free(sys->extra_keys);
   free(sys->row_ptr);
   free(sys->cols);

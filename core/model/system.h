@@ -90,6 +90,7 @@ struct sk_system {
   /* sparsity: the rows this rank writes (local unknowns), CSR with the linear system's global column indices */
   int64_t *declared;       /* (local row, global column) pairs declared by this rank this attempt, as row * n_cols + col */
   int64_t n_declared, cap_declared;
+  int64_t *declared_recent; /* DECLARED_RECENT slots: keys declared this attempt, by hash (repeats are skipped) */
   int64_t *extra_keys;     /* sorted keys beyond the bulk graph in the current pattern (this rank's declarations) */
   int64_t n_extra_keys;
   int64_t key_columns;     /* the column count the keys are encoded with (n_kept of the numbering they belong to) */

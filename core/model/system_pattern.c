@@ -117,6 +117,18 @@ void sk_system_sink_init(sk_system *sys) {
 
 /* ---- declarations ------------------------------------------------------------------------------------------------ */
 
+/* A direct-mapped table of the keys declared this attempt: a key found in its slot is already in `declared`. Plugins
+ * declare a coupling once per face and candidate, so most keys repeat (3D frictional mortar: 7.0 M declared, 226 k
+ * distinct), and sorting the repeats at every pattern change cost 12 % of such a run. */
+enum { DECLARED_RECENT_BITS = 18, DECLARED_RECENT = 1 << DECLARED_RECENT_BITS };
+
+static int declared_before(sk_system *sys, int64_t key) {
+  int64_t *slot = sys->declared_recent + (((uint64_t)key * 0x9E3779B97F4A7C15u) >> (64 - DECLARED_RECENT_BITS));
+  if (*slot == key) return 1;
+  *slot = key;
+  return 0;
+}
+
 sk_status sk_system_declare_local(sk_system *sys, int nr, const int64_t *rows, int nc, const int64_t *cols) {
   const int64_t need = sys->n_declared + (int64_t)nr * nc;
   if (need > sys->cap_declared) {
@@ -130,7 +142,8 @@ sk_status sk_system_declare_local(sk_system *sys, int nr, const int64_t *rows, i
     if (rows[i] < 0 || rows[i] >= sys->n || sys->solver_of[rows[i]] < 0) continue;
     for (int j = 0; j < nc; ++j) {
       if (cols[j] < 0 || cols[j] >= sys->n || sys->solver_of[cols[j]] < 0) continue;
-      sys->declared[sys->n_declared++] = rows[i] * sys->n + cols[j];
+      const int64_t key = rows[i] * sys->n + cols[j];
+      if (!declared_before(sys, key)) sys->declared[sys->n_declared++] = key;
     }
   }
   return SK_OK;
@@ -581,6 +594,9 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   const int64_t n = sys->n;
   if (!sys->bulk_ptr) SK_TRY(build_bulk_graph(sys));
   sys->n_declared = 0;
+  if (!sys->declared_recent) sys->declared_recent = malloc(sizeof(int64_t) * DECLARED_RECENT);
+  if (!sys->declared_recent) return out_of_memory("the declared pattern", DECLARED_RECENT);
+  for (int k = 0; k < DECLARED_RECENT; ++k) sys->declared_recent[k] = -1;
   free(sys->row_local);
   sys->row_local = calloc((size_t)n + 1, 1);
   if (!sys->row_local) return out_of_memory("the rows of this rank", n);
