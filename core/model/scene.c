@@ -275,6 +275,59 @@ static sk_status read_bodies(const sk_cfg *root, sk_model *model) {
 
 /* ---- boundary conditions ---------------------------------------------------------------------------------------- */
 
+/* Two displacement conditions that fix the same dof must prescribe it alike at every time (two fixed faces sharing
+ * an edge). Different values would leave the result to the order of the list, silently. Both values are piecewise
+ * linear in time and constant beyond their histories' ends, so the union of the breakpoints decides. */
+static sk_status read_conditions(const sk_cfg *list, int n, int *entry_of, sk_model *model);
+
+static int prescribe_alike(const sk_dirichlet *a, const sk_dirichlet *b, int i, double *t_differ) {
+  const sk_history *h[2] = {&a->history, &b->history};
+  for (int side = 0; side < 2; ++side)
+    for (int k = 0; k < (h[side]->n > 0 ? h[side]->n : 1); ++k) {
+      const double t = h[side]->n > 0 ? h[side]->t[k] : 0.0;
+      const double va = a->value[i] * sk_history_value(&a->history, t);
+      const double vb = b->value[i] * sk_history_value(&b->history, t);
+      if (fabs(va - vb) > 1e-12 * fmax(fabs(va), fabs(vb))) {
+        *t_differ = t;
+        return 0;
+      }
+    }
+  return 1;
+}
+
+static sk_status check_dirichlet_overlaps(const sk_cfg *list, const int *entry_of, const sk_model *model) {
+  const int dim = model->dim, n_bc = model->n_dirichlet;
+  int *first = malloc(sizeof(int) * (size_t)(model->n_dofs > 0 ? model->n_dofs : 1));
+  if (!first) return sk_error_set(SK_ERR_NOMEM, "out of memory checking the boundary conditions");
+  for (int d = 0; d < model->n_dofs; ++d) first[d] = -1;
+  sk_status status = SK_OK;
+  for (int k = 0; k < n_bc && status == SK_OK; ++k) {
+    const sk_dirichlet *bc = &model->dirichlet[k];
+    for (int j = 0; j < bc->n_nodes && status == SK_OK; ++j)
+      for (int i = 0; i < dim && status == SK_OK; ++i) {
+        const int d = bc->nodes[j] * dim + i;
+        if (!bc->fixed[i]) continue;
+        if (first[d] < 0) {
+          first[d] = k;
+          continue;
+        }
+        const sk_dirichlet *before = &model->dirichlet[first[d]];
+        double t = 0.0;
+        if (first[d] == k || prescribe_alike(before, bc, i, &t)) continue;
+        const double *X = model->X + (int64_t)bc->nodes[j] * dim;
+        status = sk_error_set(SK_ERR_INPUT, "%s: boundary '%s' and boundary '%s' (%s) prescribe different %c "
+                              "displacements on the nodes they share, e.g. the node at (%g, %g, %g): %g against %g "
+                              "at t = %g; free the component in one of them (~)",
+                              sk_cfg_where(sk_cfg_at(list, entry_of[k])), bc->name, before->name,
+                              sk_cfg_where(sk_cfg_at(list, entry_of[first[d]])), "xyz"[i], X[0], X[1],
+                              dim == 3 ? X[2] : 0.0, bc->value[i] * sk_history_value(&bc->history, t),
+                              before->value[i] * sk_history_value(&before->history, t), t);
+      }
+  }
+  free(first);
+  return status;
+}
+
 static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
   const sk_cfg *list = sk_cfg_get(root, "boundary");
   int n = sk_cfg_size(list);
@@ -282,8 +335,21 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
   model->dirichlet = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_dirichlet));
   model->tractions = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_traction));
   model->resultants = calloc((size_t)(n > 0 ? n : 1), sizeof(sk_resultant));
-  if (!model->dirichlet || !model->tractions || !model->resultants)
+  int *entry_of = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1)); /* per displacement condition: its list entry */
+  if (!model->dirichlet || !model->tractions || !model->resultants || !entry_of) {
+    free(entry_of);
     return sk_error_set(SK_ERR_NOMEM, "%s: out of memory for the boundary conditions", sk_cfg_where(root));
+  }
+  sk_status status = read_conditions(list, n, entry_of, model);
+  if (status == SK_OK) status = check_dirichlet_overlaps(list, entry_of, model);
+  free(entry_of);
+  SK_TRY(status);
+  SK_TRY(sk_cfg_vector(root, "body_force", 0, 3, (double[3]){0, 0, 0}, model->body_force));
+  return SK_OK;
+}
+
+/* The entries of `boundary`, in order; entry_of[k] is the list entry of the k-th displacement condition. */
+static sk_status read_conditions(const sk_cfg *list, int n, int *entry_of, sk_model *model) {
   for (int k = 0; k < n; ++k) {
     const sk_cfg *entry = sk_cfg_at(list, k);
     const char *group_name, *name;
@@ -300,6 +366,7 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
     const sk_group *group;
     if (displacement) {
       SK_TRY(sk_scene_require_group(model, sk_cfg_get(entry, "group"), group_name, -1, &group));
+      entry_of[model->n_dirichlet] = k;
       sk_dirichlet *bc = &model->dirichlet[model->n_dirichlet++];
       sk_scene_copy_name(bc->name, name);
       SK_TRY(sk_group_nodes(group, &bc->nodes, &bc->n_nodes));
@@ -337,7 +404,6 @@ static sk_status read_boundary(const sk_cfg *root, sk_model *model) {
       SK_TRY(read_history(entry, "history", &load->history));
     }
   }
-  SK_TRY(sk_cfg_vector(root, "body_force", 0, 3, (double[3]){0, 0, 0}, model->body_force));
   return SK_OK;
 }
 

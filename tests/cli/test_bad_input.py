@@ -129,6 +129,15 @@ def missing_scene(c):
     c.expect_failure(r"which scene")
 
 
+def conflicting_displacements(c):
+    """Two displacement conditions on dofs they share must agree at every time (else the list order decides)."""
+    c.run_scene(replace(BLOCK, "displacement: [0, ~, ~]}", "displacement: [0, ~, 0.01], history: [[0, 0], [1, 1]]}"))
+    c.expect_failure(r"scene\.yaml:18:\d+: boundary 'base' and boundary 'roller-x' \(.*scene\.yaml:16:\d+\)",
+                     r"different z displacements", r"0 against 0\.01 at t = 1", r"free the component in one of them")
+    c.run_scene(replace(BLOCK, "displacement: [0, ~, ~]}", "displacement: [0, ~, 0]}"), command="check")
+    c.check(c.proc.returncode == 0, "conditions that agree on their shared edge are accepted")
+
+
 def check_good(c):
     c.run_scene(BLOCK, command="check")
     c.no_crash()
@@ -205,7 +214,8 @@ CASES = {f.__name__: f for f in [
     malformed_yaml, unknown_key, misspelt_required_key, missing_mesh_file, unknown_mesh_parameter, missing_group,
     material_nu, material_E, negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map,
     bad_set, unknown_option, missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin,
-    capability_mismatch, unknown_strategy, inverted_element, plugin_without_contact, mesh_order, old_minor_plugin]}
+    capability_mismatch, unknown_strategy, inverted_element, plugin_without_contact, mesh_order, old_minor_plugin,
+    conflicting_displacements]}
 
 if __name__ == "__main__":
     main(CASES)
