@@ -28,6 +28,14 @@ int cand_query_swept(const sk_contact_services *cs, sk_search *search, const dou
   return 0;
 }
 
+int cand_within_band(sk_elem_type type, const double xi[2], double band) {
+  if (type == SK_TRI3 || type == SK_TRI6) return xi[0] >= -band && xi[1] >= -band && 1.0 - xi[0] - xi[1] >= -band;
+  const int pdim = type == SK_LINE2 || type == SK_LINE3 ? 1 : 2;
+  for (int a = 0; a < pdim; ++a)
+    if (fabs(xi[a]) > 1.0 + 2.0 * band) return 0;
+  return 1;
+}
+
 int cand_contains(const cand_list *list, int start, int count, int face) {
   for (int c = 0; c < count; ++c)
     if (list->faces[start + c] == face) return 1;

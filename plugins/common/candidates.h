@@ -21,4 +21,13 @@ int cand_query_swept(const sk_contact_services *cs, sk_search *search, const dou
 /* 1 when face is among the count candidates from start. */
 int cand_contains(const cand_list *list, int start, int count, int face);
 
+/* The help line of `master_extension`, the same in the node-to-surface plugins that take it. */
+#define MASTER_EXTENSION_HELP                                                                                        \
+  "master_extension: a slave node up to this fraction of a face beyond the master's border stays in contact with "   \
+  "the extrapolated face (0 switches it off) [0.1]"
+
+/* 1 when the face parameters xi of a face of `type` lie within `band` (a fraction of the face) beyond its border:
+ * |xi| <= 1 + 2 band on lines and quadrilaterals, barycentrics >= -band on triangles (`master_extension`). */
+int cand_within_band(sk_elem_type type, const double xi[2], double band);
+
 #endif

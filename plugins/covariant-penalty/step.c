@@ -15,12 +15,6 @@ sk_surface_point cp_new_surface_point(void) {
   return p;
 }
 
-/* Within `band` of the face beyond its edges: |xi| <= 1 + 2 band on quads, barycentrics >= -band on triangles. */
-static int within_band(sk_elem_type type, const double xi[2], double band) {
-  if (type == SK_TRI3) return xi[0] >= -band && xi[1] >= -band && 1.0 - xi[0] - xi[1] >= -band;
-  return fabs(xi[0]) <= 1.0 + 2.0 * band && fabs(xi[1]) <= 1.0 + 2.0 * band;
-}
-
 static void face_positions(const sk_view *v, const double *x, int face, double *xf) {
   for (int k = 0; k < v->nen; ++k) memcpy(xf + 3 * k, x + 3 * (size_t)v->conn[(size_t)face * v->nen + k], 3 * sizeof *xf);
 }
@@ -36,7 +30,7 @@ static int closest_on_face(const sk_instance *in, const double *xm, int face, co
                            double band) {
   double xf[3 * CP_MAX_FACE_NODES], guess[2] = {xi[0], xi[1]};
   face_positions(in->master, xm, face, xf);
-  if (cp_closest_point(&in->face, xf, r, guess, CLOSEST_ITERATIONS) < 0 || !within_band(in->face.type, guess, band))
+  if (cp_closest_point(&in->face, xf, r, guess, CLOSEST_ITERATIONS) < 0 || !cand_within_band(in->face.type, guess, band))
     return 0;
   xi[0] = guess[0];
   xi[1] = guess[1];

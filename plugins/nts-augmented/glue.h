@@ -66,6 +66,7 @@ struct sk_instance {
   nts_strategy strategy;
   nts_friction_params friction;
   double c_n, search_margin;
+  double master_extension;     /* band beyond the master's border kept in contact, fraction of a face (find_facet) */
   int max_flips;
   int slide_search;            /* converged() moves nodes that slid beyond their facet (nts_research_facet) */
   int self;                    /* self contact: slave and master are the same surface */

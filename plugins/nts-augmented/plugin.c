@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "candidates.h"
 #include "defaults.h"
 #include "glue.h"
 #include "records.h"
@@ -30,6 +31,7 @@ static const char *const parameters[] = {
     "c_n: weight of the gap in the active-set test -lambda_n - c_n g > 0, force per length [computed from the "
     "scene: E*/h A]",
     "search_margin: inflation of the search boxes (length) [half the mean master edge length]",
+    MASTER_EXTENSION_HELP,
     "max_flips: active-set changes of one node per step before its state is frozen [4]",
     "slide_search: 1 moves a node that slid beyond its facet into the master onto that face at the converged point "
     "(large sliding per step; docs/plugins/nts-augmented.md) [0]",
@@ -190,6 +192,7 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->friction.mu));
   SK_TRY(read_stiffnesses(inst));
   SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_edge(master ? master : slave), &inst->search_margin));
+  SK_TRY(api->param_double(host, "master_extension", 0, 0.1, &inst->master_extension));
   SK_TRY(api->param_int(host, "max_flips", 0, 4, &inst->max_flips));
   SK_TRY(api->param_int(host, "slide_search", 0, 0, &inst->slide_search));
   inst->self = attach->self_contact;
@@ -198,11 +201,13 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
     SK_TRY(nts_self_setup(inst));
   }
   if (inst->friction.mu < 0.0 || (inst->friction.mu > 0.0 && inst->friction.epsilon_t <= 0.0) || inst->c_n <= 0.0 ||
-      inst->search_margin < 0.0)
+      inst->search_margin < 0.0 || !(inst->master_extension >= 0.0 && inst->master_extension <= 0.5))
     return api->error(host, SK_ERR_INPUT,
-                      "%s: nts-augmented needs mu >= 0, epsilon_t > 0 when mu > 0, c_n > 0 and search_margin >= 0 "
-                      "(got mu %g, epsilon_t %g, c_n %g, search_margin %g)",
-                      inst->name, inst->friction.mu, inst->friction.epsilon_t, inst->c_n, inst->search_margin);
+                      "%s: nts-augmented needs mu >= 0, epsilon_t > 0 when mu > 0, c_n > 0, search_margin >= 0 and "
+                      "master_extension in [0, 0.5] (got mu %g, epsilon_t %g, c_n %g, search_margin %g, "
+                      "master_extension %g)",
+                      inst->name, inst->friction.mu, inst->friction.epsilon_t, inst->c_n, inst->search_margin,
+                      inst->master_extension);
   inst->n_points = slave->n_nodes;
   inst->n_extra = inst->stride * slave->n_nodes_global;
   inst->points = calloc((size_t)(slave->n_nodes > 0 ? slave->n_nodes : 1), sizeof *inst->points);

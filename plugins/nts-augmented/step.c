@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "candidates.h"
 #include "glue.h"
 #include "self_contact.h"
 
@@ -119,6 +120,22 @@ static sk_status find_facet(sk_instance *inst, slave_point *p, const sk_state *s
   const int n_cand = query_candidates(inst, p, lo, hi, &status);
   if (n_cand < 0) return status;
   if (n_cand > 0) SK_TRY(project_candidates(inst, p, state->x[1], x_p, n_cand, proj));
+  if (proj->face >= 0 && proj->kind == SK_PROJ_OUTSIDE && inst->master_extension > 0.0) {
+    /* Beyond the master's border (the core clamps the closest point to it) but within master_extension of the
+     * face: the node keeps that face, its closest point on the face's extension. Without the band a node level
+     * with the master's end is dropped whenever round-off puts it a hair beyond: on the free ends of a crushed
+     * tube (tube-crush-3d, one layer along) half of the end nodes of the fold lost their facet at random and the
+     * walls passed through each other by 2.4e-2 (docs/plugins/nts-augmented.md, "Self contact"). */
+    set_facet(inst, p, proj->face);
+    double f[2] = {proj->xi[0], proj->xi[1]};
+    const double gap = nts_gap_on_facet(inst, p, state->x, state->t, f);
+    if (gap != HUGE_VAL && cand_within_band(inst->facet.type, f, inst->master_extension)) {
+      proj->xi[0] = f[0];
+      proj->xi[1] = f[1];
+      proj->gap = gap;
+      proj->kind = SK_PROJ_EDGE; /* on the face's extension: not dropped */
+    }
+  }
   return SK_OK;
 }
 

@@ -40,11 +40,7 @@ int extend_on_face(const sk_instance *in, int face, const double *xs, const doub
   pt->face = face;
   pt->xi[0] = xi[0];
   pt->xi[1] = xi[1];
-  if (master->cell_type == SK_TRI3 || master->cell_type == SK_TRI6)
-    return xi[0] >= -band && xi[1] >= -band && 1.0 - xi[0] - xi[1] >= -band;
-  for (int a = 0; a < pdim; ++a)
-    if (fabs(xi[a]) > 1.0 + 2.0 * band) return 0;
-  return 1;
+  return cand_within_band(master->cell_type, xi, band);
 }
 
 /* ---- master face selection --------------------------------------------------------------------------------------- */

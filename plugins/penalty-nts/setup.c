@@ -18,8 +18,7 @@ const char *const pnts_parameters[] = {
     "area_weighted: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
     "stiffnesses [1]",
     "search_margin: inflation of the search boxes (length); default half the mean master face size",
-    "master_extension: a slave node up to this fraction of a face beyond the master's border stays in contact with "
-    "the extrapolated face (0 switches it off) [0.1]",
+    MASTER_EXTENSION_HELP,
     SELF_EXCLUSION_HELP,
     NULL};
 

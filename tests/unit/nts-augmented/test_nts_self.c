@@ -9,7 +9,10 @@
  *     slip, under backward Euler and the midpoint rule (paper-reduced's blocks are checked on the two-body pairs of
  *     test_nts_assembled; their structure is the same per element);
  *   - self_exclusion is read, with the largest face as its default, and a node within it of a face does not take
- *     that face. */
+ *     that face;
+ *   - a node level with the master's border (a hair beyond it, as round-off puts the free end of a crushed tube)
+ *     that crosses a face within one step is in contact (master_extension), its operator checked the same way; one
+ *     far beyond the border is not, nor is the hair-beyond node with master_extension 0. */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -120,12 +123,66 @@ static void default_exclusion(void) {
   kit_free(&s.k);
 }
 
+/* 3D: the bottom wall's quad 0-3 (z = 0, normal +z, x and y in [0, 1]) and the top wall's quad 4-7 (z = 0.06,
+ * normal -z, x in [1 + 1e-9, 2], y in [0.2, 0.8]) of one surface. Nodes 4 and 5 lie over the bottom quad's border
+ * edge x = 1, beyond it by 1e-9 (the core's projection reports OUTSIDE there); nodes 6 and 7 a whole face beyond.
+ * The bottom nodes face nothing (the top quad is 0.2 beyond them in y: beyond the band). In the step the top wall
+ * moves down by 0.1: it crosses the bottom wall within one step, so nodes 4 and 5 must end in contact. */
+static void border_crossing(double extension, int strategy, double alpha, int friction, int n_expected) {
+  static const double X[8][3] = {{0, 0, 0},   {1, 0, 0},   {1, 1, 0}, {0, 1, 0}, {1 + 1e-9, 0.2, 0.06},
+                                 {1 + 1e-9, 0.8, 0.06}, {2, 0.8, 0.06}, {2, 0.2, 0.06}};
+  static const int conn[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  scene s;
+  memset(&s, 0, sizeof s);
+  kit_init(&s.k, 3, 8, &X[0][0]);
+  kit_surface(&s.k, 0, SK_QUAD4, 4, 2, conn);
+  kit_surface(&s.k, 1, SK_QUAD4, 4, 2, conn);
+  s.k.attach.self_contact = 1;
+  for (int i = 0; i < 24; ++i) {
+    s.q_n[i] = X[i / 3][i % 3];
+    s.q[i] = s.q_n[i] + (i >= 12 && i % 3 == 2 ? -0.1 : 0.0);
+  }
+  s.n_expected = n_expected;
+  s.expected[0] = 4;
+  s.expected[1] = 5;
+  kit_param(&s.k, "self_exclusion", EXCLUSION);
+  if (extension >= 0.0) kit_param(&s.k, "master_extension", extension);
+  nts_kit_start(&s.k, s.q_n, s.q, strategy, alpha, friction);
+  kit_points pts;
+  SK_CHECK(kit_points_at(&s.k, &pts) == SK_OK);
+  int active = 0;
+  for (int i = 0; i < pts.n; ++i) {
+    const sk_contact_point *p = &pts.p[i];
+    if (p->state != 0) ++active;
+    if (expected(&s, p->slave_node) || p->state != 0) {
+      printf("3D border %-15s master_extension %s: node %lld state %d gap %.3e\n", STRATEGY[strategy],
+             extension >= 0.0 ? "0" : "default", (long long)p->slave_node, p->state, p->gap);
+      SK_CHECK(expected(&s, p->slave_node) && p->state != 0 && fabs(p->gap + 0.04) < 1e-12);
+    }
+  }
+  SK_CHECK(active == n_expected);
+  if (n_expected > 0) {
+    double scale = 0.0, rhs_error = 0.0;
+    const double err = kit_fd_check_condensed(&s.k, s.q, FD_STEP, &scale, &rhs_error);
+    printf("3D border %-15s %-8s %-12s |J - Schur(FD)| %.1e, |rhs - FD| %.1e (scale %.1e)\n", STRATEGY[strategy],
+           alpha == 1.0 ? "euler" : "midpoint", friction == SLIP ? "slip" : friction == STICK ? "stick" : "frictionless",
+           err, rhs_error, scale);
+    SK_CHECK(scale > 0.0 && err < SCHUR_TOL * fmax(1.0, scale) && rhs_error < SCHUR_TOL * fmax(1.0, scale));
+    SK_CHECK(s.k.outside_pattern == 0);
+  }
+  kit_free(&s.k);
+}
+
 int main(void) {
   static const double alphas[2] = {1.0, 0.5};
   static const char *const friction_name[3] = {"frictionless", "stick", "slip"};
   double worst = 0.0;
   int cases = 0;
   default_exclusion();
+  for (int strategy = 0; strategy < 5; ++strategy)
+    if (strategy != PAPER) border_crossing(-1.0, strategy, 1.0, FRICTIONLESS, 2);
+  border_crossing(-1.0, 0, 0.5, STICK, 2);
+  border_crossing(0.0, 0, 1.0, FRICTIONLESS, 0);
   for (int dim = 2; dim <= 3; ++dim)
     for (int strategy = 0; strategy < 5; ++strategy)
       for (int ia = 0; ia < 2; ++ia)
