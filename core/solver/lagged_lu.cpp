@@ -70,7 +70,8 @@ sk_status solve_lagged_lu(sk_linear_system *sys, const double *b, double *x, sk_
     copy_to(b, *bv);
     GmresResult result;
     try {
-      result = run_gmres(sys, rcp(new LaggedLuOperator(sys)), bv, xv, std::min(kGiveUpAfter, sys->options.max_iterations));
+      const int cap = std::min(kGiveUpAfter, sys->options.max_iterations);
+      result = run_gmres(sys, rcp(new LaggedLuOperator(sys)), bv, xv, cap);
     } catch (...) {
       result = GmresResult{};  // a failed substitution (on every rank: solve_factorised agrees): refactorise below
       sk_error_clear();
