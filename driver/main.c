@@ -418,10 +418,11 @@ static int command_scene(int argc, char **argv, scene_command command) {
         report_results_after_failure(&args, &summary);
         code = exit_code(status);
       } else {
-        printf("%s: %d steps to t = %g, %d Newton iterations, %d linear solves, %.2f s (assembly %.2f, contact "
-               "%.2f, solve %.2f)\n",
+        printf("%s: %d steps to t = %g, %d Newton iterations, %d linear solves (%d LU factorisations, %lld Krylov "
+               "iterations), %.2f s (assembly %.2f, contact %.2f, solve %.2f)\n",
                args.scene, summary.steps, summary.final_time, summary.newton_iterations, summary.linear_solves,
-               summary.wall_seconds, summary.assembly_seconds, summary.contact_seconds, summary.solve_seconds);
+               summary.linear_factorisations, (long long)summary.krylov_iterations, summary.wall_seconds,
+               summary.assembly_seconds, summary.contact_seconds, summary.solve_seconds);
         if (summary.results_dir[0]) printf("results: %s/ (history.csv, summary.json, results.pvd)\n", summary.results_dir);
       }
     } else if (status != SK_OK) {

@@ -431,7 +431,7 @@ static sk_status read_time(const sk_cfg *root, sk_time_options *time) {
 
 /* in sk_linear_solver_kind order */
 static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu", "auto",     "mumps",
-                                           "klu2",   "klu",         "gmres-sgs", "gmres-jacobi", NULL};
+                                           "klu2",   "klu",         "gmres-sgs", "gmres-jacobi", "gmres-lu", NULL};
 /* in sk_line_search order, then the default: the full step, retried with backtracking when the step fails */
 static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", "full-step-then-backtrack", NULL};
 enum { FULL_STEP_THEN_BACKTRACK = 3 };

@@ -520,6 +520,8 @@ static sk_status linear_solve(sk_system *sys, const double *b, double *y) {
   }
   sys->t_solve += now_seconds() - t0;
   sys->linear_solves++;
+  sys->linear_factorisations += report.factorisations;
+  sys->krylov_iterations += report.iterations;
   if (report.solved) sys->step_solvers |= 1u << report.solver;
   return status;
 }
@@ -600,6 +602,8 @@ sk_status sk_system_solve_again(sk_system *sys, const double *b, double *y) {
                                      : sk_linsys_solve_again(sys->linsys, sys->b, sys->y, &report);
   sys->t_solve += now_seconds() - t0;
   sys->linear_solves++;
+  sys->linear_factorisations += report.factorisations;
+  sys->krylov_iterations += report.iterations;
   if (report.solved) sys->step_solvers |= 1u << report.solver;
   SK_TRY(status);
   memset(y, 0, sizeof(double) * (size_t)sys->n);

@@ -114,6 +114,8 @@ struct sk_system {
   /* bookkeeping */
   sk_newton_report newton;  /* the last solve of a step (iterations summed over active-set loops) */
   int linear_solves;
+  int linear_factorisations; /* numeric LU factorisations of the system matrix (sk_linear_report.factorisations) */
+  int64_t krylov_iterations; /* Krylov iterations of all linear solves */
   unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;

@@ -61,7 +61,9 @@ void build_epetra(sk_linear_system *sys) {
   sys->epetra_problem = rcp(new Epetra_LinearProblem(sys->epetra_matrix.get(), sys->epetra_x.get(), sys->epetra_b.get()));
 }
 
-// Forward and backward substitution with the current Amesos factorisation; b and x over the owned rows.
+}  // namespace
+
+// (linear_system.hpp)
 sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
   std::copy(b, b + sys->n_owned, sys->epetra_b->Values());
   int code = sys->amesos->Solve(), worst = 0;
@@ -75,6 +77,8 @@ sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk
   std::copy(sys->epetra_x->Values(), sys->epetra_x->Values() + sys->n_owned, x);
   return SK_OK;
 }
+
+namespace {
 
 // Iterative refinement with the factors at hand (Wilkinson; MUMPS's ICNTL(10) does the same inside): x += A^-1 (b - A x)
 // while it lowers the residual. The pivot order comes from the analysis at the pattern's first values; contact rows
@@ -171,6 +175,7 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
         sys->setup_cpu_seconds = cpu_seconds() - setup_start;
       }
       sys->direct->numericFactorization();
+      report->factorisations = 1;
       Vector xs(map), bs(map);
       copy_to(whole_b.data(), bs);
       sys->direct->solve(Teuchos::ptr<MultiVector>(&xs), Teuchos::ptr<const MultiVector>(&bs));
@@ -193,6 +198,7 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
     MPI_Bcast(&status, 1, MPI_INT, 0, sys->comm);
     MPI_Bcast(message, sizeof message, MPI_CHAR, 0, sys->comm);
     MPI_Bcast(&report->refactored_symbolic, 1, MPI_INT, 0, sys->comm);
+    MPI_Bcast(&report->factorisations, 1, MPI_INT, 0, sys->comm);
     if (status == SK_OK) scatter_vector(sys, whole_x.data(), x);
   } else if (status == SK_OK) {
     std::copy(whole_x.begin(), whole_x.end(), x);
@@ -288,6 +294,7 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
     return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): numeric factorisation failed (error %d%s)", backend,
                         code, mumps[0] ? mumps : ", singular matrix");
   }
+  ++report->factorisations;
   return SK_OK;
 }
 

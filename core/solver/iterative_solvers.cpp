@@ -160,19 +160,13 @@ void compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind k
   p.ifpack->compute();
 }
 
-struct GmresResult {
-  bool converged = false;
-  int iterations = 0;
-};
+}  // namespace
 
 GmresResult run_gmres(sk_linear_system *sys, const RCP<Operator> &preconditioner, const RCP<Vector> &b,
-                      const RCP<Vector> &x) {
+                      const RCP<Vector> &x, int max_iterations) {
   x->putScalar(0.0);
   auto params = rcp(new Teuchos::ParameterList);
   params->set("Convergence Tolerance", sys->options.tolerance);
-  // a trial by `auto` gets fewer iterations than a solver the user chose (auto_choice.cpp)
-  const int cap = sys->auto_memory.iteration_cap;
-  const int max_iterations = cap > 0 ? std::min(cap, sys->options.max_iterations) : sys->options.max_iterations;
   params->set("Maximum Iterations", max_iterations);
   params->set("Num Blocks", std::min(kGmresRestart, std::max(1, max_iterations)));
   params->set("Implicit Residual Scaling", "Norm of RHS");
@@ -195,8 +189,6 @@ GmresResult run_gmres(sk_linear_system *sys, const RCP<Operator> &preconditioner
   result.iterations = solver->getNumIters();
   return result;
 }
-
-}  // namespace
 
 void release_iterative_pattern(sk_linear_system *sys) {
   release_constraint_block(sys);
@@ -236,13 +228,16 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   };
   RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
   copy_to(b, *bv);
-  GmresResult result = run_gmres(sys, preconditioner(), bv, xv);
+  // a trial by `auto` gets fewer iterations than a solver the user chose (auto_choice.cpp)
+  const int cap = sys->auto_memory.iteration_cap;
+  const int max_iterations = cap > 0 ? std::min(cap, sys->options.max_iterations) : sys->options.max_iterations;
+  GmresResult result = run_gmres(sys, preconditioner(), bv, xv, max_iterations);
   int iterations = result.iterations;
   if (!result.converged && !fresh) {
     // an older preconditioner may have drifted too far from the matrix: recompute it and try once more
     compute_nodal_preconditioner(sys, kind, false);
     fresh = true;
-    result = run_gmres(sys, preconditioner(), bv, xv);
+    result = run_gmres(sys, preconditioner(), bv, xv, max_iterations);
     iterations += result.iterations;
   }
   if (result.converged) {

@@ -56,10 +56,11 @@ sk_status solve_with(sk_linear_system *sys, sk_linear_solver_kind kind, const do
   try {
     status = kind == SK_LINEAR_DIRECT_KLU2 ? solve_klu2(sys, b, x, report)
              : is_direct(kind)             ? solve_amesos(sys, kind, b, x, report)
+             : kind == SK_LINEAR_GMRES_LU  ? solve_lagged_lu(sys, b, x, report)
                                            : solve_iterative(sys, kind, b, x, report);
   } catch (...) {
     status = status_from_exception(SK_ERR_LINEAR_SOLVER, sk_linear_solver_name(kind), std::current_exception());
-    if (is_direct(kind)) release_direct(sys);
+    if (is_direct(kind) || kind == SK_LINEAR_GMRES_LU) release_direct(sys);
     report->failure = is_direct(kind) ? SK_LINEAR_FAILURE_SINGULAR : SK_LINEAR_FAILURE_NOT_CONVERGED;
   }
   status = agree(sys->comm, status, "sk_linsys_solve");
@@ -287,6 +288,7 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
                {"gmres-ilu", SK_LINEAR_GMRES_ILU},
                {"gmres-sgs", SK_LINEAR_GMRES_SGS},
                {"gmres-jacobi", SK_LINEAR_GMRES_JACOBI},
+               {"gmres-lu", SK_LINEAR_GMRES_LU},
                {"auto", SK_LINEAR_AUTO},
                {"mumps", SK_LINEAR_DIRECT_MUMPS},
                {"klu2", SK_LINEAR_DIRECT_KLU2},
@@ -297,8 +299,8 @@ sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *ki
       return SK_OK;
     }
   }
-  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, gmres-sgs, gmres-jacobi, auto, mumps, "
-                      "klu2 or klu)",
+  return sk_error_set(SK_ERR_INPUT, "unknown linear solver '%s' (expected direct, gmres-muelu, gmres-ilu, gmres-sgs, "
+                      "gmres-jacobi, gmres-lu, auto, mumps, klu2 or klu)",
                       name ? name : "(null)");
 }
 
@@ -309,6 +311,7 @@ const char *sk_linear_solver_name(sk_linear_solver_kind kind) {
     case SK_LINEAR_GMRES_ILU: return "gmres-ilu";
     case SK_LINEAR_GMRES_SGS: return "gmres-sgs";
     case SK_LINEAR_GMRES_JACOBI: return "gmres-jacobi";
+    case SK_LINEAR_GMRES_LU: return "gmres-lu";
     case SK_LINEAR_AUTO: return "auto";
     case SK_LINEAR_DIRECT_MUMPS: return "mumps";
     case SK_LINEAR_DIRECT_KLU2: return "klu2";
@@ -331,7 +334,7 @@ sk_status sk_linsys_create(MPI_Comm comm, const sk_linear_options *options, sk_l
     static_assert(sizeof(sk_linear_solver_kind) == sizeof(int), "the enum is read as an int");
     int kind_value;
     std::memcpy(&kind_value, &created->options.kind, sizeof kind_value);
-    if (kind_value < SK_LINEAR_DIRECT || kind_value > SK_LINEAR_GMRES_JACOBI)
+    if (kind_value < SK_LINEAR_DIRECT || kind_value > SK_LINEAR_KIND_LAST)
       return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", kind_value);
     if (!(created->options.tolerance > 0) || created->options.max_iterations < 1)
       return sk_error_set(SK_ERR_INPUT, "linear system: tolerance (%g) and max_iterations (%d) must be positive",
@@ -372,7 +375,7 @@ void sk_linsys_forget_setup(sk_linear_system *sys) {
 }
 
 sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind) {
-  if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_GMRES_JACOBI)
+  if (kind < SK_LINEAR_DIRECT || kind > SK_LINEAR_KIND_LAST)
     return sk_error_set(SK_ERR_INPUT, "linear system: unknown solver kind %d", (int)kind);
   sys->options.kind = kind;
   return SK_OK;
@@ -512,9 +515,9 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
   report->solved = 1;
   report->seconds = now_seconds() - start;
   if (sys->options.verbose && sys->rank == 0)
-    std::printf("linear solve (%s): n = %d, %d iterations, %d refinements, relative residual %.3g, %.3f s\n",
-                sk_linear_solver_name(report->solver), sys->n, report->iterations, report->refinements,
-                report->relative_residual, report->seconds);
+    std::printf("linear solve (%s): n = %d, %d iterations, %d factorisations, %d refinements, relative residual %.3g, "
+                "%.3f s\n", sk_linear_solver_name(report->solver), sys->n, report->iterations, report->factorisations,
+                report->refinements, report->relative_residual, report->seconds);
   return status;
 }
 

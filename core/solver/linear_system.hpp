@@ -200,6 +200,8 @@ struct sk_linear_system {
   sk_linear_solver_kind amesos_kind = SK_LINEAR_DIRECT;
   int mumps_workspace_percent = 20;  // MUMPS ICNTL(14): raised, for the rest of the run, when a factorisation ran short
   sk_linear_solver_kind last_kind = SK_LINEAR_AUTO;  // the backend of the last solve (sk_linsys_solve_again)
+  // gmres-lu (lagged_lu.cpp): the factorisation in `amesos` is of an earlier matrix; refactorise at the next solve
+  bool lagged_refactorise = false;
 
   // iterative: the nodal block K (the matrix itself when there are no constraint rows) and its preconditioner,
   // which outlives pattern changes while the nodal distribution stays (iterative_solvers.cpp says when it is
@@ -250,10 +252,22 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
 sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                        sk_linear_report *report);
 void release_direct(sk_linear_system *sys);
+// Forward and backward substitution with the current Amesos v1 factorisation (collective); b and x over the owned rows.
+sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
 bool solve_amesos_again(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                         sk_linear_report *report, sk_status *status);
 
+// lagged_lu.cpp: GMRES preconditioned by the last MUMPS factorisation (gmres-lu)
+sk_status solve_lagged_lu(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
+
 // iterative_solvers.cpp
+struct GmresResult {
+  bool converged = false;
+  int iterations = 0;
+};
+// Belos GMRES on the whole matrix (x starts at 0), right-preconditioned, to options.tolerance in max_iterations.
+GmresResult run_gmres(sk_linear_system *sys, const RCP<Operator> &preconditioner, const RCP<Vector> &b,
+                      const RCP<Vector> &x, int max_iterations);
 sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                           sk_linear_report *report);
 void release_iterative_pattern(sk_linear_system *sys);  // what depends on the pattern (not the hierarchy)

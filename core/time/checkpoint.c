@@ -296,6 +296,8 @@ static sk_status write_description(const char *path, const sk_run_options *optio
           p->good_steps, (long long)p->newton_iterations, (long long)p->cuts);
   fprintf(f, "linear_solves: %d\nactive_set_loops: %d\nlinear_fallback: %d\n", sys->linear_solves,
           sys->active_set_loops, sys->linear_fallback);
+  fprintf(f, "linear_factorisations: %d\nkrylov_iterations: %lld\n", sys->linear_factorisations,
+          (long long)sys->krylov_iterations);
   fprintf(f, "dissipated: %.17g\nexternal_work: %.17g\nlast_vtu_step: %lld\n", rec->dissipated, rec->external_work,
           (long long)rec->last_vtu_step);
   const int ok = fflush(f) == 0 && fsync(fileno(f)) == 0;

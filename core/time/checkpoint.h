@@ -49,6 +49,7 @@ struct sk_restart {
   double dissipated, external_work;
   int64_t last_vtu_step;
   int64_t linear_solves, active_set_loops;
+  int64_t linear_factorisations, krylov_iterations; /* 0 from checkpoints written before they were counted */
   int linear_fallback;
 };
 

@@ -517,6 +517,8 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_number(json, "final_time", sum->final_time);
   sk_json_int(json, "newton_iterations", sum->newton_iterations);
   sk_json_int(json, "linear_solves", sum->linear_solves);
+  sk_json_int(json, "linear_factorisations", sum->linear_factorisations);
+  sk_json_int(json, "krylov_iterations", (long)sum->krylov_iterations);
   sk_json_int(json, "step_cuts", sum->cuts);
   sk_json_int(json, "active_set_loops", sum->active_set_loops);
   sk_json_int(json, "roundoff_floor_steps", sum->roundoff_floor_steps);

@@ -116,6 +116,9 @@ static sk_status read_description(sk_restart *r) {
   if (status == SK_OK) status = read_int64(cfg, "cuts", &cuts);
   if (status == SK_OK) status = read_int64(cfg, "linear_solves", &solves);
   if (status == SK_OK) status = read_int64(cfg, "active_set_loops", &loops);
+  double factorisations = 0, krylov = 0; /* optional: checkpoints before these counts lack them */
+  if (status == SK_OK) status = sk_cfg_double(cfg, "linear_factorisations", 0, 0, &factorisations);
+  if (status == SK_OK) status = sk_cfg_double(cfg, "krylov_iterations", 0, 0, &krylov);
   if (status == SK_OK) status = sk_cfg_int(cfg, "linear_fallback", 1, 0, &fallback);
   if (status == SK_OK) status = sk_cfg_double(cfg, "dissipated", 1, 0, &r->dissipated);
   if (status == SK_OK) status = sk_cfg_double(cfg, "external_work", 1, 0, &r->external_work);
@@ -149,6 +152,8 @@ static sk_status read_description(sk_restart *r) {
     r->last_vtu_step = vtu;
     r->linear_solves = solves;
     r->active_set_loops = loops;
+    r->linear_factorisations = (int64_t)factorisations;
+    r->krylov_iterations = (int64_t)krylov;
     r->linear_fallback = fallback;
     if (r->ranks < 1 || r->dim < 2 || r->dim > 3 || r->n_nodes < 1 || !(r->progress.dt > 0) || !isfinite(r->time))
       status = sk_error_set(SK_ERR_INPUT, "%s: implausible values (ranks %d, dim %d, nodes %d, dt %g)", path, r->ranks,
@@ -170,9 +175,10 @@ static sk_status share(sk_restart *r, MPI_Comm comm, int rank) {
   int ints[9] = {r->ranks, r->n_nodes, r->dim, r->progress.substep, r->progress.cuts_in_a_row, r->progress.good_steps,
                  r->linear_fallback, r->n_sets, 0};
   MPI_Bcast(ints, 9, MPI_INT, 0, comm);
-  int64_t longs[7] = {r->progress.steps, r->progress.scheduled, r->progress.newton_iterations, r->progress.cuts,
-                      r->last_vtu_step, r->linear_solves, r->active_set_loops};
-  MPI_Bcast(longs, 7, MPI_INT64_T, 0, comm);
+  int64_t longs[9] = {r->progress.steps, r->progress.scheduled, r->progress.newton_iterations, r->progress.cuts,
+                      r->last_vtu_step, r->linear_solves, r->active_set_loops, r->linear_factorisations,
+                      r->krylov_iterations};
+  MPI_Bcast(longs, 9, MPI_INT64_T, 0, comm);
   double doubles[4] = {r->time, r->progress.dt, r->dissipated, r->external_work};
   MPI_Bcast(doubles, 4, MPI_DOUBLE, 0, comm);
   if (rank != 0) {
@@ -180,6 +186,7 @@ static sk_status share(sk_restart *r, MPI_Comm comm, int rank) {
     r->progress.cuts_in_a_row = ints[4], r->progress.good_steps = ints[5], r->linear_fallback = ints[6];
     r->progress.steps = longs[0], r->progress.scheduled = longs[1], r->progress.newton_iterations = longs[2];
     r->progress.cuts = longs[3], r->last_vtu_step = longs[4], r->linear_solves = longs[5], r->active_set_loops = longs[6];
+    r->linear_factorisations = longs[7], r->krylov_iterations = longs[8];
     r->time = doubles[0], r->progress.dt = doubles[1], r->dissipated = doubles[2];
     r->external_work = doubles[3];
     r->sets = calloc((size_t)ints[7] + 1, sizeof(char *));
@@ -443,6 +450,8 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
     sys->dt = r->progress.dt;
     sys->step = r->progress.steps;
     sys->linear_solves = (int)r->linear_solves;
+    sys->linear_factorisations = (int)r->linear_factorisations;
+    sys->krylov_iterations = r->krylov_iterations;
     sys->active_set_loops = (int)r->active_set_loops;
     sys->linear_fallback = r->linear_fallback;
     if (r->linear_fallback) status = sk_linsys_set_solver(sys->linsys, SK_LINEAR_DIRECT);

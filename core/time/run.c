@@ -40,6 +40,8 @@ static sk_status attempt(sk_system *sys, double dt, int64_t step, int backtracki
 static void fill_summary(const sk_system *sys, double wall_start, sk_status status, sk_run_summary *summary) {
   summary->final_time = sys->t_n;
   summary->linear_solves = sys->linear_solves;
+  summary->linear_factorisations = sys->linear_factorisations;
+  summary->krylov_iterations = sys->krylov_iterations;
   summary->active_set_loops = sys->active_set_loops;
   summary->pattern_builds = sys->pattern_builds;
   summary->unknowns_max = sys->unknowns_max;

@@ -6,7 +6,8 @@
   the rest of the run (one message, no step cut, summary.json records it), and the run ends as with `direct`;
 - iterative_equals_direct: a contact run whose systems keep their multiplier rows (scenes/two-elements.yaml,
   nts-augmented `augmented`, the first 25 midpoint steps: contact in steps 13-21) gives with GMRES + MueLu and GMRES + SGS (multiplier rows through
-  their Schur complement) the contact forces of MUMPS, to the linear and Newton tolerances;
+  their Schur complement) and GMRES + the lagged MUMPS factorisation (gmres-lu) the contact forces of MUMPS, to the
+  linear and Newton tolerances;
 - line_search_choice: the backtracking line search runs a punch pressed and dragged with friction (nts-augmented,
   tests/bench/line-search/punch-2d.yaml) to the end, where the full step fails in step 1; the default
   (full-step-then-backtrack) runs it too, solving the steps whose full-step Newton fails again with backtracking
@@ -102,8 +103,9 @@ def iterative_equals_direct(c):
     # (solver, inexact Newton, bound): exact Krylov solves to linear.tolerance 1e-10 (measured: MueLu 2.2e-14,
     # SGS 1.7e-14 relative), and the default inexact solves (measured: MueLu 3.5e-13); Newton's update test
     # confirms convergence with one more solve, which brings both to round-off
+    # gmres-lu (the lagged MUMPS factorisation as preconditioner, inexact): measured 5.1e-14
     cases = [("direct", "false", 0.0), ("gmres-muelu", "false", 1e-13), ("gmres-sgs", "false", 1e-13),
-             ("gmres-muelu", "true", 1e-12)]
+             ("gmres-muelu", "true", 1e-12), ("gmres-lu", "true", 1e-12)]
     for solver, inexact, bound in cases:
         out = os.path.join(c.dir, "%s-%s" % (solver, inexact))
         proc = c.run("run", scene, *common, "--out", out, "--set", "solver.linear.solver=" + solver,

@@ -7,3 +7,5 @@ stickslip_scene_tests(test_fast_solves.py direct_solve_refinement)
 # rank, margin 1 on two; ~15 s).
 stickslip_scene_tests(test_fast_solves.py pattern_margin_same_history)
 set_tests_properties(validation_pattern_margin_same_history PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
+# gmres-lu (the lagged LU) against MUMPS on 2D Hertz: the same forces and profile, fewer factorisations (~2 s).
+stickslip_scene_tests(test_fast_solves.py hertz_2d_lagged_lu)

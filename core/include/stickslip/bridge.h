@@ -32,9 +32,13 @@ typedef enum {
   SK_LINEAR_DIRECT_KLU,   /* Amesos (v1, Epetra) KLU (gathers to rank 0 itself) */
   SK_LINEAR_GMRES_SGS,    /* the same with one symmetric Gauss-Seidel sweep in place of AMG: no set-up, cheap per
                              iteration; its iterations grow under refinement unless inertia dominates */
-  SK_LINEAR_GMRES_JACOBI  /* the same with point Jacobi (diagonal scaling): the cheapest per iteration, for systems
+  SK_LINEAR_GMRES_JACOBI, /* the same with point Jacobi (diagonal scaling): the cheapest per iteration, for systems
                              whose mass term dominates (explicit-like time steps) */
+  SK_LINEAR_GMRES_LU      /* lagged LU: Belos GMRES on the whole system, preconditioned by the last MUMPS factorisation
+                             (of an earlier Newton iteration or step), refactorised when GMRES needs more than a few
+                             iterations, fails, or the pattern changes (docs/linear-solvers.md, "Lagged LU") */
 } sk_linear_solver_kind;
+#define SK_LINEAR_KIND_LAST SK_LINEAR_GMRES_LU /* the largest valid sk_linear_solver_kind */
 
 typedef struct {
   sk_linear_solver_kind kind;
@@ -70,12 +74,14 @@ typedef struct {
   const char *decision;          /* `auto` decided in this solve: what and why (valid until the next solve); or NULL */
   int solved;                    /* 1 when a solver ran (0: b = 0 gave x = 0 without one) */
   int refinements;               /* iterative-refinement corrections a direct solve needed (0: at round-off at once) */
+  int factorisations;            /* numeric LU factorisations of the system matrix in this solve (MUMPS, KLU, KLU2,
+                                    gmres-lu's refactorisations; not preconditioner set-ups) */
 } sk_linear_report;
 
 typedef struct sk_linear_system sk_linear_system;
 
 void sk_linear_options_default(sk_linear_options *options);
-/* direct | gmres-muelu | gmres-ilu | gmres-sgs | gmres-jacobi | auto | mumps | klu2 | klu */
+/* direct | gmres-muelu | gmres-ilu | gmres-sgs | gmres-jacobi | gmres-lu | auto | mumps | klu2 | klu */
 sk_status sk_linear_solver_from_name(const char *name, sk_linear_solver_kind *kind);
 const char *sk_linear_solver_name(sk_linear_solver_kind kind);
 

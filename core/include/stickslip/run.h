@@ -31,6 +31,8 @@ typedef struct {
   int steps;
   int newton_iterations;
   int linear_solves;
+  int linear_factorisations; /* numeric LU factorisations of the system matrix (direct solvers, gmres-lu) */
+  int64_t krylov_iterations; /* Krylov iterations over all linear solves */
   int cuts;                /* step halvings */
   int64_t unknowns_max;    /* largest size of the nonlinear system over the run */
   int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */

@@ -468,7 +468,8 @@ static void check_mumps_after_activation(void) {
 static void check_names(void) {
   const sk_linear_solver_kind kinds[] = {SK_LINEAR_DIRECT,       SK_LINEAR_GMRES_MUELU, SK_LINEAR_GMRES_ILU,
                                          SK_LINEAR_AUTO,         SK_LINEAR_DIRECT_MUMPS, SK_LINEAR_DIRECT_KLU2,
-                                         SK_LINEAR_DIRECT_KLU,   SK_LINEAR_GMRES_SGS,    SK_LINEAR_GMRES_JACOBI};
+                                         SK_LINEAR_DIRECT_KLU,   SK_LINEAR_GMRES_SGS,    SK_LINEAR_GMRES_JACOBI,
+                                         SK_LINEAR_GMRES_LU};
   for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; ++i) {
     sk_linear_solver_kind parsed = SK_LINEAR_DIRECT;
     SK_CHECK(sk_linear_solver_from_name(sk_linear_solver_name(kinds[i]), &parsed) == SK_OK);
@@ -478,10 +479,11 @@ static void check_names(void) {
   SK_CHECK(sk_linear_solver_from_name("cholesky", &parsed) == SK_ERR_INPUT);
   SK_CHECK(sk_linear_solver_from_name("mumps", &parsed) == SK_OK && parsed == SK_LINEAR_DIRECT_MUMPS);
   /* the enum only grows: stored values (scenes, options) keep their meaning */
-  SK_CHECK(SK_LINEAR_DIRECT == 0 && SK_LINEAR_AUTO == 3 && SK_LINEAR_DIRECT_MUMPS == 4 && SK_LINEAR_GMRES_SGS == 7);
+  SK_CHECK(SK_LINEAR_DIRECT == 0 && SK_LINEAR_AUTO == 3 && SK_LINEAR_DIRECT_MUMPS == 4 && SK_LINEAR_GMRES_SGS == 7 &&
+           SK_LINEAR_GMRES_LU == 9);
   sk_linear_options bad_kind;
   sk_linear_options_default(&bad_kind);
-  bad_kind.kind = (sk_linear_solver_kind)(SK_LINEAR_GMRES_JACOBI + 1);
+  bad_kind.kind = (sk_linear_solver_kind)(SK_LINEAR_KIND_LAST + 1);
   sk_linear_system *none = NULL;
   SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &bad_kind, &none) == SK_ERR_INPUT && none == NULL);
   sk_linear_options options;
