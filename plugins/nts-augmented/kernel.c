@@ -1,8 +1,10 @@
 /* nts-augmented — element kernel: constraints, derivatives, friction and the element system (kernel.h).
  *
  * Derivatives go through the nine intermediate quantities w = [r, a_1, a_2]: every constraint is a function
- * phi(w) and w is at most bilinear in (x_I, f) on QUAD4/TRI3/LINE2 facets, so
- *   grad Phi = g_w B,   d2 Phi = B^T H_w B + sum_j g_w,j d2 w_j / dz2,   B = dw/dz (9 x nz).
+ * phi(w) and w is linear in the x_I, so
+ *   grad Phi = g_w B,   d2 Phi = B^T H_w B + sum_j g_w,j d2 w_j / dz2,   B = dw/dz (9 x nz),
+ * where d2 w / dz2 needs x,ab (r in f) and x,abc (a_a in f); the latter vanishes on every facet the kernel takes
+ * (QUAD4, TRI3, LINE2 and the curved LINE3, whose x(f1) is quadratic).
  * Only d2 phi_n / dw2 is long; it follows from s(r, c) = r . c / |c| with c = a_1 x a_2 (bilinear in a). */
 #include "kernel.h"
 
@@ -12,10 +14,10 @@
 enum { NW = 9 }; /* w = [r (3), a_1 (3), a_2 (3)] */
 
 int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian) {
-  if (type != SK_QUAD4 && type != SK_TRI3 && type != SK_LINE2) return -1;
+  if (type != SK_QUAD4 && type != SK_TRI3 && type != SK_LINE2 && type != SK_LINE3) return -1;
   facet->type = type;
-  facet->nen = type == SK_QUAD4 ? 4 : type == SK_TRI3 ? 3 : 2;
-  facet->extruded = type == SK_LINE2;
+  facet->nen = type == SK_QUAD4 ? 4 : type == SK_TRI3 || type == SK_LINE3 ? 3 : 2;
+  facet->extruded = type == SK_LINE2 || type == SK_LINE3;
   facet->shape = shape;
   facet->shape_hessian = shape_hessian;
   return 0;
@@ -24,7 +26,7 @@ int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_
 double nts_facet_outside(const nts_facet *facet, const double f[2]) {
   if (facet->type == SK_TRI3) return fmax(fmax(0.0, -f[0]), fmax(-f[1], f[0] + f[1] - 1.0));
   const double beyond = fabs(f[0]) - 1.0;
-  return facet->type == SK_LINE2 ? fmax(0.0, beyond) : fmax(fmax(0.0, beyond), fabs(f[1]) - 1.0);
+  return facet->extruded ? fmax(0.0, beyond) : fmax(fmax(0.0, beyond), fabs(f[1]) - 1.0);
 }
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -210,7 +212,7 @@ void nts_constraint_hessian(const nts_geometry *geo, const double lambda[3], dou
       for (int w = 0; w < NW; ++w) v += B[w][i] * HB[w][j];
       H[i * nz + j] = v;
     }
-  /* second derivatives of w itself: r and a_a are bilinear in (x_I, f); r is quadratic in f through x(f) */
+  /* second derivatives of w itself: r and a_a are bilinear in (x_I, f) but for d2 r / df2 = -x,ab (x,abc = 0) */
   for (int I = 0; I < geo->nen; ++I)
     for (int b = 0; b < 2; ++b)
       for (int i = 0; i < 3; ++i) {

@@ -11,9 +11,10 @@
  *
  * Constraints (k = 0, 1: Phi_aug (48); k = 2: Phi_n (49)), with r = q_s - x(f):
  *   Phi_aug,a = r . a_a(f),   Phi_n = r . n(f),   n = a_1 x a_2 / |a_1 x a_2| (out of the master body).
- * Facets: QUAD4 and TRI3 (shape functions at most bilinear, so third parametric derivatives vanish), and the 2D
- * segment LINE2, embedded in 3D as the facet extruded along e_z: x(f) = sum N_I(f1) x_I + f2 e_z, a_2 = e_z, so
- * n = a_1 x e_z is the core's 2D outward normal. With z = 0 everywhere, f2 = 0 and lambda_aug2 = 0 solve their own
+ * Facets: QUAD4 and TRI3, and the 2D segments LINE2 and LINE3 (the curved three-node segment of quadratic
+ * elements), embedded in 3D as the facet extruded along e_z: x(f) = sum N_I(f1) x_I + f2 e_z, a_2 = e_z, so
+ * n = a_1 x e_z is the core's 2D outward normal. On each of them the third parametric derivatives x,abc vanish
+ * (bilinear, linear, quadratic in f1), which the constraint Hessian relies on (kernel.c). With z = 0 everywhere, f2 = 0 and lambda_aug2 = 0 solve their own
  * rows exactly and decouple from the in-plane unknowns, which are those of node-to-segment contact. */
 #ifndef NTS_AUGMENTED_KERNEL_H
 #define NTS_AUGMENTED_KERNEL_H
@@ -21,7 +22,7 @@
 #include "stickslip/plugin_types.h"
 
 enum {
-  NTS_MAX_NEN = 4,
+  NTS_MAX_NEN = 4,                    /* QUAD4 */
   NTS_MAX_NQ = 3 + 3 * NTS_MAX_NEN,  /* 15 */
   NTS_MAX_NZ = NTS_MAX_NQ + 2,        /* q_A and f */
   NTS_MAX_NU = NTS_MAX_NQ + 5,        /* q_A, lambda_n, f, lambda_aug */
@@ -36,17 +37,18 @@ typedef void (*nts_shape_fn)(sk_elem_type type, const double *xi, double *N, dou
 typedef void (*nts_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
 
 typedef struct {
-  sk_elem_type type; /* SK_QUAD4, SK_TRI3, or SK_LINE2 (2D, extruded along e_z) */
+  sk_elem_type type; /* SK_QUAD4, SK_TRI3, or SK_LINE2 / SK_LINE3 (2D, extruded along e_z) */
   int nen;
-  int extruded;      /* 1 for LINE2 */
+  int extruded;      /* 1 for LINE2 and LINE3 */
   nts_shape_fn shape;
   nts_shape_hessian_fn shape_hessian;
 } nts_facet;
 
-/* Fills a facet descriptor; returns -1 for a face type the kernel does not handle (curved faces). */
+/* Fills a facet descriptor; returns -1 for a face type the kernel does not handle (TRI6, QUAD8, QUAD9: their
+ * third parametric derivatives do not vanish or their corner loads are not positive, plugin.c). */
 int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian);
 
-/* How far f lies outside the facet's parametric domain ([-1, 1]^pdim for LINE2/QUAD4, the unit triangle for TRI3),
+/* How far f lies outside the facet's parametric domain ([-1, 1]^pdim for LINE2/LINE3/QUAD4, the unit triangle for TRI3),
  * in parametric units: 0 inside or on the border. */
 double nts_facet_outside(const nts_facet *facet, const double f[2]);
 

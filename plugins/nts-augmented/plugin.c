@@ -58,7 +58,9 @@ static void destroy(sk_instance *inst) {
 static double mean_edge(const sk_view *view) {
   double sum = 0.0;
   int count = 0;
-  const int corners = view->cell_type == SK_TRI3 ? 3 : view->cell_type == SK_LINE2 ? 2 : 4, dim = view->dim;
+  const sk_elem_type type = view->cell_type;
+  const int corners = type == SK_TRI3 || type == SK_TRI6 ? 3 : type == SK_LINE2 || type == SK_LINE3 ? 2 : 4;
+  const int dim = view->dim;
   const double *X = view->X;
   for (int f = 0; f < view->n_cells; ++f)
     for (int e = 0; e < (corners == 2 ? 1 : corners); ++e) {
@@ -113,21 +115,28 @@ static sk_status plane_setup(sk_instance *inst) {
 
 /* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
 
-static int first_order_face(sk_elem_type type) { return type == SK_LINE2 || type == SK_TRI3 || type == SK_QUAD4; }
+/* The faces the element kernel takes (kernel.h): line2 and the curved line3 in 2D, tri3 and quad4 in 3D. Every
+ * node of a slave face is a slave point with its own multiplier, a nodal force: under a uniform pressure the
+ * consistent nodal loads of a line3 are positive (1/6, 2/3, 1/6 of its length), those of TRI6 corners are zero and
+ * those of QUAD8 corners negative (docs/plugins/penalty-nts.md#quadratic-faces), so those corners would have to pull;
+ * QUAD9 faces (positive loads) need the third parametric derivatives of the face in the constraint Hessian, which
+ * the kernel does not have (docs/plugins/nts-augmented.md#quadratic-faces). */
+static int face_taken(sk_elem_type type) {
+  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4;
+}
 
-/* Second-order slave faces are refused: nodal constraints on them need weights that are positive under a uniform
- * pressure, which the corners of TRI6/QUAD8 faces do not have (docs/plugins/penalty-nts.md#quadratic-faces); the
- * facets of the augmented coordinates are first-order master faces. */
+static const char *face_name(sk_elem_type type) {
+  return type == SK_TRI6 ? "TRI6" : type == SK_QUAD8 ? "QUAD8" : type == SK_QUAD9 ? "QUAD9" : "second-order";
+}
+
 static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, sk_elem_type master,
                          char *reason, int size) {
-  if (!first_order_face(slave))
-    snprintf(reason, (size_t)size, "nts-augmented handles first-order slave faces only (line2 in 2D, tri3 and quad4 "
-             "in 3D); slave surface '%s' has second-order faces (mesh.order: 2?)", slave_name);
-  else if (master_name && !first_order_face(master))
-    snprintf(reason, (size_t)size, "nts-augmented handles first-order master faces only (line2 in 2D, tri3 and quad4 "
-             "in 3D); master surface '%s' has second-order faces (mesh.order: 2?)", master_name);
-  else
-    return 0;
+  const int slave_refused = !face_taken(slave), master_refused = master_name && !face_taken(master);
+  if (!slave_refused && !master_refused) return 0;
+  snprintf(reason, (size_t)size, "nts-augmented handles line2 and line3 faces in 2D and first-order faces only in "
+           "3D (tri3, quad4; docs/plugins/nts-augmented.md#quadratic-faces); %s surface '%s' has %s faces "
+           "(mesh.order: 2)", slave_refused ? "slave" : "master", slave_refused ? slave_name : master_name,
+           face_name(slave_refused ? slave : master));
   return 1;
 }
 

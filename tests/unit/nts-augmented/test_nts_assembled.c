@@ -1,6 +1,7 @@
 /* nts-augmented: the assembled operator through the plugin interface (the plugin test kit, tests/support), for every
  * strategy, frictionless, in stick and in slip, under backward Euler and the midpoint rule, on a warped QUAD4 and a
- * TRI3 master (3D), a LINE2 master (2D, node-to-segment) and moving plane obstacles (3D and 2D):
+ * TRI3 master (3D), a LINE2 master (2D, node-to-segment), a curved LINE3 master under a LINE3 slave face (2D, every
+ * face node a slave point, the mid-side node included) and moving plane obstacles (3D and 2D):
  *   condensed, augmented, direct, direct-endpoint: the assembled block and add_rhs equal the Schur complement of
  *     central differences of the assembled residual over the eliminated unknowns (kit_fd_check_condensed);
  *   paper-reduced: each block of (80) against its definition from central differences of the assembled residual:
@@ -24,8 +25,9 @@ enum { MAX_N = 64 };
 static const double FD_STEP = 1e-6, SCHUR_TOL = 1e-7, PAPER_TOL = 5e-9;
 static const char *const STRATEGY[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint"};
 enum { PAPER = 2 };
-enum { GEO_QUAD4, GEO_TRI3, GEO_LINE2, GEO_PLANE3, GEO_PLANE2, N_GEO };
-static const char *const GEO_NAME[N_GEO] = {"quad4", "tri3", "line2 (2D)", "plane obstacle", "plane obstacle (2D)"};
+enum { GEO_QUAD4, GEO_TRI3, GEO_LINE2, GEO_LINE3, GEO_PLANE3, GEO_PLANE2, N_GEO };
+static const char *const GEO_NAME[N_GEO] = {"quad4", "tri3", "line2 (2D)", "line3 (2D)", "plane obstacle",
+                                            "plane obstacle (2D)"};
 
 typedef struct {
   kit k;
@@ -66,6 +68,20 @@ static void build(scene *s, int geo, double slide) {
       s->q[i] = s->q_n[i] + (i < 6 ? 0.01 * test_rand() : (i % 2 == 1 ? -0.11 : slide));
     }
     s->n_slave = 2;
+  } else if (geo == GEO_LINE3) {
+    /* two curved master segments (nodes: ends, then the mid-side node off the chord), right to left as above, and
+     * one curved slave segment whose three nodes are all slave points */
+    static const double X[8][2] = {{-1, 0},      {0.2, 0.05},  {1.1, 0},     {-0.4, 0.08},
+                                   {0.65, 0.075}, {-0.4, 0.11}, {0.5, 0.12}, {0.05, 0.14}};
+    kit_init(&s->k, 2, 8, &X[0][0]);
+    static const int master[6] = {1, 0, 3, 2, 1, 4}, slave[3] = {5, 6, 7};
+    kit_surface(&s->k, 0, SK_LINE3, 3, 1, slave);
+    kit_surface(&s->k, 1, SK_LINE3, 3, 2, master);
+    for (int i = 0; i < 16; ++i) {
+      s->q_n[i] = X[i / 2][i % 2] + 0.005 * test_rand();
+      s->q[i] = s->q_n[i] + (i < 10 ? 0.01 * test_rand() : (i % 2 == 1 ? -0.11 : slide));
+    }
+    s->n_slave = 3;
   } else {
     const int dim = geo == GEO_PLANE3 ? 3 : 2;
     static const double X3[4][3] = {{0.5, 0.2, 0.04}, {-0.4, 0.3, 0.01}, {0.1, -0.5, 0.02}, {0.6, -0.4, 0.03}};
