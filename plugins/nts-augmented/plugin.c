@@ -115,28 +115,36 @@ static sk_status plane_setup(sk_instance *inst) {
 
 /* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
 
-/* The faces the element kernel takes (kernel.h): line2 and the curved line3 in 2D, tri3 and quad4 in 3D. Every
- * node of a slave face is a slave point with its own multiplier, a nodal force: under a uniform pressure the
- * consistent nodal loads of a line3 are positive (1/6, 2/3, 1/6 of its length), those of TRI6 corners are zero and
- * those of QUAD8 corners negative (docs/plugins/penalty-nts.md#quadratic-faces), so those corners would have to pull;
- * QUAD9 faces (positive loads) need the third parametric derivatives of the face in the constraint Hessian, which
- * the kernel does not have (docs/plugins/nts-augmented.md#quadratic-faces). */
-static int face_taken(sk_elem_type type) {
-  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4;
+/* Every node of a slave face is a slave point with its own multiplier, a nodal force, which takes the consistent
+ * nodal loads of the face's standard shape functions: under a uniform pressure those are positive on line2, line3,
+ * tri3, quad4 and quad9 faces (line3: 1/6, 2/3, 1/6 of the length; quad9: 1/36, 1/9, 4/9 of the area at a corner,
+ * an edge, the centre), zero at TRI6 corners and negative at QUAD8 corners (-1/12), which would have to pull
+ * (docs/plugins/nts-augmented.md#quadratic-faces). Master faces are geometry only: every face type of the kernel. */
+static int slave_face_taken(sk_elem_type type) {
+  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9;
+}
+
+static int master_face_taken(sk_elem_type type) {
+  return slave_face_taken(type) || type == SK_TRI6 || type == SK_QUAD8;
 }
 
 static const char *face_name(sk_elem_type type) {
-  return type == SK_TRI6 ? "TRI6" : type == SK_QUAD8 ? "QUAD8" : type == SK_QUAD9 ? "QUAD9" : "second-order";
+  return type == SK_TRI6 ? "TRI6" : type == SK_QUAD8 ? "QUAD8" : "unsupported";
 }
 
 static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, sk_elem_type master,
                          char *reason, int size) {
-  const int slave_refused = !face_taken(slave), master_refused = master_name && !face_taken(master);
-  if (!slave_refused && !master_refused) return 0;
-  snprintf(reason, (size_t)size, "nts-augmented handles line2 and line3 faces in 2D and first-order faces only in "
-           "3D (tri3, quad4; docs/plugins/nts-augmented.md#quadratic-faces); %s surface '%s' has %s faces "
-           "(mesh.order: 2)", slave_refused ? "slave" : "master", slave_refused ? slave_name : master_name,
-           face_name(slave_refused ? slave : master));
+  if (!slave_face_taken(slave))
+    snprintf(reason, (size_t)size, "nts-augmented takes line2, line3, tri3, quad4 and quad9 slave faces: slave "
+             "surface '%s' has %s faces, whose corner nodes' consistent loads under a uniform pressure are %s, which "
+             "nodal multipliers cannot carry (docs/plugins/nts-augmented.md#quadratic-faces; mesh.order: 2 with "
+             "hexahedra gives quad9 faces)", slave_name, face_name(slave),
+             slave == SK_TRI6 ? "zero" : slave == SK_QUAD8 ? "negative" : "unknown");
+  else if (master_name && !master_face_taken(master))
+    snprintf(reason, (size_t)size, "nts-augmented: master surface '%s' has faces of a type it does not take",
+             master_name);
+  else
+    return 0;
   return 1;
 }
 
