@@ -1,8 +1,10 @@
 /* nts-augmented — element kernel: constraints, derivatives, friction and the element system (kernel.h).
  *
  * Derivatives go through the nine intermediate quantities w = [r, a_1, a_2]: every constraint is a function
- * phi(w) and w is at most bilinear in (x_I, f) on QUAD4/TRI3/LINE2 facets, so
- *   grad Phi = g_w B,   d2 Phi = B^T H_w B + sum_j g_w,j d2 w_j / dz2,   B = dw/dz (9 x nz).
+ * phi(w) and w is linear in the x_I, so
+ *   grad Phi = g_w B,   d2 Phi = B^T H_w B + sum_j g_w,j d2 w_j / dz2,   B = dw/dz (9 x nz),
+ * where d2 w / dz2 needs x,ab (r in f) and x,abc (a_a in f); the latter vanishes on TRI3, QUAD4, TRI6, LINE2 and
+ * LINE3 (x(f) at most quadratic or bilinear) and is taken on QUAD8 and QUAD9 from the shape functions' Hessians.
  * Only d2 phi_n / dw2 is long; it follows from s(r, c) = r . c / |c| with c = a_1 x a_2 (bilinear in a). */
 #include "kernel.h"
 
@@ -12,19 +14,27 @@
 enum { NW = 9 }; /* w = [r (3), a_1 (3), a_2 (3)] */
 
 int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian) {
-  if (type != SK_QUAD4 && type != SK_TRI3 && type != SK_LINE2) return -1;
+  switch (type) {
+  case SK_LINE2: facet->nen = 2; break;
+  case SK_LINE3: case SK_TRI3: facet->nen = 3; break;
+  case SK_QUAD4: facet->nen = 4; break;
+  case SK_TRI6: facet->nen = 6; break;
+  case SK_QUAD8: facet->nen = 8; break;
+  case SK_QUAD9: facet->nen = 9; break;
+  default: return -1;
+  }
   facet->type = type;
-  facet->nen = type == SK_QUAD4 ? 4 : type == SK_TRI3 ? 3 : 2;
-  facet->extruded = type == SK_LINE2;
+  facet->extruded = type == SK_LINE2 || type == SK_LINE3;
+  facet->third = type == SK_QUAD8 || type == SK_QUAD9;
   facet->shape = shape;
   facet->shape_hessian = shape_hessian;
   return 0;
 }
 
 double nts_facet_outside(const nts_facet *facet, const double f[2]) {
-  if (facet->type == SK_TRI3) return fmax(fmax(0.0, -f[0]), fmax(-f[1], f[0] + f[1] - 1.0));
+  if (facet->type == SK_TRI3 || facet->type == SK_TRI6) return fmax(fmax(0.0, -f[0]), fmax(-f[1], f[0] + f[1] - 1.0));
   const double beyond = fabs(f[0]) - 1.0;
-  return facet->type == SK_LINE2 ? fmax(0.0, beyond) : fmax(fmax(0.0, beyond), fabs(f[1]) - 1.0);
+  return facet->extruded ? fmax(0.0, beyond) : fmax(fmax(0.0, beyond), fabs(f[1]) - 1.0);
 }
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -81,6 +91,27 @@ static void w_jacobian(const nts_geometry *geo, double B[NW][NTS_MAX_NZ]) {
   }
 }
 
+/* x,abc of a QUAD8/QUAD9 facet: the shape functions' second derivatives are at most quadratic in each parametric
+ * coordinate, so their central difference with any step is their exact derivative (to round-off). */
+static void third_derivatives(const nts_facet *facet, const double *q_A, const double f[2], nts_geometry *geo) {
+  static const double STEP = 0.5;
+  for (int c = 0; c < 2; ++c) {
+    double plus[2] = {f[0], f[1]}, minus[2] = {f[0], f[1]}, dd_plus[36], dd_minus[36];
+    plus[c] += STEP;
+    minus[c] -= STEP;
+    facet->shape_hessian(facet->type, plus, dd_plus);
+    facet->shape_hessian(facet->type, minus, dd_minus);
+    for (int I = 0; I < facet->nen; ++I) {
+      const double *xI = q_A + 3 + 3 * I;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          const double d = (dd_plus[(I * 2 + a) * 2 + b] - dd_minus[(I * 2 + a) * 2 + b]) / (2.0 * STEP);
+          for (int i = 0; i < 3; ++i) geo->a_abc[a][b][c][i] += d * xI[i];
+        }
+    }
+  }
+}
+
 void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f[2], nts_geometry *geo) {
   memset(geo, 0, sizeof *geo);
   const int nen = facet->nen;
@@ -106,6 +137,7 @@ void nts_geometry_eval(const nts_facet *facet, const double *q_A, const double f
       }
     }
   }
+  if (facet->third) third_derivatives(facet, q_A, f, geo);
   if (facet->extruded) { /* x(f) = sum N_I(f1) x_I + f2 e_z */
     geo->x[2] += f[1];
     geo->a[1][2] = 1.0;
@@ -210,7 +242,8 @@ void nts_constraint_hessian(const nts_geometry *geo, const double lambda[3], dou
       for (int w = 0; w < NW; ++w) v += B[w][i] * HB[w][j];
       H[i * nz + j] = v;
     }
-  /* second derivatives of w itself: r and a_a are bilinear in (x_I, f); r is quadratic in f through x(f) */
+  /* second derivatives of w itself: r and a_a are bilinear in (x_I, f) but for d2 r / df2 = -x,ab and
+   * d2 a_c / df2 = x,cab */
   for (int I = 0; I < geo->nen; ++I)
     for (int b = 0; b < 2; ++b)
       for (int i = 0; i < 3; ++i) {
@@ -220,7 +253,11 @@ void nts_constraint_hessian(const nts_geometry *geo, const double lambda[3], dou
         H[(nq + b) * nz + 3 + 3 * I + i] += v;
       }
   for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b) H[(nq + a) * nz + nq + b] -= dot3(gw, geo->a_ab[a][b]);
+    for (int b = 0; b < 2; ++b) {
+      double v = -dot3(gw, geo->a_ab[a][b]);
+      for (int c = 0; c < 2; ++c) v += dot3(gw + 3 + 3 * c, geo->a_abc[c][a][b]);
+      H[(nq + a) * nz + nq + b] += v;
+    }
 }
 
 void nts_metric_gradient(const nts_geometry *geo, double dm[3][NTS_MAX_NZ]) {

@@ -11,18 +11,18 @@
  *
  * Constraints (k = 0, 1: Phi_aug (48); k = 2: Phi_n (49)), with r = q_s - x(f):
  *   Phi_aug,a = r . a_a(f),   Phi_n = r . n(f),   n = a_1 x a_2 / |a_1 x a_2| (out of the master body).
- * Facets: QUAD4 and TRI3 (shape functions at most bilinear, so third parametric derivatives vanish), and the 2D
- * segment LINE2, embedded in 3D as the facet extruded along e_z: x(f) = sum N_I(f1) x_I + f2 e_z, a_2 = e_z, so
- * n = a_1 x e_z is the core's 2D outward normal. With z = 0 everywhere, f2 = 0 and lambda_aug2 = 0 solve their own
- * rows exactly and decouple from the in-plane unknowns, which are those of node-to-segment contact. */
+ * Facets: TRI3, QUAD4 and the second-order TRI6, QUAD8, QUAD9 in 3D, and the 2D segments LINE2 and LINE3 (the
+ * curved three-node segment of quadratic elements), embedded in 3D as the facet extruded along e_z: x(f) =
+ * sum N_I(f1) x_I + f2 e_z, a_2 = e_z, so n = a_1 x e_z is the core's 2D outward normal. The constraint Hessian
+ * needs the third parametric derivatives x,abc, which vanish on all but QUAD8 and QUAD9 (kernel.c). */
 #ifndef NTS_AUGMENTED_KERNEL_H
 #define NTS_AUGMENTED_KERNEL_H
 
 #include "stickslip/plugin_types.h"
 
 enum {
-  NTS_MAX_NEN = 4,
-  NTS_MAX_NQ = 3 + 3 * NTS_MAX_NEN,  /* 15 */
+  NTS_MAX_NEN = 9,                    /* QUAD9 */
+  NTS_MAX_NQ = 3 + 3 * NTS_MAX_NEN,  /* 30 */
   NTS_MAX_NZ = NTS_MAX_NQ + 2,        /* q_A and f */
   NTS_MAX_NU = NTS_MAX_NQ + 5,        /* q_A, lambda_n, f, lambda_aug */
   NTS_MAX_NK = NTS_MAX_NQ + 1,        /* the kept unknowns of a condensed element: q_A, lambda_n */
@@ -36,17 +36,19 @@ typedef void (*nts_shape_fn)(sk_elem_type type, const double *xi, double *N, dou
 typedef void (*nts_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
 
 typedef struct {
-  sk_elem_type type; /* SK_QUAD4, SK_TRI3, or SK_LINE2 (2D, extruded along e_z) */
+  sk_elem_type type; /* SK_TRI3, SK_QUAD4, SK_TRI6, SK_QUAD8, SK_QUAD9, or SK_LINE2 / SK_LINE3 (2D, extruded) */
   int nen;
-  int extruded;      /* 1 for LINE2 */
+  int extruded;      /* 1 for LINE2 and LINE3 */
+  int third;         /* 1 where the third parametric derivatives do not vanish: QUAD8, QUAD9 */
   nts_shape_fn shape;
   nts_shape_hessian_fn shape_hessian;
 } nts_facet;
 
-/* Fills a facet descriptor; returns -1 for a face type the kernel does not handle (curved faces). */
+/* Fills a facet descriptor; returns -1 for a face type the kernel does not handle. */
 int nts_facet_init(nts_facet *facet, sk_elem_type type, nts_shape_fn shape, nts_shape_hessian_fn shape_hessian);
 
-/* How far f lies outside the facet's parametric domain ([-1, 1]^pdim for LINE2/QUAD4, the unit triangle for TRI3),
+/* How far f lies outside the facet's parametric domain ([-1, 1]^pdim for lines and quadrilaterals, the unit triangle
+ * for triangles),
  * in parametric units: 0 inside or on the border. */
 double nts_facet_outside(const nts_facet *facet, const double f[2]);
 
@@ -56,6 +58,7 @@ typedef struct {
   double N[NTS_MAX_NEN], dN[NTS_MAX_NEN][2], ddN[NTS_MAX_NEN][2][2];
   double x[3], r[3];               /* master point x(f), r = q_s - x(f) */
   double a[2][3], a_ab[2][2][3];   /* a_a = x,a ; a_ab = x,ab */
+  double a_abc[2][2][2][3];        /* x,abc (zero unless facet->third) */
   double c[3], c_norm, n[3];       /* c = a_1 x a_2, n = c / |c| */
   double m[2][2];                  /* metric a_a . a_b */
   double phi[3];                   /* Phi_aug1, Phi_aug2, Phi_n */

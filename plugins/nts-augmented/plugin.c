@@ -60,7 +60,9 @@ static void destroy(sk_instance *inst) {
 static double mean_edge(const sk_view *view) {
   double sum = 0.0;
   int count = 0;
-  const int corners = view->cell_type == SK_TRI3 ? 3 : view->cell_type == SK_LINE2 ? 2 : 4, dim = view->dim;
+  const sk_elem_type type = view->cell_type;
+  const int corners = type == SK_TRI3 || type == SK_TRI6 ? 3 : type == SK_LINE2 || type == SK_LINE3 ? 2 : 4;
+  const int dim = view->dim;
   const double *X = view->X;
   for (int f = 0; f < view->n_cells; ++f)
     for (int e = 0; e < (corners == 2 ? 1 : corners); ++e) {
@@ -115,19 +117,34 @@ static sk_status plane_setup(sk_instance *inst) {
 
 /* ---- what the plugin cannot run (sk_plugin.check, ABI 2.7; create() asks the same on older hosts) ---------------- */
 
-static int first_order_face(sk_elem_type type) { return type == SK_LINE2 || type == SK_TRI3 || type == SK_QUAD4; }
+/* Every node of a slave face is a slave point with its own multiplier, a nodal force, which takes the consistent
+ * nodal loads of the face's standard shape functions: under a uniform pressure those are positive on line2, line3,
+ * tri3, quad4 and quad9 faces (line3: 1/6, 2/3, 1/6 of the length; quad9: 1/36, 1/9, 4/9 of the area at a corner,
+ * an edge, the centre), zero at TRI6 corners and negative at QUAD8 corners (-1/12), which would have to pull
+ * (docs/plugins/nts-augmented.md#quadratic-faces). Master faces are geometry only: every face type of the kernel. */
+static int slave_face_taken(sk_elem_type type) {
+  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9;
+}
 
-/* Second-order slave faces are refused: nodal constraints on them need weights that are positive under a uniform
- * pressure, which the corners of TRI6/QUAD8 faces do not have (docs/plugins/penalty-nts.md#quadratic-faces); the
- * facets of the augmented coordinates are first-order master faces. */
+static int master_face_taken(sk_elem_type type) {
+  return slave_face_taken(type) || type == SK_TRI6 || type == SK_QUAD8;
+}
+
+static const char *face_name(sk_elem_type type) {
+  return type == SK_TRI6 ? "TRI6" : type == SK_QUAD8 ? "QUAD8" : "unsupported";
+}
+
 static int faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, sk_elem_type master,
                          char *reason, int size) {
-  if (!first_order_face(slave))
-    snprintf(reason, (size_t)size, "nts-augmented handles first-order slave faces only (line2 in 2D, tri3 and quad4 "
-             "in 3D); slave surface '%s' has second-order faces (mesh.order: 2?)", slave_name);
-  else if (master_name && !first_order_face(master))
-    snprintf(reason, (size_t)size, "nts-augmented handles first-order master faces only (line2 in 2D, tri3 and quad4 "
-             "in 3D); master surface '%s' has second-order faces (mesh.order: 2?)", master_name);
+  if (!slave_face_taken(slave))
+    snprintf(reason, (size_t)size, "nts-augmented takes line2, line3, tri3, quad4 and quad9 slave faces: slave "
+             "surface '%s' has %s faces, whose corner nodes' consistent loads under a uniform pressure are %s, which "
+             "nodal multipliers cannot carry (docs/plugins/nts-augmented.md#quadratic-faces; mesh.order: 2 with "
+             "hexahedra gives quad9 faces)", slave_name, face_name(slave),
+             slave == SK_TRI6 ? "zero" : slave == SK_QUAD8 ? "negative" : "unknown");
+  else if (master_name && !master_face_taken(master))
+    snprintf(reason, (size_t)size, "nts-augmented: master surface '%s' has faces of a type it does not take",
+             master_name);
   else
     return 0;
   return 1;

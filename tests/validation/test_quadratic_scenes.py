@@ -201,7 +201,7 @@ def quadratic_refusals(c):
     import subprocess
     from stickslip_results import ROOT
     binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
-    for plugin, needle in (("nts-augmented", "first-order slave faces only"),
+    for plugin, needle in (("nts-augmented", "TRI6 faces, whose corner nodes' consistent loads"),
                            ("covariant-penalty", "(not TRI6 or QUAD8)"),
                            ("mortar-dual", "first-order faces only in 3D")):
         proc = subprocess.run([binary, "check", os.path.join(ROOT, "scenes/hertz-3d.yaml"), "--plugin", plugin,

@@ -1,6 +1,9 @@
 /* nts-augmented: the assembled operator through the plugin interface (the plugin test kit, tests/support), for every
  * strategy, frictionless, in stick and in slip, under backward Euler and the midpoint rule, on a warped QUAD4 and a
- * TRI3 master (3D), a LINE2 master (2D, node-to-segment) and moving plane obstacles (3D and 2D):
+ * TRI3 master (3D), a LINE2 master (2D, node-to-segment), a curved LINE3 master under a LINE3 slave face (2D, every
+ * face node a slave point, the mid-side node included), a QUAD9 slave face over curved QUAD9, QUAD8 and TRI6 masters
+ * (3D; the QUAD8/QUAD9 constraint Hessian takes the faces' third parametric derivatives) and moving plane obstacles
+ * (3D and 2D):
  *   condensed, augmented, direct, direct-endpoint: the assembled block and add_rhs equal the Schur complement of
  *     central differences of the assembled residual over the eliminated unknowns (kit_fd_check_condensed);
  *   paper-reduced: each block of (80) against its definition from central differences of the assembled residual:
@@ -18,20 +21,22 @@
 #include "sk_test.h"
 #include "stickslip/contact.h"
 
-enum { MAX_N = 64 };
+enum { MAX_N = 128 };
 /* Central differences with step 1e-6; worst relative errors measured: 2.5e-8 (Schur complements: the local Newton
  * of the direct strategies, tolerance 1e-13, adds noise), 5.5e-10 (the paper's blocks). A wrong term is O(1). */
 static const double FD_STEP = 1e-6, SCHUR_TOL = 1e-7, PAPER_TOL = 5e-9;
 static const char *const STRATEGY[] = {"condensed", "augmented", "paper-reduced", "direct", "direct-endpoint"};
 enum { PAPER = 2 };
-enum { GEO_QUAD4, GEO_TRI3, GEO_LINE2, GEO_PLANE3, GEO_PLANE2, N_GEO };
-static const char *const GEO_NAME[N_GEO] = {"quad4", "tri3", "line2 (2D)", "plane obstacle", "plane obstacle (2D)"};
+enum { GEO_QUAD4, GEO_TRI3, GEO_LINE2, GEO_LINE3, GEO_QUAD9, GEO_QUAD8, GEO_TRI6, GEO_PLANE3, GEO_PLANE2, N_GEO };
+static const char *const GEO_NAME[N_GEO] = {"quad4", "tri3", "line2 (2D)", "line3 (2D)", "quad9 on quad9",
+                                            "quad9 on quad8", "quad9 on tri6", "plane obstacle",
+                                            "plane obstacle (2D)"};
 
 typedef struct {
   kit k;
   sk_obstacle obstacle;
   double q_n[MAX_N], q[MAX_N];
-  int n_slave, slave_nodes[4];
+  int n_slave;
 } scene;
 
 /* Positions at t_n (gap > 0) and at t (penetrating, and moved tangentially by `slide`). */
@@ -66,6 +71,44 @@ static void build(scene *s, int geo, double slide) {
       s->q[i] = s->q_n[i] + (i < 6 ? 0.01 * test_rand() : (i % 2 == 1 ? -0.11 : slide));
     }
     s->n_slave = 2;
+  } else if (geo == GEO_LINE3) {
+    /* two curved master segments (nodes: ends, then the mid-side node off the chord), right to left as above, and
+     * one curved slave segment whose three nodes are all slave points */
+    static const double X[8][2] = {{-1, 0},      {0.2, 0.05},  {1.1, 0},     {-0.4, 0.08},
+                                   {0.65, 0.075}, {-0.4, 0.11}, {0.5, 0.12}, {0.05, 0.14}};
+    kit_init(&s->k, 2, 8, &X[0][0]);
+    static const int master[6] = {1, 0, 3, 2, 1, 4}, slave[3] = {5, 6, 7};
+    kit_surface(&s->k, 0, SK_LINE3, 3, 1, slave);
+    kit_surface(&s->k, 1, SK_LINE3, 3, 2, master);
+    for (int i = 0; i < 16; ++i) {
+      s->q_n[i] = X[i / 2][i % 2] + 0.005 * test_rand();
+      s->q[i] = s->q_n[i] + (i < 10 ? 0.01 * test_rand() : (i % 2 == 1 ? -0.11 : slide));
+    }
+    s->n_slave = 3;
+  } else if (geo == GEO_QUAD9 || geo == GEO_QUAD8 || geo == GEO_TRI6) {
+    /* the master: a warped quad at z = 1 (corners as above) whose edge and centre nodes are lifted (a curved face),
+     * as one QUAD9, one QUAD8 (without the centre node) or two TRI6 (the diagonal's mid node is the centre); the
+     * slave: one QUAD9 face above it, nodes ordered so that its normal points down */
+    static const double X[18][3] = {
+        {-1, -1, 1},       {1, -1, 1},         {1.2, 1, 1},        {-1.5, 1.5, 1},   {0, -1, 1.03},
+        {1.1, 0, 1.03},    {-0.15, 1.25, 1.03}, {-1.25, 0.25, 1.03}, {-0.1, 0.1, 1.06}, {-0.5, -0.8, 1.12},
+        {-0.5, 0.2, 1.13}, {0.5, 0.2, 1.12},   {0.5, -0.8, 1.14},  {-0.5, -0.3, 1.15}, {0, 0.2, 1.14},
+        {0.5, -0.3, 1.13}, {0, -0.8, 1.15},    {0, -0.3, 1.16}};
+    kit_init(&s->k, 3, 18, &X[0][0]);
+    static const int quad9[9] = {0, 1, 2, 3, 4, 5, 6, 7, 8}, tri6[12] = {0, 1, 2, 4, 5, 8, 0, 2, 3, 8, 6, 7};
+    static const int slave[9] = {9, 10, 11, 12, 13, 14, 15, 16, 17};
+    kit_surface(&s->k, 0, SK_QUAD9, 9, 1, slave);
+    if (geo == GEO_QUAD9)
+      kit_surface(&s->k, 1, SK_QUAD9, 9, 1, quad9);
+    else if (geo == GEO_QUAD8)
+      kit_surface(&s->k, 1, SK_QUAD8, 8, 1, quad9);
+    else
+      kit_surface(&s->k, 1, SK_TRI6, 6, 2, tri6);
+    for (int i = 0; i < 54; ++i) {
+      s->q_n[i] = X[i / 3][i % 3] + 0.005 * test_rand();
+      s->q[i] = s->q_n[i] + (i < 27 ? 0.005 * test_rand() : (i % 3 == 2 ? -0.14 : i % 3 == 0 ? slide : 0.3 * slide));
+    }
+    s->n_slave = 9;
   } else {
     const int dim = geo == GEO_PLANE3 ? 3 : 2;
     static const double X3[4][3] = {{0.5, 0.2, 0.04}, {-0.4, 0.3, 0.01}, {0.1, -0.5, 0.02}, {0.6, -0.4, 0.03}};
