@@ -24,7 +24,7 @@ void mortar_compute_normals(sk_instance *inst, const double *xs) {
   memset(inst->cvec, 0, sizeof(double) * 3 * (size_t)v->n_nodes);
   memset(inst->dc, 0, sizeof(double) * 9 * (size_t)inst->star_node_ptr[v->n_nodes]);
   for (int f = 0; f < v->n_cells; ++f) {
-    double xf[12], c[3], dcf[MORTAR_MAX_NEN][3][3];
+    double xf[3 * MORTAR_MAX_NEN], c[3], dcf[MORTAR_MAX_NEN][3][3];
     gather(v, xs, f, xf);
     for (int a = 0; a < nen; ++a) {
       const int j = v->conn[(int64_t)f * nen + a];
@@ -308,7 +308,7 @@ static void pair_segments(const sk_instance *inst, const mortar_pair *p, const m
 }
 
 int mortar_pair_reaches(sk_instance *inst, int f, int m, const double *xs, const double *xm, double reach) {
-  double xf[12], nf[12], xmf[12];
+  double xf[3 * MORTAR_MAX_NEN], nf[3 * MORTAR_MAX_NEN], xmf[3 * MORTAR_MAX_NEN];
   gather_slave_face(inst, xs, f, xf, nf);
   gather(inst->master, xm, m, xmf);
   mortar_pair p;
@@ -325,7 +325,7 @@ int mortar_pair_reaches(sk_instance *inst, int f, int m, const double *xs, const
 static sk_status face_pairs(sk_instance *inst, const eval_ctx *ec, int f, const double *xs, const double *xm) {
   const sk_view *sv = inst->slave;
   const int dim = inst->dim, deriv = ec->mode == EVAL_JACOBIAN;
-  double xf[12], nf[12], xmf[12];
+  double xf[3 * MORTAR_MAX_NEN], nf[3 * MORTAR_MAX_NEN], xmf[3 * MORTAR_MAX_NEN];
   gather_slave_face(inst, xs, f, xf, nf);
   mortar_pair p;
   mortar_basis_coeffs A;

@@ -106,19 +106,20 @@ static int plane_parameters(const mortar_face_type *ft, fwd x[][3], const fwd *x
   return mortar_implicit(2, J, r, xv, xi);
 }
 
-/* A cheap test on values: do the two faces' boxes in the auxiliary plane (the slave face's plane at its centre,
- * coordinates along two in-plane axes) overlap? Most candidate pairs of the broad phase do not. */
-static int plane_boxes_overlap(const mortar_pair *p) {
+/* A cheap test on values: do the boxes of two node sets (slave nodes xs with normals ns, master nodes xm; local node
+ * numbers sel_s, sel_m) in the auxiliary plane (the slave nodes' plane at their centre, coordinates along two
+ * in-plane axes) overlap? Most candidate pairs of the broad phase do not, nor most quarter pairs of QUAD9 faces. */
+static int plane_boxes_overlap(const mortar_pair *p, const int *sel_s, int n_s, const int *sel_m, int n_m) {
   double c[3] = {0, 0, 0}, n[3] = {0, 0, 0};
-  const double w = 1.0 / p->nen_s;
-  for (int a = 0; a < p->nen_s; ++a)
+  const double w = 1.0 / n_s;
+  for (int a = 0; a < n_s; ++a)
     for (int i = 0; i < 3; ++i) {
-      c[i] += w * p->xs[a][i].v;
-      n[i] += w * p->ns[a][i].v;
+      c[i] += w * p->xs[sel_s[a]][i].v;
+      n[i] += w * p->ns[sel_s[a]][i].v;
     }
   /* in-plane axes: the first slave edge and n x it */
   double e[3], t2[3];
-  for (int i = 0; i < 3; ++i) e[i] = p->xs[1][i].v - p->xs[0][i].v;
+  for (int i = 0; i < 3; ++i) e[i] = p->xs[sel_s[1]][i].v - p->xs[sel_s[0]][i].v;
   const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2], en = (e[0] * n[0] + e[1] * n[1] + e[2] * n[2]) / nn;
   for (int i = 0; i < 3; ++i) e[i] -= en * n[i];
   t2[0] = n[1] * e[2] - n[2] * e[1];
@@ -127,10 +128,10 @@ static int plane_boxes_overlap(const mortar_pair *p) {
   double lo[2][2] = {{INFINITY, INFINITY}, {INFINITY, INFINITY}};
   double hi[2][2] = {{-INFINITY, -INFINITY}, {-INFINITY, -INFINITY}};
   for (int side = 0; side < 2; ++side) {
-    const int nen = side ? p->nen_m : p->nen_s;
-    for (int a = 0; a < nen; ++a) {
+    const int count = side ? n_m : n_s;
+    for (int a = 0; a < count; ++a) {
       double d[3], u[2] = {0, 0};
-      for (int i = 0; i < 3; ++i) d[i] = (side ? p->xm[a][i].v : p->xs[a][i].v) - c[i];
+      for (int i = 0; i < 3; ++i) d[i] = (side ? p->xm[sel_m[a]][i].v : p->xs[sel_s[a]][i].v) - c[i];
       for (int i = 0; i < 3; ++i) {
         u[0] += d[i] * e[i];
         u[1] += d[i] * t2[i];
@@ -148,54 +149,105 @@ static int plane_boxes_overlap(const mortar_pair *p) {
          lo[0][1] <= hi[1][1] + tol;
 }
 
-int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
-                       mortar_integrals *I) {
-  if (!plane_boxes_overlap(p)) return 0;
-  const mortar_face_type *st = p->slave, *mt = p->master;
-  fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3];
+/* A flat facet of a face: the face itself (first-order faces), or one of a QUAD9 face's four bilinear quarters
+ * (Popp, Wohlmuth, Gee & Wall 2012: the integration cells of quadratic faces are built on linear sub-facets). Its
+ * parameters s map onto the face's as xi = c + h s; the facet's nodes are face nodes, so their positions carry the
+ * pair's derivative slots. */
+typedef struct {
+  const mortar_face_type *ft; /* the facet's own type (the face's, or QUAD4) */
+  int node[4];                /* its nodes' local numbers on the face */
+  fwd x[4][3];
+  double c[2], h;
+} facet;
+
+/* QUAD9 quarters: local nodes counter-clockwise from the corner at (-1, -1) of each, and their centres */
+static const int quad9_quarter[4][4] = {{0, 4, 8, 7}, {4, 1, 5, 8}, {8, 5, 2, 6}, {7, 8, 6, 3}};
+static const double quad9_quarter_centre[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+
+/* The facets of a face with node positions x: 1 (the face) or 4 (QUAD9 quarters of type quad4). */
+static int face_facets(const mortar_face_type *ft, const mortar_face_type *quad4, fwd x[][3], facet *out) {
+  if (ft->type != SK_QUAD9) {
+    out->ft = ft;
+    for (int k = 0; k < ft->nen; ++k) out->node[k] = k;
+    memcpy(out->x, x, sizeof(fwd) * 3 * (size_t)ft->nen);
+    out->c[0] = out->c[1] = 0.0;
+    out->h = 1.0;
+    return 1;
+  }
+  for (int q = 0; q < 4; ++q) {
+    out[q].ft = quad4;
+    for (int k = 0; k < 4; ++k) {
+      out[q].node[k] = quad9_quarter[q][k];
+      memcpy(out[q].x[k], x[quad9_quarter[q][k]], sizeof(fwd) * 3);
+    }
+    out[q].c[0] = quad9_quarter_centre[q][0];
+    out[q].c[1] = quad9_quarter_centre[q][1];
+    out[q].h = 0.5;
+  }
+  return 4;
+}
+
+/* The face parameters of a facet's parameters. */
+static void facet_to_face(const facet *f, const fwd s[2], fwd xi[2]) {
+  for (int k = 0; k < 2; ++k) {
+    xi[k] = f->h == 1.0 ? s[k] : fwd_scale(f->h, s[k]);
+    xi[k].v += f->c[k];
+  }
+}
+
+/* One slave facet against one master facet: the auxiliary plane, the clip and its cells (mortar_segments_3d).
+ * Returns 1 if they overlap. */
+static int facet_pair(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
+                      const facet *sf, const facet *mf, mortar_integrals *I) {
+  const mortar_face_type *st = p->slave, *mt = p->master, *sft = sf->ft, *mft = mf->ft;
+  const int nen_sf = sft->nen, nen_mf = mft->nen;
+  fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3], sx[4][3], mx[4][3];
   memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
   memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
-  /* auxiliary plane: the slave face's centre x0 and unit normal n0 there */
-  const double centre = st->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
-  const fwd xc[2] = {fwd_const(centre), fwd_const(centre)};
-  fwd N[MORTAR_MAX_NEN], x0[3], nc[3], n0[3], t[2][3];
+  memcpy(sx, sf->x, sizeof sx);
+  memcpy(mx, mf->x, sizeof mx);
+  /* auxiliary plane: the slave facet's centre x0 and the unit interpolated slave normal n0 there */
+  const double centre = sft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
+  const fwd sc[2] = {fwd_const(centre), fwd_const(centre)};
+  fwd xc[2], N[MORTAR_MAX_NEN], x0[3], nc[3], n0[3], t[2][3];
+  facet_to_face(sf, sc, xc);
   mortar_shape(st, xc, N, NULL);
-  mortar_face_point(st, xs, xc, x0, NULL);
+  mortar_face_point(sft, sx, sc, x0, NULL);
   mortar_slave_normal(p, N, nc);
   const fwd nlen = fwd_norm(3, nc);
   for (int i = 0; i < 3; ++i) n0[i] = fwd_div(nc[i], nlen);
-  /* faces must face each other: the master's outward normal at its centre against n0 */
+  /* facets must face each other: the master facet's outward normal at its centre against n0 */
   {
-    const double mc = mt->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
+    const double mc = mft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
     const fwd xmc[2] = {fwd_const(mc), fwd_const(mc)};
     fwd a[2][3], nm[3];
-    mortar_face_point(mt, xm, xmc, NULL, a);
+    mortar_face_point(mft, mx, xmc, NULL, a);
     mortar_face_normal(3, 2, a, nm);
     if (fwd_dot(3, nm, n0).v >= 0.0) return 0;
   }
-  /* in-plane basis: t1 along the first slave edge, projected; t2 = n0 x t1 */
+  /* in-plane basis: t1 along the first slave facet edge, projected; t2 = n0 x t1 */
   fwd e[3];
-  for (int i = 0; i < 3; ++i) e[i] = fwd_sub(xs[1][i], xs[0][i]);
+  for (int i = 0; i < 3; ++i) e[i] = fwd_sub(sx[1][i], sx[0][i]);
   const fwd en = fwd_dot(3, e, n0);
   for (int i = 0; i < 3; ++i) e[i] = fwd_sub(e[i], fwd_mul(en, n0[i]));
   const fwd elen = fwd_norm(3, e);
   for (int i = 0; i < 3; ++i) t[0][i] = fwd_div(e[i], elen);
   fwd_cross3(n0, t[0], t[1]);
-  /* both faces in plane coordinates, counter-clockwise about n0 (the master's order reversed) */
-  vertex sp[MORTAR_MAX_NEN], mp[MORTAR_MAX_NEN], cell[MORTAR_MAX_POLY];
-  for (int k = 0; k < p->nen_s; ++k) {
+  /* both facets in plane coordinates, counter-clockwise about n0 (the master's order reversed) */
+  vertex sp[4], mp[4], cell[MORTAR_MAX_POLY];
+  for (int k = 0; k < nen_sf; ++k) {
     fwd d[3];
-    for (int i = 0; i < 3; ++i) d[i] = fwd_sub(xs[k][i], x0[i]);
+    for (int i = 0; i < 3; ++i) d[i] = fwd_sub(sx[k][i], x0[i]);
     for (int al = 0; al < 2; ++al) sp[k].x[al] = fwd_dot(3, d, t[al]);
   }
-  for (int k = 0; k < p->nen_m; ++k) {
+  for (int k = 0; k < nen_mf; ++k) {
     fwd d[3];
-    for (int i = 0; i < 3; ++i) d[i] = fwd_sub(xm[p->nen_m - 1 - k][i], x0[i]);
+    for (int i = 0; i < 3; ++i) d[i] = fwd_sub(mx[nen_mf - 1 - k][i], x0[i]);
     for (int al = 0; al < 2; ++al) mp[k].x[al] = fwd_dot(3, d, t[al]);
   }
-  const double area_s = polygon_area(sp, p->nen_s).v;
-  if (!(area_s > 0.0) || !(polygon_area(mp, p->nen_m).v > 0.0)) return 0;
-  int n = clip_polygon(mp, p->nen_m, sp, p->nen_s, cell);
+  const double area_s = polygon_area(sp, nen_sf).v;
+  if (!(area_s > 0.0) || !(polygon_area(mp, nen_mf).v > 0.0)) return 0;
+  int n = clip_polygon(mp, nen_mf, sp, nen_sf, cell);
   /* drop (nearly) coincident consecutive vertices: a master vertex on a slave edge appears twice */
   const double tol2 = 1e-24 * area_s;
   int m = 0;
@@ -242,22 +294,29 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
       vertex g;
       for (int al = 0; al < 2; ++al)
         g.x[al] = fwd_add(c.x[al], fwd_lin(rxi[2 * q], ea[al], rxi[2 * q + 1], eb[al]));
-      fwd xi1[2], xi2[2];
-      if (plane_parameters(st, xs, x0, t, &g, xi1) != 0 || plane_parameters(mt, xm, x0, t, &g, xi2) != 0) continue;
-      fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], x1[3], a1[2][3], x2[3], n1[3], c1[3], diff[3];
+      fwd s1[2], s2[2], xi1[2], xi2[2];
+      if (plane_parameters(sft, sx, x0, t, &g, s1) != 0 || plane_parameters(mft, mx, x0, t, &g, s2) != 0) continue;
+      facet_to_face(sf, s1, xi1);
+      facet_to_face(mf, s2, xi2);
+      fwd N1[MORTAR_MAX_NEN], N2[MORTAR_MAX_NEN], x1[3], a1[2][3], b1[2][3], x2[3], n1[3], c1[3], diff[3];
       mortar_shape(st, xi1, N1, NULL);
       mortar_shape(mt, xi2, N2, NULL);
       mortar_face_point(st, xs, xi1, x1, a1);
+      /* the facet's tangents (the face's own on a first-order face) */
+      if (sf->h == 1.0) memcpy(b1, a1, sizeof b1);
+      else mortar_face_point(sft, sx, s1, NULL, b1);
       for (int i = 0; i < 3; ++i) { /* x2 = sum_l N_l x_l */
         fwd_set_mul(&x2[i], &N2[0], &xm[0][i]);
         for (int l = 1; l < p->nen_m; ++l) fwd_acc_mul(&x2[i], &N2[l], &xm[l][i]);
       }
       mortar_slave_normal(p, N1, n1);
-      /* slave surface measure: dgamma = |a1 x a2| / |det(a_beta . t_alpha)| dA (the plane's area element) */
+      /* slave surface measure: dgamma = |a1 x a2| h^2 / |det(b_beta . t_alpha)| dA (the plane's area element through
+       * the facet's parameters to the face's; a first-order face is its own facet, h = 1) */
       fwd_cross3(a1[0], a1[1], c1);
-      const fwd det = fwd_sub(fwd_mul(fwd_dot(3, a1[0], t[0]), fwd_dot(3, a1[1], t[1])),
-                              fwd_mul(fwd_dot(3, a1[1], t[0]), fwd_dot(3, a1[0], t[1])));
-      const fwd ratio = fwd_div(fwd_norm(3, c1), det.v < 0.0 ? fwd_neg(det) : det);
+      const fwd det = fwd_sub(fwd_mul(fwd_dot(3, b1[0], t[0]), fwd_dot(3, b1[1], t[1])),
+                              fwd_mul(fwd_dot(3, b1[1], t[0]), fwd_dot(3, b1[0], t[1])));
+      fwd ratio = fwd_div(fwd_norm(3, c1), det.v < 0.0 ? fwd_neg(det) : det);
+      if (sf->h != 1.0) ratio = fwd_scale(sf->h * sf->h, ratio);
       for (int i = 0; i < 3; ++i) diff[i] = fwd_sub(x2[i], x1[i]);
       const fwd g_n = fwd_div(fwd_dot(3, diff, n1), fwd_norm(3, n1));
       const fwd weight = fwd_mul(fwd_scale(rw[q], jac_cell), ratio);
@@ -266,4 +325,24 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
     I->n_cells += 1;
   }
   return 1;
+}
+
+int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
+                       mortar_integrals *I) {
+  static const int all[MORTAR_MAX_NEN] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+  if (!plane_boxes_overlap(p, all, p->nen_s, all, p->nen_m)) return 0;
+  fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3];
+  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
+  memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
+  mortar_face_type quad4_s, quad4_m;
+  mortar_face_type_init(&quad4_s, SK_QUAD4, p->slave->shape, p->slave->shape_hessian);
+  mortar_face_type_init(&quad4_m, SK_QUAD4, p->master->shape, p->master->shape_hessian);
+  facet sf[4], mf[4];
+  const int n_s = face_facets(p->slave, &quad4_s, xs, sf), n_m = face_facets(p->master, &quad4_m, xm, mf);
+  int overlap = 0;
+  for (int a = 0; a < n_s; ++a)
+    for (int b = 0; b < n_m; ++b)
+      if ((n_s == 1 && n_m == 1) || plane_boxes_overlap(p, sf[a].node, sf[a].ft->nen, mf[b].node, mf[b].ft->nen))
+        overlap |= facet_pair(p, A, basis, rule, &sf[a], &mf[b], I);
+  return overlap;
 }

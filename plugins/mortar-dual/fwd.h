@@ -14,7 +14,7 @@
 
 #include <math.h>
 
-enum { FWD_MAX = 36 };
+enum { FWD_MAX = 81 }; /* a QUAD9 pair: (2 * 9 + 9) * 3 */
 
 typedef struct {
   double v;

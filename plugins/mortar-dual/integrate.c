@@ -205,8 +205,8 @@ void mortar_face_normal(int dim, int pdim, fwd a[2][3], fwd n[3]) {
 /* n(xi) = sum_k N_k n_k, not normalised. */
 void mortar_slave_normal(const mortar_pair *p, const fwd *N, fwd n[3]) {
   for (int i = 0; i < 3; ++i) {
-    n[i] = fwd_mul(N[0], p->ns[0][i]);
-    for (int k = 1; k < p->nen_s; ++k) n[i] = fwd_add(n[i], fwd_mul(N[k], p->ns[k][i]));
+    fwd_set_mul(&n[i], &N[0], &p->ns[0][i]);
+    for (int k = 1; k < p->nen_s; ++k) fwd_acc_mul(&n[i], &N[k], &p->ns[k][i]);
   }
 }
 
@@ -574,7 +574,7 @@ int mortar_project_point(const mortar_pair *p, mortar_normal normal, const doubl
   const double s = out->xi[0], t = out->xi[1];
   if (p->master->type == SK_TRI3)
     out->inside = s >= -tol && t >= -tol && s + t <= 1.0 + tol;
-  else if (p->master->type == SK_QUAD4)
+  else if (p->master->type == SK_QUAD4 || p->master->type == SK_QUAD9)
     out->inside = fabs(s) <= 1.0 + tol && fabs(t) <= 1.0 + tol;
   else
     out->inside = fabs(s) <= 1.0 + tol;

@@ -10,28 +10,28 @@
  *   u = [x_s (nen_s * dim) | x_m (nen_m * dim) | n_s (nen_s * dim)]
  * with n_s the unit averaged nodal normals of the slave face's nodes (their own derivatives with respect to the
  * coordinates of the neighbouring faces come from mortar_face_normal_at_node and are chained by the caller).
- * Faces: LINE2 and LINE3 in 2D, TRI3 and QUAD4 in 3D (third parametric derivatives vanish: at most bilinear or
- * quadratic in one parameter). */
+ * Faces: LINE2 and LINE3 in 2D, TRI3, QUAD4 and QUAD9 in 3D (the parametric Hessian enters as values only: in the
+ * Jacobians of local Newton iterations and in the derivative of the tangents, so third derivatives are never needed). */
 #ifndef MORTAR_KERNEL_H
 #define MORTAR_KERNEL_H
 
 #include "fwd.h"
 #include "stickslip/mesh.h"
 
-enum { MORTAR_MAX_NEN = 4, MORTAR_MAX_POLY = 16, MORTAR_MAX_RULE = 16 };
+enum { MORTAR_MAX_NEN = 9, MORTAR_MAX_POLY = 16, MORTAR_MAX_RULE = 16 };
 
 /* Same signatures as sk_contact_services.shape / shape_hessian (dN[a*pdim + k], ddN[(a*pdim + k)*pdim + l]). */
 typedef void (*mortar_shape_fn)(sk_elem_type type, const double *xi, double *N, double *dN);
 typedef void (*mortar_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
 
 typedef struct {
-  sk_elem_type type; /* SK_LINE2, SK_LINE3, SK_TRI3 or SK_QUAD4 */
+  sk_elem_type type; /* SK_LINE2, SK_LINE3, SK_TRI3, SK_QUAD4 or SK_QUAD9 */
   int nen, pdim;
   mortar_shape_fn shape;
   mortar_shape_hessian_fn shape_hessian;
 } mortar_face_type;
 
-/* Fills a face descriptor; returns -1 for a face type the kernel does not handle (second-order 3D faces). */
+/* Fills a face descriptor; returns -1 for a face type the kernel does not handle (TRI6, QUAD8). */
 int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_fn shape,
                           mortar_shape_hessian_fn shape_hessian);
 
@@ -70,8 +70,9 @@ void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fw
 /* Phi_j = sum_k coeff[j][k] N_k on the slave face. The coefficients depend on x_s alone, whose slots are the same in a
  * face-only pair and in every pair of that face: one computation serves them all. Standard: the identity. Dual (Wohlmuth 2000): A_e = D_e M_e^-1
  * with D_e = diag(int N_j), M_e = int N_j N_k over the whole current slave face, so int Phi_j N_k = delta_jk int N_k.
- * LINE2 and TRI3 give the constants (2, -1 / 3, -1), QUAD4 and LINE3 depend on the face's shape (derivatives
- * included). LINE3's shape functions integrate to the positive weights 1/6, 1/6, 2/3 of a straight face with its
+ * LINE2 and TRI3 give the constants (2, -1 / 3, -1), QUAD4, LINE3 and QUAD9 depend on the face's shape (derivatives
+ * included). QUAD9's shape functions integrate to 1/36, 1/9, 4/9 of a parallelogram (corner, mid-side, centre):
+ * admissible as well. LINE3's shape functions integrate to the positive weights 1/6, 1/6, 2/3 of a straight face with its
  * middle node in the middle, so this standard dual basis is admissible there (D_jj = int N_j > 0). */
 typedef struct {
   int nen;
@@ -118,8 +119,12 @@ int mortar_segments_2d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
  * centre with normal n0 = the interpolated slave normal there; both faces projected onto it along n0, the master
  * polygon clipped against the slave polygon (Sutherland-Hodgman), the clip polygon split into triangles about its
  * centroid, a `rule`-point triangle rule on each, every Gauss point projected back onto both faces along n0. The
- * measure is the slave surface's own (the plane's area element scaled by the slave Jacobian ratio). Returns 1 if the
- * faces overlap. */
+ * measure is the slave surface's own (the plane's area element scaled by the slave Jacobian ratio). QUAD9 faces (either
+ * side; Popp, Wohlmuth, Gee & Wall 2012): the cells are built on the face's four flat bilinear quarters (corner,
+ * mid-side and centre nodes), every quarter of the slave against every quarter of the master, each on its own
+ * auxiliary plane; a Gauss point's quarter parameters map to the face's (xi = c + s / 2), where the quadratic shape
+ * functions, dual functions, positions and the slave Jacobian are evaluated. Exact geometry where the quarters are
+ * the faces (flat faces with the mid-side nodes in the middles). Returns 1 if the faces overlap. */
 int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
                        mortar_integrals *I);
 

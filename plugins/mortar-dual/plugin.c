@@ -24,7 +24,7 @@ static const char *const parameters[] = {
     "c_t: complementarity parameter of the tangential condition, traction per length [computed from the scene: c_n]",
     "segment_gauss: Gauss points per 2D integration segment [3; 5 with line3 faces]",
     "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
-    "there; else 6, exact on parallelograms]",
+    "there; 12 with quad9 faces; else 6, exact on parallelograms]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
     "frozen_band: concentrated integration: how far beyond its edge, in face parameters, a Gauss point keeps the "
     "master face chosen at the step's start (0.1: 5 % of an edge); 0 chooses again whenever it leaves the face, "
@@ -168,7 +168,7 @@ static sk_status check_stars(sk_instance *inst) {
 static double mean_edge(const sk_view *v) {
   double sum = 0.0;
   int count = 0;
-  const int corners = v->cell_type == SK_QUAD4 ? 4 : v->cell_type == SK_TRI3 ? 3 : 2;
+  const int corners = v->cell_type == SK_QUAD4 || v->cell_type == SK_QUAD9 ? 4 : v->cell_type == SK_TRI3 ? 3 : 2;
   for (int f = 0; f < v->n_cells; ++f)
     for (int e = 0; e < (corners == 2 ? 1 : corners); ++e) {
       const int a = v->conn[(int64_t)f * v->nen + e], b = v->conn[(int64_t)f * v->nen + (e + 1) % corners];
@@ -222,7 +222,9 @@ static sk_status read_parameters(sk_instance *inst) {
   SK_TRY(api->param_int(host, "segment_gauss", 0, curved ? 5 : 3, &inst->segment_gauss));
   /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
   const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
-  SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : 6, &inst->cell_rule));
+  /* quad9: Phi_j (degree 4 in the plane of a flat quarter) times the gap of a second-order face (degree 2) */
+  const int quad9 = inst->slave->cell_type == SK_QUAD9 || (inst->master && inst->master->cell_type == SK_QUAD9);
+  SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : quad9 ? 12 : 6, &inst->cell_rule));
   SK_TRY(api->param_int(host, "face_gauss", 0, 5, &inst->face_gauss));
   SK_TRY(api->param_double(host, "frozen_band", 0, 0.1, &inst->frozen_band));
   SK_TRY(api->param_int(host, "max_flips", 0, 8, &inst->max_flips));
@@ -267,7 +269,7 @@ static void tributary_measures(const sk_instance *inst, const double *x, double 
   const sk_view *v = inst->slave;
   memset(measure, 0, sizeof(double) * (size_t)v->n_nodes);
   for (int f = 0; f < v->n_cells; ++f) {
-    double X[12] = {0}, n[12] = {0};
+    double X[3 * MORTAR_MAX_NEN] = {0}, n[3 * MORTAR_MAX_NEN] = {0};
     for (int a = 0; a < v->nen; ++a)
       for (int i = 0; i < v->dim; ++i) X[3 * a + i] = x[(int64_t)v->conn[(int64_t)f * v->nen + a] * v->dim + i];
     mortar_pair p;
@@ -297,12 +299,12 @@ static int scheme_refused(const char *scheme, double alpha, char *reason, int si
   return 1;
 }
 
-/* Faces the kernel integrates: first-order ones, and LINE3 in 2D (the standard dual basis of a LINE3 face is
- * admissible: its shape functions integrate to the positive weights 1/6, 2/3, 1/6). TRI6 and QUAD8 need the
- * transformed quadratic bases of Popp, Wohlmuth, Gee & Wall (2012), whose vertex functions integrate to 0 (TRI6) or a
- * negative value (QUAD8); QUAD9 and the second-order 3D faces are not built yet. */
+/* Faces the kernel integrates: first-order ones, LINE3 in 2D and QUAD9 in 3D (their standard dual bases are
+ * admissible: the shape functions integrate to the positive weights 1/6, 2/3, 1/6 and 1/36, 1/9, 4/9 of the face).
+ * TRI6 and QUAD8 need the transformed quadratic bases of Popp, Wohlmuth, Gee & Wall (2012): their vertex functions
+ * integrate to 0 (TRI6) or a negative value (QUAD8), and those are not built. */
 static int face_supported(sk_elem_type type) {
-  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4;
+  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9;
 }
 
 static const char *face_name(sk_elem_type type) {
@@ -318,14 +320,20 @@ static int faces_refused(const char *slave_name, sk_elem_type slave, const char 
                          sk_elem_type master, char *reason, int size) {
   const int slave_ok = face_supported(slave);
   if (slave_ok && (!has_master || face_supported(master))) return 0;
-  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3 and quad4 in 3D (first-order "
-           "faces only in 3D); %s surface '%s' has %s faces (mesh.order: 2 in 3D)", slave_ok ? "master" : "slave",
+  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3, quad4 and quad9 in 3D (not "
+           "tri6 and quad8: their standard dual bases are not admissible, the transformed bases are not built); %s "
+           "surface '%s' has %s faces (mesh.order: 2 on tet10 or hex20)", slave_ok ? "master" : "slave",
            slave_ok ? master_name : slave_name, face_name(slave_ok ? master : slave));
   return 1;
 }
 
-/* Self contact (section 3.6 of the plugin page): 2D and 3D, one rank. */
-static int self_refused(int self, int n_ranks, char *reason, int size) {
+/* Self contact (section 3.6 of the plugin page): 2D and 3D first-order faces (and LINE3), one rank. */
+static int self_refused(int self, int n_ranks, sk_elem_type type, char *reason, int size) {
+  if (self && type == SK_QUAD9) {
+    snprintf(reason, (size_t)size, "mortar-dual's self contact runs on first-order faces in 3D (its face pairing is "
+             "not tested on QUAD9 faces)");
+    return 1;
+  }
   if (!self || n_ranks <= 1) return 0;
   snprintf(reason, (size_t)size, "mortar-dual's self contact runs on one rank (the slave/master assignment colours "
            "the whole surface's face pairs on one rank; this run has %d)", n_ranks);
@@ -335,7 +343,7 @@ static int self_refused(int self, int n_ranks, char *reason, int size) {
 static sk_status check(const sk_scene_info *scene, char *reason, int size) {
   const sk_scene_side *slave = scene->slave, *master = scene->master;
   if (scheme_refused(scene->scheme, scene->alpha, reason, size) ||
-      self_refused(scene->self_contact, scene->n_ranks, reason, size) ||
+      self_refused(scene->self_contact, scene->n_ranks, slave->cell_type, reason, size) ||
       faces_refused(slave->name, slave->cell_type, master->name, !master->rigid, master->cell_type, reason, size))
     return SK_ERR_PLUGIN;
   return SK_OK;

@@ -55,7 +55,7 @@ sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const do
 static int project_point(sk_instance *inst, int f, int q, const double *xs, const double *xm, int m, double tol,
                          mortar_point_projection *pr) {
   const sk_view *sv = inst->slave, *mv = inst->master;
-  double xf[12], nf[12], xmf[12];
+  double xf[3 * MORTAR_MAX_NEN], nf[3 * MORTAR_MAX_NEN], xmf[3 * MORTAR_MAX_NEN];
   for (int a = 0; a < sv->nen; ++a) {
     const int k = sv->conn[(int64_t)f * sv->nen + a];
     for (int i = 0; i < 3; ++i) {

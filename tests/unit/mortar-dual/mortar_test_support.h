@@ -11,13 +11,14 @@
 #include "sk_test.h"
 #include "stickslip/fe.h"
 
-static mortar_face_type ft_line2, ft_line3, ft_tri3, ft_quad4;
+static mortar_face_type ft_line2, ft_line3, ft_tri3, ft_quad4, ft_quad9;
 
 static inline void test_face_types(void) {
   mortar_face_type_init(&ft_line2, SK_LINE2, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_line3, SK_LINE3, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_tri3, SK_TRI3, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_quad4, SK_QUAD4, sk_elem_shape, sk_elem_shape_hessian);
+  mortar_face_type_init(&ft_quad9, SK_QUAD9, sk_elem_shape, sk_elem_shape_hessian);
 }
 
 static unsigned long long test_rng_state = 88172645463325252ull;
@@ -28,7 +29,7 @@ static inline double test_rand(void) { /* uniform in [-1, 1] */
   return 2.0 * (double)(test_rng_state >> 11) / 9007199254740992.0 - 1.0;
 }
 
-enum { TEST_MAX_OUT = 64 };
+enum { TEST_MAX_OUT = 171 }; /* a QUAD9 pair: D, M (9 x 9 each) and 9 gaps */
 
 /* A function of n local unknowns u with m fwd outputs (derivatives seeded when `derivatives`). */
 typedef int (*test_fwd_fn)(void *ctx, const double *u, int derivatives, fwd *out);
