@@ -197,15 +197,11 @@ static void facet_to_face(const facet *f, const fwd s[2], fwd xi[2]) {
 
 /* One slave facet against one master facet: the auxiliary plane, the clip and its cells (mortar_segments_3d).
  * Returns 1 if they overlap. */
-static int facet_pair(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
-                      const facet *sf, const facet *mf, mortar_integrals *I) {
+static int facet_pair(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule, facet *sf,
+                      facet *mf, fwd xs[][3], fwd xm[][3], mortar_integrals *I) {
   const mortar_face_type *st = p->slave, *mt = p->master, *sft = sf->ft, *mft = mf->ft;
   const int nen_sf = sft->nen, nen_mf = mft->nen;
-  fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3], sx[4][3], mx[4][3];
-  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
-  memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
-  memcpy(sx, sf->x, sizeof sx);
-  memcpy(mx, mf->x, sizeof mx);
+  fwd(*sx)[3] = sf->x, (*mx)[3] = mf->x;
   /* auxiliary plane: the slave facet's centre x0 and the unit interpolated slave normal n0 there */
   const double centre = sft->type == SK_TRI3 ? 1.0 / 3.0 : 0.0;
   const fwd sc[2] = {fwd_const(centre), fwd_const(centre)};
@@ -343,6 +339,6 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
   for (int a = 0; a < n_s; ++a)
     for (int b = 0; b < n_m; ++b)
       if ((n_s == 1 && n_m == 1) || plane_boxes_overlap(p, sf[a].node, sf[a].ft->nen, mf[b].node, mf[b].ft->nen))
-        overlap |= facet_pair(p, A, basis, rule, &sf[a], &mf[b], I);
+        overlap |= facet_pair(p, A, basis, rule, &sf[a], &mf[b], xs, xm, I);
   return overlap;
 }

@@ -214,10 +214,14 @@ void mortar_slave_normal(const mortar_pair *p, const fwd *N, fwd n[3]) {
 void mortar_integrals_zero(mortar_integrals *I, const mortar_pair *p) {
   I->nen_s = p->nen_s;
   I->nen_m = p->nen_m;
+  /* in place: an assignment of fwd_const copies the whole struct (FWD_MAX slots) */
   for (int j = 0; j < MORTAR_MAX_NEN; ++j) {
-    I->gap[j] = fwd_const(0.0);
+    fwd_set_const(&I->gap[j], 0.0);
     I->cover[j] = 0.0;
-    for (int k = 0; k < MORTAR_MAX_NEN; ++k) I->D[j][k] = I->M[j][k] = fwd_const(0.0);
+    for (int k = 0; k < MORTAR_MAX_NEN; ++k) {
+      fwd_set_const(&I->D[j][k], 0.0);
+      fwd_set_const(&I->M[j][k], 0.0);
+    }
   }
   I->measure = 0.0;
   I->gap_min = INFINITY;
