@@ -8,6 +8,7 @@ stickslip_scene_tests(test_mortar_scenes.py mortar_patch_test_2d mortar_patch_te
                       mortar_patch_test_3d_quad9 mortar_hammer_benchmark
                       mortar_block_on_plane mortar_mpi mortar_hertz_3d mortar_ironing_2d
                       mortar_condensed mortar_condensed_krylov mortar_large_sliding mortar_obstacle_3d
+                      mortar_obstacle_3d_quad9
                       mortar_ironing_3d_conforming)
 # Hammer's examples with his set-up, against the thesis (test_mortar_thesis.py; docs/plugins/mortar-dual.md, "Against
 # the paper"): the simple benchmark frictionless (Tables 8.2/8.3, Fig. 8.4) and with friction (Fig. 8.5), Hertz, the
