@@ -221,10 +221,11 @@ void mortar_gauss_legendre(int n, double *x, double *w);
 /* Triangle rules on the unit simplex (weights sum to 1/2): 1, 3, 6, 7, 12 points (degrees 1, 2, 4, 5, 6).
  * Returns the number of points, or 0 for an unsupported count. */
 int mortar_triangle_rule(int n, const double **xi, const double **w);
-/* Reference rule on a whole slave face with about `order` points per direction: LINE2 n Gauss points, QUAD4 n x n,
- * TRI3 the triangle rule of the nearest supported size. Returns the number of points (<= MORTAR_MAX_RULE^2). */
+/* Reference rule on a whole slave face with about `order` points per direction: LINE2 and LINE3 n Gauss points, QUAD4
+ * and QUAD9 n x n, TRI3 the triangle rule of the nearest supported size. Returns the number of points (<= MORTAR_MAX_RULE^2). */
 int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w);
-/* Points per direction of the whole-face rule of the dual coefficients and of D: exact on straight/flat faces. */
+/* Points per direction of the whole-face rule of the dual coefficients and of D: exact on straight/flat faces (LINE3
+ * and QUAD9: more, for curved faces). */
 int mortar_face_exact_order(sk_elem_type type);
 
 #endif
