@@ -1,6 +1,6 @@
 """Validation of covariant-penalty against Konyukhov & Schweizerhof (2005) through the driver: the paper's examples as
 scenes (scenes/ks-*.yaml), checked against the paper's own numbers where this code reproduces them (Table 3's and
-Table 5's iterations per sliding step, Table 4's per step and its variants' ratios, the frictionless pressure of
+Table 5's iterations per sliding step, Table 4's per step, 6.2's contact loss, the frictionless pressure of
 6.1, the estimate (110), the claim of Fig. 7, 6.2's rigid-body estimate); frame indifference and rank independence
 of a whole run. The rows that are not reproduced, with their causes and the commands that show them:
 docs/plugins/covariant-penalty.md, "Against the paper".
@@ -183,37 +183,6 @@ def ks_parabolic(c):
             "pressed, nu = 0: the rigid estimate, the 6 end nodes |x| = 5 (tan(alpha) = mu) slide, no other")
 
 
-def ks_parabolic_constant_compression(c):
-    """6.2, Table 4 at the compression the paper describes for its path (116), "approximately constant": the top moved
-    along (116) in x as the scene does, held in z at the pressing force (a resultant equal to the reaction after the
-    scene's 7 pressing steps, 351.57) instead of translated along (116) in z. The scene's rigid translation tilts the
-    block's parabola against the base's and its contact force grows from 400 to 2918 over the 20 steps; the reduced
-    tangents then converge ever slower (no-curvature 141, main-only 342 against the paper's 88 and 156). At the
-    constant compression, measured at 2f6c26c (2026-11-29): full 104, no-curvature 115, main-only 195 (7 to 14 per
-    step, 14 to 25 along the translation). Checked are the paper's ratios to the full tangent, whose counts carry the
-    rest of the difference (each total 21-31 % above the paper's, 14 to 17 iterations in the first step, where the
-    top settles under the force): main-only 156/86 = 1.814 (measured 195/104 = 1.875, +3.4 %: bound 5 %),
-    no-curvature 88/86 = 1.023 (the paper's table is inconsistent about its 88; measured 115/104 = 1.106, +8.1 %:
-    bound 10 %). About 100 s CPU: labelled long."""
-    pressed, _ = run("scenes/ks-parabolic.yaml", "--set", "time.end=7")
-    force = pressed.rows[-1]["reaction_top-z_z"]
-    c.check(abs(force + 351.57) < 0.01, "pressing force %.4f (351.57 measured)" % force)
-    held = ("--replace", "boundary.3={name: top-z, group: block.top, resultant: [0, 0, %.10g], "
-            "history: [[0, 0], [7, 1]]}" % force)
-    totals = {}
-    for variant in ("full", "no-curvature", "main-only"):
-        res = run_variant("scenes/ks-parabolic.yaml", variant, *held)
-        its = iterations(res)
-        c.check(res.summary["status"] == "ok" and len(its) == 27, "%s: 27 steps done" % variant)
-        fz = [r["contact_force_z"] for r in res.rows[8:]]
-        c.check(max(abs(f - force) for f in fz) < 1e-6 * abs(force), "%s: compression constant while sliding" % variant)
-        totals[variant] = sum(its[7:])
-        print("6.2 at constant compression, %s: sliding %s, %d" % (variant, its[7:], totals[variant]))
-    for variant, paper, bound in (("main-only", 156, 0.05), ("no-curvature", 88, 0.10)):
-        ratio, expected = totals[variant] / totals["full"], paper / 86.0
-        c.check(abs(ratio / expected - 1) <= bound, "%s / full = %.3f, the paper's %d/86 = %.3f to %.0f %%"
-                % (variant, ratio, paper, expected, 100 * bound))
-
 def ks_parabolic_contact_loss(c):
     """6.2, Fig. 12: "the zone without contact is detected as a zone with zero normal nodal forces f_n = 0 starting at
     a loading with u >= 1.52e-2", on the equidistant path (116) after the 7 pressing steps. The paper gives no penalty
@@ -237,6 +206,7 @@ def ks_parabolic_contact_loss(c):
     c.check(all(n == 123 for u, n in active if u < 1.52e-2), "every base node in contact before")
     c.check(dict(active).get(lost[0] if lost else 0) == 120, "the end column (3 nodes) first")
 
+
 def ks_parabolic_table4_penalty_e(c):
     """6.2, Table 4, case 1 (full tangent) with eps_N = eps_T = 2.1e4 (= E), the penalty that gives Fig. 12's contact
     loss at the paper's u (ks_parabolic_contact_loss; the paper gives none for 6.2, the scene uses 2.1e5). The paper:
@@ -255,6 +225,7 @@ def ks_parabolic_table4_penalty_e(c):
     c.check(set(sliding[2:]) <= {4, 5} and sliding[2:].count(5) <= 3,
             "steps 3-20 take 4 or 5, at most three 5s (the paper: steps 3, 19, 20): %s" % sliding[2:])
     c.check(abs(sum(sliding) - 86) <= 2, "%d iterations, the paper's 86 to 2" % sum(sliding))
+
 
 def ks_spiral(c):
     """6.3, Table 5: pressing and the first 20 spiral steps. Case 1 (without the curvature part; STAS has none, so the
@@ -336,8 +307,8 @@ def ks_spiral_mpi(c):
         c.check(one.column(k) == two.column(k), "np 1 vs 2: the same %s at every step" % k)
 
 
-CASES = [ks_block_b, ks_block_a, ks_block_a_plane_strain, ks_parabolic, ks_parabolic_constant_compression,
-         ks_parabolic_contact_loss, ks_parabolic_table4_penalty_e, ks_spiral, ks_spiral_rotated, ks_spiral_mpi]
+CASES = [ks_block_b, ks_block_a, ks_block_a_plane_strain, ks_parabolic, ks_parabolic_contact_loss,
+         ks_parabolic_table4_penalty_e, ks_spiral, ks_spiral_rotated, ks_spiral_mpi]
 
 if __name__ == "__main__":
     main(CASES)
