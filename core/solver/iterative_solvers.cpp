@@ -226,7 +226,8 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   auto preconditioner = [sys, &p]() -> RCP<Operator> {
     return sys->constraints ? constraint_preconditioner(sys, *sys->constraints, p.op()) : p.op();
   };
-  RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
+  SolveScratch &scratch = solve_scratch(sys);
+  const RCP<Vector> &xv = scratch.x, &bv = scratch.b;
   copy_to(b, *bv);
   // a trial by `auto` gets fewer iterations than a solver the user chose (auto_choice.cpp)
   const int cap = sys->auto_memory.iteration_cap;
