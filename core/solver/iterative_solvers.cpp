@@ -139,7 +139,9 @@ void compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind k
       }
     }
     auto params = muelu_parameters(sys);
-    if (sys->coordinate_dim > 0) params->sublist("user data").set("Nullspace", rigid_body_modes(sys));
+    // without a nullspace MueLu takes the constants per equation: the translations
+    if (sys->coordinate_dim > 0 && sys->options.nullspace == SK_NULLSPACE_RIGID_BODY)
+      params->sublist("user data").set("Nullspace", rigid_body_modes(sys));
     p.muelu = MueLu::CreateTpetraPreconditioner(RCP<Operator>(k), *params);
     p.matrix = k;
     return;

@@ -285,6 +285,7 @@ extern "C" {
 
 void sk_linear_options_default(sk_linear_options *options) {
   options->kind = SK_LINEAR_AUTO;
+  options->nullspace = SK_NULLSPACE_RIGID_BODY;
   options->tolerance = 1e-10;
   options->max_iterations = 500;
   options->verbose = 0;
