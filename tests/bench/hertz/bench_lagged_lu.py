@@ -2,9 +2,10 @@
 ladder: Newton iterations, numeric factorisations, GMRES iterations, CPU time of the whole run (user + system, one
 process, one BLAS thread) and how far the contact force of gmres-lu lies from MUMPS's (docs/linear-solvers.md,
 "Lagged LU"; docs/hertz.md). With --nullspace it compares GMRES + MueLu with the rigid-body near-nullspace against
-the translations only instead (docs/linear-solvers.md, "Near-nullspace").
+the translations only instead (docs/linear-solvers.md, "Near-nullspace"). --solvers A,B,... compares those linear solvers (e.g. mumps,gmres-lu,gmres-muelu,auto).
 
-Usage: python3 tests/bench/hertz/bench_lagged_lu.py [--nullspace] ELEMENT:REFINE[,REFINE...] ... [--set KEY=VALUE ...]
+Usage: python3 tests/bench/hertz/bench_lagged_lu.py [--nullspace | --solvers A,B,...] ELEMENT:REFINE[,REFINE...] ...
+       [--set KEY=VALUE ...]
 e.g.   python3 tests/bench/hertz/bench_lagged_lu.py quad4:1,2,3 tet4:2 tet10:1
 Prints one markdown table row per run."""
 import os
@@ -26,6 +27,8 @@ def main(argv):
     for arg in args:
         if arg == "--nullspace":
             variants = NULLSPACE
+        elif arg == "--solvers":
+            variants = {name: ["solver.linear.solver=" + name] for name in next(args).split(",")}
         elif arg == "--set":
             extra.append(next(args))
         else:
