@@ -436,6 +436,8 @@ static const char *const linear_names[] = {"direct", "gmres-muelu", "gmres-ilu",
 static const char *const line_search_names[] = {"full-step", "backtrack", "polynomial", "full-step-then-backtrack", NULL};
 enum { FULL_STEP_THEN_BACKTRACK = 3 };
 static const char *const predictor_names[] = {"last-state", "previous-increment", NULL};
+/* in sk_linear_nullspace order */
+static const char *const nullspace_names[] = {"rigid-body", "translations", NULL};
 
 /* The decisions of solver.linear.solver `auto`, as information (not shown with --quiet). */
 static void log_linear_decision(void *ctx, const char *line) {
@@ -480,6 +482,9 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   solver->linear.log = log_linear_decision;
   SK_TRY(sk_cfg_double(linear, "tolerance", 0, solver->linear.tolerance, &solver->linear.tolerance));
   SK_TRY(sk_cfg_int(linear, "max_iterations", 0, solver->linear.max_iterations, &solver->linear.max_iterations));
+  int nullspace = (int)solver->linear.nullspace;
+  SK_TRY(sk_cfg_choice(linear, "nullspace", 0, nullspace_names, nullspace, &nullspace));
+  solver->linear.nullspace = (sk_linear_nullspace)nullspace;
   if (!(solver->newton.relative_tolerance > 0) || !(solver->newton.residual_tolerance > 0))
     return sk_scene_fail_at(newton, "%s", "tolerances must be positive");
   if (solver->newton.max_iterations < 1) return sk_scene_fail_at(newton, "%s", "max_iterations must be at least 1");
@@ -570,6 +575,13 @@ static void explain_newton(const sk_solver_settings *solver, FILE *out) {
             line_search_names[n->line_search]);
   fprintf(out, "  %-16s ||F|| <= %g or ||F||/||F0|| <= %g, with ||dx|| <= %g (1 + ||x||); at most %d iterations\n",
           "convergence", n->residual_tolerance, n->relative_tolerance, n->update_tolerance, n->max_iterations);
+  const sk_linear_options *l = &solver->linear;
+  fprintf(out, "linear solver (solver.linear):\n  %-16s %s\n", "solver", linear_names[l->kind]);
+  fprintf(out, "  %-16s Krylov relative residual <= %g in at most %d iterations (direct solvers ignore it)\n",
+          "tolerance", l->tolerance, l->max_iterations);
+  fprintf(out, "  %-16s %s: MueLu's near-nullspace of the displacements (%s)\n", "nullspace",
+          nullspace_names[l->nullspace],
+          l->nullspace == SK_NULLSPACE_RIGID_BODY ? "translations and rotations" : "translations only");
 }
 
 void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, FILE *out) {

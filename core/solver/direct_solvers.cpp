@@ -89,20 +89,21 @@ constexpr double kRefineAbove = 1e-10;
 constexpr int kMaxRefinements = 4;
 
 sk_status refine_solution(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
-  Vector xv(sys->row_map), bv(sys->row_map), r(sys->row_map);
+  SolveScratch &scratch = solve_scratch(sys);
+  Vector &xv = *scratch.x, &bv = *scratch.b;
   copy_to(b, bv);
   const size_t n = static_cast<size_t>(sys->n_owned);
   auto residual = [&]() {
     copy_to(x, xv);
-    return relative_residual(sys, bv, xv, &r);
+    return relative_residual(sys, bv, xv);
   };
   report->relative_residual = residual();
   if (!(report->relative_residual > kRefineAbove) || !std::isfinite(report->relative_residual)) return SK_OK;
-  std::vector<double> correction_rhs(n), correction(n);
-  std::vector<double> best(x, x + n);
+  std::vector<double> &correction_rhs = scratch.owned_a, &correction = scratch.owned_b, &best = scratch.owned_c;
+  std::copy(x, x + n, best.begin());
   double best_residual = report->relative_residual;
   for (int k = 0; k < kMaxRefinements && best_residual > kRefineAbove; ++k) {
-    copy_from(r, correction_rhs.data());
+    copy_from(*scratch.residual, correction_rhs.data());
     SK_TRY(solve_factorised(sys, correction_rhs.data(), correction.data(), report));
     for (size_t i = 0; i < n; ++i) x[i] += correction[i];
     const double refined = residual();
@@ -207,10 +208,10 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
     report->failure = SK_LINEAR_FAILURE_SINGULAR;
     return sk_error_set(static_cast<sk_status>(status), "%s", message);
   }
-  Vector xv(sys->row_map), bv(sys->row_map);
-  copy_to(x, xv);
-  copy_to(b, bv);
-  report->relative_residual = relative_residual(sys, bv, xv);
+  SolveScratch &scratch = solve_scratch(sys);
+  copy_to(x, *scratch.x);
+  copy_to(b, *scratch.b);
+  report->relative_residual = relative_residual(sys, *scratch.b, *scratch.x);
   if (!(report->relative_residual <= kDirectResidualLimit)) {
     report->failure = SK_LINEAR_FAILURE_SINGULAR;
     return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (KLU2): relative residual %.3g (singular matrix)",

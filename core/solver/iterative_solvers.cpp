@@ -139,7 +139,9 @@ void compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind k
       }
     }
     auto params = muelu_parameters(sys);
-    if (sys->coordinate_dim > 0) params->sublist("user data").set("Nullspace", rigid_body_modes(sys));
+    // without a nullspace MueLu takes the constants per equation: the translations
+    if (sys->coordinate_dim > 0 && sys->options.nullspace == SK_NULLSPACE_RIGID_BODY)
+      params->sublist("user data").set("Nullspace", rigid_body_modes(sys));
     p.muelu = MueLu::CreateTpetraPreconditioner(RCP<Operator>(k), *params);
     p.matrix = k;
     return;
@@ -226,7 +228,8 @@ sk_status solve_iterative(sk_linear_system *sys, sk_linear_solver_kind kind, con
   auto preconditioner = [sys, &p]() -> RCP<Operator> {
     return sys->constraints ? constraint_preconditioner(sys, *sys->constraints, p.op()) : p.op();
   };
-  RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
+  SolveScratch &scratch = solve_scratch(sys);
+  const RCP<Vector> &xv = scratch.x, &bv = scratch.b;
   copy_to(b, *bv);
   // a trial by `auto` gets fewer iterations than a solver the user chose (auto_choice.cpp)
   const int cap = sys->auto_memory.iteration_cap;

@@ -44,7 +44,8 @@ class LaggedLuOperator : public Operator {
              Scalar beta = Teuchos::ScalarTraits<Scalar>::zero()) const override {
     if (mode != Teuchos::NO_TRANS) throw std::logic_error("gmres-lu: the transposed factorisation is not applied");
     const size_t n = static_cast<size_t>(sys_->n_owned);
-    std::vector<double> out(n);
+    // solve_lagged_lu's residual check runs after GMRES: owned_a is free while GMRES applies the factors
+    std::vector<double> &out = solve_scratch(sys_).owned_a;
     for (size_t j = 0; j < X.getNumVectors(); ++j) {
       auto in = X.getData(j);
       sk_linear_report ignored{};
@@ -66,7 +67,8 @@ sk_status solve_lagged_lu(sk_linear_system *sys, const double *b, double *x, sk_
   const bool have = !sys->amesos.is_null() && sys->amesos_kind == kLaggedBackend && !sys->lagged_refactorise;
   int lagged_iterations = 0;
   if (have) {
-    RCP<Vector> xv = rcp(new Vector(sys->row_map)), bv = rcp(new Vector(sys->row_map));
+    SolveScratch &scratch = solve_scratch(sys);
+    const RCP<Vector> &xv = scratch.x, &bv = scratch.b;
     copy_to(b, *bv);
     GmresResult result;
     try {

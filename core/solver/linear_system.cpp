@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <optional>
 
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Details_initializeKokkos.hpp>
@@ -78,11 +77,27 @@ void release_pattern(sk_linear_system *sys) {
   release_iterative_pattern(sys);
   sys->matrix = Teuchos::null;
   sys->row_map = Teuchos::null;
+  sys->scratch = SolveScratch{};
   sys->assembled = false;
   sys->gathered_pattern = false;
   sys->full_row_ptr.clear();
   sys->full_cols.clear();
   sys->gathered_values.clear();
+}
+
+SolveScratch &solve_scratch(sk_linear_system *sys) {
+  SolveScratch &s = sys->scratch;
+  if (s.map.get() != sys->row_map.get()) {
+    s.map = sys->row_map;
+    s.x = rcp(new Vector(sys->row_map));
+    s.b = rcp(new Vector(sys->row_map));
+    s.residual = rcp(new Vector(sys->row_map));
+    const size_t n = static_cast<size_t>(sys->n_owned);
+    s.owned_a.assign(n, 0.0);
+    s.owned_b.assign(n, 0.0);
+    s.owned_c.assign(n, 0.0);
+  }
+  return s;
 }
 
 void copy_to(const double *owned, Vector &v) {
@@ -137,10 +152,8 @@ void scatter_vector(const sk_linear_system *sys, const double *whole, double *ow
   MPI_Scatterv(whole, counts.data(), sys->row_offsets.data(), MPI_DOUBLE, owned, sys->n_owned, MPI_DOUBLE, 0, sys->comm);
 }
 
-double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual) {
-  std::optional<Vector> scratch;
-  if (!residual) residual = &scratch.emplace(sys->row_map);
-  Vector &r = *residual;
+double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x) {
+  Vector &r = *solve_scratch(sys).residual;
   sys->matrix->apply(x, r);
   r.update(1.0, b, -1.0);
   const double norm_b = b.norm2();
@@ -272,6 +285,7 @@ extern "C" {
 
 void sk_linear_options_default(sk_linear_options *options) {
   options->kind = SK_LINEAR_AUTO;
+  options->nullspace = SK_NULLSPACE_RIGID_BODY;
   options->tolerance = 1e-10;
   options->max_iterations = 500;
   options->verbose = 0;

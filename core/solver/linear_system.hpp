@@ -104,6 +104,14 @@ struct AutoMemory {
 };
 
 // A preconditioner of the nodal block, kept across solves and pattern changes (iterative_solvers.cpp).
+// The work space of a solve over the pattern's row map: made at the first solve of a pattern and kept until the
+// pattern changes, so that no Newton iteration allocates vectors of its own (solve_scratch).
+struct SolveScratch {
+  RCP<const Map> map;               // the row map the vectors below were made for
+  RCP<Vector> x, b, residual;
+  std::vector<double> owned_a, owned_b, owned_c;  // n_owned each
+};
+
 struct NodalPreconditioner {
   RCP<MueLuOperator> muelu;           // GMRES_MUELU
   RCP<Ifpack2Preconditioner> ifpack;  // GMRES_ILU, GMRES_SGS, GMRES_JACOBI
@@ -212,6 +220,7 @@ struct sk_linear_system {
   std::unique_ptr<stickslip::bridge::ConstraintBlock> constraints;
 
   stickslip::bridge::AutoMemory auto_memory;
+  stickslip::bridge::SolveScratch scratch;
 
   sk_linear_system();  // both defined where ConstraintBlock is complete (constraint_block.cpp)
   ~sk_linear_system();
@@ -223,14 +232,16 @@ namespace stickslip::bridge {
 // Vectors over this rank's owned rows in and out of Tpetra.
 void copy_to(const double *owned, Vector &v);
 void copy_from(const Vector &v, double *owned);
+// The work space of a solve on the current pattern (SolveScratch), made when the row map is new.
+SolveScratch &solve_scratch(sk_linear_system *sys);
 // The whole matrix on rank 0 (KLU2 on several ranks, the dump): the pattern gathered once per pattern, the values
 // at every call into sys->gathered_values (collective).
 void gather_to_root(sk_linear_system *sys);
 // b over the owned rows gathered to rank 0 (whole on rank 0), and back (collective).
 void gather_vector(const sk_linear_system *sys, const double *owned, double *whole);
 void scatter_vector(const sk_linear_system *sys, const double *whole, double *owned);
-// ||b - A x|| / ||b|| (||b - A x|| when b = 0); the residual b - A x into *residual when given
-double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x, Vector *residual = nullptr);
+// ||b - A x|| / ||b|| (||b - A x|| when b = 0); leaves b - A x in solve_scratch(sys).residual
+double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x);
 sk_status agree(MPI_Comm comm, sk_status local, const char *what);
 // Drops the pattern and everything built on it (matrix, maps, solver set-ups that depend on it).
 void release_pattern(sk_linear_system *sys);

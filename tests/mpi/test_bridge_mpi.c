@@ -26,12 +26,8 @@ static void owned_range(int n, int n_nodal, int block, int comm_rank, int comm_s
  * even entries of the row, rank 1 the odd ones (each a part of the row's columns). */
 static sk_linear_system *create_split_with(MPI_Comm comm, sk_linear_solver_kind kind, int block_size,
                                            const double *coordinates, int n_nodes, const test_csr *a) {
-  sk_linear_options options;
-  sk_linear_options_default(&options);
-  options.kind = kind;
-  options.tolerance = 1e-12;
-  sk_linear_system *sys = NULL;
-  if (sk_linsys_create(comm, &options, &sys) != SK_OK) return NULL;
+  sk_linear_system *sys = test_linear_system(comm, kind);
+  if (!sys) return NULL;
   int comm_rank, comm_size;
   MPI_Comm_rank(comm, &comm_rank);
   MPI_Comm_size(comm, &comm_size);

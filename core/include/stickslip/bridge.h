@@ -40,8 +40,15 @@ typedef enum {
 } sk_linear_solver_kind;
 #define SK_LINEAR_KIND_LAST SK_LINEAR_GMRES_LU /* the largest valid sk_linear_solver_kind */
 
+/* MueLu's near-nullspace of the nodal block when coordinates are given (sk_linsys_set_coordinates). */
+typedef enum {
+  SK_NULLSPACE_RIGID_BODY = 0, /* translations and rotations: 3 modes in 2D, 6 in 3D (default) */
+  SK_NULLSPACE_TRANSLATIONS    /* the translations only (dim modes), as without coordinates */
+} sk_linear_nullspace;
+
 typedef struct {
   sk_linear_solver_kind kind;
+  sk_linear_nullspace nullspace; /* for gmres-muelu (default rigid body) */
   double tolerance;        /* Krylov relative residual tolerance (default 1e-10) */
   int max_iterations;      /* Krylov iterations (default 500) */
   int verbose;             /* print solver details on rank 0 */

@@ -8,6 +8,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "stickslip/bridge.h"
+
 typedef struct {
   int n;
   int64_t *row_ptr;
@@ -177,6 +179,17 @@ static inline double test_max_difference(int n, const double *a, const double *b
   double worst = 0;
   for (int i = 0; i < n; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
   return worst;
+}
+
+/* A linear system of `kind` on `comm` solved to 1e-12 (the bridge tests' tolerance); NULL when creation fails. */
+static inline sk_linear_system *test_linear_system(MPI_Comm comm, sk_linear_solver_kind kind) {
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.kind = kind;
+  options.tolerance = 1e-12;
+  sk_linear_system *sys = NULL;
+  if (sk_linsys_create(comm, &options, &sys) != SK_OK) return NULL;
+  return sys;
 }
 
 #endif

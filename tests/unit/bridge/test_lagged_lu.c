@@ -13,16 +13,6 @@
 
 enum { kGrid = 8, kActive = 10, kInactive = 5 };
 
-static sk_linear_system *create(sk_linear_solver_kind kind) {
-  sk_linear_options options;
-  sk_linear_options_default(&options);
-  options.kind = kind;
-  options.tolerance = 1e-12;
-  sk_linear_system *sys = NULL;
-  if (sk_linsys_create(MPI_COMM_WORLD, &options, &sys) != SK_OK) return NULL;
-  return sys;
-}
-
 static sk_status set_pattern(sk_linear_system *sys, const test_csr *a) {
   int *rows = malloc(sizeof(int) * (size_t)a->n);
   for (int i = 0; i < a->n; ++i) rows[i] = i;
@@ -71,7 +61,7 @@ static sk_linear_report solve_both(sk_linear_system *lagged, sk_linear_system *f
 
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
-  sk_linear_system *lagged = create(SK_LINEAR_GMRES_LU), *fresh = create(SK_LINEAR_DIRECT_MUMPS);
+  sk_linear_system *lagged = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_GMRES_LU), *fresh = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_DIRECT_MUMPS);
   SK_CHECK(lagged && fresh);
   if (lagged && fresh) {
     /* the first solve of a pattern factorises and solves directly */
