@@ -174,10 +174,16 @@ def sample_value(row):
     return next((value for kind, value in SAMPLE_VALUES if row[1].startswith(kind)), "1")
 
 
+# keys of one mesh in a list of meshes (`mesh.0.order`) are checked on a scene with a mesh list
+MESH_LIST_SCENE = "scenes/mortar-patch-test-3d.yaml"
+
+
 def check_with(settings):
-    """`stickslip check BASE_SCENE --set S` for each S, a few at a time (each is a separate program start)."""
+    """`stickslip check BASE_SCENE --set S` for each S (MESH_LIST_SCENE for `mesh.N...`), a few at a time (each is a
+    separate program start)."""
     def one(setting):
-        return subprocess.run([BINARY, "check", os.path.join(ROOT, BASE_SCENE), "--set", setting],
+        scene = MESH_LIST_SCENE if re.match(r"mesh\.\d", setting) else BASE_SCENE
+        return subprocess.run([BINARY, "check", os.path.join(ROOT, scene), "--set", setting],
                               capture_output=True, text=True)
     with ThreadPoolExecutor(max_workers=4) as pool:
         return list(pool.map(one, settings))
