@@ -194,10 +194,7 @@ sk_status sk_master_ghosts_check(sk_system *sys, int64_t *missing_faces) {
 }
 
 /* The plugin terms of pairs whose master faces are ghosted, in the terms' order (the same on every rank). */
-static int ghosted_term(const sk_system *sys, int k) {
-  const int pair = sk_term_plugin_pair(sys->terms[k]);
-  return pair >= 0 && sys->model->pairs[pair].ghost_boxes != NULL;
-}
+static int ghosted_term(const sk_system *sys, int k) { return sk_master_ghosts_term(sys, sys->terms[k]); }
 
 /* Every rank's records of a term, gathered to every rank and sorted (the reader its re-created instance loads). */
 static sk_status gather_records(sk_system *sys, sk_term *term, sk_record_set *set) {
@@ -237,6 +234,34 @@ static sk_status gather_records(sk_system *sys, sk_term *term, sk_record_set *se
       sys, ok ? SK_OK : sk_error_set(SK_ERR_NOMEM, "out of memory gathering the records of %s", term->name));
 }
 
+/* The faces held from the step's boxes (ghost_boxes' second half, sk_master_ghosts_check): each rank's box grown by
+ * the whole reach, each face's swept box; then the nodes' roles, their exchange and (at the layout) the ghosts' rows. */
+static sk_status hold_again(sk_system *sys) {
+  sk_model *m = sys->model;
+  unsigned char *layer = malloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1));
+  if (!layer) return sk_error_set(SK_ERR_NOMEM, "out of memory ghosting the master faces again");
+  sk_model_layer_roles(m, layer);
+  for (int k = 0; k < m->n_pairs; ++k) {
+    sk_contact_pair *pair = &m->pairs[k];
+    if (!pair->ghost_boxes) continue;
+    memcpy(pair->ghost_boxes, pair->ghost_boxes + 6 * (size_t)m->n_ranks, sizeof(double) * 6 * (size_t)m->n_ranks);
+    for (int r = 0; r < m->n_ranks; ++r) box_grow(pair->ghost_boxes + 6 * r, 0.5 * pair->ghost_reach);
+    const sk_surface *s = &pair->master;
+    for (int f = 0; f < s->n_faces; ++f) {
+      double *box = pair->master_face_box + 6 * (size_t)f;
+      box_empty(box);
+      for (int a = 0; a < s->nen; ++a) swept_add(box, sys, s->conn[(size_t)f * s->nen + a]);
+    }
+    hold_faces(m, pair, layer);
+  }
+  free(layer);
+  /* the nodes' roles, their exchange and (at the layout) the rows of the ghosts */
+  SK_TRY(sk_model_node_roles(m, sys->node_role));
+  SK_TRY(sk_system_plan_ghost_dofs(sys, &sys->ghost_dofs, 0));
+  sys->owned_known = 0;
+  return SK_OK;
+}
+
 sk_status sk_master_ghosts_renew(sk_system *sys) {
   sk_model *m = sys->model;
   /* the plugins are re-created over their new master views from their records (stickslip.checkpoint.v1) */
@@ -263,28 +288,7 @@ sk_status sk_master_ghosts_renew(sk_system *sys) {
     sys->q[d] = m->X[d] + sys->x[d];
   }
   sys->x_version++;
-  /* the boxes: each rank's swept box of the step grown by the whole reach, each face's swept box */
-  unsigned char *layer = malloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1));
-  if (!layer) return sk_error_set(SK_ERR_NOMEM, "out of memory ghosting the master faces again");
-  sk_model_layer_roles(m, layer);
-  for (int k = 0; k < m->n_pairs; ++k) {
-    sk_contact_pair *pair = &m->pairs[k];
-    if (!pair->ghost_boxes) continue;
-    memcpy(pair->ghost_boxes, pair->ghost_boxes + 6 * (size_t)m->n_ranks, sizeof(double) * 6 * (size_t)m->n_ranks);
-    for (int r = 0; r < m->n_ranks; ++r) box_grow(pair->ghost_boxes + 6 * r, 0.5 * pair->ghost_reach);
-    const sk_surface *s = &pair->master;
-    for (int f = 0; f < s->n_faces; ++f) {
-      double *box = pair->master_face_box + 6 * (size_t)f;
-      box_empty(box);
-      for (int a = 0; a < s->nen; ++a) swept_add(box, sys, s->conn[(size_t)f * s->nen + a]);
-    }
-    hold_faces(m, pair, layer);
-  }
-  free(layer);
-  /* the nodes' roles, their exchange and (at the layout) the rows of the ghosts */
-  SK_TRY(sk_model_node_roles(m, sys->node_role));
-  SK_TRY(sk_system_plan_ghost_dofs(sys, &sys->ghost_dofs, 0));
-  sys->owned_known = 0;
+  SK_TRY(hold_again(sys));
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
     if (!ghosted_term(sys, k)) continue;
     sk_record_set records = {0};
@@ -295,4 +299,15 @@ sk_status sk_master_ghosts_renew(sk_system *sys) {
   }
   sys->master_reghosts++;
   return status;
+}
+
+int sk_master_ghosts_term(const sk_system *sys, const sk_term *term) {
+  const int pair = sk_term_plugin_pair(term);
+  return pair >= 0 && sys->model->pairs[pair].ghost_boxes != NULL;
+}
+
+sk_status sk_master_ghosts_restart(sk_system *sys) {
+  int64_t missing = 0;
+  SK_TRY(sk_master_ghosts_check(sys, &missing)); /* the boxes at the restart's positions (q = q_n) */
+  return hold_again(sys);
 }
