@@ -29,10 +29,11 @@ typedef struct {
   int64_t *local_dofs;     /* n_nodes * dim: the local unknown of each view dof (system.h) */
 } sk_view_data;
 
-/* A surface as this rank sees it: with `whole`, every face; otherwise the faces with a node this rank owns or that
- * this rank owns, and their nodes. A face is owned by the owner of the body element it bounds. */
+/* A surface as this rank sees it: with `whole`, every face it holds (of those, the ones flagged in `held` when it is
+ * not NULL: a master surface's faces ghosted to it); otherwise the faces with a node this rank owns or that this rank
+ * owns, and their nodes. A face is owned by the owner of the body element it bounds. */
 sk_status sk_view_surface(const sk_model *model, const sk_surface *surface, const char *name, int whole,
-                          sk_view_data *view);
+                          const unsigned char *held, sk_view_data *view);
 /* A body as this rank sees it: its elements owned by this rank or touching a node it owns, and their nodes. */
 sk_status sk_view_body(const sk_model *model, int body, sk_view_data *view);
 /* A view of a whole surface (mesh node ids indexing X, dim per node) on one rank, every face and node owned: the

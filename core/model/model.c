@@ -5,7 +5,6 @@
 
 #include "stickslip/model.h"
 
-#include "master_ghosts.h"
 
 double sk_history_value(const sk_history *history, double t) {
   if (history->n == 0) return 1.0;
@@ -204,7 +203,7 @@ sk_status sk_model_build(sk_model *model) {
   return partition(model);
 }
 
-sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
+void sk_model_layer_roles(const sk_model *m, unsigned char *role) {
   for (int a = 0; a < m->n_nodes; ++a) role[a] = m->node_owner[a] == m->rank ? SK_NODE_OWNED : 0;
   /* the ghost layer: every element this rank owns or that holds a node it owns */
   for (int b = 0; b < m->n_bodies; ++b) {
@@ -217,29 +216,34 @@ sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
         if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
     }
   }
-  /* master surfaces: a slave point may reach any of their faces; with ghost boxes, the faces ghosted to this rank */
-  for (int k = 0; k < m->n_pairs; ++k) {
-    const sk_contact_pair *pair = &m->pairs[k];
-    const sk_surface *s = &pair->master;
-    if (pair->has_obstacle) continue;
-    if (!pair->ghost_boxes) {
-      for (int j = 0; j < s->n_nodes; ++j)
-        if (!role[s->nodes[j]]) role[s->nodes[j]] = SK_NODE_GHOST;
-      continue;
-    }
-    for (int f = 0; f < s->n_faces; ++f) {
-      const int *conn = s->conn + (size_t)f * s->nen;
-      if (!sk_master_face_ghosted(m, pair, conn, m->rank)) continue;
-      for (int a = 0; a < s->nen; ++a)
-        if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
-    }
-  }
   /* rank 0 assembles the current-area resultant loads (each couples all nodes of its group) */
   for (int k = 0; m->rank == 0 && k < m->n_resultants; ++k) {
     if (!m->resultants[k].current_area) continue;
     const sk_group *g = m->resultants[k].faces;
     for (int64_t j = 0; j < (int64_t)g->n_elems * g->nen; ++j)
       if (!role[g->conn[j]]) role[g->conn[j]] = SK_NODE_GHOST;
+  }
+}
+
+sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
+  sk_model_layer_roles(m, role);
+  /* master surfaces: a slave point may reach any of their faces; with ghost boxes, the faces this rank holds now
+   * (master_ghosts.h; before the model is distributed every master node is held, for later re-ghosting) */
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const sk_contact_pair *pair = &m->pairs[k];
+    const sk_surface *s = &pair->master;
+    if (pair->has_obstacle) continue;
+    if (!pair->master_held) {
+      for (int j = 0; j < s->n_nodes; ++j)
+        if (!role[s->nodes[j]]) role[s->nodes[j]] = SK_NODE_GHOST;
+      continue;
+    }
+    for (int f = 0; f < s->n_faces; ++f) {
+      if (!pair->master_held[f]) continue;
+      const int *conn = s->conn + (size_t)f * s->nen;
+      for (int a = 0; a < s->nen; ++a)
+        if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
+    }
   }
   return SK_OK;
 }
@@ -259,6 +263,8 @@ void sk_model_free(sk_model *model) {
     sk_surface_free(&pair->slave);
     if (!pair->has_obstacle && !pair->self_contact) sk_surface_free(&pair->master);
     free(pair->ghost_boxes);
+    free(pair->master_held);
+    free(pair->master_face_box);
   }
   free(model->pairs);
   for (int k = 0; k < model->n_dirichlet; ++k) free(model->dirichlet[k].nodes);

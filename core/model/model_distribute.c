@@ -236,8 +236,10 @@ static int localize_group(sk_group *g, const int *local_of, const unsigned char 
   return kept;
 }
 
-/* Master faces ghosted by swept boxes (master_ghosts.h), when on: every deformable, distinct master surface. */
+/* Master faces ghosted by swept boxes (master_ghosts.h; unless STICKSLIP_MASTER_GHOSTING=replicated): every
+ * deformable, distinct master surface. */
 static sk_status plan_master_ghosts(sk_model *m) {
+  SK_TRY(sk_master_ghosting_check_setting());
   if (!sk_master_ghosting_on() || m->n_ranks < 2) return SK_OK;
   sk_status status = SK_OK;
   for (int k = 0; k < m->n_pairs && status == SK_OK; ++k) {
@@ -385,6 +387,7 @@ sk_status sk_model_distribute(sk_model *m) {
     status = sk_model_index_nodes(m);
   }
   if (status == SK_OK) status = sk_model_build_graph(m);
+  if (status == SK_OK) status = sk_master_ghosts_hold(m);
   free(X), free(x), free(gid), free(owner);
   free(role);
   free(local_of);

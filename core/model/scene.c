@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "master_ghosts.h"
 #include "scene_info.h"
 #include "scene_internal.h"
 #include "stickslip/plugins.h"
@@ -601,6 +602,7 @@ void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, 
             "calling their plugin, docs/contact-services.md):\n", created);
     for (int k = 0; k < sys->n_terms; ++k) sk_term_plugin_explain_pair(sys->terms[k], out);
   }
+  sk_master_ghosts_explain(sys->model, out);
   sk_system_explain(sys, out);
   explain_newton(&scene->solver, out);
   const sk_output_settings *o = &scene->output;

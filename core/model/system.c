@@ -288,7 +288,14 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   sk_exchange_forward(&sys->ghost_dofs, sys->x);
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
-  SK_TRY(sk_master_ghosts_check(sys)); /* the ghosted master faces still reach every slave point (collective) */
+  int64_t missing = 0; /* the ghosted master faces still reach every slave point, or are ghosted again (collective) */
+  SK_TRY(sk_master_ghosts_check(sys, &missing));
+  if (missing > 0) {
+    if (sys->verbose && sys->rank == 0)
+      fprintf(stderr, "step %lld: %lld master face(s) came within reach of a rank not holding them: ghosted again\n",
+              (long long)step, (long long)missing);
+    SK_TRY(sk_master_ghosts_renew(sys));
+  }
   SK_TRY(sk_system_collective(sys, sk_broad_phase_begin(sys))); /* the pairs near at the predictor: live terms */
   live = sk_system_live_terms(sys, &n_live);
   for (int k = 0; k < n_live; ++k) {

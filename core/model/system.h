@@ -66,7 +66,7 @@ struct sk_system {
   int64_t n_owned;         /* NOX's unknowns: the owned ones */
   int *owned;              /* n_owned local indices: the owned dofs, then the owned extras */
   int64_t n_kept;          /* the linear system's size (all ranks) */
-  sk_exchange ghost_dofs;  /* the ghost nodes' dofs (planned once) */
+  sk_exchange ghost_dofs;  /* the ghost nodes' dofs (planned again when master faces are ghosted again) */
   sk_exchange ghost_extras;/* the ghost extra unknowns (planned when their owners change) */
   int owned_known;         /* the extras' plan and the ghost dofs' rows are made */
   /* the kept extras are the linear system's constraint rows, all on the last rank: each rank's owned kept extras go
@@ -128,6 +128,7 @@ struct sk_system {
                                   created pair sleeps) */
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
+  int master_reghosts; /* steps at which the master faces were ghosted again (master_ghosts.c) */
   int verbose;
   double newton_energy;     /* |dx . F| of the last Newton direction (FEAP's energy norm), printed with --verbose */
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */
@@ -166,6 +167,9 @@ void sk_system_explain(const sk_system *sys, FILE *out);
 
 /* Internal to system*.c: the layout of the unknowns (system_layout.c). */
 sk_status sk_system_layout_dofs(sk_system *sys);
+/* Plans an exchange over the dofs of this rank's ghost nodes (node_role), or with every_node of every node it holds
+ * but does not own: the master nodes outside the faces it holds now too (master_ghosts.c) (collective). */
+sk_status sk_system_plan_ghost_dofs(sk_system *sys, sk_exchange *x, int every_node);
 sk_status sk_system_ensure_capacity(sk_system *sys, int64_t n);
 sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed);
 /* A vector over the local unknowns to the linear system's owned rows (the owned dofs, and on the last rank the

@@ -80,20 +80,18 @@ sk_status sk_system_ensure_capacity(sk_system *sys, int64_t n) {
   return SK_OK;
 }
 
-/* The dofs' owned list, the first nodal row of this rank and the dofs' ghost exchange (once: the owners of the
- * nodes do not change during a run). */
+/* The dofs' owned list, the first nodal row of this rank (once: the owners of the nodes do not change during a run)
+ * and the dofs' ghost exchange (planned again when master faces are ghosted again, master_ghosts.c). */
 sk_status sk_system_layout_dofs(sk_system *sys) {
   sk_model *m = sys->model;
   sys->node_role = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
   sys->owned_dofs = malloc(sizeof(int) * (size_t)(m->n_dofs > 0 ? m->n_dofs : 1));
   if (!sys->node_role || !sys->owned_dofs) return out_of_memory("the owned dofs", m->n_dofs);
   SK_TRY(sk_model_node_roles(m, sys->node_role));
-  int64_t n_owned = 0, n_ghosts = 0;
-  for (int a = 0; a < m->n_nodes; ++a) {
+  int64_t n_owned = 0;
+  for (int a = 0; a < m->n_nodes; ++a)
     if (sys->node_role[a] == SK_NODE_OWNED)
       for (int i = 0; i < m->dim; ++i) sys->owned_dofs[n_owned++] = a * m->dim + i;
-    n_ghosts += sys->node_role[a] == SK_NODE_GHOST;
-  }
   sys->n_owned_dofs = n_owned;
   MPI_Exscan(&n_owned, &sys->first_row, 1, MPI_INT64_T, MPI_SUM, sys->comm);
   if (sys->rank == 0) sys->first_row = 0;
@@ -101,7 +99,15 @@ sk_status sk_system_layout_dofs(sk_system *sys) {
   if (sys->n_nodal > INT_MAX - 16)
     return sk_error_set(SK_ERR_INPUT, "%lld displacement dofs exceed the %d the linear solvers can number",
                         (long long)sys->n_nodal, INT_MAX - 16);
-  /* the ghost dofs' exchange: the role array over the dofs is all it needs */
+  return sk_system_plan_ghost_dofs(sys, &sys->ghost_dofs, 0);
+}
+
+sk_status sk_system_plan_ghost_dofs(sk_system *sys, sk_exchange *x, int every_node) {
+  const sk_model *m = sys->model;
+  int64_t n_ghosts = 0;
+  for (int a = 0; a < m->n_nodes; ++a)
+    n_ghosts += every_node ? sys->node_role[a] != SK_NODE_OWNED : sys->node_role[a] == SK_NODE_GHOST;
+  /* the role array over the dofs is all the lookup needs */
   int64_t *local = malloc(sizeof(int64_t) * (size_t)(n_ghosts * m->dim + 1));
   int64_t *gid = malloc(sizeof(int64_t) * (size_t)(n_ghosts * m->dim + 1));
   int *owner = malloc(sizeof(int) * (size_t)(n_ghosts * m->dim + 1));
@@ -110,7 +116,7 @@ sk_status sk_system_layout_dofs(sk_system *sys) {
   int64_t g = 0;
   for (int a = 0; a < m->n_nodes && status == SK_OK; ++a) {
     for (int i = 0; i < m->dim; ++i) role[a * m->dim + i] = sys->node_role[a];
-    if (sys->node_role[a] != SK_NODE_GHOST) continue;
+    if (every_node ? sys->node_role[a] == SK_NODE_OWNED : sys->node_role[a] != SK_NODE_GHOST) continue;
     for (int i = 0; i < m->dim; ++i, ++g) {
       local[g] = a * m->dim + i;
       gid[g] = m->node_gid[a] * m->dim + i;
@@ -123,7 +129,7 @@ sk_status sk_system_layout_dofs(sk_system *sys) {
   sys->role = role;
   sys->n = m->n_dofs;
   status = sk_system_collective(sys, status);
-  if (status == SK_OK) status = sk_exchange_plan(&sys->ghost_dofs, sys->comm, g, local, gid, owner, lookup_owned, sys);
+  if (status == SK_OK) status = sk_exchange_plan(x, sys->comm, g, local, gid, owner, lookup_owned, sys);
   sys->role = saved;
   sys->n = saved_n;
   free(local);

@@ -486,7 +486,9 @@ static sk_status add_view(plugin_term *term, sk_system *sys, const sk_surface *s
   const sk_model *m = sys->model;
   const int v = term->n_views;
   sk_view_data *data = &term->views[v];
-  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, data) : sk_view_body(m, body, data));
+  const unsigned char *held = term->pair >= 0 && surface == &m->pairs[term->pair].master ? m->pairs[term->pair].master_held
+                                                                                        : NULL;
+  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, held, data) : sk_view_body(m, body, data));
   term->view_list[v] = &data->view;
   SK_TRY(sk_view_localize(data, sys));
   if (!term->in_view) term->in_view = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
@@ -710,6 +712,33 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   }
   *out = &term->base;
   return SK_OK;
+}
+
+sk_status sk_term_plugin_renew_master(sk_term *base, sk_system *sys, const sk_record_reader *records) {
+  plugin_term *term = (plugin_term *)base;
+  const sk_contact_pair *pair = &sys->model->pairs[term->pair];
+  term->table.destroy(term->instance);
+  term->instance = NULL;
+  sk_view_free(&term->views[1]);
+  double **arrays[] = {term->x, term->x_n, term->v_n, term->F_view, term->dx_view, term->Jdx_view};
+  for (size_t j = 0; j < sizeof arrays / sizeof arrays[0]; ++j) {
+    free(arrays[j][1]);
+    arrays[j][1] = NULL;
+  }
+  term->n_views = 1;
+  memset(term->in_view, 0, (size_t)(sys->model->n_nodes > 0 ? sys->model->n_nodes : 1));
+  SK_TRY(sk_view_localize(&term->views[0], sys)); /* the slave view's nodes keep their local dofs */
+  for (int k = 0; k < term->views[0].view.n_nodes; ++k)
+    term->in_view[term->views[0].local_dofs[(int64_t)k * sys->model->dim] / sys->model->dim] = 1;
+  SK_TRY(add_view(term, sys, &pair->master, pair->master.name, 1, -1));
+  term->attach.master = term->view_list[1];
+  term->x_version = 0;
+  sk_status status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
+  if (status != SK_OK) {
+    create_error(term, status);
+    return status;
+  }
+  return sk_term_plugin_load(base, sys, records);
 }
 
 const sk_term_ops *sk_plugin_term_ops(void) { return &plugin_ops; }

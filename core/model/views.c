@@ -194,14 +194,15 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
   return status;
 }
 
-sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *name, int whole, sk_view_data *v) {
+sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *name, int whole,
+                          const unsigned char *held, sk_view_data *v) {
   memset(v, 0, sizeof *v);
   const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
   unsigned char *selected = malloc(nf);
   if (!selected) return no_memory(v, name);
-  /* every face this rank owns or with a node it owns (with `whole`, every face it holds) */
+  /* every face this rank owns or with a node it owns (with `whole`, every face it holds, or those `held` flags) */
   for (int f = 0; f < s->n_faces; ++f) {
-    int take = whole || (s->face_owner && s->face_owner[f] == m->rank);
+    int take = whole ? !held || held[f] : s->face_owner && s->face_owner[f] == m->rank;
     for (int a = 0; a < s->nen && !take; ++a) take = m->node_owner[s->conn[(size_t)f * s->nen + a]] == m->rank;
     selected[f] = (unsigned char)take;
   }

@@ -52,38 +52,6 @@ uint64_t sk_checkpoint_mesh_hash(const sk_model *m) {
   return all;
 }
 
-/* ---- a growing byte buffer ----------------------------------------------------------------------------------- */
-
-void sk_byte_buffer_put(sk_byte_buffer *b, const void *data, size_t n) {
-  if (b->failed) return;
-  if (b->size + n > b->cap) {
-    size_t cap = 2 * (b->size + n) + 4096;
-    unsigned char *grown = realloc(b->data, cap);
-    if (!grown) {
-      b->failed = 1;
-      return;
-    }
-    b->data = grown;
-    b->cap = cap;
-  }
-  memcpy(b->data + b->size, data, n);
-  b->size += n;
-}
-
-typedef struct {
-  sk_record_writer abi;
-  sk_byte_buffer *out;
-  int64_t count;
-} record_writer;
-
-static void writer_put(sk_record_writer *abi, int64_t key, const void *data, uint32_t bytes) {
-  record_writer *w = (record_writer *)abi;
-  sk_byte_buffer_put(w->out, &key, sizeof key);
-  sk_byte_buffer_put(w->out, &bytes, sizeof bytes);
-  sk_byte_buffer_put(w->out, data, bytes);
-  w->count++;
-}
-
 /* ---- paths ---------------------------------------------------------------------------------------------------- */
 
 static void step_name(int64_t step, char *out, size_t n) { snprintf(out, n, "step-%08lld", (long long)step); }
@@ -224,7 +192,8 @@ static sk_status state_bytes(sk_system *sys, sk_byte_buffer *b) {
     const size_t count_at = b->size;
     int64_t count = 0;
     sk_byte_buffer_put(b, &count, sizeof count);
-    record_writer w = {.abi = {SK_TABLE_HEADER(sk_record_writer), .put = writer_put}, .out = b};
+    sk_buffer_writer w;
+    sk_buffer_writer_init(&w, b);
     status = sk_term_plugin_save(term, sys, &w.abi);
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
     if (!b->failed) memcpy(b->data + count_at, &w.count, sizeof w.count);

@@ -5,17 +5,12 @@
 
 #include <stddef.h>
 
+#include "../model/records.h"
+
 enum { SK_CHECKPOINT_FORMAT = 1 };
 #define SK_CHECKPOINT_FNV_SEED 0xcbf29ce484222325ULL
 extern const char sk_checkpoint_state_magic[8], sk_checkpoint_end_magic[8];
 
-typedef struct {
-  unsigned char *data;
-  size_t size, cap;
-  int failed; /* an allocation failed: later puts are ignored, the caller reports it */
-} sk_byte_buffer;
-
-void sk_byte_buffer_put(sk_byte_buffer *b, const void *data, size_t n);
 
 /* 1 when `path` names a directory. */
 int sk_is_directory(const char *path);

@@ -12,6 +12,7 @@
 
 #include "checkpoint.h"
 #include "checkpoint_format.h"
+#include "../model/master_ghosts.h"
 #include "stickslip/config.h"
 #include "stickslip/files.h"
 
@@ -259,82 +260,6 @@ static sk_status load_state_file(const sk_restart *r, int rank, sk_byte_buffer *
   return SK_OK;
 }
 
-/* The records of one plugin term from every rank's file, sorted by key (the reader of stickslip.checkpoint.v1). */
-typedef struct {
-  sk_record_reader abi;
-  sk_byte_buffer data;
-  int64_t n, cap;
-  int64_t *key, *offset;
-  uint32_t *bytes;
-} record_set;
-
-static int64_t reader_get(const sk_record_reader *abi, int64_t key, void *data, uint32_t capacity) {
-  const record_set *s = (const record_set *)abi;
-  int64_t lo = 0, hi = s->n;
-  while (lo < hi) {
-    const int64_t mid = lo + (hi - lo) / 2;
-    if (s->key[mid] < key) lo = mid + 1;
-    else hi = mid;
-  }
-  if (lo >= s->n || s->key[lo] != key) return -1;
-  memcpy(data, s->data.data + s->offset[lo], s->bytes[lo] < capacity ? s->bytes[lo] : capacity);
-  return s->bytes[lo];
-}
-
-static int add_record(record_set *s, int64_t key, const unsigned char *data, uint32_t bytes) {
-  if (s->n == s->cap) {
-    const int64_t cap = 2 * s->cap + 256;
-    int64_t *k = realloc(s->key, sizeof(int64_t) * (size_t)cap), *o = realloc(s->offset, sizeof(int64_t) * (size_t)cap);
-    if (k) s->key = k;
-    if (o) s->offset = o;
-    uint32_t *b = realloc(s->bytes, sizeof(uint32_t) * (size_t)cap);
-    if (b) s->bytes = b;
-    if (!k || !o || !b) return 0;
-    s->cap = cap;
-  }
-  s->key[s->n] = key;
-  s->offset[s->n] = (int64_t)s->data.size;
-  s->bytes[s->n] = bytes;
-  sk_byte_buffer_put(&s->data, data, bytes);
-  s->n++;
-  return !s->data.failed;
-}
-
-static void record_set_free(record_set *s) {
-  free(s->data.data);
-  free(s->key);
-  free(s->offset);
-  free(s->bytes);
-}
-
-/* Sorts a record set by key (an index sort, then the arrays permuted). */
-static const record_set *sort_target;
-static int compare_records(const void *a, const void *b) {
-  const int64_t x = sort_target->key[*(const int64_t *)a], y = sort_target->key[*(const int64_t *)b];
-  return (x > y) - (x < y);
-}
-
-static int sort_records(record_set *s) {
-  int64_t *order = malloc(sizeof(int64_t) * (size_t)(s->n + 1));
-  int64_t *key = malloc(sizeof(int64_t) * (size_t)(s->n + 1)), *offset = malloc(sizeof(int64_t) * (size_t)(s->n + 1));
-  uint32_t *bytes = malloc(sizeof(uint32_t) * (size_t)(s->n + 1));
-  if (!order || !key || !offset || !bytes) {
-    free(order), free(key), free(offset), free(bytes);
-    return 0;
-  }
-  for (int64_t k = 0; k < s->n; ++k) order[k] = k;
-  sort_target = s;
-  qsort(order, (size_t)s->n, sizeof(int64_t), compare_records);
-  for (int64_t k = 0; k < s->n; ++k) {
-    key[k] = s->key[order[k]];
-    offset[k] = s->offset[order[k]];
-    bytes[k] = s->bytes[order[k]];
-  }
-  free(s->key), free(s->offset), free(s->bytes), free(order);
-  s->key = key, s->offset = offset, s->bytes = bytes;
-  return 1;
-}
-
 sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *progress) {
   sk_model *m = sys->model;
   const int dim = m->dim;
@@ -354,7 +279,7 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
   /* the plugin terms, in order */
   int n_plugins = 0;
   for (int k = 0; k < sys->n_terms; ++k) n_plugins += sk_term_plugin_checkpointable(sys->terms[k], NULL) >= 0;
-  record_set *sets = calloc((size_t)n_plugins + 1, sizeof *sets);
+  sk_record_set *sets = calloc((size_t)n_plugins + 1, sizeof *sets);
   unsigned char *seen = calloc((size_t)m->n_nodes + 1, 1);
   if (!sets || !seen) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
   /* every rank's file: the nodes this rank holds, every record */
@@ -412,27 +337,18 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
       if ((size_t)len != strlen(term->name) || memcmp(b.data + at, term->name, (size_t)len) != 0)
         status = sk_error_set(SK_ERR_INPUT, "--restart: %s/state-%04d.bin: instance %d is '%.*s', the scene's %s", r->dir,
                               file, t, (int)len, (const char *)b.data + at, term->name);
+      if (status != SK_OK) break;
       at += (size_t)len;
       memcpy(&count, b.data + at, sizeof count);
       at += sizeof count;
-      for (int64_t j = 0; j < count && status == SK_OK; ++j) {
-        int64_t key;
-        uint32_t bytes;
-        if (at + sizeof key + sizeof bytes > end) {
-          status = SK_ERR_INPUT;
-          break;
-        }
-        memcpy(&key, b.data + at, sizeof key);
-        memcpy(&bytes, b.data + at + sizeof key, sizeof bytes);
-        at += sizeof key + sizeof bytes;
-        if (at + bytes > end) {
-          status = SK_ERR_INPUT;
-          break;
-        }
-        if (!add_record(&sets[t], key, b.data + at, bytes))
-          status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory for the plugins' records");
-        at += bytes;
+      int no_memory = 0;
+      const int64_t used = sk_record_set_parse(&sets[t], b.data + at, end - at, count, &no_memory);
+      if (used < 0) {
+        status = no_memory ? sk_error_set(SK_ERR_NOMEM, "--restart: out of memory for the plugins' records")
+                           : SK_ERR_INPUT;
+        break;
       }
+      at += (size_t)used;
     }
     if (status == SK_ERR_INPUT && !sk_error_message()[0])
       sk_error_set(SK_ERR_INPUT, "--restart: %s/state-%04d.bin: records run past the end of the file", r->dir, file);
@@ -457,16 +373,19 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
     if (r->linear_fallback) status = sk_linsys_set_solver(sys->linsys, SK_LINEAR_DIRECT);
     sys->x_version++;
   }
+  /* the master faces held from the restart's positions (its bodies may have moved beyond the set-up's reach) */
+  if (status == SK_OK) status = sk_master_ghosts_restart(sys);
   for (int t = 0, k = 0; t < n_plugins && status == SK_OK; ++t) {
     while (sk_term_plugin_checkpointable(sys->terms[k], NULL) < 0) ++k;
     sk_term *term = sys->terms[k++];
-    if (!sort_records(&sets[t])) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
-    sets[t].abi = (sk_record_reader){SK_TABLE_HEADER(sk_record_reader), .get = reader_get};
-    if (status == SK_OK) status = sk_term_plugin_load(term, sys, &sets[t].abi);
+    if (!sk_record_set_sort(&sets[t])) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
+    if (status == SK_OK)
+      status = sk_master_ghosts_term(sys, term) ? sk_term_plugin_renew_master(term, sys, &sets[t].abi)
+                                                : sk_term_plugin_load(term, sys, &sets[t].abi);
     if (status != SK_OK) sk_error_prefix(status, "--restart: %s: ", term->name);
     status = sk_system_collective(sys, status);
   }
-  for (int t = 0; t < n_plugins && sets; ++t) record_set_free(&sets[t]);
+  for (int t = 0; t < n_plugins && sets; ++t) sk_record_set_free(&sets[t]);
   free(sets);
   if (status == SK_OK) *progress = r->progress;
   return status;

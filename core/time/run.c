@@ -44,6 +44,7 @@ static void fill_summary(const sk_system *sys, double wall_start, sk_status stat
   summary->krylov_iterations = sys->krylov_iterations;
   summary->active_set_loops = sys->active_set_loops;
   summary->pattern_builds = sys->pattern_builds;
+  summary->master_reghosts = sys->master_reghosts;
   summary->unknowns_max = sys->unknowns_max;
   summary->linear_size_max = sys->linear_size_max;
   summary->assembly_seconds = sys->t_assembly;
@@ -67,9 +68,12 @@ static void write_rank_stats(const sk_system *sys, const sk_run_summary *summary
   const sk_model *m = sys->model;
   char path[4200];
   snprintf(path, sizeof path, "%s-%04d.json", prefix, m->rank);
-  int elements_owned = 0, nodes_owned = 0;
+  int elements_owned = 0, nodes_owned = 0, nodes_ghost = 0;
   for (int e = 0; e < m->n_elements; ++e) elements_owned += m->element_part[e] == m->rank;
-  for (int a = 0; a < m->n_nodes; ++a) nodes_owned += m->node_owner[a] == m->rank;
+  for (int a = 0; a < m->n_nodes; ++a) {
+    nodes_owned += m->node_owner[a] == m->rank;
+    nodes_ghost += sys->node_role[a] == SK_NODE_GHOST;
+  }
   struct rusage usage;
   getrusage(RUSAGE_SELF, &usage);
   const double cpu = (double)usage.ru_utime.tv_sec + 1e-6 * (double)usage.ru_utime.tv_usec +
@@ -84,7 +88,9 @@ static void write_rank_stats(const sk_system *sys, const sk_run_summary *summary
   sk_json_int(json, "elements_owned", elements_owned);
   sk_json_int(json, "elements_held", m->n_elements);
   sk_json_int(json, "nodes_owned", nodes_owned);
-  sk_json_int(json, "nodes_ghost", m->n_nodes - nodes_owned);
+  sk_json_int(json, "nodes_ghost", nodes_ghost); /* exchanged (at the end of the run) */
+  /* kept but not exchanged: the master nodes outside the faces held at the end of the run (master_ghosts.h) */
+  sk_json_int(json, "nodes_idle", m->n_nodes - nodes_owned - nodes_ghost);
   sk_json_int(json, "unknowns_held", (long)sys->n);
   sk_json_int(json, "unknowns_owned", (long)sys->n_owned);
   sk_json_number(json, "exchange_bytes_sent", (double)(sys->ghost_dofs.bytes_sent + sys->ghost_extras.bytes_sent));

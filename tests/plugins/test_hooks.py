@@ -12,6 +12,8 @@
   tied_dual_mpi     the same on 2 ranks = 1 rank
   reject_once       converged() rejects a converged point once per step: Newton runs again and the step ends with
                     the changed set (= example-spring at the final stiffness)
+  reghost_refused   a pair plugin without checkpoint records is refused at the step its master faces must be
+                    ghosted again (2 ranks)
 
 Usage: test_hooks.py CASE (the binary from STICKSLIP_BIN, the test plugins from STICKSLIP_PLUGIN_PATH)."""
 import json
@@ -146,6 +148,22 @@ def tied_dual_mpi(c):
         c.check(summary(two)["ranks"] == 2, "ran on 2 ranks")
 
 
+def reghost_refused(c):
+    """ring-on-block on 2 ranks with test-reject-once, which keeps no checkpoint records: when the ring's master faces
+    must be ghosted again (step 7 here; 3.3 s CPU) the pair cannot be re-created, and the step is refused naming the
+    pair, the plugin and STICKSLIP_MASTER_GHOSTING=replicated, the results so far kept."""
+    results, proc = run("scenes/ring-on-block.yaml", "--set", "time.dt=0.05", "--set", "time.end=0.4", "--plugin",
+                        "test-reject-once", "--replace", "contact.0.parameters={k_first: 1, k_final: 2}", np=2,
+                        expect_ok=False)
+    c.check(proc.returncode != 0, "the run stops (exit %d)" % proc.returncode)
+    message = proc.stderr.strip().splitlines()[0] if proc.stderr.strip() else "(no message)"
+    c.check("contact pair 'ring': at step 7" in proc.stderr and "test-reject-once" in proc.stderr and
+            "STICKSLIP_MASTER_GHOSTING=replicated" in proc.stderr, "the refusal names pair, step, plugin and "
+            "variable: " + message[:240])
+    c.check(results is not None and summary(results)["status"] == "failed" and int(results.rows[-1]["step"]) == 6,
+            "the results up to step 6 are kept, status failed")
+
+
 def reject_once(c):
     rejecting, _ = run(SPRINGS)
     reference, _ = run(SPRINGS, "--set", "contact.0.plugin=example-spring", "--replace", "contact.0.parameters={k: 5}")
@@ -162,4 +180,5 @@ def reject_once(c):
 
 
 if __name__ == "__main__":
-    main([body_free_flight, body_energy, body_mpi, body_errors, tied_dual, tied_dual_mpi, reject_once])
+    main([body_free_flight, body_energy, body_mpi, body_errors, tied_dual, tied_dual_mpi, reject_once,
+          reghost_refused])

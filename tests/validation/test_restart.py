@@ -21,6 +21,8 @@ DIRECT = ["--set", "solver.linear.solver=klu2"]
 TWO_ELEMENTS = ("scenes/two-elements.yaml", ["--set", "time.end=8"] + DIRECT, 40, 22)     # contact from step 15
 BLOCK = ("scenes/block-on-plane.yaml", ["--set", "time.end=1.6"] + DIRECT, 32, 24)        # drag from step 21
 BALL = ("scenes/corot-ball-on-plane-friction.yaml", [], 30, 17)                           # impact around step 12
+# penalty-nts with friction anchors on 2 ranks: its master faces are ghosted again at step 6, contact from step 11
+RING = ("scenes/ring-on-block.yaml", ["--set", "time.dt=0.05", "--set", "contact.0.parameters.mu=0.3"] + DIRECT, 20, 14)
 
 
 def stickslip(args, np=1, expect_ok=True):
@@ -67,7 +69,7 @@ def column_scale(a, name):
     return max(max(max(abs(v) for v in a.column(n)) for n in names if n in a.rows[0]), 1e-300)
 
 
-def worst_difference(a, b, with_iterations):
+def worst_difference(a, b, with_iterations, scales=None):
     """The largest |a - b| over the rows of both, relative to each column's scale (column_scale; wall time left out,
     and the Newton iteration counts unless with_iterations: on another number of ranks the last bits of the state
     differ, and the block's step 30, where it reaches its stop, takes 9 to 13 iterations to the same converged
@@ -77,18 +79,19 @@ def worst_difference(a, b, with_iterations):
         if name == "wall_seconds" or (name == "newton_iterations" and not with_iterations):
             continue
         column_a, column_b = a.column(name), b.column(name)
-        d = max(abs(x - y) for x, y in zip(column_a, column_b)) / column_scale(a, name)
+        scale = (scales or {}).get(name) or column_scale(a, name)
+        d = max(abs(x - y) for x, y in zip(column_a, column_b)) / scale
         if d > worst:
             worst, where = d, name
     return worst, where
 
 
-def compare(checks, label, reference, result, tolerance, with_iterations=True):
+def compare(checks, label, reference, result, tolerance, with_iterations=True, scales=None):
     checks.check(len(result.rows) == len(reference.rows),
                  "%s: %d history rows, like the uninterrupted run's %d" % (label, len(result.rows), len(reference.rows)))
     checks.check(result.rows[-1]["step"] == reference.rows[-1]["step"], "%s: ends at step %g (%g)" %
                  (label, result.rows[-1]["step"], reference.rows[-1]["step"]))
-    worst, where = worst_difference(reference, result, with_iterations)
+    worst, where = worst_difference(reference, result, with_iterations, scales)
     checks.check(worst <= tolerance, "%s: every history column equal to %.1e (largest difference %.2e, %s)" %
                  (label, tolerance, worst, where))
     checks.check("restarted_from" in result.summary, "%s: summary.json names the checkpoint" % label)
@@ -137,6 +140,25 @@ def restart_friction_other_ranks(checks):
             compare(checks, "%s, %d rank(s) -> %d" % (case[0], written, read), reference, result, 1e-10,
                     with_iterations=False)
             shutil.rmtree(folder)
+
+
+def restart_reghosted(checks):
+    """Master faces ghosted by swept boxes (the default) and ghosted again before the checkpoint: the restart holds
+    the faces from the checkpoint's positions, not from the set-up's reference ones (where penalty-nts refused its
+    friction anchors on faces the rank did not hold): written and read on 2 ranks (1e-12; measured: equal to the
+    bit), written on 1 (1e-10; measured 2.0e-12, reaction_base_y). Labelled long (about 12 s CPU)."""
+    for written, read, tolerance in ((2, 2, 1e-12), (1, 2, 1e-10)):
+        folder = tempfile.mkdtemp(prefix="stickslip-restart-")
+        reference = straight(RING, read, folder)
+        checks.check(max(reference.column("active_points")) > 0 and reference.rows[13]["active_points"] > 0,
+                     "ring-on-block: in contact at the checkpoint")
+        result = restarted(RING, interrupted(RING, written, folder), read, folder, "again")
+        # the ring's contact moment is zero by symmetry (round-off of 2e-4 against forces of 2374): measured against
+        # the largest contact force times the ring's radius, 100 (1 vs 2 ranks uninterrupted differ by 1.8e-8 in it)
+        lever = {"contact_moment_z": 100.0 * max(abs(v) for v in reference.column("contact_force_y"))}
+        compare(checks, "ring-on-block, %d rank(s) -> %d" % (written, read), reference, result, tolerance,
+                with_iterations=written == read, scales=lever)
+        shutil.rmtree(folder)
 
 
 def restart_body_plugin(checks):
@@ -199,4 +221,5 @@ def restart_refusals(checks):
 
 
 if __name__ == "__main__":
-    main([restart_friction_same_ranks, restart_friction_other_ranks, restart_body_plugin, restart_refusals])
+    main([restart_reghosted, restart_friction_same_ranks, restart_friction_other_ranks, restart_body_plugin,
+          restart_refusals])

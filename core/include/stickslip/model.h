@@ -1,7 +1,8 @@
 /* stickslip — the model: the scene's description of bodies, boundary conditions, loads, contact pairs and time
  * stepping, with the finite-element data derived from it once (consistent mass, METIS partition, node owners).
  * Built from a scene by sk_scene_load (scene.h); the nonlinear system of a step is core/model/system.c's. It does
- * not change during a run. */
+ * not change during a run, but for the master faces a rank holds (sk_contact_pair.master_held: ghosted again when
+ * the contact moves, core/model/master_ghosts.h). */
 #ifndef STICKSLIP_MODEL_H
 #define STICKSLIP_MODEL_H
 
@@ -95,6 +96,10 @@ typedef struct {
    * with the pair): per rank its grown slave box of the set-up, then (second half) the step's swept boxes */
   double *ghost_boxes;
   double ghost_capture, ghost_reach; /* the capture distance and the reach the set-up's boxes were grown by */
+  /* after the model is distributed (every master node is held, its faces too): per master face, 1 when this rank
+   * holds it now (its nodes exchanged, in the plugins' master view), and its box when the faces were last ghosted */
+  unsigned char *master_held;
+  double *master_face_box;
 } sk_contact_pair;
 
 typedef struct {
@@ -167,6 +172,9 @@ void sk_model_free(sk_model *model);
 enum { SK_NODE_OWNED = 1, SK_NODE_GHOST = 2 };
 /* role[node] = SK_NODE_OWNED, SK_NODE_GHOST or 0 for every node of the model, for this rank. */
 sk_status sk_model_node_roles(const sk_model *model, unsigned char *role);
+/* The same without the contact pairs' master surfaces: the owned nodes, the element ghost layer and the resultant
+ * loads' groups. */
+void sk_model_layer_roles(const sk_model *model, unsigned char *role);
 /* The node with mesh id `gid`, or -1 when this rank does not hold it. */
 int sk_model_node_of(const sk_model *model, int64_t gid);
 /* The body whose elements hold mesh node `node` first (in body order), or -1. */

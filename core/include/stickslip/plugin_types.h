@@ -29,7 +29,7 @@ extern "C" {
 /* The ABI a plugin is built against. The host accepts any plugin of the same major version and any minor (CLAP's
  * clap_version_is_compatible, Lua's luaL_checkversion): members a side does not know are found by struct_size. */
 #define SK_ABI_MAJOR 2u
-#define SK_ABI_MINOR 8u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
+#define SK_ABI_MINOR 9u /* 1: the element types TRI6, QUAD8, TET10, HEX20; sk_contact_point X, has_multiplier, multiplier
                           2: sk_layout.idle and SK_CAP_SAYS_IDLE (a pair with no candidate skips its calls)
                           3: sk_layout.idle also with extra unknowns (their trivial rows written by the host)
                           4: sk_layout.extra_anchor (the mesh node of each extra unknown, for the pattern margin)
@@ -38,7 +38,9 @@ extern "C" {
                              of pressure for every plugin, slip over time)
                           7: sk_scene_info / sk_scene_side, sk_plugin.check and the extension stickslip.scene.v1 (what
                              an attachment is, for refusals at `check` and defaults computed from the scene)
-                          8: the plugin-side extension stickslip.checkpoint.v1 (history in checkpoints) */
+                          8: the plugin-side extension stickslip.checkpoint.v1 (history in checkpoints)
+                          9: no new member: stickslip.checkpoint.v1's load also follows a re-creation of a pair's
+                             instance during a run, when its master faces are ghosted again (docs/plugin-abi.md) */
 
 /* 1 when `member` lies within the struct_size the struct was allocated with (and may be read or written). */
 #define SK_HAS(ptr, member) \
