@@ -529,7 +529,7 @@ void mortar_points(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_ba
     fwd x1[3], n1[3], jac, xi2[2], g;
     slave_point(p, xi1, x1, n1, &jac);
     double start[2] = {0.0, 0.0};
-    if (p->master->type == SK_TRI3) start[0] = start[1] = 1.0 / 3.0;
+    if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6) start[0] = start[1] = 1.0 / 3.0;
     if (project_fwd(p, normal, x1, n1, start, xi2, &g) != 0) continue;
     mortar_add_point(p, A, basis, xi1, xi2, fwd_scale(w[q], jac), g, I);
     I->n_cells += 1;
@@ -570,13 +570,13 @@ int mortar_project_point(const mortar_pair *p, mortar_normal normal, const doubl
   fwd x1[3], n1[3], jac, xi2[2], g;
   slave_point(&v, xi1, x1, n1, &jac);
   double start[2] = {0.0, 0.0};
-  if (p->master->type == SK_TRI3) start[0] = start[1] = 1.0 / 3.0;
+  if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6) start[0] = start[1] = 1.0 / 3.0;
   if (project_fwd(&v, normal, x1, n1, start, xi2, &g) != 0) return -1;
   out->xi[0] = xi2[0].v;
   out->xi[1] = xi2[1].v;
   out->gap = g.v;
   const double s = out->xi[0], t = out->xi[1];
-  if (p->master->type == SK_TRI3)
+  if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6)
     out->inside = s >= -tol && t >= -tol && s + t <= 1.0 + tol;
   else if (p->master->type == SK_QUAD4 || p->master->type == SK_QUAD9)
     out->inside = fabs(s) <= 1.0 + tol && fabs(t) <= 1.0 + tol;
