@@ -255,11 +255,22 @@ void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A,
   const int ns = p->nen_s, nm = p->nen_m;
   fwd Phi[MORTAR_MAX_NEN];
   basis_values(p, A, basis, N1, Phi);
+  /* coverage in the functions of the nodes' measures: N~ on TRI6 (its vertex functions integrate to 0) */
+  double Nc[MORTAR_MAX_NEN];
+  for (int j = 0; j < ns; ++j) Nc[j] = N1[j].v;
+  if (basis == MORTAR_DUAL_TRANSFORMED) {
+    double T[6][6];
+    mortar_tri6_transform(T);
+    for (int j = 0; j < 6; ++j) {
+      Nc[j] = 0.0;
+      for (int k = 0; k < 6; ++k) Nc[j] += T[j][k] * N1[k].v;
+    }
+  }
   for (int j = 0; j < ns; ++j) {
     fwd wPhi;
     fwd_set_mul(&wPhi, weight, &Phi[j]);
     fwd_acc_mul(&I->gap[j], &wPhi, g);
-    I->cover[j] += weight->v * N1[j].v;
+    I->cover[j] += weight->v * Nc[j];
     if (N2)
       for (int l = 0; l < nm; ++l) fwd_acc_mul(&I->M[j][l], &wPhi, &N2[l]);
   }

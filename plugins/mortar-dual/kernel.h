@@ -102,7 +102,8 @@ typedef struct {
   fwd D[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   fwd M[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   fwd gap[MORTAR_MAX_NEN];
-  double cover[MORTAR_MAX_NEN]; /* int_overlap N_j (value): how much of node j's support the master covers */
+  double cover[MORTAR_MAX_NEN]; /* int_overlap N_j (value; N~_j on TRI6): how much of node j's support the master
+                                 * covers */
   double measure;  /* integrated measure (length/area) of the overlap */
   double gap_min;  /* the smallest g_n at an integration point (value; +inf without points) */
   int n_cells;     /* 2D: segments; 3D: integration triangles; concentrated/obstacle: points used */
