@@ -258,7 +258,7 @@ void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A,
   /* coverage in the functions of the nodes' measures: N~ on TRI6 (its vertex functions integrate to 0) */
   double Nc[MORTAR_MAX_NEN];
   for (int j = 0; j < ns; ++j) Nc[j] = N1[j].v;
-  if (basis == MORTAR_DUAL_TRANSFORMED) {
+  if (p->slave->type == SK_TRI6) {
     double T[6][6];
     mortar_tri6_transform(T);
     for (int j = 0; j < 6; ++j) {

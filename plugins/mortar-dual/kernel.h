@@ -93,7 +93,8 @@ void mortar_tri6_transform(double T[6][6]);
  *   D_jk = int_{slave face} Phi_j N_k^(1)                      (mortar_slave_integrals: the whole slave face)
  *   M_jl = int_{overlap} Phi_j N_l^(2)(xi^(2)),  gap_j = int_{overlap} Phi_j g_n      (the pair functions)
  * D belongs to the slave surface alone (the potential contact surface; Popp et al. 2009), so it is invertible for
- * every slave node, covered by the master or not. With the dual basis D is diagonal, D_jj = int Phi_j (the row sum,
+ * every slave node, covered by the master or not. With the dual basis (MORTAR_DUAL; not TRI6's transformed one) D is
+ * diagonal, D_jj = int Phi_j (the row sum,
  * equal to int Phi_j N_j where the rule integrates the biorthogonality exactly). Where the master covers a slave
  * face, sum_k D_jk = sum_l M_jl (linear momentum); where it covers only part of it, the slave force exceeds the
  * master's by the uncovered part — at the border of the master surface only. */
@@ -134,7 +135,8 @@ int mortar_segments_2d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
  * mid-side and centre nodes), every quarter of the slave against every quarter of the master, each on its own
  * auxiliary plane; a Gauss point's quarter parameters map to the face's (xi = c + s / 2), where the quadratic shape
  * functions, dual functions, positions and the slave Jacobian are evaluated. Exact geometry where the quarters are
- * the faces (flat faces with the mid-side nodes in the middles). Returns 1 if the faces overlap. */
+ * the faces (flat faces with the mid-side nodes in the middles). TRI6 faces the same on their four flat sub-triangles
+ * (xi = c + h s, h = 1/2, or -1/2 for the middle one). Returns 1 if the faces overlap. */
 int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
                        mortar_integrals *I);
 

@@ -284,8 +284,8 @@ static void tributary_measures(const sk_instance *inst, const double *x, double 
     mortar_integrals I;
     mortar_pair_set(&p, inst->dim, &inst->st, NULL, X, NULL, n, 0);
     /* TRI6's vertex functions integrate to 0: its measures are those of the transformed functions, int N~_j = int Phi_j
-     * = sum_k D_jk */
-    const mortar_basis b = inst->basis == MORTAR_DUAL_TRANSFORMED ? inst->basis : MORTAR_STANDARD;
+     * = sum_k D_jk of their dual basis (with either multiplier basis) */
+    const mortar_basis b = v->cell_type == SK_TRI6 ? MORTAR_DUAL_TRANSFORMED : MORTAR_STANDARD;
     mortar_basis_coefficients(&p, b, &A);
     mortar_integrals_zero(&I, &p);
     mortar_slave_integrals(&p, &A, b, inst->n_d_points, inst->d_xi, inst->d_w, &I);
