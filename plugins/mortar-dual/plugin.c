@@ -24,7 +24,7 @@ static const char *const parameters[] = {
     "c_t: complementarity parameter of the tangential condition, traction per length [computed from the scene: c_n]",
     "segment_gauss: Gauss points per 2D integration segment [3; 5 with line3 faces]",
     "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
-    "there; 12 with quad9 faces; else 6, exact on parallelograms]",
+    "there; 12 with quad9 faces; else 6, exact on parallelograms and flat tri6 faces]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
     "frozen_band: concentrated integration: how far beyond its edge, in face parameters, a Gauss point keeps the "
     "master face chosen at the step's start (0.1: 5 % of an edge); 0 chooses again whenever it leaves the face, "
