@@ -11,6 +11,7 @@ int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_
     case SK_LINE2: ft->nen = 2; ft->pdim = 1; break;
     case SK_LINE3: ft->nen = 3; ft->pdim = 1; break;
     case SK_TRI3: ft->nen = 3; ft->pdim = 2; break;
+    case SK_TRI6: ft->nen = 6; ft->pdim = 2; break;
     case SK_QUAD4: ft->nen = 4; ft->pdim = 2; break;
     case SK_QUAD9: ft->nen = 9; ft->pdim = 2; break;
     default: return -1;
@@ -99,10 +100,21 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
   }
   fwd xs[MORTAR_MAX_NEN][3];
   memcpy(xs, p->xs, sizeof xs);
+  double T[6][6];
+  const int transformed = basis == MORTAR_DUAL_TRANSFORMED;
+  if (transformed) mortar_tri6_transform(T);
   for (int q = 0; q < nq; ++q) {
     fwd x_q[2] = {fwd_const(xi[q * ft->pdim]), fwd_const(ft->pdim > 1 ? xi[q * ft->pdim + 1] : 0.0)};
     fwd N[MORTAR_MAX_NEN], a[2][3];
     mortar_shape(ft, x_q, N, NULL);
+    if (transformed) { /* N <- N~ = T N (the shape values carry no derivative slots) */
+      double Nt[6];
+      for (int j = 0; j < 6; ++j) {
+        Nt[j] = 0.0;
+        for (int k = 0; k < 6; ++k) Nt[j] += T[j][k] * N[k].v;
+      }
+      for (int j = 0; j < 6; ++j) N[j] = fwd_const(Nt[j]);
+    }
     mortar_face_point(ft, xs, x_q, NULL, a);
     const fwd wJ = fwd_scale(w[q], face_jacobian(ft, a));
     for (int j = 0; j < nen; ++j) {
@@ -133,6 +145,28 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
   }
   for (int j = 0; j < nen; ++j)
     for (int k = 0; k < nen; ++k) A->coeff[j][k] = fwd_mul(De[j], inv[j][k]);
+  if (!transformed) return;
+  /* Phi_j = sum_l A~_jl N~_l = sum_k (A~ T)_jk N_k */
+  fwd At[6][6];
+  for (int j = 0; j < 6; ++j)
+    for (int k = 0; k < 6; ++k) {
+      At[j][k] = fwd_const(0.0);
+      for (int l = 0; l < 6; ++l)
+        if (T[l][k] != 0.0) fwd_acc_scaled(&At[j][k], T[l][k], &A->coeff[j][l]);
+    }
+  for (int j = 0; j < 6; ++j)
+    for (int k = 0; k < 6; ++k) A->coeff[j][k] = At[j][k];
+}
+
+void mortar_tri6_transform(double T[6][6]) {
+  static const int edges_of_vertex[3][2] = {{3, 5}, {3, 4}, {4, 5}};
+  const double alpha = 1.0 / MORTAR_TRI6_ALPHA_INV;
+  memset(T, 0, sizeof(double) * 36);
+  for (int v = 0; v < 3; ++v) {
+    T[v][v] = 1.0;
+    for (int e = 0; e < 2; ++e) T[v][edges_of_vertex[v][e]] = alpha;
+  }
+  for (int e = 3; e < 6; ++e) T[e][e] = 1.0 - 2.0 * alpha;
 }
 
 /* ---- nodal normals and tangents -------------------------------------------------------------------------------- */
@@ -140,12 +174,13 @@ void mortar_face_normal_at_node(const mortar_face_type *ft, int dim, const doubl
                                 double dc[][3][3]) {
   static const double line2[] = {-1, 1};
   static const double line3[] = {-1, 1, 0}; /* gmsh order: the ends, then the middle */
-  static const double tri3[] = {0, 0, 1, 0, 0, 1};
+  /* TRI3 and TRI6 (gmsh order: the corners, the middles of edges 01, 12, 20) */
+  static const double tri6[] = {0, 0, 1, 0, 0, 1, 0.5, 0, 0.5, 0.5, 0, 0.5};
   /* QUAD4 and QUAD9 (gmsh order: the corners, the mid-side nodes, the centre) */
   static const double quad9[] = {-1, -1, 1, -1, 1, 1, -1, 1, 0, -1, 1, 0, 0, 1, -1, 0, 0, 0};
   const double *nodes = ft->type == SK_LINE2   ? line2
                         : ft->type == SK_LINE3 ? line3
-                        : ft->type == SK_TRI3  ? tri3
+                        : ft->type == SK_TRI3 || ft->type == SK_TRI6 ? tri6
                                                : quad9;
   const int pd = ft->pdim, nen = ft->nen;
   double N[MORTAR_MAX_NEN], dN[2 * MORTAR_MAX_NEN];
@@ -328,14 +363,16 @@ int mortar_face_exact_order(sk_elem_type type) {
   /* LINE3: N_j N_k J of degree 4 on a straight face with the middle node in the middle, 5 with it moved along the
    * chord (3 points suffice); a curved face's J is not polynomial: 10 points give int Phi_j N_k = delta_jk int N_k
    * to 1.5e-16 on a 30-degree arc (5 points: 7.4e-8; test_mortar_integrals) */
-  return type == SK_LINE3 ? 10 : type == SK_QUAD9 ? QUAD9_EXACT_ORDER : 3;
+  /* TRI6: N~_j N~_k J of degree 4 on a flat face with its mid-side nodes in the middles: order 5 takes the 12-point
+   * rule (degree 6) */
+  return type == SK_LINE3 ? 10 : type == SK_QUAD9 ? QUAD9_EXACT_ORDER : type == SK_TRI6 ? 5 : 3;
 }
 
 int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w) {
   if (order < 1) order = 1;
   if (order > MORTAR_MAX_RULE) order = MORTAR_MAX_RULE;
   double g[MORTAR_MAX_RULE], gw[MORTAR_MAX_RULE];
-  if (type == SK_TRI3) {
+  if (type == SK_TRI3 || type == SK_TRI6) {
     static const int sizes[] = {1, 3, 7, 7, 12};
     const double *txi = tri1_xi, *tw = tri1_w;
     const int n = mortar_triangle_rule(sizes[order > 5 ? 4 : order - 1], &txi, &tw);

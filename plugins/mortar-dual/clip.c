@@ -164,8 +164,31 @@ typedef struct {
 static const int quad9_quarter[4][4] = {{0, 4, 8, 7}, {4, 1, 5, 8}, {8, 5, 2, 6}, {7, 8, 6, 3}};
 static const double quad9_quarter_centre[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
 
-/* The facets of a face with node positions x: 1 (the face) or 4 (QUAD9 quarters of type quad4). */
-static int face_facets(const mortar_face_type *ft, const mortar_face_type *quad4, fwd x[][3], facet *out) {
+/* TRI6 sub-triangles: local nodes counter-clockwise, the first at xi = c, the others at c + h (1, 0), c + h (0, 1);
+ * the middle one is the corner ones turned half a turn (h = -1/2) */
+static const int tri6_sub[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 5, 3}};
+static const double tri6_sub_corner[4][2] = {{0, 0}, {0.5, 0}, {0, 0.5}, {0.5, 0.5}};
+
+/* The four flat sub-triangles (type tri3) of a TRI6 face. */
+static int tri6_facets(const mortar_face_type *tri3, fwd x[][3], facet *out) {
+  for (int q = 0; q < 4; ++q) {
+    out[q].ft = tri3;
+    for (int k = 0; k < 3; ++k) {
+      out[q].node[k] = tri6_sub[q][k];
+      memcpy(out[q].x[k], x[tri6_sub[q][k]], sizeof(fwd) * 3);
+    }
+    out[q].c[0] = tri6_sub_corner[q][0];
+    out[q].c[1] = tri6_sub_corner[q][1];
+    out[q].h = q == 3 ? -0.5 : 0.5;
+  }
+  return 4;
+}
+
+/* The facets of a face with node positions x: 1 (the face) or 4 (QUAD9 quarters of type quad4, TRI6 sub-triangles of
+ * type tri3). */
+static int face_facets(const mortar_face_type *ft, const mortar_face_type *quad4, const mortar_face_type *tri3,
+                       fwd x[][3], facet *out) {
+  if (ft->type == SK_TRI6) return tri6_facets(tri3, x, out);
   if (ft->type != SK_QUAD9) {
     out->ft = ft;
     for (int k = 0; k < ft->nen; ++k) out->node[k] = k;
@@ -330,11 +353,14 @@ int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
   fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3];
   memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
   memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
-  mortar_face_type quad4_s, quad4_m;
+  mortar_face_type quad4_s, quad4_m, tri3_s, tri3_m;
   mortar_face_type_init(&quad4_s, SK_QUAD4, p->slave->shape, p->slave->shape_hessian);
   mortar_face_type_init(&quad4_m, SK_QUAD4, p->master->shape, p->master->shape_hessian);
+  mortar_face_type_init(&tri3_s, SK_TRI3, p->slave->shape, p->slave->shape_hessian);
+  mortar_face_type_init(&tri3_m, SK_TRI3, p->master->shape, p->master->shape_hessian);
   facet sf[4], mf[4];
-  const int n_s = face_facets(p->slave, &quad4_s, xs, sf), n_m = face_facets(p->master, &quad4_m, xm, mf);
+  const int n_s = face_facets(p->slave, &quad4_s, &tri3_s, xs, sf);
+  const int n_m = face_facets(p->master, &quad4_m, &tri3_m, xm, mf);
   int overlap = 0;
   for (int a = 0; a < n_s; ++a)
     for (int b = 0; b < n_m; ++b)

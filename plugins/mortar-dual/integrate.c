@@ -255,11 +255,22 @@ void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A,
   const int ns = p->nen_s, nm = p->nen_m;
   fwd Phi[MORTAR_MAX_NEN];
   basis_values(p, A, basis, N1, Phi);
+  /* coverage in the functions of the nodes' measures: N~ on TRI6 (its vertex functions integrate to 0) */
+  double Nc[MORTAR_MAX_NEN];
+  for (int j = 0; j < ns; ++j) Nc[j] = N1[j].v;
+  if (p->slave->type == SK_TRI6) {
+    double T[6][6];
+    mortar_tri6_transform(T);
+    for (int j = 0; j < 6; ++j) {
+      Nc[j] = 0.0;
+      for (int k = 0; k < 6; ++k) Nc[j] += T[j][k] * N1[k].v;
+    }
+  }
   for (int j = 0; j < ns; ++j) {
     fwd wPhi;
     fwd_set_mul(&wPhi, weight, &Phi[j]);
     fwd_acc_mul(&I->gap[j], &wPhi, g);
-    I->cover[j] += weight->v * N1[j].v;
+    I->cover[j] += weight->v * Nc[j];
     if (N2)
       for (int l = 0; l < nm; ++l) fwd_acc_mul(&I->M[j][l], &wPhi, &N2[l]);
   }
@@ -529,7 +540,7 @@ void mortar_points(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_ba
     fwd x1[3], n1[3], jac, xi2[2], g;
     slave_point(p, xi1, x1, n1, &jac);
     double start[2] = {0.0, 0.0};
-    if (p->master->type == SK_TRI3) start[0] = start[1] = 1.0 / 3.0;
+    if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6) start[0] = start[1] = 1.0 / 3.0;
     if (project_fwd(p, normal, x1, n1, start, xi2, &g) != 0) continue;
     mortar_add_point(p, A, basis, xi1, xi2, fwd_scale(w[q], jac), g, I);
     I->n_cells += 1;
@@ -570,13 +581,13 @@ int mortar_project_point(const mortar_pair *p, mortar_normal normal, const doubl
   fwd x1[3], n1[3], jac, xi2[2], g;
   slave_point(&v, xi1, x1, n1, &jac);
   double start[2] = {0.0, 0.0};
-  if (p->master->type == SK_TRI3) start[0] = start[1] = 1.0 / 3.0;
+  if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6) start[0] = start[1] = 1.0 / 3.0;
   if (project_fwd(&v, normal, x1, n1, start, xi2, &g) != 0) return -1;
   out->xi[0] = xi2[0].v;
   out->xi[1] = xi2[1].v;
   out->gap = g.v;
   const double s = out->xi[0], t = out->xi[1];
-  if (p->master->type == SK_TRI3)
+  if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6)
     out->inside = s >= -tol && t >= -tol && s + t <= 1.0 + tol;
   else if (p->master->type == SK_QUAD4 || p->master->type == SK_QUAD9)
     out->inside = fabs(s) <= 1.0 + tol && fabs(t) <= 1.0 + tol;

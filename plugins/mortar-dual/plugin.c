@@ -24,7 +24,7 @@ static const char *const parameters[] = {
     "c_t: complementarity parameter of the tangential condition, traction per length [computed from the scene: c_n]",
     "segment_gauss: Gauss points per 2D integration segment [3; 5 with line3 faces]",
     "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
-    "there; 12 with quad9 faces; else 6, exact on parallelograms]",
+    "there; 12 with quad9 faces; else 6, exact on parallelograms and flat tri6 faces]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
     "frozen_band: concentrated integration: how far beyond its edge, in face parameters, a Gauss point keeps the "
     "master face chosen at the step's start (0.1: 5 % of an edge); 0 chooses again whenever it leaves the face, "
@@ -168,7 +168,9 @@ static sk_status check_stars(sk_instance *inst) {
 static double mean_edge(const sk_view *v) {
   double sum = 0.0;
   int count = 0;
-  const int corners = v->cell_type == SK_QUAD4 || v->cell_type == SK_QUAD9 ? 4 : v->cell_type == SK_TRI3 ? 3 : 2;
+  const int corners = v->cell_type == SK_QUAD4 || v->cell_type == SK_QUAD9                ? 4
+                      : v->cell_type == SK_TRI3 || v->cell_type == SK_TRI6 ? 3
+                                                                           : 2;
   for (int f = 0; f < v->n_cells; ++f)
     for (int e = 0; e < (corners == 2 ? 1 : corners); ++e) {
       const int a = v->conn[(int64_t)f * v->nen + e], b = v->conn[(int64_t)f * v->nen + (e + 1) % corners];
@@ -211,6 +213,8 @@ static sk_status read_parameters(sk_instance *inst) {
   int basis, normal;
   SK_TRY(read_choice(inst, "basis", bases, &basis));
   inst->basis = basis == 0 ? MORTAR_DUAL : MORTAR_STANDARD;
+  /* TRI6 slave faces: the dual basis of the transformed functions (section 3.5 of the plugin page) */
+  if (inst->basis == MORTAR_DUAL && inst->slave->cell_type == SK_TRI6) inst->basis = MORTAR_DUAL_TRANSFORMED;
   SK_TRY(read_choice(inst, "integration", integrations, &inst->integration));
   SK_TRY(read_choice(inst, "normal", normals, &normal));
   inst->normal_variant = normal == 0 ? MORTAR_NORMAL_A : MORTAR_NORMAL_M;
@@ -249,6 +253,9 @@ static sk_status read_parameters(sk_instance *inst) {
   /* c_n h is about the modulus (c_n ~ E / h): 1e-8 of it lies far below any pressure the run resolves and above the
    * round-off of z_n and c_n g at a converged point */
   inst->branch_tol = 1e-8 * inst->ncp.c_n * mean_edge(inst->slave);
+  if (inst->strategy == STRATEGY_CONDENSED && inst->basis == MORTAR_DUAL_TRANSFORMED)
+    return api->error(host, SK_ERR_INPUT, "mortar-dual: strategy 'condensed' eliminates z with a diagonal D, which TRI6 "
+                      "slave faces do not have (D = diag(int Phi_j) T^-T): use strategy: saddle-point");
   if (inst->strategy == STRATEGY_CONDENSED && inst->basis != MORTAR_DUAL)
     return api->error(host, SK_ERR_INPUT,
                       "mortar-dual: strategy 'condensed' eliminates z with a diagonal D: it needs basis: dual");
@@ -276,9 +283,12 @@ static void tributary_measures(const sk_instance *inst, const double *x, double 
     mortar_basis_coeffs A;
     mortar_integrals I;
     mortar_pair_set(&p, inst->dim, &inst->st, NULL, X, NULL, n, 0);
-    mortar_basis_coefficients(&p, MORTAR_STANDARD, &A);
+    /* TRI6's vertex functions integrate to 0: its measures are those of the transformed functions, int N~_j = int Phi_j
+     * = sum_k D_jk of their dual basis (with either multiplier basis) */
+    const mortar_basis b = v->cell_type == SK_TRI6 ? MORTAR_DUAL_TRANSFORMED : MORTAR_STANDARD;
+    mortar_basis_coefficients(&p, b, &A);
     mortar_integrals_zero(&I, &p);
-    mortar_slave_integrals(&p, &A, MORTAR_STANDARD, inst->n_d_points, inst->d_xi, inst->d_w, &I);
+    mortar_slave_integrals(&p, &A, b, inst->n_d_points, inst->d_xi, inst->d_w, &I);
     for (int a = 0; a < v->nen; ++a)
       for (int k = 0; k < v->nen; ++k) measure[v->conn[(int64_t)f * v->nen + a]] += I.D[a][k].v;
   }
@@ -300,11 +310,12 @@ static int scheme_refused(const char *scheme, double alpha, char *reason, int si
 }
 
 /* Faces the kernel integrates: first-order ones, LINE3 in 2D and QUAD9 in 3D (their standard dual bases are
- * admissible: the shape functions integrate to the positive weights 1/6, 2/3, 1/6 and 1/36, 1/9, 4/9 of the face).
- * TRI6 and QUAD8 need the transformed quadratic bases of Popp, Wohlmuth, Gee & Wall (2012): their vertex functions
- * integrate to 0 (TRI6) or a negative value (QUAD8), and those are not built. */
+ * admissible: the shape functions integrate to the positive weights 1/6, 2/3, 1/6 and 1/36, 1/9, 4/9 of the face),
+ * and TRI6 with the dual basis of the transformed functions (Popp, Wohlmuth, Gee & Wall 2012; its vertex functions
+ * integrate to 0). QUAD8's transformed basis is not built (its vertex functions integrate to a negative value). */
 static int face_supported(sk_elem_type type) {
-  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9;
+  return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9 ||
+         type == SK_TRI6;
 }
 
 static const char *face_name(sk_elem_type type) {
@@ -320,18 +331,18 @@ static int faces_refused(const char *slave_name, sk_elem_type slave, const char 
                          sk_elem_type master, char *reason, int size) {
   const int slave_ok = face_supported(slave);
   if (slave_ok && (!has_master || face_supported(master))) return 0;
-  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3, quad4 and quad9 in 3D (not "
-           "tri6 and quad8: their standard dual bases are not admissible, the transformed bases are not built); %s "
-           "surface '%s' has %s faces (mesh.order: 2 on tet10 or hex20)", slave_ok ? "master" : "slave",
+  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3, quad4, quad9 and tri6 in 3D "
+           "(not quad8: its standard dual basis is not admissible, the transformed basis is built for tri6 only); %s "
+           "surface '%s' has %s faces (mesh.order: 2 on hex20)", slave_ok ? "master" : "slave",
            slave_ok ? master_name : slave_name, face_name(slave_ok ? master : slave));
   return 1;
 }
 
 /* Self contact (section 3.6 of the plugin page): 2D and 3D first-order faces (and LINE3), one rank. */
 static int self_refused(int self, int n_ranks, sk_elem_type type, char *reason, int size) {
-  if (self && type == SK_QUAD9) {
+  if (self && (type == SK_QUAD9 || type == SK_TRI6)) {
     snprintf(reason, (size_t)size, "mortar-dual's self contact runs on first-order faces in 3D (its face pairing is "
-             "not tested on QUAD9 faces)");
+             "not tested on %s faces)", face_name(type));
     return 1;
   }
   if (!self || n_ranks <= 1) return 0;
@@ -340,10 +351,21 @@ static int self_refused(int self, int n_ranks, sk_elem_type type, char *reason, 
   return 1;
 }
 
+/* TRI6 slave faces: D = diag(int Phi_j) T^-T is not diagonal in the slave unknowns, and strategy 'condensed' eliminates
+ * z node by node with a diagonal D (section 3.5 of the plugin page). */
+static int condensed_refused(int strategy, sk_elem_type slave, char *reason, int size) {
+  if (strategy != STRATEGY_CONDENSED || slave != SK_TRI6) return 0;
+  snprintf(reason, (size_t)size, "mortar-dual's strategy 'condensed' eliminates the multipliers with a diagonal D; on "
+           "the slave surface's TRI6 faces D = diag(int Phi_j) T^-T is not diagonal (the dual basis of the transformed "
+           "functions): use strategy: saddle-point");
+  return 1;
+}
+
 static sk_status check(const sk_scene_info *scene, char *reason, int size) {
   const sk_scene_side *slave = scene->slave, *master = scene->master;
   if (scheme_refused(scene->scheme, scene->alpha, reason, size) ||
       self_refused(scene->self_contact, scene->n_ranks, slave->cell_type, reason, size) ||
+      condensed_refused(scene->strategy, slave->cell_type, reason, size) ||
       faces_refused(slave->name, slave->cell_type, master->name, !master->rigid, master->cell_type, reason, size))
     return SK_ERR_PLUGIN;
   return SK_OK;

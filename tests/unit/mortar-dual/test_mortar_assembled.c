@@ -20,6 +20,9 @@ const sk_plugin *stickslip_plugin_entry(void);
 #ifndef MORTAR_ASSEMBLED_QUAD9
 #define MORTAR_ASSEMBLED_QUAD9 0
 #endif
+#ifndef MORTAR_ASSEMBLED_TRI6
+#define MORTAR_ASSEMBLED_TRI6 0
+#endif
 
 static const double FD_STEP = 1e-7;
 
@@ -121,7 +124,7 @@ static void mesh_3d_matching(kit *k) {
  * +z, curved the other way, the first's right edge at x = 0.5), offset and rotated against it: every slave quarter
  * meets master quarters of both faces. Slave node (i, j) of a 3 x 3 grid is i + 3 j, master node (i, j) of a 5 x 3
  * grid 9 + i + 5 j; gmsh order: corners, mid-sides, centre. */
-static void mesh_3d_quad9(kit *k) {
+static void mesh_3d_quad9_nodes(kit *k) {
   double X[72];
   for (int j = 0; j < 3; ++j) {
     for (int i = 0; i < 3; ++i) {
@@ -138,6 +141,10 @@ static void mesh_3d_quad9(kit *k) {
     }
   }
   kit_init(k, 3, 24, X);
+}
+
+static void mesh_3d_quad9(kit *k) {
+  mesh_3d_quad9_nodes(k);
   /* slave: clockwise from above (outward normal -z); master: counter-clockwise */
   static const int slave[9] = {0, 6, 8, 2, 3, 7, 5, 1, 4};
   int master[18];
@@ -148,6 +155,23 @@ static void mesh_3d_quad9(kit *k) {
   }
   kit_surface(k, 0, SK_QUAD9, 9, 1, slave);
   kit_surface(k, 1, SK_QUAD9, 9, 2, master);
+}
+
+/* 3D, TRI6 faces (tet10, mesh.order: 2): the nodes of mesh_3d_quad9, the slave quad9 face split along its diagonal
+ * 0-8 into two curved tri6 faces, each master quad9 face along its diagonal into two: every slave sub-triangle meets
+ * master sub-triangles of several faces. gmsh order: corners, then the middles of edges 01, 12, 20. */
+static void mesh_3d_tri6(kit *k) {
+  mesh_3d_quad9_nodes(k);
+  /* slave: clockwise from above (outward normal -z); master: counter-clockwise */
+  static const int slave[12] = {0, 6, 8, 3, 7, 4, 0, 8, 2, 4, 5, 1};
+  int master[24];
+  for (int f = 0; f < 2; ++f) {
+    const int g = 9 + 2 * f;
+    const int m[12] = {g, g + 2, g + 12, g + 1, g + 7, g + 6, g, g + 12, g + 10, g + 6, g + 11, g + 5};
+    memcpy(master + 12 * f, m, sizeof m);
+  }
+  kit_surface(k, 0, SK_TRI6, 6, 2, slave);
+  kit_surface(k, 1, SK_TRI6, 6, 4, master);
 }
 
 /* 2D self contact: one closed surface, the boundary of a thin slot (a hole 0.01 high between two walls, rounded
@@ -248,6 +272,7 @@ static double check_case(const fd_case *c) {
   kit k;
   if (c->dim == 3 && c->with_master == 2) mesh_3d_matching(&k);
   else if (c->dim == 3 && c->with_master == 6) mesh_3d_quad9(&k);
+  else if (c->dim == 3 && c->with_master == 7) mesh_3d_tri6(&k);
   else if (c->dim == 3 && c->with_master >= 4) mesh_3d_self(&k, c->with_master == 4 ? SK_QUAD4 : SK_TRI3);
   else if (c->dim == 3) mesh_3d(&k);
   else if (c->with_master == 3) mesh_2d_line3(&k);
@@ -435,15 +460,25 @@ int main(void) {
       {"3D segments quad9/quad9 dual, mu 0.3", 3, 6, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
       {"3D segments quad9/quad9 dual, mu 0.05 (condensed)", 3, 6, STRATEGY_CONDENSED, NULL, slip, 0.0},
   };
-  const fd_case *list = MORTAR_ASSEMBLED_QUAD9 ? quad9_cases : cases;
-  const size_t n_cases = MORTAR_ASSEMBLED_QUAD9 ? sizeof quad9_cases / sizeof quad9_cases[0]
-                                                : sizeof cases / sizeof cases[0];
+  /* TRI6 pairs (the dual basis of the transformed functions, D not diagonal: saddle point only) run as their own
+   * test, test_mortar_assembled_tri6 (MORTAR_ASSEMBLED_TRI6 = 1) */
+  const fd_case tri6_cases[] = {
+      {"3D segments tri6/tri6 dual, mu 0.3", 3, 7, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
+      {"3D segments tri6/tri6 dual, mu 0.05", 3, 7, STRATEGY_SADDLE_POINT, NULL, slip, 0.0},
+      {"3D segments tri6/tri6 standard frictionless", 3, 7, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},
+  };
+  const fd_case *list = MORTAR_ASSEMBLED_TRI6 ? tri6_cases : MORTAR_ASSEMBLED_QUAD9 ? quad9_cases : cases;
+  const size_t n_cases = MORTAR_ASSEMBLED_TRI6    ? sizeof tri6_cases / sizeof tri6_cases[0]
+                         : MORTAR_ASSEMBLED_QUAD9 ? sizeof quad9_cases / sizeof quad9_cases[0]
+                                                  : sizeof cases / sizeof cases[0];
   double worst = 0.0;
   for (size_t i = 0; i < n_cases; ++i) worst = fmax(worst, check_case(&list[i]));
   printf("worst |J - FD| / max|J| over %zu cases: %.2e\n", n_cases, worst);
-  if (!MORTAR_ASSEMBLED_QUAD9) {
+  if (!MORTAR_ASSEMBLED_QUAD9 && !MORTAR_ASSEMBLED_TRI6) {
     check_errors();
     check_self_refusals();
   }
-  return sk_test_finish(MORTAR_ASSEMBLED_QUAD9 ? "test_mortar_assembled_quad9" : "test_mortar_assembled");
+  return sk_test_finish(MORTAR_ASSEMBLED_TRI6    ? "test_mortar_assembled_tri6"
+                        : MORTAR_ASSEMBLED_QUAD9 ? "test_mortar_assembled_quad9"
+                                                 : "test_mortar_assembled");
 }
