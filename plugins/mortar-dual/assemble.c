@@ -330,17 +330,23 @@ static sk_status face_pairs(sk_instance *inst, const eval_ctx *ec, int f, const 
   mortar_pair p;
   mortar_basis_coeffs A;
   mortar_integrals I;
+  const int read = inst->cache_use == CACHE_READ, nf2 = 2 * sv->n_cells; /* cache entries: mortar.h */
   /* the face part: D over the whole slave face */
   mortar_pair_set(&p, dim, &inst->st, NULL, xf, NULL, nf, deriv);
-  mortar_basis_coefficients(&p, inst->basis, &A);
+  if (!read) mortar_basis_coefficients(&p, inst->basis, &A);
   mortar_integrals_zero(&I, &p);
-  mortar_slave_integrals(&p, &A, inst->basis, inst->n_d_points, inst->d_xi, inst->d_w, &I);
+  if (read) mortar_cache_get(inst, f, &I);
+  else mortar_slave_integrals(&p, &A, inst->basis, inst->n_d_points, inst->d_xi, inst->d_w, &I);
+  mortar_cache_put(inst, f, &I);
   contribute(inst, ec, f, -1, &p, &I);
   if (inst->obstacle) {
     obstacle_ctx oc = {inst->api, inst->obstacle, ec->state->t, dim};
     mortar_integrals_zero(&I, &p);
-    mortar_obstacle_points(&p, &A, inst->basis, inst->n_face_points, inst->face_xi, inst->face_w, project_obstacle,
-                           &oc, &I);
+    if (read) mortar_cache_get(inst, sv->n_cells + f, &I);
+    else
+      mortar_obstacle_points(&p, &A, inst->basis, inst->n_face_points, inst->face_xi, inst->face_w,
+                             project_obstacle, &oc, &I);
+    mortar_cache_put(inst, sv->n_cells + f, &I);
     if (I.n_cells > 0) contribute(inst, ec, f, 0, &p, &I); /* m = 0: a pair without master rows */
     return SK_OK;
   }
@@ -350,7 +356,9 @@ static sk_status face_pairs(sk_instance *inst, const eval_ctx *ec, int f, const 
     gather(inst->master, xm, m, xmf);
     mortar_pair_set(&p, dim, &inst->st, &inst->mt, xf, xmf, nf, deriv); /* A (of x_s alone) stays valid */
     mortar_integrals_zero(&I, &p);
-    if (inst->integration == INTEGRATION_SEGMENTS) {
+    if (read && inst->integration == INTEGRATION_SEGMENTS) {
+      mortar_cache_get(inst, nf2 + c, &I);
+    } else if (inst->integration == INTEGRATION_SEGMENTS) {
       pair_segments(inst, &p, &A, &I);
     } else {
       double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
@@ -360,13 +368,15 @@ static sk_status face_pairs(sk_instance *inst, const eval_ctx *ec, int f, const 
           for (int k = 0; k < pd; ++k) xi[n * pd + k] = inst->face_xi[q * pd + k];
           w[n++] = inst->face_w[q];
         }
-      mortar_points(&p, &A, inst->basis, inst->normal_variant, n, xi, w, &I);
+      if (read) mortar_cache_get(inst, nf2 + c, &I);
+      else mortar_points(&p, &A, inst->basis, inst->normal_variant, n, xi, w, &I);
       if (I.n_cells < n)
         return inst->api->error(inst->host, SK_ERR_DIVERGED,
                                 "mortar-dual: a Gauss point of slave face %lld does not project onto its master face "
                                 "%lld any more (the step moved too far)",
                                 (long long)sv->cell_index[f], (long long)inst->master->cell_index[m]);
     }
+    mortar_cache_put(inst, nf2 + c, &I);
     if (I.n_cells > 0) contribute(inst, ec, f, m, &p, &I);
   }
   return SK_OK;
@@ -578,6 +588,7 @@ sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mo
     inst->api->contact->obstacle_displacement(inst->obstacle, state->t, inst->obstacle_d);
     inst->api->contact->obstacle_displacement(inst->obstacle, state->t_n, inst->obstacle_d_n);
   }
+  mortar_cache_begin(inst, state, mode != EVAL_JACOBIAN);
   for (int f = 0; f < sv->n_cells; ++f) {
     if (!inst->face_needed[f]) continue;
     for (int a = 0; a < sv->nen; ++a) {
@@ -586,8 +597,13 @@ sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mo
       for (int i = 0; i < 3; ++i)
         ec.z[a][i] = i < dim && state->extra ? state->extra[dim * g + i] / inst->A_node[k] : 0.0;
     }
-    SK_TRY(face_pairs(inst, &ec, f, xs, xm));
+    const sk_status st = face_pairs(inst, &ec, f, xs, xm);
+    if (st != SK_OK) {
+      mortar_cache_end(inst, st);
+      return st;
+    }
   }
+  mortar_cache_end(inst, SK_OK);
   int count = 0;
   for (int i = 0; i < inst->n_owned; ++i) SK_TRY(ncp_rows(inst, &ec, &inst->owned[i], xs, xm, &count));
   if (changed) *changed = count;
@@ -620,6 +636,7 @@ static sk_status push_node(sk_instance *inst, int *n, int side, int node) {
 
 sk_status mortar_build_columns(sk_instance *inst) {
   const sk_view *sv = inst->slave;
+  SK_TRY(mortar_cache_size(inst)); /* the candidates changed */
   inst->n_col = 0;
   int max_cols = 0;
   for (int oi = 0; oi < inst->n_owned; ++oi) {

@@ -159,6 +159,12 @@ struct sk_instance {
   int recording_start;      /* EVAL_COMMIT at x_n for D^n, M^n only: the committed step's results stay */
   struct column_entry *tmp_entries;
   int tmp_cap;
+
+  /* the values of the integrals at the last value-only pass (cache.c): entries f (face part: D), n_cells + f (the
+   * obstacle's points), 2 n_cells + c (candidate c's pair); positions of both views and t they were computed at */
+  double *cache_values, *cache_x, cache_t;
+  int *cache_cells;
+  int cache_cap, cache_valid, cache_use;
 };
 
 /* What an evaluation does: decide the active set, add F, add J, or record D^n, M^n for the committed step. */
@@ -200,6 +206,18 @@ sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const do
 
 /* The attempt's columns of every owned node's rows (after the candidates; begin_step). */
 sk_status mortar_build_columns(sk_instance *inst);
+
+/* The integral cache (cache.c). mortar_cache_size: sized for the candidates and dropped (after every change of the
+ * candidates, outside Newton). mortar_cache_begin: at the start of an evaluation; returns 1 when a value-only pass
+ * may read the integrals at these positions (then mortar_cache_get), else a value-only pass records them
+ * (mortar_cache_put, no-op otherwise). mortar_cache_end: the record counts only if the pass completed. */
+enum { CACHE_OFF = 0, CACHE_READ = 1, CACHE_WRITE = 2 };
+sk_status mortar_cache_size(sk_instance *inst);
+int mortar_cache_begin(sk_instance *inst, const sk_state *state, int value_only);
+void mortar_cache_end(sk_instance *inst, sk_status status);
+void mortar_cache_put(sk_instance *inst, int entry, const mortar_integrals *I);
+/* I zeroed for the pair (mortar_integrals_zero) on entry. */
+void mortar_cache_get(const sk_instance *inst, int entry, mortar_integrals *I);
 
 /* Global unknown index of z_j component i for owned node o. */
 static inline int64_t mortar_z_index(const sk_instance *inst, const sk_state *state, int64_t extra, int i) {

@@ -52,7 +52,8 @@ static void destroy(sk_instance *inst) {
                   inst->chain.node, inst->chain.entry, inst->block, inst->block_cols, inst->pos_map,
                   inst->commit_rows, inst->tmp_entries, inst->master_star_ptr, inst->master_star,
                   inst->master_border, inst->role, inst->role_committed, inst->role_preferred,
-                  inst->on_master, inst->edge, inst->adj_ptr, inst->adj, inst->queue};
+                  inst->on_master, inst->edge, inst->adj_ptr, inst->adj, inst->queue, inst->cache_values,
+                  inst->cache_x, inst->cache_cells};
   for (size_t i = 0; i < sizeof ptrs / sizeof ptrs[0]; ++i) free(ptrs[i]);
   free(inst);
 }
@@ -690,6 +691,7 @@ static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sin
  * frozen by max_flips (it gets another Newton with a fresh count). */
 static sk_status converged(sk_instance *inst, const sk_state *state, int *accept) {
   int added = 0, changed = 0;
+  inst->cache_valid = 0; /* the candidates may change below */
   SK_TRY(mortar_extend_candidates(inst, state, &added));
   if (added > 0 && inst->self && inst->friction) SK_TRY(record_start_history(inst, state)); /* new sides */
   double pairs = added;
@@ -735,6 +737,7 @@ static sk_status commit_step(sk_instance *inst, const sk_state *state) {
 }
 
 static void reject_step(sk_instance *inst) {
+  inst->cache_valid = 0;
   for (int oi = 0; oi < inst->n_owned; ++oi) {
     owned_node *o = &inst->owned[oi];
     o->state = o->c_state;
@@ -849,6 +852,7 @@ static sk_status save_state(sk_instance *inst, const sk_state *state, sk_record_
 
 static sk_status load_state(sk_instance *inst, const sk_state *state, const sk_record_reader *reader) {
   (void)state;
+  inst->cache_valid = 0;
   int *slave_nodes = records_nodes_of_view(inst->slave);
   int *master_nodes = inst->master ? records_nodes_of_view(inst->master) : NULL;
   size_t cap = sizeof(saved_node) + 64 * sizeof(saved_coefficient);
