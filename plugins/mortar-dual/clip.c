@@ -160,36 +160,26 @@ typedef struct {
   double c[2], h;
 } facet;
 
-/* QUAD9 quarters: local nodes counter-clockwise from the corner at (-1, -1) of each, and their centres */
-static const int quad9_quarter[4][4] = {{0, 4, 8, 7}, {4, 1, 5, 8}, {8, 5, 2, 6}, {7, 8, 6, 3}};
-static const double quad9_quarter_centre[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
-
-/* TRI6 sub-triangles: local nodes counter-clockwise, the first at xi = c, the others at c + h (1, 0), c + h (0, 1);
- * the middle one is the corner ones turned half a turn (h = -1/2) */
-static const int tri6_sub[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 5, 3}};
-static const double tri6_sub_corner[4][2] = {{0, 0}, {0.5, 0}, {0, 0.5}, {0.5, 0.5}};
-
-/* The four flat sub-triangles (type tri3) of a TRI6 face. */
-static int tri6_facets(const mortar_face_type *tri3, fwd x[][3], facet *out) {
-  for (int q = 0; q < 4; ++q) {
-    out[q].ft = tri3;
-    for (int k = 0; k < 3; ++k) {
-      out[q].node[k] = tri6_sub[q][k];
-      memcpy(out[q].x[k], x[tri6_sub[q][k]], sizeof(fwd) * 3);
-    }
-    out[q].c[0] = tri6_sub_corner[q][0];
-    out[q].c[1] = tri6_sub_corner[q][1];
-    out[q].h = q == 3 ? -0.5 : 0.5;
-  }
-  return 4;
-}
+/* The flat sub-facets of a second-order face: per sub-facet its face nodes (counter-clockwise), the face parameters c
+ * of its own origin and the scale h of xi = c + h s. QUAD9: four quarters (quad4, origin at each quarter's centre).
+ * TRI6: four sub-triangles (tri3, the first node at xi = c, the others at c + h (1, 0), c + h (0, 1)); the middle one
+ * is the corner ones turned half a turn (h = -1/2). */
+typedef struct {
+  int node[4][4];
+  double c[4][2], h[4];
+} sub_facets;
+static const sub_facets quad9_quarters = {{{0, 4, 8, 7}, {4, 1, 5, 8}, {8, 5, 2, 6}, {7, 8, 6, 3}},
+                                          {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}},
+                                          {0.5, 0.5, 0.5, 0.5}};
+static const sub_facets tri6_triangles = {{{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 5, 3}},
+                                          {{0, 0}, {0.5, 0}, {0, 0.5}, {0.5, 0.5}},
+                                          {0.5, 0.5, 0.5, -0.5}};
 
 /* The facets of a face with node positions x: 1 (the face) or 4 (QUAD9 quarters of type quad4, TRI6 sub-triangles of
  * type tri3). */
 static int face_facets(const mortar_face_type *ft, const mortar_face_type *quad4, const mortar_face_type *tri3,
                        fwd x[][3], facet *out) {
-  if (ft->type == SK_TRI6) return tri6_facets(tri3, x, out);
-  if (ft->type != SK_QUAD9) {
+  if (ft->type != SK_QUAD9 && ft->type != SK_TRI6) {
     out->ft = ft;
     for (int k = 0; k < ft->nen; ++k) out->node[k] = k;
     memcpy(out->x, x, sizeof(fwd) * 3 * (size_t)ft->nen);
@@ -197,15 +187,17 @@ static int face_facets(const mortar_face_type *ft, const mortar_face_type *quad4
     out->h = 1.0;
     return 1;
   }
+  const sub_facets *sub = ft->type == SK_QUAD9 ? &quad9_quarters : &tri6_triangles;
+  const mortar_face_type *sub_type = ft->type == SK_QUAD9 ? quad4 : tri3;
   for (int q = 0; q < 4; ++q) {
-    out[q].ft = quad4;
-    for (int k = 0; k < 4; ++k) {
-      out[q].node[k] = quad9_quarter[q][k];
-      memcpy(out[q].x[k], x[quad9_quarter[q][k]], sizeof(fwd) * 3);
+    out[q].ft = sub_type;
+    for (int k = 0; k < sub_type->nen; ++k) {
+      out[q].node[k] = sub->node[q][k];
+      memcpy(out[q].x[k], x[sub->node[q][k]], sizeof(fwd) * 3);
     }
-    out[q].c[0] = quad9_quarter_centre[q][0];
-    out[q].c[1] = quad9_quarter_centre[q][1];
-    out[q].h = 0.5;
+    out[q].c[0] = sub->c[q][0];
+    out[q].c[1] = sub->c[q][1];
+    out[q].h = sub->h[q];
   }
   return 4;
 }
