@@ -51,6 +51,16 @@ static void check_quadrature(void) {
 /* int_e Phi_j N_k = delta_jk int_e N_k on the current face, with a rule finer than the kernel's. Exact on planar
  * faces and on LINE3 faces, straight or curved (the kernel's 10 points there); on a warped QUAD4 only up to the error of the kernel's 3 x 3 rule for D_e, M_e (the Jacobian is not
  * polynomial there): `tol`. */
+/* The slave face's integrals D, M over the whole face with the rule exact for its type (the weights D_jj). */
+static void whole_face_integrals(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis,
+                                 mortar_integrals *I) {
+  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
+  mortar_integrals_zero(I, p);
+  const sk_elem_type type = p->slave->type;
+  const int nd = mortar_face_rule(type, mortar_face_exact_order(type), xi, w);
+  mortar_slave_integrals(p, A, basis, nd, xi, w, I);
+}
+
 static void check_biorthogonality(const mortar_face_type *ft, const double *x, double tol) {
   mortar_pair p;
   double ns[3 * MORTAR_MAX_NEN] = {0};
@@ -89,9 +99,7 @@ static void check_biorthogonality(const mortar_face_type *ft, const double *x, d
    * node in the middle, L (1/6, 1/6, 2/3) */
   if (ft->type == SK_LINE3) {
     mortar_integrals I;
-    mortar_integrals_zero(&I, &p);
-    const int nd = mortar_face_rule(ft->type, mortar_face_exact_order(ft->type), xi, w);
-    mortar_slave_integrals(&p, &A, MORTAR_DUAL, nd, xi, w, &I);
+    whole_face_integrals(&p, &A, MORTAR_DUAL, &I);
     double length = 0.0;
     for (int j = 0; j < 3; ++j) length += I.D[j][j].v;
     printf("  line3 weights D_jj / L: %.15f %.15f %.15f\n", I.D[0][0].v / length, I.D[1][1].v / length,
@@ -125,10 +133,7 @@ static void check_quad9_weights(const double *x, int parallelogram) {
   mortar_basis_coeffs A;
   mortar_basis_coefficients(&p, MORTAR_DUAL, &A);
   mortar_integrals I;
-  mortar_integrals_zero(&I, &p);
-  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
-  const int nd = mortar_face_rule(SK_QUAD9, mortar_face_exact_order(SK_QUAD9), xi, w);
-  mortar_slave_integrals(&p, &A, MORTAR_DUAL, nd, xi, w, &I);
+  whole_face_integrals(&p, &A, MORTAR_DUAL, &I);
   double area = 0.0;
   for (int j = 0; j < 9; ++j) area += I.D[j][j].v;
   printf("  quad9 weights D_jj / area:");
@@ -664,10 +669,7 @@ static void check_tri6_basis(const double x[6][3], double tol, int affine) {
     for (int j = 0; j < 6; ++j) SK_CHECK_CLOSE(intNt[j] / area, j < 3 ? 2.0 / 15.0 : 1.0 / 5.0, 1e-14);
   /* the kernel's D: rows sum to int Phi_j = int N~_j */
   mortar_integrals I;
-  mortar_integrals_zero(&I, &p);
-  double xi[MORTAR_MAX_RULE * MORTAR_MAX_RULE * 2], w[MORTAR_MAX_RULE * MORTAR_MAX_RULE];
-  const int nd = mortar_face_rule(SK_TRI6, mortar_face_exact_order(SK_TRI6), xi, w);
-  mortar_slave_integrals(&p, &A, MORTAR_DUAL_TRANSFORMED, nd, xi, w, &I);
+  whole_face_integrals(&p, &A, MORTAR_DUAL_TRANSFORMED, &I);
   double row_err = 0.0;
   for (int j = 0; j < 6; ++j) {
     double row = 0.0;
