@@ -173,6 +173,7 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   }
   m.trial_solves_left = 0;
   m.iteration_cap = 0;
+  m.before_trial = SK_LINEAR_AUTO;  // no trial running: a failure falls back to the direct solver
   if (deficient)
     return decide(sys, kDirectBackend, "diagonal",
                   "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "

@@ -74,7 +74,7 @@ typedef enum {
 typedef struct {
   sk_linear_solver_kind solver;  /* the backend that produced x (mumps, gmres-muelu, ...; never direct or auto) */
   sk_linear_failure failure;     /* why it failed (NONE on success) */
-  int iterations;                /* Krylov iterations (0 for direct; those of a failed attempt if `auto` fell back) */
+  int iterations;                /* Krylov iterations (0 for direct; with `auto`, those of every attempt of the solve) */
   double relative_residual;      /* ||b - A x|| / ||b|| measured after the solve */
   double seconds;                /* wall time of the solve (factorisation / preconditioner set-up included) */
   int refactored_symbolic;       /* 1 when a symbolic factorisation / preconditioner set-up had to be redone */

@@ -231,6 +231,44 @@ static void check_auto_excludes_failed(void) {
   test_csr_free(&a);
 }
 
+/* AUTO when the system turns hard on the same pattern (a penalty raised, a contact set closed): the solver on trial
+ * fails, then the one it was trying to beat fails too, and the solve still ends with the direct solver's answer.
+ * With the diagonal shifted by 4 every candidate converges within the 40 iterations allowed, so AUTO tries them in
+ * turn (GMRES + MueLu by the size rule, then MUMPS, GMRES + SGS, GMRES + Jacobi); unshifted, SGS and Jacobi need
+ * hundreds. A fallback that stopped at the first replacement failed the run here (and a covariant-penalty block at
+ * a high penalty, on a loaded machine, when timing made GMRES + SGS the one to fall back to). */
+static void check_auto_fallback_chain(void) {
+  test_csr a = test_laplacian_2d(120, 0.0); /* 14400 unknowns: near the size rule's crossover, all four compete */
+  manufactured easy = manufacture(&a);
+  sk_linear_system *sys = create(SK_LINEAR_AUTO, 1e-10, 40, &a);
+  SK_CHECK(sys != NULL);
+  /* x_ref of the shifted system: b = (A + 4 I) x_ref */
+  for (int i = 0; sys && i < a.n; ++i) easy.b[i] += 4.0 * easy.x_ref[i];
+  int jacobi_on_trial = 0;
+  for (int solve = 0; sys && solve < 16 && !jacobi_on_trial; ++solve) {
+    SK_CHECK(load(sys, &a, 1.0, 4.0) == SK_OK);
+    sk_linear_report report;
+    SK_CHECK(sk_linsys_solve(sys, easy.b, easy.x, &report) == SK_OK);
+    SK_CHECK(test_max_difference(a.n, easy.x, easy.x_ref) <= 1e-7);
+    jacobi_on_trial = report.solver == SK_LINEAR_GMRES_JACOBI;
+  }
+  SK_CHECK(jacobi_on_trial);
+  manufactured hard = manufacture(&a);
+  for (int solve = 0; sys && solve < 3; ++solve) {
+    SK_CHECK(load(sys, &a, 1.0, 0.0) == SK_OK);
+    sk_linear_report report;
+    SK_CHECK(sk_linsys_solve(sys, hard.b, hard.x, &report) == SK_OK);
+    SK_CHECK(test_max_difference(a.n, hard.x, hard.x_ref) <= 1e-7);
+    SK_CHECK(report.solver != SK_LINEAR_GMRES_SGS && report.solver != SK_LINEAR_GMRES_JACOBI);
+    printf("hard solve %d: %s%s%s\n", solve, sk_linear_solver_name(report.solver), report.decision ? " — " : "",
+           report.decision ? report.decision : "");
+  }
+  if (sys) sk_linsys_destroy(sys);
+  manufactured_free(&easy);
+  manufactured_free(&hard);
+  test_csr_free(&a);
+}
+
 /* AUTO on a saddle point (zero-diagonal multiplier rows) large enough for MueLu: AMG cannot smooth those rows, so
  * AUTO goes straight to the direct solver (no GMRES iterations spent on a doomed attempt). */
 static void check_auto_saddle(void) {
@@ -506,6 +544,7 @@ int main(int argc, char **argv) {
   check_auto();
   check_auto_saddle();
   check_auto_excludes_failed();
+  check_auto_fallback_chain();
   check_constraint_systems();
   check_failures();
   check_mumps_after_activation();
