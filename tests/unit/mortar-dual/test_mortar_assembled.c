@@ -23,6 +23,9 @@ const sk_plugin *stickslip_plugin_entry(void);
 #ifndef MORTAR_ASSEMBLED_TRI6
 #define MORTAR_ASSEMBLED_TRI6 0
 #endif
+#ifndef MORTAR_ASSEMBLED_QUAD8
+#define MORTAR_ASSEMBLED_QUAD8 0
+#endif
 
 static const double FD_STEP = 1e-7;
 
@@ -174,6 +177,21 @@ static void mesh_3d_tri6(kit *k) {
   kit_surface(k, 1, SK_TRI6, 6, 4, master);
 }
 
+/* 3D, QUAD8 faces (hex20, mesh.order: 2 with mesh.serendipity): mesh_3d_quad9's faces without their centre nodes
+ * (those stay out of every face: their rows and columns are empty). */
+static void mesh_3d_quad8(kit *k) {
+  mesh_3d_quad9_nodes(k);
+  static const int slave[8] = {0, 6, 8, 2, 3, 7, 5, 1};
+  int master[16];
+  for (int f = 0; f < 2; ++f) {
+    const int g = 9 + 2 * f;
+    const int m[8] = {g, g + 2, g + 12, g + 10, g + 1, g + 7, g + 11, g + 5};
+    memcpy(master + 8 * f, m, sizeof m);
+  }
+  kit_surface(k, 0, SK_QUAD8, 8, 1, slave);
+  kit_surface(k, 1, SK_QUAD8, 8, 2, master);
+}
+
 /* 2D self contact: one closed surface, the boundary of a thin slot (a hole 0.01 high between two walls, rounded
  * ends), traversed so that its outward normal points into the slot: the top wall (faces 0-2, normal -y) and the
  * bottom wall (faces 4-6, normal +y) face each other with non-matching nodes; slave and master are the same view. */
@@ -273,6 +291,7 @@ static double check_case(const fd_case *c) {
   if (c->dim == 3 && c->with_master == 2) mesh_3d_matching(&k);
   else if (c->dim == 3 && c->with_master == 6) mesh_3d_quad9(&k);
   else if (c->dim == 3 && c->with_master == 7) mesh_3d_tri6(&k);
+  else if (c->dim == 3 && c->with_master == 8) mesh_3d_quad8(&k);
   else if (c->dim == 3 && c->with_master >= 4) mesh_3d_self(&k, c->with_master == 4 ? SK_QUAD4 : SK_TRI3);
   else if (c->dim == 3) mesh_3d(&k);
   else if (c->with_master == 3) mesh_2d_line3(&k);
@@ -467,18 +486,30 @@ int main(void) {
       {"3D segments tri6/tri6 dual, mu 0.05", 3, 7, STRATEGY_SADDLE_POINT, NULL, slip, 0.0},
       {"3D segments tri6/tri6 standard frictionless", 3, 7, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},
   };
-  const fd_case *list = MORTAR_ASSEMBLED_TRI6 ? tri6_cases : MORTAR_ASSEMBLED_QUAD9 ? quad9_cases : cases;
-  const size_t n_cases = MORTAR_ASSEMBLED_TRI6    ? sizeof tri6_cases / sizeof tri6_cases[0]
+  /* QUAD8 pairs (the same, on the quarters that meet at the serendipity map's centre) run as their own test,
+   * test_mortar_assembled_quad8 (MORTAR_ASSEMBLED_QUAD8 = 1) */
+  const fd_case quad8_cases[] = {
+      {"3D segments quad8/quad8 dual, mu 0.3", 3, 8, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
+      {"3D segments quad8/quad8 dual, mu 0.05", 3, 8, STRATEGY_SADDLE_POINT, NULL, slip, 0.0},
+      {"3D segments quad8/quad8 standard frictionless", 3, 8, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},
+  };
+  const fd_case *list = MORTAR_ASSEMBLED_QUAD8  ? quad8_cases
+                        : MORTAR_ASSEMBLED_TRI6 ? tri6_cases
+                        : MORTAR_ASSEMBLED_QUAD9 ? quad9_cases
+                                                 : cases;
+  const size_t n_cases = MORTAR_ASSEMBLED_QUAD8   ? sizeof quad8_cases / sizeof quad8_cases[0]
+                         : MORTAR_ASSEMBLED_TRI6  ? sizeof tri6_cases / sizeof tri6_cases[0]
                          : MORTAR_ASSEMBLED_QUAD9 ? sizeof quad9_cases / sizeof quad9_cases[0]
                                                   : sizeof cases / sizeof cases[0];
   double worst = 0.0;
   for (size_t i = 0; i < n_cases; ++i) worst = fmax(worst, check_case(&list[i]));
   printf("worst |J - FD| / max|J| over %zu cases: %.2e\n", n_cases, worst);
-  if (!MORTAR_ASSEMBLED_QUAD9 && !MORTAR_ASSEMBLED_TRI6) {
+  if (!MORTAR_ASSEMBLED_QUAD9 && !MORTAR_ASSEMBLED_TRI6 && !MORTAR_ASSEMBLED_QUAD8) {
     check_errors();
     check_self_refusals();
   }
-  return sk_test_finish(MORTAR_ASSEMBLED_TRI6    ? "test_mortar_assembled_tri6"
+  return sk_test_finish(MORTAR_ASSEMBLED_QUAD8   ? "test_mortar_assembled_quad8"
+                        : MORTAR_ASSEMBLED_TRI6  ? "test_mortar_assembled_tri6"
                         : MORTAR_ASSEMBLED_QUAD9 ? "test_mortar_assembled_quad9"
                                                  : "test_mortar_assembled");
 }
