@@ -320,7 +320,7 @@ static int facet_pair(const mortar_pair *p, const mortar_basis_coeffs *A, mortar
     }
     for (int al = 0; al < 2; ++al) c.x[al] = fwd_div(moment[al], fwd_scale(2.0, perimeter));
   }
-  const double *rxi, *rw;
+  const double *rxi = NULL, *rw = NULL; /* set by the rule (cell_rule is checked at create) */
   const int nq = mortar_triangle_rule(rule, &rxi, &rw);
   for (int tri = 0; tri < n; ++tri) {
     const vertex *a = &cell[tri], *b = &cell[(tri + 1) % n];

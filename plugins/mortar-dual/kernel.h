@@ -19,7 +19,13 @@
 #include "fwd.h"
 #include "stickslip/mesh.h"
 
-enum { MORTAR_MAX_NEN = 9, MORTAR_MAX_POLY = 16, MORTAR_MAX_RULE = 16 };
+/* face nodes: 9 (QUAD9), 4 in the narrow copy (fwd.h) */
+enum { MORTAR_MAX_NEN_NARROW = 4, MORTAR_MAX_POLY = 16, MORTAR_MAX_RULE = 16 };
+#ifdef MORTAR_NARROW
+enum { MORTAR_MAX_NEN = MORTAR_MAX_NEN_NARROW };
+#else
+enum { MORTAR_MAX_NEN = 9 };
+#endif
 
 /* Same signatures as sk_contact_services.shape / shape_hessian (dN[a*pdim + k], ddN[(a*pdim + k)*pdim + l]). */
 typedef void (*mortar_shape_fn)(sk_elem_type type, const double *xi, double *N, double *dN);

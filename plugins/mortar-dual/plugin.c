@@ -400,6 +400,9 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
                                                   api->contact->shape_hessian) != 0))
     st = api->error(host, SK_ERR_INTERNAL, "%s: mortar-dual: no face type for a supported face", attach->name);
   if (st == SK_OK) st = read_parameters(inst);
+  /* the narrow copy of the evaluation (36 derivative slots, narrow.c) where both faces are first-order (or LINE3) */
+  inst->narrow = sv->nen <= MORTAR_MAX_NEN_NARROW && (!inst->master || inst->master->nen <= MORTAR_MAX_NEN_NARROW) &&
+                 (2 * sv->nen + (inst->master ? inst->master->nen : 0)) * inst->dim <= FWD_MAX_NARROW;
   inst->self = attach->self_contact;
   if (st == SK_OK && inst->self) st = mortar_self_create(inst);
   if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
@@ -554,6 +557,12 @@ static sk_status store_history(sk_instance *inst) {
   return SK_OK;
 }
 
+/* mortar_evaluate with the copy for the pair's faces (mortar.h: the results are the same to the bit) */
+static sk_status evaluate(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink, int *changed) {
+  return inst->narrow ? mortar_narrow_evaluate(inst, state, mode, sink, changed)
+                      : mortar_evaluate(inst, state, mode, sink, changed);
+}
+
 /* D^n, M^n at the step's start x_n with the step's pairs, for the objective slip: the first step of any pair, and
  * every side assignment of a self pair (a node slave now may have been master or idle at the last commit, without
  * D^n of its own; a node that keeps its side and partners gets the committed values again, the same integrals at
@@ -566,7 +575,7 @@ static sk_status record_start_history(sk_instance *inst, const sk_state *state) 
   memcpy(force, inst->force, sizeof force);
   memcpy(moment, inst->moment, sizeof moment);
   inst->recording_start = 1;
-  const sk_status st = mortar_evaluate(inst, &start, EVAL_COMMIT, NULL, NULL);
+  const sk_status st = evaluate(inst, &start, EVAL_COMMIT, NULL, NULL);
   inst->recording_start = 0;
   memcpy(inst->force, force, sizeof force);
   memcpy(inst->moment, moment, sizeof moment);
@@ -679,15 +688,15 @@ static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *p
 static sk_status update_active_set(sk_instance *inst, const sk_state *state, int *changed) {
   *changed = 0;
   if (inst->active_set == ACTIVE_SET_NESTED) return SK_OK; /* the set changes only at convergence */
-  return mortar_evaluate(inst, state, EVAL_SET, NULL, changed);
+  return evaluate(inst, state, EVAL_SET, NULL, changed);
 }
 
 static sk_status residual(sk_instance *inst, const sk_state *state, sk_sink *sink) {
-  return mortar_evaluate(inst, state, EVAL_RESIDUAL, sink, NULL);
+  return evaluate(inst, state, EVAL_RESIDUAL, sink, NULL);
 }
 
 static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink) {
-  return mortar_evaluate(inst, state, EVAL_JACOBIAN, sink, NULL);
+  return evaluate(inst, state, EVAL_JACOBIAN, sink, NULL);
 }
 
 /* Newton converged. First the candidates: the slave surface may have slid beyond them (mortar_extend_candidates).
@@ -711,7 +720,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
     return SK_OK;
   }
   inst->deciding = 1;
-  const sk_status st = mortar_evaluate(inst, state, EVAL_SET, NULL, &changed);
+  const sk_status st = evaluate(inst, state, EVAL_SET, NULL, &changed);
   inst->deciding = 0;
   SK_TRY(st);
   if (changed > 0) {
@@ -726,7 +735,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
 }
 
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
-  SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
+  SK_TRY(evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
   if (inst->self) memcpy(inst->role_committed, inst->role, (size_t)inst->slave->n_cells);
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
   for (int oi = 0; oi < inst->n_owned; ++oi) {
