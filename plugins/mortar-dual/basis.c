@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "kernel.h"
+#include "stickslip/modified_basis.h"
 
 int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_fn shape,
                           mortar_shape_hessian_fn shape_hessian) {
@@ -13,6 +14,7 @@ int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_
     case SK_TRI3: ft->nen = 3; ft->pdim = 2; break;
     case SK_TRI6: ft->nen = 6; ft->pdim = 2; break;
     case SK_QUAD4: ft->nen = 4; ft->pdim = 2; break;
+    case SK_QUAD8: ft->nen = 8; ft->pdim = 2; break;
     case SK_QUAD9: ft->nen = 9; ft->pdim = 2; break;
     default: return -1;
   }
@@ -100,20 +102,17 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
   }
   fwd xs[MORTAR_MAX_NEN][3];
   memcpy(xs, p->xs, sizeof xs);
-  double T[6][6];
-  const int transformed = basis == MORTAR_DUAL_TRANSFORMED;
-  if (transformed) mortar_tri6_transform(T);
+  double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
+  const int transformed = basis == MORTAR_DUAL_TRANSFORMED && mortar_transform(ft->type, T);
   for (int q = 0; q < nq; ++q) {
     fwd x_q[2] = {fwd_const(xi[q * ft->pdim]), fwd_const(ft->pdim > 1 ? xi[q * ft->pdim + 1] : 0.0)};
     fwd N[MORTAR_MAX_NEN], a[2][3];
     mortar_shape(ft, x_q, N, NULL);
     if (transformed) { /* N <- N~ = T N (the shape values carry no derivative slots) */
-      double Nt[6];
-      for (int j = 0; j < 6; ++j) {
-        Nt[j] = 0.0;
-        for (int k = 0; k < 6; ++k) Nt[j] += T[j][k] * N[k].v;
-      }
-      for (int j = 0; j < 6; ++j) N[j] = fwd_const(Nt[j]);
+      double Nv[MORTAR_MAX_NEN], Nt[MORTAR_MAX_NEN];
+      for (int j = 0; j < nen; ++j) Nv[j] = N[j].v;
+      mortar_transform_values(nen, T, Nv, Nt);
+      for (int j = 0; j < nen; ++j) N[j] = fwd_const(Nt[j]);
     }
     mortar_face_point(ft, xs, x_q, NULL, a);
     const fwd wJ = fwd_scale(w[q], face_jacobian(ft, a));
@@ -147,26 +146,38 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
     for (int k = 0; k < nen; ++k) A->coeff[j][k] = fwd_mul(De[j], inv[j][k]);
   if (!transformed) return;
   /* Phi_j = sum_l A~_jl N~_l = sum_k (A~ T)_jk N_k */
-  fwd At[6][6];
-  for (int j = 0; j < 6; ++j)
-    for (int k = 0; k < 6; ++k) {
+  fwd At[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
+  for (int j = 0; j < nen; ++j)
+    for (int k = 0; k < nen; ++k) {
       At[j][k] = fwd_const(0.0);
-      for (int l = 0; l < 6; ++l)
+      for (int l = 0; l < nen; ++l)
         if (T[l][k] != 0.0) fwd_acc_scaled(&At[j][k], T[l][k], &A->coeff[j][l]);
     }
-  for (int j = 0; j < 6; ++j)
-    for (int k = 0; k < 6; ++k) A->coeff[j][k] = At[j][k];
+  for (int j = 0; j < nen; ++j)
+    for (int k = 0; k < nen; ++k) A->coeff[j][k] = At[j][k];
 }
 
-void mortar_tri6_transform(double T[6][6]) {
-  static const int edges_of_vertex[3][2] = {{3, 5}, {3, 4}, {4, 5}};
-  const double alpha = 1.0 / MORTAR_TRI6_ALPHA_INV;
-  memset(T, 0, sizeof(double) * 36);
-  for (int v = 0; v < 3; ++v) {
-    T[v][v] = 1.0;
-    for (int e = 0; e < 2; ++e) T[v][edges_of_vertex[v][e]] = alpha;
+int mortar_transform(sk_elem_type type, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN]) {
+  /* the corners first, then edge node e between corners e and e + 1 (gmsh's TRI6 and QUAD8): the weights of
+   * sk_modified_basis_weights, as a matrix */
+  const int corners = sk_modified_basis_corners(type);
+  if (!corners) return 0;
+  const double alpha = SK_MODIFIED_BASIS_ALPHA;
+  memset(T, 0, sizeof(double) * MORTAR_MAX_NEN * MORTAR_MAX_NEN);
+  for (int v = 0; v < corners; ++v) T[v][v] = 1.0;
+  for (int e = 0; e < corners; ++e) {
+    T[e][corners + e] = alpha;
+    T[(e + 1) % corners][corners + e] = alpha;
+    T[corners + e][corners + e] = 1.0 - 2.0 * alpha;
   }
-  for (int e = 3; e < 6; ++e) T[e][e] = 1.0 - 2.0 * alpha;
+  return 2 * corners;
+}
+
+void mortar_transform_values(int nen, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN], const double *N, double *Nt) {
+  for (int j = 0; j < nen; ++j) {
+    Nt[j] = 0.0;
+    for (int k = 0; k < nen; ++k) Nt[j] += T[j][k] * N[k];
+  }
 }
 
 /* ---- nodal normals and tangents -------------------------------------------------------------------------------- */
@@ -354,7 +365,8 @@ int mortar_triangle_rule(int n, const double **xi, const double **w) {
 }
 
 /* QUAD9: N_j N_k J of degree 4 per direction on a parallelogram with its mid-side nodes in the middles (3 points
- * suffice), 5 on any flat quadrilateral; a curved face's J is not polynomial: on a face bulging by 8 % of its size,
+ * suffice), 5 on any flat quadrilateral (QUAD8 the same: its functions are of degree 2 per direction); a curved
+ * face's J is not polynomial: on a face bulging by 8 % of its size,
  * int Phi_j N_k = delta_jk int N_k to 4.0e-6 with 5 x 5 points, 1.7e-9 with 8 x 8, 1.4e-11 with 10 x 10
  * (test_mortar_integrals) */
 enum { QUAD9_EXACT_ORDER = 8 };
@@ -365,7 +377,7 @@ int mortar_face_exact_order(sk_elem_type type) {
    * to 1.5e-16 on a 30-degree arc (5 points: 7.4e-8; test_mortar_integrals) */
   /* TRI6: N~_j N~_k J of degree 4 on a flat face with its mid-side nodes in the middles: order 5 takes the 12-point
    * rule (degree 6) */
-  return type == SK_LINE3 ? 10 : type == SK_QUAD9 ? QUAD9_EXACT_ORDER : type == SK_TRI6 ? 5 : 3;
+  return type == SK_LINE3 ? 10 : type == SK_QUAD9 || type == SK_QUAD8 ? QUAD9_EXACT_ORDER : type == SK_TRI6 ? 5 : 3;
 }
 
 int mortar_face_rule(sk_elem_type type, int order, double *xi, double *w) {

@@ -106,20 +106,20 @@ static int plane_parameters(const mortar_face_type *ft, fwd x[][3], const fwd *x
   return mortar_implicit(2, J, r, xv, xi);
 }
 
-/* A cheap test on values: do the boxes of two node sets (slave nodes xs with normals ns, master nodes xm; local node
- * numbers sel_s, sel_m) in the auxiliary plane (the slave nodes' plane at their centre, coordinates along two
- * in-plane axes) overlap? Most candidate pairs of the broad phase do not, nor most quarter pairs of QUAD9 faces. */
-static int plane_boxes_overlap(const mortar_pair *p, const int *sel_s, int n_s, const int *sel_m, int n_m) {
+/* A cheap test on values: do the boxes of two node sets (slave node positions xs with normals ns, master node
+ * positions xm; 3 values per node) in the auxiliary plane (the slave nodes' plane at their centre, coordinates along
+ * two in-plane axes) overlap? Most candidate pairs of the broad phase do not, nor most quarter pairs of QUAD9 faces. */
+static int plane_boxes_overlap(const double *xs, const double *ns, int n_s, const double *xm, int n_m) {
   double c[3] = {0, 0, 0}, n[3] = {0, 0, 0};
   const double w = 1.0 / n_s;
   for (int a = 0; a < n_s; ++a)
     for (int i = 0; i < 3; ++i) {
-      c[i] += w * p->xs[sel_s[a]][i].v;
-      n[i] += w * p->ns[sel_s[a]][i].v;
+      c[i] += w * xs[3 * a + i];
+      n[i] += w * ns[3 * a + i];
     }
   /* in-plane axes: the first slave edge and n x it */
   double e[3], t2[3];
-  for (int i = 0; i < 3; ++i) e[i] = p->xs[sel_s[1]][i].v - p->xs[sel_s[0]][i].v;
+  for (int i = 0; i < 3; ++i) e[i] = xs[3 + i] - xs[i];
   const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2], en = (e[0] * n[0] + e[1] * n[1] + e[2] * n[2]) / nn;
   for (int i = 0; i < 3; ++i) e[i] -= en * n[i];
   t2[0] = n[1] * e[2] - n[2] * e[1];
@@ -131,7 +131,7 @@ static int plane_boxes_overlap(const mortar_pair *p, const int *sel_s, int n_s, 
     const int count = side ? n_m : n_s;
     for (int a = 0; a < count; ++a) {
       double d[3], u[2] = {0, 0};
-      for (int i = 0; i < 3; ++i) d[i] = (side ? p->xm[sel_m[a]][i].v : p->xs[sel_s[a]][i].v) - c[i];
+      for (int i = 0; i < 3; ++i) d[i] = (side ? xm : xs)[3 * a + i] - c[i];
       for (int i = 0; i < 3; ++i) {
         u[0] += d[i] * e[i];
         u[1] += d[i] * t2[i];
@@ -149,21 +149,24 @@ static int plane_boxes_overlap(const mortar_pair *p, const int *sel_s, int n_s, 
          lo[0][1] <= hi[1][1] + tol;
 }
 
-/* A flat facet of a face: the face itself (first-order faces), or one of a QUAD9 face's four bilinear quarters
- * (Popp, Wohlmuth, Gee & Wall 2012: the integration cells of quadratic faces are built on linear sub-facets). Its
- * parameters s map onto the face's as xi = c + h s; the facet's nodes are face nodes, so their positions carry the
- * pair's derivative slots. */
+/* A flat facet of a face: the face itself (first-order faces), or one of a QUAD9 or QUAD8 face's four bilinear quarters
+ * or a TRI6 face's four sub-triangles (Popp, Wohlmuth, Gee & Wall 2012: the integration cells of quadratic faces are
+ * built on linear sub-facets). Its parameters s map onto the face's as xi = c + h s; its nodes are face nodes (or
+ * QUAD8's centre, a combination of them), so their positions carry the pair's derivative slots. xv, nv: the nodes'
+ * positions and (slave) normals as values, for the box test. */
 typedef struct {
-  const mortar_face_type *ft; /* the facet's own type (the face's, or QUAD4) */
-  int node[4];                /* its nodes' local numbers on the face */
+  const mortar_face_type *ft; /* the facet's own type (the face's, QUAD4 or TRI3) */
+  int n;                      /* its nodes */
   fwd x[4][3];
+  double xv[4 * 3], nv[4 * 3];
   double c[2], h;
 } facet;
 
 /* The flat sub-facets of a second-order face: per sub-facet its face nodes (counter-clockwise), the face parameters c
- * of its own origin and the scale h of xi = c + h s. QUAD9: four quarters (quad4, origin at each quarter's centre).
- * TRI6: four sub-triangles (tri3, the first node at xi = c, the others at c + h (1, 0), c + h (0, 1)); the middle one
- * is the corner ones turned half a turn (h = -1/2). */
+ * of its own origin and the scale h of xi = c + h s. QUAD9 and QUAD8: four quarters (quad4, origin at each quarter's
+ * centre; node 8 is QUAD9's centre node, and on QUAD8 the serendipity map's point at xi = 0). TRI6: four
+ * sub-triangles (tri3, the first node at xi = c, the others at c + h (1, 0), c + h (0, 1)); the middle one is the
+ * corner ones turned half a turn (h = -1/2). */
 typedef struct {
   int node[4][4];
   double c[4][2], h[4];
@@ -175,25 +178,49 @@ static const sub_facets tri6_triangles = {{{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {4, 
                                           {{0, 0}, {0.5, 0}, {0, 0.5}, {0.5, 0.5}},
                                           {0.5, 0.5, 0.5, -0.5}};
 
-/* The facets of a face with node positions x: 1 (the face) or 4 (QUAD9 quarters of type quad4, TRI6 sub-triangles of
- * type tri3). */
+/* The facets of one side's face (node positions x; slave: its normals ns, else NULL): 1 (the face) or 4 (QUAD9 and
+ * QUAD8 quarters of type quad4, TRI6 sub-triangles of type tri3). QUAD8 has no centre node: its quarters meet at the
+ * face's own point x(0, 0) = sum_a N_a(0, 0) x_a (-1/4 of each corner, 1/2 of each mid-side node), with the slave
+ * normal interpolated there, so the quarters tile the face's parameter square and are exact on flat faces with the
+ * mid-side nodes in the middles, as QUAD9's. */
 static int face_facets(const mortar_face_type *ft, const mortar_face_type *quad4, const mortar_face_type *tri3,
-                       fwd x[][3], facet *out) {
-  if (ft->type != SK_QUAD9 && ft->type != SK_TRI6) {
+                       fwd x[][3], const fwd ns[][3], facet *out) {
+  const int nen = ft->nen;
+  fwd centre[3] = {fwd_const(0.0), fwd_const(0.0), fwd_const(0.0)};
+  double n_centre[3] = {0, 0, 0};
+  if (ft->type == SK_QUAD8) {
+    const fwd xi0[2] = {fwd_const(0.0), fwd_const(0.0)};
+    fwd N[MORTAR_MAX_NEN];
+    mortar_face_point(ft, x, xi0, centre, NULL);
+    mortar_shape(ft, xi0, N, NULL);
+    for (int a = 0; ns && a < nen; ++a)
+      for (int i = 0; i < 3; ++i) n_centre[i] += N[a].v * ns[a][i].v;
+  }
+  if (ft->type != SK_QUAD9 && ft->type != SK_QUAD8 && ft->type != SK_TRI6) {
     out->ft = ft;
-    for (int k = 0; k < ft->nen; ++k) out->node[k] = k;
-    memcpy(out->x, x, sizeof(fwd) * 3 * (size_t)ft->nen);
+    out->n = nen;
+    memcpy(out->x, x, sizeof(fwd) * 3 * (size_t)nen);
+    for (int k = 0; k < nen; ++k)
+      for (int i = 0; i < 3; ++i) {
+        out->xv[3 * k + i] = x[k][i].v;
+        out->nv[3 * k + i] = ns ? ns[k][i].v : 0.0;
+      }
     out->c[0] = out->c[1] = 0.0;
     out->h = 1.0;
     return 1;
   }
-  const sub_facets *sub = ft->type == SK_QUAD9 ? &quad9_quarters : &tri6_triangles;
-  const mortar_face_type *sub_type = ft->type == SK_QUAD9 ? quad4 : tri3;
+  const sub_facets *sub = ft->type == SK_TRI6 ? &tri6_triangles : &quad9_quarters;
+  const mortar_face_type *sub_type = ft->type == SK_TRI6 ? tri3 : quad4;
   for (int q = 0; q < 4; ++q) {
     out[q].ft = sub_type;
+    out[q].n = sub_type->nen;
     for (int k = 0; k < sub_type->nen; ++k) {
-      out[q].node[k] = sub->node[q][k];
-      memcpy(out[q].x[k], x[sub->node[q][k]], sizeof(fwd) * 3);
+      const int a = sub->node[q][k], virtual_centre = a == nen; /* QUAD8's centre */
+      memcpy(out[q].x[k], virtual_centre ? centre : x[a], sizeof(fwd) * 3);
+      for (int i = 0; i < 3; ++i) {
+        out[q].xv[3 * k + i] = out[q].x[k][i].v;
+        out[q].nv[3 * k + i] = virtual_centre ? n_centre[i] : ns ? ns[a][i].v : 0.0;
+      }
     }
     out[q].c[0] = sub->c[q][0];
     out[q].c[1] = sub->c[q][1];
@@ -293,7 +320,7 @@ static int facet_pair(const mortar_pair *p, const mortar_basis_coeffs *A, mortar
     }
     for (int al = 0; al < 2; ++al) c.x[al] = fwd_div(moment[al], fwd_scale(2.0, perimeter));
   }
-  const double *rxi, *rw;
+  const double *rxi = NULL, *rw = NULL; /* set by the rule (cell_rule is checked at create) */
   const int nq = mortar_triangle_rule(rule, &rxi, &rw);
   for (int tri = 0; tri < n; ++tri) {
     const vertex *a = &cell[tri], *b = &cell[(tri + 1) % n];
@@ -340,23 +367,33 @@ static int facet_pair(const mortar_pair *p, const mortar_basis_coeffs *A, mortar
 
 int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
                        mortar_integrals *I) {
-  static const int all[MORTAR_MAX_NEN] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
-  if (!plane_boxes_overlap(p, all, p->nen_s, all, p->nen_m)) return 0;
   fwd xs[MORTAR_MAX_NEN][3], xm[MORTAR_MAX_NEN][3];
-  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
-  memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
   mortar_face_type quad4_s, quad4_m, tri3_s, tri3_m;
   mortar_face_type_init(&quad4_s, SK_QUAD4, p->slave->shape, p->slave->shape_hessian);
   mortar_face_type_init(&quad4_m, SK_QUAD4, p->master->shape, p->master->shape_hessian);
   mortar_face_type_init(&tri3_s, SK_TRI3, p->slave->shape, p->slave->shape_hessian);
   mortar_face_type_init(&tri3_m, SK_TRI3, p->master->shape, p->master->shape_hessian);
+  /* the whole faces' box test first, on values */
+  {
+    double vs[MORTAR_MAX_NEN * 3], vn[MORTAR_MAX_NEN * 3], vm[MORTAR_MAX_NEN * 3];
+    for (int a = 0; a < p->nen_s; ++a)
+      for (int i = 0; i < 3; ++i) {
+        vs[3 * a + i] = p->xs[a][i].v;
+        vn[3 * a + i] = p->ns[a][i].v;
+      }
+    for (int b = 0; b < p->nen_m; ++b)
+      for (int i = 0; i < 3; ++i) vm[3 * b + i] = p->xm[b][i].v;
+    if (!plane_boxes_overlap(vs, vn, p->nen_s, vm, p->nen_m)) return 0;
+  }
+  memcpy(xs, p->xs, sizeof(fwd) * 3 * (size_t)p->nen_s);
+  memcpy(xm, p->xm, sizeof(fwd) * 3 * (size_t)p->nen_m);
   facet sf[4], mf[4];
-  const int n_s = face_facets(p->slave, &quad4_s, &tri3_s, xs, sf);
-  const int n_m = face_facets(p->master, &quad4_m, &tri3_m, xm, mf);
+  const int n_s = face_facets(p->slave, &quad4_s, &tri3_s, xs, p->ns, sf);
+  const int n_m = face_facets(p->master, &quad4_m, &tri3_m, xm, NULL, mf);
   int overlap = 0;
   for (int a = 0; a < n_s; ++a)
     for (int b = 0; b < n_m; ++b)
-      if ((n_s == 1 && n_m == 1) || plane_boxes_overlap(p, sf[a].node, sf[a].ft->nen, mf[b].node, mf[b].ft->nen))
+      if ((n_s == 1 && n_m == 1) || plane_boxes_overlap(sf[a].xv, sf[a].nv, sf[a].n, mf[b].xv, mf[b].n))
         overlap |= facet_pair(p, A, basis, rule, &sf[a], &mf[b], xs, xm, I);
   return overlap;
 }

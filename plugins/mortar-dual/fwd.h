@@ -14,7 +14,16 @@
 
 #include <math.h>
 
-enum { FWD_MAX = 81 }; /* a QUAD9 pair: (2 * 9 + 9) * 3 */
+/* Derivative slots: a QUAD9 pair has (2 * 9 + 9) * 3 = 81, a pair of first-order faces at most (2 * 4 + 4) * 3 = 36.
+ * Every fwd is FWD_MAX large, and first-order runs paid for 81 (docs/plugins/mortar-dual.md section 9.3): the kernel
+ * and the evaluation are compiled a second time with MORTAR_NARROW (narrow.c), and a contact pair whose faces have at
+ * most 4 nodes runs that copy. */
+enum { FWD_MAX_WIDE = 81, FWD_MAX_NARROW = 36 };
+#ifdef MORTAR_NARROW
+enum { FWD_MAX = FWD_MAX_NARROW };
+#else
+enum { FWD_MAX = FWD_MAX_WIDE };
+#endif
 
 typedef struct {
   double v;

@@ -255,16 +255,14 @@ void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A,
   const int ns = p->nen_s, nm = p->nen_m;
   fwd Phi[MORTAR_MAX_NEN];
   basis_values(p, A, basis, N1, Phi);
-  /* coverage in the functions of the nodes' measures: N~ on TRI6 (its vertex functions integrate to 0) */
-  double Nc[MORTAR_MAX_NEN];
+  /* coverage in the functions of the nodes' measures: N~ on TRI6 and QUAD8 (their vertex functions integrate to 0 and
+   * to a negative value) */
+  double Nc[MORTAR_MAX_NEN], T[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   for (int j = 0; j < ns; ++j) Nc[j] = N1[j].v;
-  if (p->slave->type == SK_TRI6) {
-    double T[6][6];
-    mortar_tri6_transform(T);
-    for (int j = 0; j < 6; ++j) {
-      Nc[j] = 0.0;
-      for (int k = 0; k < 6; ++k) Nc[j] += T[j][k] * N1[k].v;
-    }
+  if (mortar_transform(p->slave->type, T)) {
+    double Nv[MORTAR_MAX_NEN];
+    memcpy(Nv, Nc, sizeof Nv);
+    mortar_transform_values(ns, T, Nv, Nc);
   }
   for (int j = 0; j < ns; ++j) {
     fwd wPhi;
@@ -589,7 +587,7 @@ int mortar_project_point(const mortar_pair *p, mortar_normal normal, const doubl
   const double s = out->xi[0], t = out->xi[1];
   if (p->master->type == SK_TRI3 || p->master->type == SK_TRI6)
     out->inside = s >= -tol && t >= -tol && s + t <= 1.0 + tol;
-  else if (p->master->type == SK_QUAD4 || p->master->type == SK_QUAD9)
+  else if (p->master->type == SK_QUAD4 || p->master->type == SK_QUAD8 || p->master->type == SK_QUAD9)
     out->inside = fabs(s) <= 1.0 + tol && fabs(t) <= 1.0 + tol;
   else
     out->inside = fabs(s) <= 1.0 + tol;

@@ -10,32 +10,39 @@
  *   u = [x_s (nen_s * dim) | x_m (nen_m * dim) | n_s (nen_s * dim)]
  * with n_s the unit averaged nodal normals of the slave face's nodes (their own derivatives with respect to the
  * coordinates of the neighbouring faces come from mortar_face_normal_at_node and are chained by the caller).
- * Faces: LINE2 and LINE3 in 2D, TRI3, QUAD4 and QUAD9 in 3D (the parametric Hessian enters as values only: in the
- * Jacobians of local Newton iterations and in the derivative of the tangents, so third derivatives are never needed). */
+ * Faces: LINE2 and LINE3 in 2D, TRI3, TRI6, QUAD4, QUAD8 and QUAD9 in 3D (the parametric Hessian enters as values
+ * only: in the Jacobians of local Newton iterations and in the derivative of the tangents, so third derivatives are
+ * never needed). */
 #ifndef MORTAR_KERNEL_H
 #define MORTAR_KERNEL_H
 
 #include "fwd.h"
 #include "stickslip/mesh.h"
 
-enum { MORTAR_MAX_NEN = 9, MORTAR_MAX_POLY = 16, MORTAR_MAX_RULE = 16 };
+/* face nodes: 9 (QUAD9), 4 in the narrow copy (fwd.h) */
+enum { MORTAR_MAX_NEN_NARROW = 4, MORTAR_MAX_POLY = 16, MORTAR_MAX_RULE = 16 };
+#ifdef MORTAR_NARROW
+enum { MORTAR_MAX_NEN = MORTAR_MAX_NEN_NARROW };
+#else
+enum { MORTAR_MAX_NEN = 9 };
+#endif
 
 /* Same signatures as sk_contact_services.shape / shape_hessian (dN[a*pdim + k], ddN[(a*pdim + k)*pdim + l]). */
 typedef void (*mortar_shape_fn)(sk_elem_type type, const double *xi, double *N, double *dN);
 typedef void (*mortar_shape_hessian_fn)(sk_elem_type type, const double *xi, double *ddN);
 
 typedef struct {
-  sk_elem_type type; /* SK_LINE2, SK_LINE3, SK_TRI3, SK_QUAD4 or SK_QUAD9 */
+  sk_elem_type type; /* SK_LINE2, SK_LINE3, SK_TRI3, SK_TRI6, SK_QUAD4, SK_QUAD8 or SK_QUAD9 */
   int nen, pdim;
   mortar_shape_fn shape;
   mortar_shape_hessian_fn shape_hessian;
 } mortar_face_type;
 
-/* Fills a face descriptor; returns -1 for a face type the kernel does not handle (QUAD8). */
+/* Fills a face descriptor; returns -1 for a face type the kernel does not handle. */
 int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_fn shape,
                           mortar_shape_hessian_fn shape_hessian);
 
-/* MORTAR_DUAL_TRANSFORMED (TRI6 slave faces): dual to the transformed functions N~ = T N (mortar_tri6_transform),
+/* MORTAR_DUAL_TRANSFORMED (TRI6 and QUAD8 slave faces): dual to the transformed functions N~ = T N (mortar_transform),
  * so D_jk = int Phi_j N_k is not diagonal; no shortcut of MORTAR_DUAL (D_jj alone, diagonal forces) applies. */
 typedef enum { MORTAR_STANDARD = 0, MORTAR_DUAL = 1, MORTAR_DUAL_TRANSFORMED = 2 } mortar_basis;
 /* Normal field of the kinematics (Hammer 2012, ch. 4): A = averaged continuous slave normal, M = non-continuous
@@ -75,27 +82,31 @@ void mortar_face_point(const mortar_face_type *ft, fwd x[][3], const fwd *xi, fw
  * LINE2 and TRI3 give the constants (2, -1 / 3, -1), QUAD4, LINE3 and QUAD9 depend on the face's shape (derivatives
  * included). QUAD9's shape functions integrate to 1/36, 1/9, 4/9 of a parallelogram (corner, mid-side, centre):
  * admissible as well. LINE3's shape functions integrate to the positive weights 1/6, 1/6, 2/3 of a straight face with its
- * middle node in the middle, so this standard dual basis is admissible there (D_jj = int N_j > 0). TRI6's vertex
- * functions integrate to 0: MORTAR_DUAL_TRANSFORMED builds A~ = D~ M~^-1 on N~ = T N (D~ = diag(int N~_j), M~ =
- * int N~_j N~_k) and returns A = A~ T, so Phi_j = sum_k A_jk N_k and int Phi_j N~_k = delta_jk int N~_k. */
+ * middle node in the middle, so this standard dual basis is admissible there (D_jj = int N_j > 0). TRI6's and QUAD8's
+ * vertex functions integrate to 0 and -1/12 of the face: MORTAR_DUAL_TRANSFORMED builds A~ = D~ M~^-1 on N~ = T N
+ * (D~ = diag(int N~_j), M~ = int N~_j N~_k) and returns A = A~ T, so Phi_j = sum_k A_jk N_k and int Phi_j N~_k =
+ * delta_jk int N~_k. */
 typedef struct {
   int nen;
   fwd coeff[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
 } mortar_basis_coeffs;
 void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_basis_coeffs *A);
-/* TRI6 (gmsh order: corners 0-2, then the mid-side nodes of edges 01, 12, 20): T[j][k] with N~_j = sum_k T_jk N_k,
- * N~_v = N_v + alpha (N_e1 + N_e2) for the vertex v and its two edges, N~_e = (1 - 2 alpha) N_e, alpha = 1/5: every
- * N~ integrates to a positive share of a flat face (2/15 at the vertices, 1/5 at the edges) and sum_j N~_j = 1. */
-enum { MORTAR_TRI6_ALPHA_INV = 5 };
-void mortar_tri6_transform(double T[6][6]);
+/* TRI6 and QUAD8 (gmsh order: the corners, then the mid-side node of the edge from corner e to e + 1): T[j][k] with
+ * N~_j = sum_k T_jk N_k, N~_v = N_v + alpha (N_e1 + N_e2) for the vertex v and its two edges, N~_e = (1 - 2 alpha) N_e,
+ * alpha = 1/5 (SK_MODIFIED_BASIS_ALPHA, the host's tributary weights): every N~ integrates to a positive share of a
+ * flat face (TRI6: 2/15 at the vertices, 1/5 at the edges; QUAD8: 1/20 and 1/5 of a parallelogram) and
+ * sum_j N~_j = 1. Returns the number of face nodes, 0 (T untouched) for a face type that is not transformed. */
+int mortar_transform(sk_elem_type type, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN]);
+/* Nt = T N (values, nen entries). */
+void mortar_transform_values(int nen, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN], const double *N, double *Nt);
 
 /* ---- mortar integrals [I1-I4] ---------------------------------------------------------------------------------
  *   D_jk = int_{slave face} Phi_j N_k^(1)                      (mortar_slave_integrals: the whole slave face)
  *   M_jl = int_{overlap} Phi_j N_l^(2)(xi^(2)),  gap_j = int_{overlap} Phi_j g_n      (the pair functions)
  * D belongs to the slave surface alone (the potential contact surface; Popp et al. 2009), so it is invertible for
- * every slave node, covered by the master or not. With the dual basis (MORTAR_DUAL; not TRI6's transformed one) D is
- * diagonal, D_jj = int Phi_j (the row sum,
- * equal to int Phi_j N_j where the rule integrates the biorthogonality exactly). Where the master covers a slave
+ * every slave node, covered by the master or not. With the dual basis (MORTAR_DUAL; not the transformed one of TRI6,
+ * QUAD8) D is diagonal, D_jj = int Phi_j (the row sum, equal to int Phi_j N_j where the rule integrates the
+ * biorthogonality exactly). Where the master covers a slave
  * face, sum_k D_jk = sum_l M_jl (linear momentum); where it covers only part of it, the slave force exceeds the
  * master's by the uncovered part — at the border of the master surface only. */
 typedef struct {
@@ -103,8 +114,8 @@ typedef struct {
   fwd D[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   fwd M[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   fwd gap[MORTAR_MAX_NEN];
-  double cover[MORTAR_MAX_NEN]; /* int_overlap N_j (value; N~_j on TRI6): how much of node j's support the master
-                                 * covers */
+  double cover[MORTAR_MAX_NEN]; /* int_overlap N_j (value; N~_j on TRI6, QUAD8): how much of node j's support the
+                                 * master covers */
   double measure;  /* integrated measure (length/area) of the overlap */
   double gap_min;  /* the smallest g_n at an integration point (value; +inf without points) */
   int n_cells;     /* 2D: segments; 3D: integration triangles; concentrated/obstacle: points used */
@@ -135,8 +146,9 @@ int mortar_segments_2d(const mortar_pair *p, const mortar_basis_coeffs *A, morta
  * mid-side and centre nodes), every quarter of the slave against every quarter of the master, each on its own
  * auxiliary plane; a Gauss point's quarter parameters map to the face's (xi = c + s / 2), where the quadratic shape
  * functions, dual functions, positions and the slave Jacobian are evaluated. Exact geometry where the quarters are
- * the faces (flat faces with the mid-side nodes in the middles). TRI6 faces the same on their four flat sub-triangles
- * (xi = c + h s, h = 1/2, or -1/2 for the middle one). Returns 1 if the faces overlap. */
+ * the faces (flat faces with the mid-side nodes in the middles). QUAD8 faces the same, their quarters meeting at the
+ * face's point x(0, 0) (no centre node). TRI6 faces the same on their four flat sub-triangles (xi = c + h s, h = 1/2,
+ * or -1/2 for the middle one). Returns 1 if the faces overlap. */
 int mortar_segments_3d(const mortar_pair *p, const mortar_basis_coeffs *A, mortar_basis basis, int rule,
                        mortar_integrals *I);
 

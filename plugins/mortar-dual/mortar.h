@@ -46,7 +46,7 @@ typedef struct {
 typedef struct {
   int dim, n_nodes, cap_nodes;
   int *side, *node;
-  int slot_ptr[FWD_MAX + 1];
+  int slot_ptr[FWD_MAX_WIDE + 1]; /* the same layout in both copies of the evaluation (fwd.h) */
   chain_entry *entry;
   int cap_entries;
 } pair_chain;
@@ -128,6 +128,7 @@ struct sk_instance {
   int history_ready;        /* D^n, M^n recorded (after the first commit, or at the first step's start) */
   double obstacle_d[3], obstacle_d_n[3];
   const sk_condense_ext *condense;
+  int narrow; /* slave and master faces of at most MORTAR_MAX_NEN_NARROW nodes: mortar_narrow_evaluate (fwd.h) */
 
   /* self contact (self.c, docs/plugins/mortar-dual.md section 3.6): the surface's faces split into the step's slave
    * and master sides; the views are two copies of the one surface (same numbering) */
@@ -173,6 +174,10 @@ typedef enum { EVAL_SET = 0, EVAL_RESIDUAL = 1, EVAL_JACOBIAN = 2, EVAL_COMMIT =
 /* The contact terms at state->x (mortar.h header comment). EVAL_SET decides the NCP branches (semismooth, or
  * `decide` for the nested loop's outer update) and sets *changed. Returns SK_ERR_DIVERGED when a projection fails. */
 sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink, int *changed);
+/* The same compiled with 36 derivative slots and faces of at most 4 nodes (narrow.c): the same arithmetic on smaller
+ * structs, so the same results to the bit, for inst->narrow pairs. */
+sk_status mortar_narrow_evaluate(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink,
+                                 int *changed);
 
 /* Averaged nodal normals [N1] and their derivatives [N3] at every slave view node, at positions xs. */
 void mortar_compute_normals(sk_instance *inst, const double *xs);

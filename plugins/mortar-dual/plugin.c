@@ -10,6 +10,7 @@
 #include "defaults.h"
 #include "mortar.h"
 #include "records.h"
+#include "stickslip/modified_basis.h"
 
 static const char *const strategies[] = {"saddle-point", "condensed", NULL};
 static const char *const parameters[] = {
@@ -169,7 +170,7 @@ static sk_status check_stars(sk_instance *inst) {
 static double mean_edge(const sk_view *v) {
   double sum = 0.0;
   int count = 0;
-  const int corners = v->cell_type == SK_QUAD4 || v->cell_type == SK_QUAD9                ? 4
+  const int corners = v->cell_type == SK_QUAD4 || v->cell_type == SK_QUAD8 || v->cell_type == SK_QUAD9 ? 4
                       : v->cell_type == SK_TRI3 || v->cell_type == SK_TRI6 ? 3
                                                                            : 2;
   for (int f = 0; f < v->n_cells; ++f)
@@ -204,6 +205,10 @@ static sk_status read_complementarity(sk_instance *inst) {
                             &inst->ncp.c_t);
 }
 
+/* Slave faces whose multipliers are dual to the transformed functions (TRI6, QUAD8: section 3.5 of the plugin page). */
+static int transformed_face(sk_elem_type type) { return sk_modified_basis_corners(type) > 0; }
+static int quadratic_quad(sk_elem_type type) { return type == SK_QUAD8 || type == SK_QUAD9; }
+
 static sk_status read_parameters(sk_instance *inst) {
   const sk_host_api *api = inst->api;
   sk_host *host = inst->host;
@@ -214,8 +219,8 @@ static sk_status read_parameters(sk_instance *inst) {
   int basis, normal;
   SK_TRY(read_choice(inst, "basis", bases, &basis));
   inst->basis = basis == 0 ? MORTAR_DUAL : MORTAR_STANDARD;
-  /* TRI6 slave faces: the dual basis of the transformed functions (section 3.5 of the plugin page) */
-  if (inst->basis == MORTAR_DUAL && inst->slave->cell_type == SK_TRI6) inst->basis = MORTAR_DUAL_TRANSFORMED;
+  /* TRI6 and QUAD8 slave faces: the dual basis of the transformed functions (section 3.5 of the plugin page) */
+  if (inst->basis == MORTAR_DUAL && transformed_face(inst->slave->cell_type)) inst->basis = MORTAR_DUAL_TRANSFORMED;
   SK_TRY(read_choice(inst, "integration", integrations, &inst->integration));
   SK_TRY(read_choice(inst, "normal", normals, &normal));
   inst->normal_variant = normal == 0 ? MORTAR_NORMAL_A : MORTAR_NORMAL_M;
@@ -227,8 +232,9 @@ static sk_status read_parameters(sk_instance *inst) {
   SK_TRY(api->param_int(host, "segment_gauss", 0, curved ? 5 : 3, &inst->segment_gauss));
   /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
   const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
-  /* quad9: Phi_j (degree 4 in the plane of a flat quarter) times the gap of a second-order face (degree 2) */
-  const int quad9 = inst->slave->cell_type == SK_QUAD9 || (inst->master && inst->master->cell_type == SK_QUAD9);
+  /* quad9: Phi_j (degree 4 in the plane of a flat quarter) times the gap of a second-order face (degree 2); quad8:
+   * Phi_j times N_l, both of degree 3 */
+  const int quad9 = quadratic_quad(inst->slave->cell_type) || (inst->master && quadratic_quad(inst->master->cell_type));
   SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : quad9 ? 12 : 6, &inst->cell_rule));
   SK_TRY(api->param_int(host, "face_gauss", 0, 5, &inst->face_gauss));
   SK_TRY(api->param_double(host, "frozen_band", 0, 0.1, &inst->frozen_band));
@@ -256,7 +262,7 @@ static sk_status read_parameters(sk_instance *inst) {
   inst->branch_tol = 1e-8 * inst->ncp.c_n * mean_edge(inst->slave);
   if (inst->strategy == STRATEGY_CONDENSED && inst->basis == MORTAR_DUAL_TRANSFORMED)
     return api->error(host, SK_ERR_INPUT, "mortar-dual: strategy 'condensed' eliminates z with a diagonal D, which TRI6 "
-                      "slave faces do not have (D = diag(int Phi_j) T^-T): use strategy: saddle-point");
+                      "and QUAD8 slave faces do not have (D = diag(int Phi_j) T^-T): use strategy: saddle-point");
   if (inst->strategy == STRATEGY_CONDENSED && inst->basis != MORTAR_DUAL)
     return api->error(host, SK_ERR_INPUT,
                       "mortar-dual: strategy 'condensed' eliminates z with a diagonal D: it needs basis: dual");
@@ -284,9 +290,9 @@ static void tributary_measures(const sk_instance *inst, const double *x, double 
     mortar_basis_coeffs A;
     mortar_integrals I;
     mortar_pair_set(&p, inst->dim, &inst->st, NULL, X, NULL, n, 0);
-    /* TRI6's vertex functions integrate to 0: its measures are those of the transformed functions, int N~_j = int Phi_j
-     * = sum_k D_jk of their dual basis (with either multiplier basis) */
-    const mortar_basis b = v->cell_type == SK_TRI6 ? MORTAR_DUAL_TRANSFORMED : MORTAR_STANDARD;
+    /* TRI6's and QUAD8's vertex functions integrate to 0 and a negative value: their measures are those of the
+     * transformed functions, int N~_j = int Phi_j = sum_k D_jk of their dual basis (with either multiplier basis) */
+    const mortar_basis b = transformed_face(v->cell_type) ? MORTAR_DUAL_TRANSFORMED : MORTAR_STANDARD;
     mortar_basis_coefficients(&p, b, &A);
     mortar_integrals_zero(&I, &p);
     mortar_slave_integrals(&p, &A, b, inst->n_d_points, inst->d_xi, inst->d_w, &I);
@@ -312,11 +318,11 @@ static int scheme_refused(const char *scheme, double alpha, char *reason, int si
 
 /* Faces the kernel integrates: first-order ones, LINE3 in 2D and QUAD9 in 3D (their standard dual bases are
  * admissible: the shape functions integrate to the positive weights 1/6, 2/3, 1/6 and 1/36, 1/9, 4/9 of the face),
- * and TRI6 with the dual basis of the transformed functions (Popp, Wohlmuth, Gee & Wall 2012; its vertex functions
- * integrate to 0). QUAD8's transformed basis is not built (its vertex functions integrate to a negative value). */
+ * and TRI6 and QUAD8 with the dual basis of the transformed functions (Popp, Wohlmuth, Gee & Wall 2012; their vertex
+ * functions integrate to 0 and -1/12 of the face). Every face type of the ABI. */
 static int face_supported(sk_elem_type type) {
   return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9 ||
-         type == SK_TRI6;
+         type == SK_TRI6 || type == SK_QUAD8;
 }
 
 static const char *face_name(sk_elem_type type) {
@@ -332,16 +338,15 @@ static int faces_refused(const char *slave_name, sk_elem_type slave, const char 
                          sk_elem_type master, char *reason, int size) {
   const int slave_ok = face_supported(slave);
   if (slave_ok && (!has_master || face_supported(master))) return 0;
-  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3, quad4, quad9 and tri6 in 3D "
-           "(not quad8: its standard dual basis is not admissible, the transformed basis is built for tri6 only); %s "
-           "surface '%s' has %s faces (mesh.order: 2 on hex20)", slave_ok ? "master" : "slave",
+  snprintf(reason, (size_t)size, "mortar-dual handles line2 and line3 faces in 2D, tri3, tri6, quad4, quad8 and quad9 "
+           "in 3D; %s surface '%s' has %s faces", slave_ok ? "master" : "slave",
            slave_ok ? master_name : slave_name, face_name(slave_ok ? master : slave));
   return 1;
 }
 
 /* Self contact (section 3.6 of the plugin page): 2D and 3D first-order faces (and LINE3), one rank. */
 static int self_refused(int self, int n_ranks, sk_elem_type type, char *reason, int size) {
-  if (self && (type == SK_QUAD9 || type == SK_TRI6)) {
+  if (self && (type == SK_QUAD9 || type == SK_TRI6 || type == SK_QUAD8)) {
     snprintf(reason, (size_t)size, "mortar-dual's self contact runs on first-order faces in 3D (its face pairing is "
              "not tested on %s faces)", face_name(type));
     return 1;
@@ -352,13 +357,13 @@ static int self_refused(int self, int n_ranks, sk_elem_type type, char *reason, 
   return 1;
 }
 
-/* TRI6 slave faces: D = diag(int Phi_j) T^-T is not diagonal in the slave unknowns, and strategy 'condensed' eliminates
- * z node by node with a diagonal D (section 3.5 of the plugin page). */
+/* TRI6 and QUAD8 slave faces: D = diag(int Phi_j) T^-T is not diagonal in the slave unknowns, and strategy
+ * 'condensed' eliminates z node by node with a diagonal D (section 3.5 of the plugin page). */
 static int condensed_refused(int strategy, sk_elem_type slave, char *reason, int size) {
-  if (strategy != STRATEGY_CONDENSED || slave != SK_TRI6) return 0;
+  if (strategy != STRATEGY_CONDENSED || !transformed_face(slave)) return 0;
   snprintf(reason, (size_t)size, "mortar-dual's strategy 'condensed' eliminates the multipliers with a diagonal D; on "
-           "the slave surface's TRI6 faces D = diag(int Phi_j) T^-T is not diagonal (the dual basis of the transformed "
-           "functions): use strategy: saddle-point");
+           "the slave surface's %s faces D = diag(int Phi_j) T^-T is not diagonal (the dual basis of the transformed "
+           "functions): use strategy: saddle-point", face_name(slave));
   return 1;
 }
 
@@ -395,6 +400,9 @@ static sk_status create(const sk_host_api *api, sk_host *host, const sk_attach *
                                                   api->contact->shape_hessian) != 0))
     st = api->error(host, SK_ERR_INTERNAL, "%s: mortar-dual: no face type for a supported face", attach->name);
   if (st == SK_OK) st = read_parameters(inst);
+  /* the narrow copy of the evaluation (36 derivative slots, narrow.c) where both faces are first-order (or LINE3) */
+  inst->narrow = sv->nen <= MORTAR_MAX_NEN_NARROW && (!inst->master || inst->master->nen <= MORTAR_MAX_NEN_NARROW) &&
+                 (2 * sv->nen + (inst->master ? inst->master->nen : 0)) * inst->dim <= FWD_MAX_NARROW;
   inst->self = attach->self_contact;
   if (st == SK_OK && inst->self) st = mortar_self_create(inst);
   if (st == SK_OK && inst->strategy == STRATEGY_CONDENSED) {
@@ -549,6 +557,12 @@ static sk_status store_history(sk_instance *inst) {
   return SK_OK;
 }
 
+/* mortar_evaluate with the copy for the pair's faces (mortar.h: the results are the same to the bit) */
+static sk_status evaluate(sk_instance *inst, const sk_state *state, eval_mode mode, sk_sink *sink, int *changed) {
+  return inst->narrow ? mortar_narrow_evaluate(inst, state, mode, sink, changed)
+                      : mortar_evaluate(inst, state, mode, sink, changed);
+}
+
 /* D^n, M^n at the step's start x_n with the step's pairs, for the objective slip: the first step of any pair, and
  * every side assignment of a self pair (a node slave now may have been master or idle at the last commit, without
  * D^n of its own; a node that keeps its side and partners gets the committed values again, the same integrals at
@@ -561,7 +575,7 @@ static sk_status record_start_history(sk_instance *inst, const sk_state *state) 
   memcpy(force, inst->force, sizeof force);
   memcpy(moment, inst->moment, sizeof moment);
   inst->recording_start = 1;
-  const sk_status st = mortar_evaluate(inst, &start, EVAL_COMMIT, NULL, NULL);
+  const sk_status st = evaluate(inst, &start, EVAL_COMMIT, NULL, NULL);
   inst->recording_start = 0;
   memcpy(inst->force, force, sizeof force);
   memcpy(inst->moment, moment, sizeof moment);
@@ -674,15 +688,15 @@ static sk_status pattern(sk_instance *inst, const sk_state *state, sk_pattern *p
 static sk_status update_active_set(sk_instance *inst, const sk_state *state, int *changed) {
   *changed = 0;
   if (inst->active_set == ACTIVE_SET_NESTED) return SK_OK; /* the set changes only at convergence */
-  return mortar_evaluate(inst, state, EVAL_SET, NULL, changed);
+  return evaluate(inst, state, EVAL_SET, NULL, changed);
 }
 
 static sk_status residual(sk_instance *inst, const sk_state *state, sk_sink *sink) {
-  return mortar_evaluate(inst, state, EVAL_RESIDUAL, sink, NULL);
+  return evaluate(inst, state, EVAL_RESIDUAL, sink, NULL);
 }
 
 static sk_status jacobian(sk_instance *inst, const sk_state *state, sk_sink *sink) {
-  return mortar_evaluate(inst, state, EVAL_JACOBIAN, sink, NULL);
+  return evaluate(inst, state, EVAL_JACOBIAN, sink, NULL);
 }
 
 /* Newton converged. First the candidates: the slave surface may have slid beyond them (mortar_extend_candidates).
@@ -706,7 +720,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
     return SK_OK;
   }
   inst->deciding = 1;
-  const sk_status st = mortar_evaluate(inst, state, EVAL_SET, NULL, &changed);
+  const sk_status st = evaluate(inst, state, EVAL_SET, NULL, &changed);
   inst->deciding = 0;
   SK_TRY(st);
   if (changed > 0) {
@@ -721,7 +735,7 @@ static sk_status converged(sk_instance *inst, const sk_state *state, int *accept
 }
 
 static sk_status commit_step(sk_instance *inst, const sk_state *state) {
-  SK_TRY(mortar_evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
+  SK_TRY(evaluate(inst, state, EVAL_COMMIT, NULL, NULL));
   if (inst->self) memcpy(inst->role_committed, inst->role, (size_t)inst->slave->n_cells);
   if (inst->master && inst->friction) SK_TRY(store_history(inst));
   for (int oi = 0; oi < inst->n_owned; ++oi) {

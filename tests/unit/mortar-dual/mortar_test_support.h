@@ -11,13 +11,14 @@
 #include "sk_test.h"
 #include "stickslip/fe.h"
 
-static mortar_face_type ft_line2, ft_line3, ft_tri3, ft_quad4, ft_quad9, ft_tri6;
+static mortar_face_type ft_line2, ft_line3, ft_tri3, ft_quad4, ft_quad8, ft_quad9, ft_tri6;
 
 static inline void test_face_types(void) {
   mortar_face_type_init(&ft_line2, SK_LINE2, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_line3, SK_LINE3, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_tri3, SK_TRI3, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_quad4, SK_QUAD4, sk_elem_shape, sk_elem_shape_hessian);
+  mortar_face_type_init(&ft_quad8, SK_QUAD8, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_quad9, SK_QUAD9, sk_elem_shape, sk_elem_shape_hessian);
   mortar_face_type_init(&ft_tri6, SK_TRI6, sk_elem_shape, sk_elem_shape_hessian);
 }

@@ -23,6 +23,9 @@ const sk_plugin *stickslip_plugin_entry(void);
 #ifndef MORTAR_ASSEMBLED_TRI6
 #define MORTAR_ASSEMBLED_TRI6 0
 #endif
+#ifndef MORTAR_ASSEMBLED_QUAD8
+#define MORTAR_ASSEMBLED_QUAD8 0
+#endif
 
 static const double FD_STEP = 1e-7;
 
@@ -174,6 +177,21 @@ static void mesh_3d_tri6(kit *k) {
   kit_surface(k, 1, SK_TRI6, 6, 4, master);
 }
 
+/* 3D, QUAD8 faces (hex20, mesh.order: 2 with mesh.serendipity): mesh_3d_quad9's faces without their centre nodes
+ * (those stay out of every face: their rows and columns are empty). */
+static void mesh_3d_quad8(kit *k) {
+  mesh_3d_quad9_nodes(k);
+  static const int slave[8] = {0, 6, 8, 2, 3, 7, 5, 1};
+  int master[16];
+  for (int f = 0; f < 2; ++f) {
+    const int g = 9 + 2 * f;
+    const int m[8] = {g, g + 2, g + 12, g + 10, g + 1, g + 7, g + 11, g + 5};
+    memcpy(master + 8 * f, m, sizeof m);
+  }
+  kit_surface(k, 0, SK_QUAD8, 8, 1, slave);
+  kit_surface(k, 1, SK_QUAD8, 8, 2, master);
+}
+
 /* 2D self contact: one closed surface, the boundary of a thin slot (a hole 0.01 high between two walls, rounded
  * ends), traversed so that its outward normal points into the slot: the top wall (faces 0-2, normal -y) and the
  * bottom wall (faces 4-6, normal +y) face each other with non-matching nodes; slave and master are the same view. */
@@ -268,11 +286,39 @@ typedef struct {
   double tol; /* 0: the common 1e-8 */
 } fd_case;
 
+/* First-order pairs run the narrow copy of the evaluation (36 derivative slots, narrow.c): its residual and Jacobian
+ * equal the wide copy's (81 slots) to the bit. The record of the integrals is dropped before each pass, so that both
+ * copies integrate. */
+static void check_narrow_equals_wide(kit *k, const double *q) {
+  const size_t n = (size_t)k->n;
+  double *F[2], *J[2];
+  for (int wide = 0; wide < 2; ++wide) {
+    F[wide] = calloc(n, sizeof(double));
+    J[wide] = calloc(n * n, sizeof(double));
+    k->instance->narrow = !wide;
+    k->instance->cache_valid = 0;
+    SK_CHECK(kit_residual(k, q, F[wide]) == SK_OK);
+    k->instance->cache_valid = 0;
+    SK_CHECK(kit_jacobian(k, q, J[wide], NULL) == SK_OK);
+  }
+  k->instance->narrow = 1;
+  const int same_f = memcmp(F[0], F[1], sizeof(double) * n) == 0;
+  const int same_j = memcmp(J[0], J[1], sizeof(double) * n * n) == 0;
+  printf("    narrow copy against wide: residual %s, Jacobian %s (%zu unknowns)\n", same_f ? "equal" : "DIFFERENT",
+         same_j ? "equal" : "DIFFERENT", n);
+  SK_CHECK(same_f && same_j);
+  for (int wide = 0; wide < 2; ++wide) {
+    free(F[wide]);
+    free(J[wide]);
+  }
+}
+
 static double check_case(const fd_case *c) {
   kit k;
   if (c->dim == 3 && c->with_master == 2) mesh_3d_matching(&k);
   else if (c->dim == 3 && c->with_master == 6) mesh_3d_quad9(&k);
   else if (c->dim == 3 && c->with_master == 7) mesh_3d_tri6(&k);
+  else if (c->dim == 3 && c->with_master == 8) mesh_3d_quad8(&k);
   else if (c->dim == 3 && c->with_master >= 4) mesh_3d_self(&k, c->with_master == 4 ? SK_QUAD4 : SK_TRI3);
   else if (c->dim == 3) mesh_3d(&k);
   else if (c->with_master == 3) mesh_2d_line3(&k);
@@ -313,6 +359,7 @@ static double check_case(const fd_case *c) {
    * master edges cross far out): |J - FD| falls as h^2, 6.8e-5, 6.8e-7, 1.1e-8 at h = 1e-5, 1e-6, 1e-7 */
   SK_CHECK(err < (c->tol > 0.0 ? c->tol : 1e-8));
   SK_CHECK(k.outside_pattern == 0);
+  if (k.instance->narrow) check_narrow_equals_wide(&k, q);
   SK_CHECK(scale > 0.0);
   SK_CHECK(states[1] + states[2] > 0);
   if (k.instance->self) {
@@ -467,18 +514,30 @@ int main(void) {
       {"3D segments tri6/tri6 dual, mu 0.05", 3, 7, STRATEGY_SADDLE_POINT, NULL, slip, 0.0},
       {"3D segments tri6/tri6 standard frictionless", 3, 7, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},
   };
-  const fd_case *list = MORTAR_ASSEMBLED_TRI6 ? tri6_cases : MORTAR_ASSEMBLED_QUAD9 ? quad9_cases : cases;
-  const size_t n_cases = MORTAR_ASSEMBLED_TRI6    ? sizeof tri6_cases / sizeof tri6_cases[0]
+  /* QUAD8 pairs (the same, on the quarters that meet at the serendipity map's centre) run as their own test,
+   * test_mortar_assembled_quad8 (MORTAR_ASSEMBLED_QUAD8 = 1) */
+  const fd_case quad8_cases[] = {
+      {"3D segments quad8/quad8 dual, mu 0.3", 3, 8, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
+      {"3D segments quad8/quad8 dual, mu 0.05", 3, 8, STRATEGY_SADDLE_POINT, NULL, slip, 0.0},
+      {"3D segments quad8/quad8 standard frictionless", 3, 8, STRATEGY_SADDLE_POINT, NULL, frictionless_std, 0.0},
+  };
+  const fd_case *list = MORTAR_ASSEMBLED_QUAD8  ? quad8_cases
+                        : MORTAR_ASSEMBLED_TRI6 ? tri6_cases
+                        : MORTAR_ASSEMBLED_QUAD9 ? quad9_cases
+                                                 : cases;
+  const size_t n_cases = MORTAR_ASSEMBLED_QUAD8   ? sizeof quad8_cases / sizeof quad8_cases[0]
+                         : MORTAR_ASSEMBLED_TRI6  ? sizeof tri6_cases / sizeof tri6_cases[0]
                          : MORTAR_ASSEMBLED_QUAD9 ? sizeof quad9_cases / sizeof quad9_cases[0]
                                                   : sizeof cases / sizeof cases[0];
   double worst = 0.0;
   for (size_t i = 0; i < n_cases; ++i) worst = fmax(worst, check_case(&list[i]));
   printf("worst |J - FD| / max|J| over %zu cases: %.2e\n", n_cases, worst);
-  if (!MORTAR_ASSEMBLED_QUAD9 && !MORTAR_ASSEMBLED_TRI6) {
+  if (!MORTAR_ASSEMBLED_QUAD9 && !MORTAR_ASSEMBLED_TRI6 && !MORTAR_ASSEMBLED_QUAD8) {
     check_errors();
     check_self_refusals();
   }
-  return sk_test_finish(MORTAR_ASSEMBLED_TRI6    ? "test_mortar_assembled_tri6"
+  return sk_test_finish(MORTAR_ASSEMBLED_QUAD8   ? "test_mortar_assembled_quad8"
+                        : MORTAR_ASSEMBLED_TRI6  ? "test_mortar_assembled_tri6"
                         : MORTAR_ASSEMBLED_QUAD9 ? "test_mortar_assembled_quad9"
                                                  : "test_mortar_assembled");
 }
