@@ -8,6 +8,7 @@
 
 #include "term_plugin.h"
 #include "broad_phase.h"
+#include "contact_partition.h"
 #include "stickslip/fe.h"
 
 static double *zeros(int64_t n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
@@ -179,13 +180,15 @@ static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobia
 }
 
 /* sk_layout.extra_anchor (ABI 2.4) of every rank combined (a rank gives -1 for nodes it does not see), and the
- * owner of each extra this rank holds: an extra belongs to its entity, so to the owner of its anchor node, and this
+ * owner of each extra this rank holds: an extra belongs to its entity, so to the owner of its anchor node (with a
+ * contact partition, a slave node's contact owner: contact_partition.h), and this
  * rank holds it when that node is in one of the instance's views; without anchors (global scalars) rank 0 owns every
  * extra and every rank holds them (docs/design.md, "Who owns what"). The combination runs when the anchors change. */
 static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
   const sk_layout *layout = &term->layout;
   const sk_model *m = sys->model;
   const int64_t n = layout->n_extra;
+  const sk_contact_pair *pair = term->pair >= 0 ? &m->pairs[term->pair] : NULL;
   term->base.anchor = NULL;
   term->base.extra_owner = NULL;
   int given = SK_HAS(layout, extra_anchor) && layout->extra_anchor && n > 0, everywhere = 0;
@@ -218,7 +221,9 @@ static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
     }
     for (int64_t k = 0; k < n; ++k) {
       const int node = term->anchor[k] >= 0 ? sk_model_node_of(m, term->anchor[k] / m->dim) : -1;
-      term->extra_owner[k] = term->anchor[k] < 0 ? 0 : node >= 0 && term->in_view[node] ? m->node_owner[node] : -1;
+      term->extra_owner[k] = term->anchor[k] < 0                      ? 0
+                             : node >= 0 && term->in_view[node] ? sk_contact_owner_of_node(m, pair, node)
+                                                                : -1;
     }
     term->anchor_count = n;
   }
@@ -488,7 +493,8 @@ static sk_status add_view(plugin_term *term, sk_system *sys, const sk_surface *s
   sk_view_data *data = &term->views[v];
   const unsigned char *held = term->pair >= 0 && surface == &m->pairs[term->pair].master ? m->pairs[term->pair].master_held
                                                                                         : NULL;
-  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, held, data) : sk_view_body(m, body, data));
+  const sk_contact_pair *pair = term->pair >= 0 ? &m->pairs[term->pair] : NULL;
+  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, held, pair, data) : sk_view_body(m, body, data));
   term->view_list[v] = &data->view;
   SK_TRY(sk_view_localize(data, sys));
   if (!term->in_view) term->in_view = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
