@@ -17,6 +17,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "../model/contact_partition.h"
 #include "checkpoint.h"
 #include "recorder.h"
 #include "stickslip/interrupt.h"
@@ -179,6 +180,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
   summary->newton_iterations = (int)progress.newton_iterations;
   summary->cuts = (int)progress.cuts;
   if (options->progress && m->rank == 0) sk_progress_begin(scene->path, time->t_end);
+  if (options->verbose && m->rank == 0 && m->contact_rebalance) sk_contact_partition_explain(m, stderr);
 
   const double t_eps = 1e-12 * fmax(1.0, fabs(time->t_end));
   double dt = progress.dt;

@@ -1,3 +1,10 @@
 # Contact work per rank (test_contact_balance.py): summary.json's balance statistics on 1 and 2 ranks.
 stickslip_scene_tests(test_contact_balance.py contact_balance)
 set_tests_properties(validation_contact_balance PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
+# The contact partition (contact_balance.rebalance: on) equal to the bulk partition on 1, 2 and 4 ranks, with
+# penalty-nts (friction) and nts-augmented (extras); the 4-rank runs are cases of their own (each case <= 5 s CPU).
+set(partition_cases contact_partition contact_partition_4 contact_partition_extras contact_partition_extras_4)
+stickslip_scene_tests(test_contact_balance.py ${partition_cases})
+foreach(case ${partition_cases})
+  set_tests_properties(validation_${case} PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
+endforeach()
