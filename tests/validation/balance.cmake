@@ -10,6 +10,7 @@ stickslip_scene_tests(test_contact_balance.py ${partition_cases})
 foreach(case ${partition_cases})
   set_tests_properties(validation_${case} PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
 endforeach()
-# mortar-dual on 4 ranks (its averaged normals need the slave view's second layer of faces): about 5 s CPU, long.
+# mortar-dual on 4 ranks (its averaged normals need the slave view's second layer of faces): about 5 s CPU, labelled
+# long in CMakeLists.txt.
 stickslip_scene_tests(test_contact_balance.py contact_partition_mortar)
-set_tests_properties(validation_contact_partition_mortar PROPERTIES LABELS "validation;mpi;long" PROCESSORS 2)
+set_tests_properties(validation_contact_partition_mortar PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
