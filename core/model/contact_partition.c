@@ -200,3 +200,68 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
             pair->name, node_lo, node_hi, face_lo, face_hi, m->n_ranks, m->n_ranks == 1 ? "" : "s");
   }
 }
+
+/* The new owners of one pair's slave nodes and faces (whole-surface arrays); *changed |= any differs. */
+static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *changed) {
+  const sk_model *m = sys->model;
+  const sk_surface *s = &pair->slave;
+  const int n = s->n_nodes_global, nf = s->n_faces_global, dim = m->dim;
+  double *pos = calloc(3 * (size_t)(n + nf) + 1, sizeof(double)), *weight = calloc((size_t)(n + nf) + 2, sizeof(double));
+  int *owner = malloc(sizeof(int) * ((size_t)(n + nf) + 1));
+  int ok = pos && weight && owner;
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, sys->comm);
+  if (!ok) {
+    free(pos), free(weight), free(owner);
+    return sk_error_set(SK_ERR_NOMEM, "out of memory rebalancing the contact partition of pair %s", pair->name);
+  }
+  /* positions at t_n from the nodes' owners; each rank's contact seconds shared by the entities it contact-owns */
+  int mine_nodes = 0, mine_faces = 0;
+  for (int k = 0; k < s->n_nodes; ++k) mine_nodes += pair->contact_node_owner[s->node_index[k]] == m->rank;
+  for (int f = 0; f < s->n_faces; ++f) mine_faces += pair->contact_face_owner[s->face_index[f]] == m->rank;
+  for (int k = 0; k < s->n_nodes; ++k) {
+    const int64_t whole = s->node_index[k];
+    if (m->node_owner[s->nodes[k]] == m->rank)
+      for (int i = 0; i < dim; ++i) pos[3 * whole + i] = sys->q_n[(int64_t)s->nodes[k] * dim + i];
+    if (pair->contact_node_owner[whole] == m->rank) weight[whole] = sys->contact_step_seconds / mine_nodes;
+  }
+  for (int f = 0; f < s->n_faces; ++f)
+    if (pair->contact_face_owner[s->face_index[f]] == m->rank)
+      weight[n + s->face_index[f]] = sys->contact_step_seconds / mine_faces;
+  MPI_Allreduce(MPI_IN_PLACE, pos, 3 * n, MPI_DOUBLE, MPI_SUM, sys->comm);
+  MPI_Allreduce(MPI_IN_PLACE, weight, n + nf, MPI_DOUBLE, MPI_SUM, sys->comm);
+  /* the faces' centroids (every rank holds every slave face); a floor of 1e-3 of the mean weight keeps entities of
+   * a rank without contact time in the split */
+  for (int f = 0; f < s->n_faces; ++f)
+    for (int a = 0; a < s->nen; ++a) {
+      const int64_t k = sk_index_in_sorted(s->nodes, s->n_nodes, s->conn[(size_t)f * s->nen + a]);
+      for (int i = 0; i < 3; ++i) pos[3 * (n + s->face_index[f]) + i] += pos[3 * s->node_index[k] + i] / s->nen;
+    }
+  for (int part = 0; part < 2; ++part) {
+    double *w = weight + (part ? n : 0), total = 0.0;
+    const int count = part ? nf : n;
+    for (int j = 0; j < count; ++j) total += w[j];
+    for (int j = 0; j < count; ++j) w[j] = total > 0.0 ? w[j] + 1e-3 * total / count : 1.0;
+  }
+  sk_status status = sk_rcb(n, pos, weight, m->n_ranks, 0, owner) == 0 &&
+                             sk_rcb(nf, pos + 3 * (size_t)n, weight + n, m->n_ranks, 0, owner + n) == 0
+                         ? SK_OK
+                         : sk_error_set(SK_ERR_NOMEM, "out of memory rebalancing the contact partition of pair %s",
+                                        pair->name);
+  for (int j = 0; status == SK_OK && j < n; ++j) *changed |= owner[j] != pair->contact_node_owner[j];
+  for (int f = 0; status == SK_OK && f < nf; ++f) *changed |= owner[n + f] != pair->contact_face_owner[f];
+  if (status == SK_OK) {
+    memcpy(pair->contact_node_owner, owner, sizeof(int) * (size_t)n);
+    memcpy(pair->contact_face_owner, owner + n, sizeof(int) * (size_t)nf);
+  }
+  free(pos), free(weight), free(owner);
+  return sk_system_collective(sys, status);
+}
+
+sk_status sk_contact_partition_rebalance(sk_system *sys, int *changed) {
+  sk_model *m = sys->model;
+  sys->contact_rebalance_pending = 0;
+  *changed = 0;
+  for (int k = 0; k < m->n_pairs; ++k)
+    if (m->pairs[k].contact_node_owner) SK_TRY(rebalance_pair(sys, &m->pairs[k], changed));
+  return SK_OK;
+}

@@ -266,7 +266,14 @@ static sk_status hold_again(sk_system *sys) {
   return SK_OK;
 }
 
-sk_status sk_master_ghosts_renew(sk_system *sys) {
+/* The terms re-created: those of pairs with ghosted master faces, and with `rebalanced` those of pairs with a
+ * contact partition. */
+static int renewed_term(const sk_system *sys, int k, int rebalanced) {
+  const int pair = sk_term_plugin_pair(sys->terms[k]);
+  return ghosted_term(sys, k) || (rebalanced && pair >= 0 && sys->model->pairs[pair].contact_node_owner);
+}
+
+sk_status sk_master_ghosts_renew(sk_system *sys, int rebalanced) {
   sk_model *m = sys->model;
   /* the plugins are re-created over their new master views from their records (stickslip.checkpoint.v1) */
   sk_status status = SK_OK;
@@ -294,14 +301,16 @@ sk_status sk_master_ghosts_renew(sk_system *sys) {
   sys->x_version++;
   SK_TRY(hold_again(sys));
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    if (!ghosted_term(sys, k)) continue;
+    if (!renewed_term(sys, k, rebalanced)) continue;
+    const int pair = sk_term_plugin_pair(sys->terms[k]);
     sk_record_set records = {0};
     status = gather_records(sys, sys->terms[k], &records);
-    if (status == SK_OK) status = sk_term_plugin_renew_master(sys->terms[k], sys, &records.abi);
+    if (status == SK_OK)
+      status = sk_term_plugin_renew_master(sys->terms[k], sys, &records.abi,
+                                           rebalanced && m->pairs[pair].contact_node_owner != NULL);
     status = sk_system_collective(sys, status);
     sk_record_set_free(&records);
   }
-  sys->master_reghosts++;
   return status;
 }
 

@@ -246,11 +246,17 @@ sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
         if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
     }
   }
-  /* the contact partition: the nodes of the faces of this rank's slave views (contact_partition.h) */
+  /* the contact partition: the nodes of the faces of this rank's slave views (contact_partition.h); before the model
+   * is distributed (the surface not localized yet) every slave node, kept for a rebalancing (idle until used) */
   for (int k = 0; k < m->n_pairs; ++k) {
     const sk_contact_pair *pair = &m->pairs[k];
     const sk_surface *s = &pair->slave;
     if (!pair->contact_node_owner) continue;
+    if (!s->face_index) {
+      for (int j = 0; j < s->n_nodes; ++j)
+        if (!role[s->nodes[j]]) role[s->nodes[j]] = SK_NODE_GHOST;
+      continue;
+    }
     unsigned char *used = malloc((size_t)(s->n_faces > 0 ? s->n_faces : 1));
     if (!used || sk_contact_faces_used(m, pair, used) != 0) {
       free(used);

@@ -507,7 +507,14 @@ static sk_status read_contact_balance(const sk_cfg *root, sk_model *model) {
   static const char *const names[] = {"off", "on", NULL};
   const sk_cfg *node = sk_cfg_section(root, "contact_balance");
   if (node && sk_cfg_kind_of(node) != SK_CFG_MAP) return sk_scene_fail_at(node, "%s", "expects a map with `rebalance`");
-  return sk_cfg_choice(node, "rebalance", 0, names, 0, &model->contact_rebalance);
+  SK_TRY(sk_cfg_choice(node, "rebalance", 0, names, 0, &model->contact_rebalance));
+  SK_TRY(sk_cfg_double(node, "time_ratio", 0, 2.0, &model->rebalance_time_ratio));
+  SK_TRY(sk_cfg_double(node, "entity_imbalance", 0, 0.5, &model->rebalance_entity_imbalance));
+  if (!(model->rebalance_time_ratio >= 1.0))
+    return sk_scene_fail_at(sk_cfg_get(node, "time_ratio"), "%s", "must be at least 1 (max / mean over the ranks)");
+  if (!(model->rebalance_entity_imbalance >= 0.0 && model->rebalance_entity_imbalance <= 1.0))
+    return sk_scene_fail_at(sk_cfg_get(node, "entity_imbalance"), "%s", "must be 0..1 ((max - min) / max)");
+  return SK_OK;
 }
 
 /* ---- the whole scene -------------------------------------------------------------------------------------------- */

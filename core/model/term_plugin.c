@@ -720,24 +720,36 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   return SK_OK;
 }
 
-sk_status sk_term_plugin_renew_master(sk_term *base, sk_system *sys, const sk_record_reader *records) {
+sk_status sk_term_plugin_renew_master(sk_term *base, sk_system *sys, const sk_record_reader *records,
+                                      int slave_too) {
   plugin_term *term = (plugin_term *)base;
   const sk_contact_pair *pair = &sys->model->pairs[term->pair];
   term->table.destroy(term->instance);
   term->instance = NULL;
-  sk_view_free(&term->views[1]);
+  const int first = slave_too ? 0 : 1; /* the views built again: the master's, with slave_too the slave's first */
   double **arrays[] = {term->x, term->x_n, term->v_n, term->F_view, term->dx_view, term->Jdx_view};
-  for (size_t j = 0; j < sizeof arrays / sizeof arrays[0]; ++j) {
-    free(arrays[j][1]);
-    arrays[j][1] = NULL;
+  for (int v = first; v < term->n_views; ++v) {
+    sk_view_free(&term->views[v]);
+    for (size_t j = 0; j < sizeof arrays / sizeof arrays[0]; ++j) {
+      free(arrays[j][v]);
+      arrays[j][v] = NULL;
+    }
   }
-  term->n_views = 1;
+  term->n_views = first;
   memset(term->in_view, 0, (size_t)(sys->model->n_nodes > 0 ? sys->model->n_nodes : 1));
-  SK_TRY(sk_view_localize(&term->views[0], sys)); /* the slave view's nodes keep their local dofs */
-  for (int k = 0; k < term->views[0].view.n_nodes; ++k)
-    term->in_view[term->views[0].local_dofs[(int64_t)k * sys->model->dim] / sys->model->dim] = 1;
-  SK_TRY(add_view(term, sys, &pair->master, pair->master.name, 1, -1));
-  term->attach.master = term->view_list[1];
+  if (slave_too) {
+    SK_TRY(add_view(term, sys, &pair->slave, pair->slave.name, 0, -1));
+    term->attach.slave = term->view_list[0];
+    term->anchor_count = -1; /* the extras' owners follow the slave nodes' contact owners (combine_anchors) */
+  } else {
+    SK_TRY(sk_view_localize(&term->views[0], sys)); /* the slave view's nodes keep their local dofs */
+    for (int k = 0; k < term->views[0].view.n_nodes; ++k)
+      term->in_view[term->views[0].local_dofs[(int64_t)k * sys->model->dim] / sys->model->dim] = 1;
+  }
+  if (!pair->has_obstacle) {
+    SK_TRY(add_view(term, sys, &pair->master, pair->master.name, 1, -1));
+    term->attach.master = term->view_list[1];
+  }
   term->x_version = 0;
   sk_status status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
   if (status != SK_OK) {

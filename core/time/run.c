@@ -46,6 +46,7 @@ static void fill_summary(const sk_system *sys, double wall_start, sk_status stat
   summary->active_set_loops = sys->active_set_loops;
   summary->pattern_builds = sys->pattern_builds;
   summary->master_reghosts = sys->master_reghosts;
+  summary->contact_rebalances = sys->contact_rebalances;
   summary->unknowns_max = sys->unknowns_max;
   summary->linear_size_max = sys->linear_size_max;
   summary->assembly_seconds = sys->t_assembly;
