@@ -184,6 +184,11 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
           m->contact_rebalance ? "each pair's slave nodes and faces are split over the ranks by a recursive coordinate "
                                  "bisection of their reference positions at set-up; the contact owner evaluates them"
                                : "the slave entities are evaluated by the owners of the body elements they bound");
+  if (m->contact_rebalance)
+    fprintf(out, "  split again between steps after a step whose max/mean contact time over the ranks exceeds %g "
+            "(contact_balance.time_ratio) or whose active slave points per rank, (max - min)/max, exceed %g "
+            "(contact_balance.entity_imbalance), weighted by the ranks' contact time\n", m->rebalance_time_ratio,
+            m->rebalance_entity_imbalance);
   for (int k = 0; m->contact_rebalance && k < m->n_pairs; ++k) {
     const sk_contact_pair *pair = &m->pairs[k];
     const char *refused = sk_contact_partition_refused(m, k);
