@@ -31,9 +31,11 @@ typedef struct {
 
 /* A surface as this rank sees it: with `whole`, every face it holds (of those, the ones flagged in `held` when it is
  * not NULL: a master surface's faces ghosted to it); otherwise the faces with a node this rank owns or that this rank
- * owns, and their nodes. A face is owned by the owner of the body element it bounds. */
+ * owns, and their nodes. A face is owned by the owner of the body element it bounds; a node by its owner; with
+ * `contact` (a pair whose slave surface this is, with a contact partition) by their contact owners instead
+ * (contact_partition.h). */
 sk_status sk_view_surface(const sk_model *model, const sk_surface *surface, const char *name, int whole,
-                          const unsigned char *held, sk_view_data *view);
+                          const unsigned char *held, const sk_contact_pair *contact, sk_view_data *view);
 /* A body as this rank sees it: its elements owned by this rank or touching a node it owns, and their nodes. */
 sk_status sk_view_body(const sk_model *model, int body, sk_view_data *view);
 /* A view of a whole surface (mesh node ids indexing X, dim per node) on one rank, every face and node owned: the

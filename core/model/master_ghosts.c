@@ -8,6 +8,7 @@
 
 #include "stickslip/config.h"
 #include "stickslip/contact.h"
+#include "contact_partition.h"
 #include "records.h"
 #include "term_plugin.h"
 
@@ -77,9 +78,12 @@ sk_status sk_master_ghosts_plan(sk_model *m, sk_contact_pair *pair, const int *f
   double *box = pair->ghost_boxes;
   for (int r = 0; r < p; ++r) box_empty(box + 6 * r);
   const sk_surface *s = &pair->slave;
-  for (int k = 0; k < s->n_nodes; ++k) box_add(box + 6 * m->node_owner[s->nodes[k]], m->X, dim, s->nodes[k]);
-  for (int f = 0; f < s->n_faces; ++f)
-    for (int a = 0; a < s->nen; ++a) box_add(box + 6 * face_owner_of_slave[f], m->X, dim, s->conn[(size_t)f * s->nen + a]);
+  /* the slave entities each rank evaluates: their owners', or their contact owners' (contact_partition.h) */
+  for (int k = 0; k < s->n_nodes; ++k) box_add(box + 6 * sk_contact_node_owner(m, pair, k), m->X, dim, s->nodes[k]);
+  for (int f = 0; f < s->n_faces; ++f) {
+    const int owner = pair->contact_face_owner ? pair->contact_face_owner[f] : face_owner_of_slave[f];
+    for (int a = 0; a < s->nen; ++a) box_add(box + 6 * owner, m->X, dim, s->conn[(size_t)f * s->nen + a]);
+  }
   for (int r = 0; r < p; ++r) box_grow(box + 6 * r, pair->ghost_capture + pair->ghost_reach);
   return SK_OK;
 }
@@ -168,9 +172,9 @@ sk_status sk_master_ghosts_check(sk_system *sys, int64_t *missing_faces) {
     box_empty(mine);
     const sk_surface *s = &pair->slave;
     for (int j = 0; j < s->n_nodes; ++j)
-      if (m->node_owner[s->nodes[j]] == m->rank) swept_add(mine, sys, s->nodes[j]);
+      if (sk_contact_node_owner(m, pair, j) == m->rank) swept_add(mine, sys, s->nodes[j]);
     for (int f = 0; f < s->n_faces; ++f)
-      if (s->face_owner && s->face_owner[f] == m->rank)
+      if (sk_contact_face_owner(m, pair, f) == m->rank)
         for (int a = 0; a < s->nen; ++a) swept_add(mine, sys, s->conn[(size_t)f * s->nen + a]);
     box_grow(mine, pair->ghost_capture + 0.5 * pair->ghost_reach);
     MPI_Allgather(mine, 6, MPI_DOUBLE, now, 6, MPI_DOUBLE, sys->comm);
@@ -262,7 +266,14 @@ static sk_status hold_again(sk_system *sys) {
   return SK_OK;
 }
 
-sk_status sk_master_ghosts_renew(sk_system *sys) {
+/* The terms re-created: those of pairs with ghosted master faces, and with `rebalanced` those of pairs with a
+ * contact partition. */
+static int renewed_term(const sk_system *sys, int k, int rebalanced) {
+  const int pair = sk_term_plugin_pair(sys->terms[k]);
+  return ghosted_term(sys, k) || (rebalanced && pair >= 0 && sys->model->pairs[pair].contact_node_owner);
+}
+
+sk_status sk_master_ghosts_renew(sk_system *sys, int rebalanced) {
   sk_model *m = sys->model;
   /* the plugins are re-created over their new master views from their records (stickslip.checkpoint.v1) */
   sk_status status = SK_OK;
@@ -290,14 +301,16 @@ sk_status sk_master_ghosts_renew(sk_system *sys) {
   sys->x_version++;
   SK_TRY(hold_again(sys));
   for (int k = 0; k < sys->n_terms && status == SK_OK; ++k) {
-    if (!ghosted_term(sys, k)) continue;
+    if (!renewed_term(sys, k, rebalanced)) continue;
+    const int pair = sk_term_plugin_pair(sys->terms[k]);
     sk_record_set records = {0};
     status = gather_records(sys, sys->terms[k], &records);
-    if (status == SK_OK) status = sk_term_plugin_renew_master(sys->terms[k], sys, &records.abi);
+    if (status == SK_OK)
+      status = sk_term_plugin_renew_master(sys->terms[k], sys, &records.abi,
+                                           rebalanced && m->pairs[pair].contact_node_owner != NULL);
     status = sk_system_collective(sys, status);
     sk_record_set_free(&records);
   }
-  sys->master_reghosts++;
   return status;
 }
 

@@ -30,8 +30,10 @@ sk_status sk_master_ghosts_hold(sk_model *model);
 sk_status sk_master_ghosts_check(sk_system *sys, int64_t *missing_faces);
 /* Ghosts the master faces again from the step's swept boxes (collective): the state of every master node this rank
  * holds from its owner, the faces it holds, the nodes' roles and their exchange, and the plugin terms of those pairs
- * re-created over their new master views from their records. The layout and pattern of the attempt follow. */
-sk_status sk_master_ghosts_renew(sk_system *sys);
+ * re-created over their new master views from their records. With `rebalanced` (a new contact partition,
+ * contact_partition.h, whose boxes sk_master_ghosts_check took) also the terms of the pairs with a contact
+ * partition, over their new slave views too. The layout and pattern of the attempt follow. */
+sk_status sk_master_ghosts_renew(sk_system *sys, int rebalanced);
 /* A restart (core/time/restart.c), with the state of every node it keeps read and q = q_n: the faces held from the
  * positions there (collective). The instances of the pairs it applies to (sk_master_ghosts_term) are then re-created
  * over their new master views as they load their records (sk_term_plugin_renew_master). */

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "stickslip/model.h"
+#include "contact_partition.h"
 
 
 double sk_history_value(const sk_history *history, double t) {
@@ -245,6 +246,27 @@ sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
         if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
     }
   }
+  /* the contact partition: the nodes of the faces of this rank's slave views (contact_partition.h); before the model
+   * is distributed (the surface not localized yet) every slave node, kept for a rebalancing (idle until used) */
+  for (int k = 0; k < m->n_pairs; ++k) {
+    const sk_contact_pair *pair = &m->pairs[k];
+    const sk_surface *s = &pair->slave;
+    if (!pair->contact_node_owner) continue;
+    if (!s->face_index) {
+      for (int j = 0; j < s->n_nodes; ++j)
+        if (!role[s->nodes[j]]) role[s->nodes[j]] = SK_NODE_GHOST;
+      continue;
+    }
+    unsigned char *used = malloc((size_t)(s->n_faces > 0 ? s->n_faces : 1));
+    if (!used || sk_contact_faces_used(m, pair, used) != 0) {
+      free(used);
+      return sk_error_set(SK_ERR_NOMEM, "out of memory for the slave faces of contact pair %s", pair->name);
+    }
+    for (int f = 0; f < s->n_faces; ++f)
+      for (int a = 0; used[f] && a < s->nen; ++a)
+        if (!role[s->conn[(size_t)f * s->nen + a]]) role[s->conn[(size_t)f * s->nen + a]] = SK_NODE_GHOST;
+    free(used);
+  }
   return SK_OK;
 }
 
@@ -265,6 +287,8 @@ void sk_model_free(sk_model *model) {
     free(pair->ghost_boxes);
     free(pair->master_held);
     free(pair->master_face_box);
+    free(pair->contact_node_owner);
+    free(pair->contact_face_owner);
   }
   free(model->pairs);
   for (int k = 0; k < model->n_dirichlet; ++k) free(model->dirichlet[k].nodes);

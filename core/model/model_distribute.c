@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact_partition.h"
 #include "host.h"
 #include "master_ghosts.h"
 #include "stickslip/model.h"
@@ -263,7 +264,8 @@ sk_status sk_model_distribute(sk_model *m) {
     free(role), free(local_of), free(held);
     return no_memory("nodes");
   }
-  sk_status status = plan_master_ghosts(m);
+  sk_status status = sk_contact_partition_plan(m);
+  if (status == SK_OK) status = plan_master_ghosts(m);
   if (status == SK_OK) status = sk_model_node_roles(m, role);
   /* the elements this rank holds: its own and those holding a node it owns (one ghost layer) */
   for (int b = 0; b < m->n_bodies; ++b) {

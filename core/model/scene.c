@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact_partition.h"
 #include "master_ghosts.h"
 #include "scene_info.h"
 #include "scene_internal.h"
@@ -501,6 +502,21 @@ static sk_status read_output(const sk_cfg *root, sk_output_settings *output) {
   return SK_OK;
 }
 
+/* The contact partition (core/model/contact_partition.h): off by default (docs/scaling.md, "Contact partition"). */
+static sk_status read_contact_balance(const sk_cfg *root, sk_model *model) {
+  static const char *const names[] = {"off", "on", NULL};
+  const sk_cfg *node = sk_cfg_section(root, "contact_balance");
+  if (node && sk_cfg_kind_of(node) != SK_CFG_MAP) return sk_scene_fail_at(node, "%s", "expects a map with `rebalance`");
+  SK_TRY(sk_cfg_choice(node, "rebalance", 0, names, 0, &model->contact_rebalance));
+  SK_TRY(sk_cfg_double(node, "time_ratio", 0, 2.0, &model->rebalance_time_ratio));
+  SK_TRY(sk_cfg_double(node, "entity_imbalance", 0, 0.5, &model->rebalance_entity_imbalance));
+  if (!(model->rebalance_time_ratio >= 1.0))
+    return sk_scene_fail_at(sk_cfg_get(node, "time_ratio"), "%s", "must be at least 1 (max / mean over the ranks)");
+  if (!(model->rebalance_entity_imbalance >= 0.0 && model->rebalance_entity_imbalance <= 1.0))
+    return sk_scene_fail_at(sk_cfg_get(node, "entity_imbalance"), "%s", "must be 0..1 ((max - min) / max)");
+  return SK_OK;
+}
+
 /* ---- the whole scene -------------------------------------------------------------------------------------------- */
 
 static sk_status build(sk_scene *scene) {
@@ -526,6 +542,7 @@ static sk_status build(sk_scene *scene) {
   SK_TRY(read_bodies(root, model));
   SK_TRY(read_boundary(root, model));
   SK_TRY(sk_scene_read_contact(root, scene));
+  SK_TRY(read_contact_balance(root, model));
   SK_TRY(sk_model_build(model));
   SK_TRY(sk_model_distribute(model));
   /* The system of terms creates the plugin instances now, so that their parameters are validated (and read) before
@@ -603,6 +620,7 @@ void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, 
     for (int k = 0; k < sys->n_terms; ++k) sk_term_plugin_explain_pair(sys->terms[k], out);
   }
   sk_master_ghosts_explain(sys->model, out);
+  sk_contact_partition_explain(sys->model, out);
   sk_system_explain(sys, out);
   explain_newton(&scene->solver, out);
   const sk_output_settings *o = &scene->output;

@@ -41,6 +41,8 @@ static const struct {
     {"contact.obstacles.radius", "length"},
     {"contact.obstacles.c", "1/length"},
     {"contact.obstacles.motion", "[time, length, length, length]"},
+    {"contact_balance.time_ratio", "1 (max/mean)"},
+    {"contact_balance.entity_imbalance", "1 ((max-min)/max)"},
     {"time.dt", "time"},
     {"time.end", "time"},
     {"time.start", "time"},

@@ -5,6 +5,7 @@
 #define _GNU_SOURCE
 #include "system.h"
 #include "broad_phase.h"
+#include "contact_partition.h"
 #include "master_ghosts.h"
 
 #include <limits.h>
@@ -288,13 +289,18 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   sk_exchange_forward(&sys->ghost_dofs, sys->x);
   for (int k = 0; k < m->n_dofs; ++k) sys->q[k] = m->X[k] + sys->x[k];
   sys->x_version++;
+  /* a new contact partition after an uneven step (contact_partition.h): its boxes enter the check below */
+  int rebalanced = 0;
+  if (sys->contact_rebalance_pending) SK_TRY(sk_contact_partition_rebalance(sys, &rebalanced));
   int64_t missing = 0; /* the ghosted master faces still reach every slave point, or are ghosted again (collective) */
   SK_TRY(sk_master_ghosts_check(sys, &missing));
-  if (missing > 0) {
-    if (sys->verbose && sys->rank == 0)
+  if (missing > 0 || rebalanced) {
+    if (missing > 0 && sys->verbose && sys->rank == 0)
       fprintf(stderr, "step %lld: %lld master face(s) came within reach of a rank not holding them: ghosted again\n",
               (long long)step, (long long)missing);
-    SK_TRY(sk_master_ghosts_renew(sys));
+    SK_TRY(sk_master_ghosts_renew(sys, rebalanced));
+    sys->master_reghosts += missing > 0;
+    sys->contact_rebalances += rebalanced;
   }
   SK_TRY(sk_system_collective(sys, sk_broad_phase_begin(sys))); /* the pairs near at the predictor: live terms */
   live = sk_system_live_terms(sys, &n_live);

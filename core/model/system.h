@@ -129,6 +129,11 @@ struct sk_system {
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
   int master_reghosts; /* steps at which the master faces were ghosted again (master_ghosts.c) */
+  /* the contact partition rebalanced between steps (contact_partition.h): set after a step whose contact work is
+   * uneven (core/time/contact_balance.c), done at the next step's predictor */
+  int contact_rebalance_pending;
+  double contact_step_seconds; /* this rank's contact seconds in the last recorded step (the rebalance's weights) */
+  int contact_rebalances;      /* rebalances done */
   int verbose;
   double newton_energy;     /* |dx . F| of the last Newton direction (FEAP's energy norm), printed with --verbose */
   int linear_fallback; /* 1 once a failed Krylov solver was replaced by the direct one (linear_solve) */

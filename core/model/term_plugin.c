@@ -8,6 +8,7 @@
 
 #include "term_plugin.h"
 #include "broad_phase.h"
+#include "contact_partition.h"
 #include "stickslip/fe.h"
 
 static double *zeros(int64_t n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
@@ -179,13 +180,15 @@ static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobia
 }
 
 /* sk_layout.extra_anchor (ABI 2.4) of every rank combined (a rank gives -1 for nodes it does not see), and the
- * owner of each extra this rank holds: an extra belongs to its entity, so to the owner of its anchor node, and this
+ * owner of each extra this rank holds: an extra belongs to its entity, so to the owner of its anchor node (with a
+ * contact partition, a slave node's contact owner: contact_partition.h), and this
  * rank holds it when that node is in one of the instance's views; without anchors (global scalars) rank 0 owns every
  * extra and every rank holds them (docs/design.md, "Who owns what"). The combination runs when the anchors change. */
 static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
   const sk_layout *layout = &term->layout;
   const sk_model *m = sys->model;
   const int64_t n = layout->n_extra;
+  const sk_contact_pair *pair = term->pair >= 0 ? &m->pairs[term->pair] : NULL;
   term->base.anchor = NULL;
   term->base.extra_owner = NULL;
   int given = SK_HAS(layout, extra_anchor) && layout->extra_anchor && n > 0, everywhere = 0;
@@ -218,7 +221,9 @@ static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
     }
     for (int64_t k = 0; k < n; ++k) {
       const int node = term->anchor[k] >= 0 ? sk_model_node_of(m, term->anchor[k] / m->dim) : -1;
-      term->extra_owner[k] = term->anchor[k] < 0 ? 0 : node >= 0 && term->in_view[node] ? m->node_owner[node] : -1;
+      term->extra_owner[k] = term->anchor[k] < 0                      ? 0
+                             : node >= 0 && term->in_view[node] ? sk_contact_owner_of_node(m, pair, node)
+                                                                : -1;
     }
     term->anchor_count = n;
   }
@@ -488,7 +493,8 @@ static sk_status add_view(plugin_term *term, sk_system *sys, const sk_surface *s
   sk_view_data *data = &term->views[v];
   const unsigned char *held = term->pair >= 0 && surface == &m->pairs[term->pair].master ? m->pairs[term->pair].master_held
                                                                                         : NULL;
-  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, held, data) : sk_view_body(m, body, data));
+  const sk_contact_pair *pair = term->pair >= 0 ? &m->pairs[term->pair] : NULL;
+  SK_TRY(surface ? sk_view_surface(m, surface, name, whole, held, pair, data) : sk_view_body(m, body, data));
   term->view_list[v] = &data->view;
   SK_TRY(sk_view_localize(data, sys));
   if (!term->in_view) term->in_view = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
@@ -714,24 +720,36 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   return SK_OK;
 }
 
-sk_status sk_term_plugin_renew_master(sk_term *base, sk_system *sys, const sk_record_reader *records) {
+sk_status sk_term_plugin_renew_master(sk_term *base, sk_system *sys, const sk_record_reader *records,
+                                      int slave_too) {
   plugin_term *term = (plugin_term *)base;
   const sk_contact_pair *pair = &sys->model->pairs[term->pair];
   term->table.destroy(term->instance);
   term->instance = NULL;
-  sk_view_free(&term->views[1]);
+  const int first = slave_too ? 0 : 1; /* the views built again: the master's, with slave_too the slave's first */
   double **arrays[] = {term->x, term->x_n, term->v_n, term->F_view, term->dx_view, term->Jdx_view};
-  for (size_t j = 0; j < sizeof arrays / sizeof arrays[0]; ++j) {
-    free(arrays[j][1]);
-    arrays[j][1] = NULL;
+  for (int v = first; v < term->n_views; ++v) {
+    sk_view_free(&term->views[v]);
+    for (size_t j = 0; j < sizeof arrays / sizeof arrays[0]; ++j) {
+      free(arrays[j][v]);
+      arrays[j][v] = NULL;
+    }
   }
-  term->n_views = 1;
+  term->n_views = first;
   memset(term->in_view, 0, (size_t)(sys->model->n_nodes > 0 ? sys->model->n_nodes : 1));
-  SK_TRY(sk_view_localize(&term->views[0], sys)); /* the slave view's nodes keep their local dofs */
-  for (int k = 0; k < term->views[0].view.n_nodes; ++k)
-    term->in_view[term->views[0].local_dofs[(int64_t)k * sys->model->dim] / sys->model->dim] = 1;
-  SK_TRY(add_view(term, sys, &pair->master, pair->master.name, 1, -1));
-  term->attach.master = term->view_list[1];
+  if (slave_too) {
+    SK_TRY(add_view(term, sys, &pair->slave, pair->slave.name, 0, -1));
+    term->attach.slave = term->view_list[0];
+    term->anchor_count = -1; /* the extras' owners follow the slave nodes' contact owners (combine_anchors) */
+  } else {
+    SK_TRY(sk_view_localize(&term->views[0], sys)); /* the slave view's nodes keep their local dofs */
+    for (int k = 0; k < term->views[0].view.n_nodes; ++k)
+      term->in_view[term->views[0].local_dofs[(int64_t)k * sys->model->dim] / sys->model->dim] = 1;
+  }
+  if (!pair->has_obstacle) {
+    SK_TRY(add_view(term, sys, &pair->master, pair->master.name, 1, -1));
+    term->attach.master = term->view_list[1];
+  }
   term->x_version = 0;
   sk_status status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
   if (status != SK_OK) {

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact_partition.h"
 #include "host.h"
 
 int sk_compare_int(const void *a, const void *b) {
@@ -195,19 +196,30 @@ sk_status sk_view_fill_surface(sk_view_data *v, const sk_surface *s, const char 
 }
 
 sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *name, int whole,
-                          const unsigned char *held, sk_view_data *v) {
+                          const unsigned char *held, const sk_contact_pair *contact, sk_view_data *v) {
   memset(v, 0, sizeof *v);
   const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
-  unsigned char *selected = malloc(nf);
+  unsigned char *selected = calloc(nf, 1);
   if (!selected) return no_memory(v, name);
-  /* every face this rank owns or with a node it owns (with `whole`, every face it holds, or those `held` flags) */
-  for (int f = 0; f < s->n_faces; ++f) {
+  if (contact && (s != &contact->slave || !contact->contact_node_owner)) contact = NULL;
+  /* every face this rank owns or with a node it owns (with `whole`, every face it holds, or those `held` flags);
+   * with a contact partition the faces of its slave view there */
+  if (contact && sk_contact_faces_used(m, contact, selected) != 0) {
+    free(selected);
+    return no_memory(v, name);
+  }
+  for (int f = 0; f < s->n_faces && !contact; ++f) {
     int take = whole ? !held || held[f] : s->face_owner && s->face_owner[f] == m->rank;
     for (int a = 0; a < s->nen && !take; ++a) take = m->node_owner[s->conn[(size_t)f * s->nen + a]] == m->rank;
     selected[f] = (unsigned char)take;
   }
   const sk_status status = fill_surface(v, m, s, name, selected);
   free(selected);
+  /* the contact partition: the view's owned nodes and faces are those this rank contact-owns */
+  for (int k = 0; status == SK_OK && contact && k < v->view.n_nodes; ++k)
+    v->owned[k] = contact->contact_node_owner[v->node_index[k]] == m->rank;
+  for (int c = 0; status == SK_OK && contact && c < v->view.n_cells; ++c)
+    v->cell_owned[c] = contact->contact_face_owner[v->cell_index[c]] == m->rank;
   return status;
 }
 

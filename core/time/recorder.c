@@ -529,6 +529,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_int(json, "linear_system_size", (int)sum->linear_size_max);
   sk_json_int(json, "pattern_builds", sum->pattern_builds);
   sk_json_int(json, "master_reghosts", sum->master_reghosts);
+  sk_json_int(json, "contact_rebalances", sum->contact_rebalances);
   sk_json_int(json, "ranks", m->n_ranks);
   char plugins[512] = "", strategies[512] = "";
   for (int k = 0; k < m->n_pairs; ++k) {

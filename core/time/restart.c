@@ -380,7 +380,7 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
     sk_term *term = sys->terms[k++];
     if (!sk_record_set_sort(&sets[t])) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
     if (status == SK_OK)
-      status = sk_master_ghosts_term(sys, term) ? sk_term_plugin_renew_master(term, sys, &sets[t].abi)
+      status = sk_master_ghosts_term(sys, term) ? sk_term_plugin_renew_master(term, sys, &sets[t].abi, 0)
                                                 : sk_term_plugin_load(term, sys, &sets[t].abi);
     if (status != SK_OK) sk_error_prefix(status, "--restart: %s: ", term->name);
     status = sk_system_collective(sys, status);

@@ -17,6 +17,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "../model/contact_partition.h"
 #include "checkpoint.h"
 #include "recorder.h"
 #include "stickslip/interrupt.h"
@@ -45,6 +46,7 @@ static void fill_summary(const sk_system *sys, double wall_start, sk_status stat
   summary->active_set_loops = sys->active_set_loops;
   summary->pattern_builds = sys->pattern_builds;
   summary->master_reghosts = sys->master_reghosts;
+  summary->contact_rebalances = sys->contact_rebalances;
   summary->unknowns_max = sys->unknowns_max;
   summary->linear_size_max = sys->linear_size_max;
   summary->assembly_seconds = sys->t_assembly;
@@ -179,6 +181,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
   summary->newton_iterations = (int)progress.newton_iterations;
   summary->cuts = (int)progress.cuts;
   if (options->progress && m->rank == 0) sk_progress_begin(scene->path, time->t_end);
+  if (options->verbose && m->rank == 0 && m->contact_rebalance) sk_contact_partition_explain(m, stderr);
 
   const double t_eps = 1e-12 * fmax(1.0, fabs(time->t_end));
   double dt = progress.dt;

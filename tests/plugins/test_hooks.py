@@ -18,10 +18,11 @@
 Usage: test_hooks.py CASE (the binary from STICKSLIP_BIN, the test plugins from STICKSLIP_PLUGIN_PATH)."""
 import json
 import os
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "validation"))
-from stickslip_results import Checks, main, relative_drift, run  # noqa: E402
+from stickslip_results import ROOT, Checks, main, relative_drift, run  # noqa: E402
 
 FLIGHT = "tests/plugins/free-flight-body.yaml"
 TIED = "tests/plugins/tied-interface.yaml"
@@ -179,6 +180,29 @@ def reject_once(c):
     c.check(r["newton_iterations"] > s["newton_iterations"], "the re-solves cost Newton iterations")
 
 
+def partition_refused(c):
+    """contact_balance.rebalance: on (core/model/contact_partition.h) with a pair whose plugin keeps no checkpoint
+    records (test-reject-once) and a self-contact pair (ring-crush-2d's inner-self): `check --explain` says they keep
+    the bulk partition and why, and gives the other pairs (obstacles) the contact partition; a value other than off
+    or on is refused naming the key. `check` only, 1 rank."""
+    binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
+
+    def check(scene, *args):
+        return subprocess.run([binary, "check", os.path.join(ROOT, scene), *args], capture_output=True, text=True)
+    on = ("--set", "contact_balance.rebalance=on")
+    proc = check("scenes/ring-on-block.yaml", "--explain", "--plugin", "test-reject-once", "--replace",
+                 "contact.0.parameters={k_first: 1, k_final: 2}", *on)
+    c.check(proc.returncode == 0 and "contact pair ring: keeps the bulk partition (its plugin keeps no records" in
+            proc.stdout, "a plugin without records keeps the bulk partition (--explain)")
+    proc = check("scenes/ring-crush-2d.yaml", "--explain", *on)
+    c.check("contact pair inner-self: keeps the bulk partition (self contact" in proc.stdout,
+            "a self-contact pair keeps the bulk partition (--explain)")
+    c.check("contact pair floor: 96 to 96 slave nodes" in proc.stdout, "an obstacle pair takes the contact partition")
+    proc = check("scenes/ring-crush-2d.yaml", "--set", "contact_balance.rebalance=yes")
+    c.check(proc.returncode != 0 and "contact_balance.rebalance" in proc.stderr and "'off', 'on'" in proc.stderr,
+            "rebalance=yes refused naming the key: " + proc.stderr.strip()[:160])
+
+
 if __name__ == "__main__":
     main([body_free_flight, body_energy, body_mpi, body_errors, tied_dual, tied_dual_mpi, reject_once,
-          reghost_refused])
+          reghost_refused, partition_refused])

@@ -100,6 +100,10 @@ typedef struct {
    * holds it now (its nodes exchanged, in the plugins' master view), and its box when the faces were last ghosted */
   unsigned char *master_held;
   double *master_face_box;
+  /* the contact partition (core/model/contact_partition.h; NULL: the bulk partition): the rank evaluating each slave
+   * node and each slave face, by its index in the whole slave surface (surface-sized, on every rank) */
+  int *contact_node_owner;
+  int *contact_face_owner;
 } sk_contact_pair;
 
 typedef struct {
@@ -136,6 +140,11 @@ typedef struct sk_model {
   sk_contact_pair *pairs;
   int n_obstacle_columns;  /* distinct obstacles (contact_pair.obstacle_column) */
   sk_time_options time;
+  int contact_rebalance;   /* contact_balance.rebalance: 1 gives the contact pairs their own partition */
+  double rebalance_time_ratio;       /* contact_balance.time_ratio: rebalance after a step whose max/mean contact
+                                        time over the ranks exceeds it */
+  double rebalance_entity_imbalance; /* contact_balance.entity_imbalance: or whose (max - min) / max active slave
+                                        points per rank exceeds it */
 
   /* consistent mass: nodal scalar CSR (n_nodes x n_nodes; its graph is the bulk's node graph). The graph is built
    * always; the values (zero until then) and the element matrices (NULL until then) by sk_model_build_mass. */

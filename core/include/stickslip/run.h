@@ -38,6 +38,7 @@ typedef struct {
   int64_t linear_size_max; /* largest size of the linear system actually solved (after condensation) */
   int pattern_builds;      /* sparsity patterns built or grown (each rebuilds the solver's matrix; solver.pattern_margin) */
   int master_reghosts;     /* steps at which master faces ghosted by swept boxes were ghosted again */
+  int contact_rebalances;  /* steps that started from a new contact partition (contact_balance.rebalance) */
   int active_set_loops;    /* Newton restarts because a term rejected a converged point (plugin.h: converged) */
   int roundoff_floor_steps; /* steps accepted at the residual's round-off floor (bridge.h: SK_NEWTON_ROUNDOFF_FLOOR) */
   int backtrack_retries;   /* failed steps solved again with the backtracking line search before a cut
