@@ -2,8 +2,9 @@
 mesh, problem and load steps (getfem_hertz.py), the same error metric (tests/validation/hertz_profile.py, fed with
 GetFEM's pressures at the slave nodes), runs interleaved (stickslip, GetFEM, stickslip, GetFEM, ...) on one machine.
 
-  python3 tests/bench/hertz/bench_getfem.py run [--repeats N] ELEMENT:REFINE[,REFINE...] ...
-                                     runs the cases N times each (default 3), merges them into getfem.csv
+  python3 tests/bench/hertz/bench_getfem.py run [--repeats N] [--set KEY=VALUE ...] ELEMENT:REFINE[,REFINE...] ...
+                                     runs the cases N times each (default 3), merges them into getfem.csv; --set
+                                     runs stickslip with that override as well (rows "stickslip KEY=VALUE")
   python3 tests/bench/hertz/bench_getfem.py report
                                      prints the tables and draws docs/img/hertz-getfem.png (bench_hertz.py report
                                      puts the tables into docs/hertz.md)
@@ -27,9 +28,9 @@ CSV = os.path.join(HERE, "getfem.csv")
 FIELDS = ["code", "dim", "element", "refine", "repeat", "unknowns", "newton", "newton_steps", "factorisations", "wall",
           "cpu", "rss_mib", "load", "l2", "l2_core", "a", "p0", "peak", "t_mesh", "t_assembly", "t_contact",
           "t_solve", "force_balance"]
-CODES = ("stickslip", "getfem")
 GETFEM_SCRIPT = os.path.join(HERE, "getfem_hertz.py")
 SKIPPED = 77
+STYLES = {"stickslip": "dt 1 pt 7", "getfem": "dt 2 pt 5"}  # other stickslip settings: dotted
 
 
 def getfem_python():
@@ -46,9 +47,9 @@ def getfem_python():
     return python
 
 
-def stickslip_run(element, refine):
+def stickslip_run(element, refine, sets):
     out = os.path.join(tempfile.mkdtemp(prefix="stickslip-bench-getfem-"), "results")
-    row, _ = run_case(element, "penalty-nts", refine, keep=out)
+    row, _ = run_case(element, "penalty-nts", refine, keep=out, extra_sets=sets)
     s = Results(out).summary
     return {"unknowns": row["unknowns"], "newton": row["newton"], "newton_steps": "",
             "factorisations": s["linear_factorisations"], "wall": row["process_wall"], "cpu": row["cpu"],
@@ -110,11 +111,20 @@ def parse_cases(specs):
 
 
 def run(args):
-    repeats = 3
-    if args[:1] == ["--repeats"]:
-        if len(args) < 2 or not args[1].isdigit() or int(args[1]) < 1:
+    repeats, sets = 3, []
+    while args[:1] in (["--repeats"], ["--set"]):
+        if len(args) < 2:
+            sys.exit("bench_getfem.py: %s needs a value" % args[0])
+        if args[0] == "--set":
+            if "=" not in args[1]:
+                sys.exit("bench_getfem.py: --set takes KEY=VALUE, not '%s'" % args[1])
+            sets.append(args[1])
+        elif not args[1].isdigit() or int(args[1]) < 1:
             sys.exit("bench_getfem.py: --repeats takes a positive integer")
-        repeats, args = int(args[1]), args[2:]
+        else:
+            repeats = int(args[1])
+        args = args[2:]
+    codes = ["stickslip"] + ([" ".join(["stickslip"] + sets)] if sets else []) + ["getfem"]
     cases = parse_cases(args)
     if not cases:
         sys.exit(__doc__)
@@ -124,8 +134,9 @@ def run(args):
     for element, refine in cases:
         for repeat in range(repeats):
             new = []
-            for code in CODES:  # interleaved: the two codes see the same machine load
-                row = stickslip_run(element, refine) if code == "stickslip" else getfem_run(python, element, refine)
+            for code in codes:  # interleaved: the codes see the same machine load
+                row = (getfem_run(python, element, refine) if code == "getfem" else
+                       stickslip_run(element, refine, sets if code != "stickslip" else []))
                 row.update({"code": code, "dim": ELEMENTS[element][0], "element": element, "refine": "%g" % refine,
                             "repeat": repeat})
                 print("%-9s %-6s refine %-5g #%d %7d unknowns  Newton %3d  wall %7.2f s  cpu %7.2f s  l2 %.4f  "
@@ -157,19 +168,19 @@ def table(dim, rows):
            "assembly / contact / solve [s] | L2 profile | L2 core | load | wall ratio | CPU ratio |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     order = [e for e, v in ELEMENTS.items() if v[0] == dim]
-    for d, element, refine, code in sorted(by, key=lambda k: (order.index(k[1]), k[2], CODES.index(k[3]))):
-        if d != dim:
-            continue
+    keys = [k for k in by if k[0] == dim]
+    for d, element, refine, code in sorted(keys, key=lambda k: (order.index(k[1]), k[2], k[3] == "getfem", k[3])):
         runs = by[(d, element, refine, code)]
         other = by.get((d, element, refine, "getfem"))
-        ratio = lambda f: "%.2f" % (median(runs, f) / median(other, f)) if code == "stickslip" and other else ""
+        ratio = lambda f: "%.2f" % (median(runs, f) / median(other, f)) if code != "getfem" and other else ""
         phases = ("%.2f / %.2f / %.2f" % tuple(median(runs, "t_" + p) for p in ("assembly", "contact", "solve"))
-                  if code == "stickslip" else "mesh %.2f, set-up %.2f, Newton %.2f" % (
+                  if code != "getfem" else "mesh %.2f, set-up %.2f, Newton %.2f" % (
                       median(runs, "t_mesh"), median(runs, "t_assembly"), median(runs, "t_solve")))
         newton = runs[0]["newton"] + (" (%s)" % runs[0]["newton_steps"].replace(" ", ", ")
                                       if runs[0]["newton_steps"] else "")
         out.append("| %s | %g | %s | %s | %s | %s | %.2f (%.2f–%.2f) | %.2f | %s | %.4f | %.4f | %.4f | %s | %s |" % (
-            element, refine, "stickslip penalty-nts" if code == "stickslip" else "GetFEM nodal", runs[0]["unknowns"],
+            element, refine, "GetFEM nodal" if code == "getfem" else "stickslip penalty-nts" + code[len("stickslip"):],
+            runs[0]["unknowns"],
             newton, runs[0]["factorisations"], median(runs, "wall"), min(float(r["wall"]) for r in runs),
             max(float(r["wall"]) for r in runs), median(runs, "cpu"), phases, median(runs, "l2"),
             median(runs, "l2_core"), median(runs, "load"), ratio("wall"), ratio("cpu")))
@@ -182,20 +193,20 @@ def plot(rows, work):
     by = levels(rows)
     curves = sorted({(k[0], k[1], k[3]) for k in by})
     for dim, element, code in curves:
-        with open(os.path.join(work, "%s-%s.dat" % (element, code)), "w") as f:
+        with open(os.path.join(work, "%s-%s.dat" % (element, code.replace(" ", "_"))), "w") as f:
             for key in sorted(k for k in by if k[:2] == (dim, element) and k[3] == code):
                 runs = by[key]
                 f.write("%g %g %g\n" % (median(runs, "wall"), median(runs, "cpu"), median(runs, "l2")))
     png = os.path.join(ROOT, "docs", "img", "hertz-getfem.png")
     lines = ["set terminal pngcairo size 1400,1000 font ',11'", "set output '%s'" % png,
-             "set multiplot layout 2,2 title 'Hertz: L2 profile error against cost, stickslip penalty-nts (solid) and "
-             "GetFEM nodal contact (dashed); medians of interleaved runs'", "set logscale xy", "set grid",
-             "set key top right font ',9'", "set ylabel 'L2 profile error'"]
+             "set multiplot layout 2,2 title 'Hertz: L2 profile error against cost, stickslip penalty-nts (solid; "
+             "dotted: other settings) and GetFEM nodal contact (dashed); medians of interleaved runs'",
+             "set logscale xy", "set grid", "set key top right font ',9'", "set ylabel 'L2 profile error'"]
     for dim in (2, 3):
         for col, label in ((1, "wall"), (2, "CPU (user + system)")):
             plots = ["'%s' using %d:3 with linespoints lw 2 %s lc rgb '%s' title '%s %s'" % (
-                os.path.join(work, "%s-%s.dat" % (e, c)), col, "dt 1 pt 7" if c == "stickslip" else "dt 2 pt 5",
-                COLOURS[e], e, "stickslip" if c == "stickslip" else "GetFEM") for d, e, c in curves if d == dim]
+                os.path.join(work, "%s-%s.dat" % (e, c.replace(" ", "_"))), col, STYLES.get(c, "dt 3 pt 9"),
+                COLOURS[e], e, "GetFEM" if c == "getfem" else c) for d, e, c in curves if d == dim]
             if plots:
                 lines += ["set title '%dD'" % dim, "set xlabel '%s seconds per run'" % label,
                           "plot " + ", ".join(plots)]

@@ -59,10 +59,10 @@ def run_child(command):
     return usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0, wall
 
 
-def run_case(element, plugin, refine, keep=None):
+def run_case(element, plugin, refine, keep=None, extra_sets=()):
     """One benchmark run: a dict of cost and errors, and the profile [(r/a, p/p0)] at reference positions."""
     dim, scene, sets = ELEMENTS[element]
-    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"]
+    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"] + list(extra_sets)
     if plugin != "penalty-nts":
         sets += ["contact.0.plugin=%s" % plugin, "contact.0.parameters={}"]
     out = keep or os.path.join(tempfile.mkdtemp(prefix="stickslip-bench-hertz-"), "results")
