@@ -10,13 +10,14 @@ isotropic linear elasticity, plane strain in 2D), the same boundary conditions (
 single prescribed component as a normal Dirichlet condition with multipliers on the flat group), the same load
 steps, frictionless contact of the scene's slave group on its master group by GetFEM's nodal contact brick between
 non-matching meshes (Alart-Curnier augmented Lagrangian, small sliding, one nodal force per slave node), Newton with
-MUMPS. It writes JSON: the cost (unknowns, Newton iterations per step, phase times), the top reaction (the load),
+MUMPS to a residual relative to the step's first (--max-res). It writes JSON: the cost (unknowns, Newton iterations per step, phase times), the top reaction (the load),
 the sum of the contact forces, and the slave nodes' reference positions, pressures and gaps, from which
 bench_getfem.py computes the project's errors (hertz_profile.py). Pressures from the nodal forces f_k: p_k = f_k /
 w_k with w_k = the integral of the node's shape function over the slave faces, the lumped recovery penalty-nts
 reports; on TRI6 slave faces (corner weights 0) penalty-nts's recovery in the modified basis, p = T^T f / T^T w
-with the corner's shape function N_c + alpha (N_m1 + N_m2) and the edge node's (1 - 2 alpha) N_m, alpha = 1/5
-(docs/plugins/penalty-nts.md, "Quadratic faces"); `--recovery consistent` solves M p = f instead (M the slave
+with the corner's shape function N_c + alpha (N_m1 + N_m2) and the edge node's (1 - 2 alpha) N_m, alpha = 1/5, an
+open corner reporting it only when its edge neighbours carry force (docs/plugins/penalty-nts.md, "Quadratic
+faces"); `--recovery consistent` solves M p = f instead (M the slave
 faces' mass matrix)."""
 import argparse
 import json
@@ -181,12 +182,13 @@ def solve(element, refine, r_factor, max_res, recovery):
         mf = gf.MeshFem(m, dim)
         mf.set_classical_fem(order)
         mim = gf.MeshIm(m, 2 * order)
-        u = "u_" + b.replace("-", "_")
+        name = b.replace("-", "_")  # GetFEM's variable names take no '-'
+        u = "u_" + name
         md.add_fem_variable(u, mf)
         E, nu = float(mat["E"]), float(mat["nu"])
-        md.add_initialized_data("lambda_" + b, [E * nu / ((1 + nu) * (1 - 2 * nu))])
-        md.add_initialized_data("mu_" + b, [E / (2 * (1 + nu))])
-        md.add_isotropic_linearized_elasticity_brick(mim, u, "lambda_" + b, "mu_" + b)
+        md.add_initialized_data("lambda_" + name, [E * nu / ((1 + nu) * (1 - 2 * nu))])
+        md.add_initialized_data("mu_" + name, [E / (2 * (1 + nu))])
+        md.add_isotropic_linearized_elasticity_brick(mim, u, "lambda_" + name, "mu_" + name)
         body[b] = {"mesh": m, "mf": mf, "mim": mim, "u": u, "E": E, "regions": set(m.regions())}
     clock["mesh"] = time.perf_counter()
 
