@@ -20,13 +20,18 @@ CORE_RANGE = 0.8     # ... and l2_core r < CORE_RANGE * a
 
 def hertz_reference(dim, results):
     """(load, a, p0) of Hertz's solution for the load the run carries (docs/validation.md)."""
-    Es = e_star(1000.0, 1.0e6)
     last = results.rows[-1]
+    return hertz_from_reaction(dim, last["reaction_top_y"] if dim == 2 else last["reaction_top_z"])
+
+
+def hertz_from_reaction(dim, reaction):
+    """(load, a, p0) of Hertz's solution for the reaction at the top of the half (2D) or quarter (3D) model."""
+    Es = e_star(1000.0, 1.0e6)
     if dim == 2:
-        P = 2 * abs(last["reaction_top_y"])
+        P = 2 * abs(reaction)
         a = math.sqrt(4 * P / (math.pi * Es))
         return P, a, 2 * P / (math.pi * a)
-    F = 4 * abs(last["reaction_top_z"])
+    F = 4 * abs(reaction)
     a = (3 * F / (4 * Es)) ** (1.0 / 3.0)
     return F, a, 3 * F / (2 * math.pi * a * a)
 

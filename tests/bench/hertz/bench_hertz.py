@@ -6,6 +6,8 @@ scenes/hertz-3d-hex.yaml), with the plugins that run them. Errors and costs: her
                                                       runs cases, merges them into results.csv
   python3 tests/bench/hertz/bench_hertz.py report                           plots + docs/hertz.md from the CSV files
 
+The side-by-side runs against GetFEM (getfem.csv) are bench_getfem.py's; `report` puts their tables in too.
+
 `run 2d` / `run 3d` without elements runs the default levels (LEVELS below); `--plugin` runs the cases with another
 formulation than penalty-nts, given its defaults only; `cmake --build build --target bench-hertz` runs everything
 (penalty-nts) and reports. Needs STICKSLIP_BIN or build/bin/stickslip; gnuplot for the plots."""
@@ -182,9 +184,13 @@ def report():
     template = open(os.path.join(HERE, "hertz.md.in")).read()
     text = template.replace("@TABLE_2D@", sections.get(2, "(not run)"))
     text = text.replace("@TABLE_3D@", sections.get(3, "(not run)"))
+    from bench_getfem import report as getfem_report  # the side-by-side runs of getfem.csv
+    getfem = getfem_report()
+    for dim in (2, 3):
+        text = text.replace("@GETFEM_%dD@" % dim, getfem.get(dim, "(not run)"))
     with open(os.path.join(ROOT, "docs", "hertz.md"), "w") as f:
         f.write(text)
-    print("wrote docs/hertz.md and docs/img/hertz-{2d,3d}-{errors,profiles}.png")
+    print("wrote docs/hertz.md, docs/img/hertz-{2d,3d}-{errors,profiles}.png and docs/img/hertz-getfem.png")
 
 
 def main():

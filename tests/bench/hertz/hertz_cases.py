@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
@@ -27,36 +28,52 @@ ELEMENTS = {
 }
 
 
-def run_timed(scene, sets, out):
-    """Runs the driver (one rank, one thread for BLAS/OpenMP so that CPU time means one core); returns (Results,
-    user + system CPU seconds, peak resident memory in MiB) of that child process alone."""
+def driver_command(scene, sets, out):
+    """The command line of one quiet run of the driver with --set overrides."""
     binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
     command = [binary, "run", os.path.join(ROOT, scene), "--out", out, "--quiet"]
     for s in sets:  # a map of parameters replaces the scene's (another plugin's) parameters
         command += ["--replace" if s.startswith("contact.0.parameters=") else "--set", s]
+    return command
+
+
+def run_timed(scene, sets, out):
+    """Runs the driver (one rank, one thread for BLAS/OpenMP so that CPU time means one core); returns (Results,
+    user + system CPU seconds, peak resident memory in MiB) of that child process alone."""
+    cpu, rss, _ = run_child(driver_command(scene, sets, out))
+    return Results(out), cpu, rss
+
+
+def run_child(command):
+    """Runs a command with one thread for BLAS/OpenMP; returns (user + system CPU seconds, peak resident memory in
+    MiB, wall seconds from start to exit) of that child process alone (and the children it waited for)."""
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    start = time.perf_counter()
     proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
-    _, status, usage = os.wait4(proc.pid, 0)
-    proc.returncode = os.waitstatus_to_exitcode(status)
     stderr = proc.stderr.read()
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - start
+    proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode != 0:
         raise RuntimeError("run failed (%d): %s\n%s" % (proc.returncode, " ".join(command), stderr))
-    return Results(out), usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
+    return usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0, wall
 
 
-def run_case(element, plugin, refine, keep=None):
+def run_case(element, plugin, refine, keep=None, extra_sets=()):
     """One benchmark run: a dict of cost and errors, and the profile [(r/a, p/p0)] at reference positions."""
     dim, scene, sets = ELEMENTS[element]
-    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"]
+    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"] + list(extra_sets)
     if plugin != "penalty-nts":
         sets += ["contact.0.plugin=%s" % plugin, "contact.0.parameters={}"]
     out = keep or os.path.join(tempfile.mkdtemp(prefix="stickslip-bench-hertz-"), "results")
-    results, cpu, rss = run_timed(scene, sets, out)
+    cpu, rss, process_wall = run_child(driver_command(scene, sets, out))
+    results = Results(out)
     load, a, p0 = hertz_reference(dim, results)
     points = reference_points(results, radial=dim == 3)
     row = {"dim": dim, "element": element, "plugin": plugin, "refine": refine,
            "unknowns": int(results.summary["unknowns"]), "newton": int(results.summary["newton_iterations"]),
-           "wall": results.summary["wall_seconds"], "cpu": cpu, "rss_mib": rss, "load": load, "a_exact": a}
+           "wall": results.summary["wall_seconds"], "process_wall": process_wall, "cpu": cpu, "rss_mib": rss,
+           "load": load, "a_exact": a}
     row.update(profile_errors(points, a, p0))
     profile = [(r / a, p / p0) for r, p, g, n in points if not math.isnan(g) and r <= 2.0 * a]
     return row, profile
