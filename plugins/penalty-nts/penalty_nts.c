@@ -121,35 +121,35 @@ static sk_status pnts_layout(sk_instance *in, const sk_state *st, sk_layout *lay
   return SK_OK;
 }
 
-/* Every owned slave node with every node of its candidate master faces (the face selected during the step is one
- * of them); against an obstacle only the node's own block. */
+/* Every owned slave node with the nodes of each of its candidate master faces, face by face (the face selected
+ * during the step is one of them; a point's Jacobian couples it with that one face only, so nodes of two candidate
+ * faces are never coupled by it); against an obstacle only the node's own block. */
 static sk_status pnts_pattern(sk_instance *in, const sk_state *st, sk_pattern *pattern) {
   (void)st;
   const sk_view *slave = in->slave, *master = in->master;
   const int dim = in->dim;
+  const int need = dim * (1 + (master ? master->nen : 0));
+  if (need > in->pattern_capacity) {
+    int64_t *grown = realloc(in->pattern_dofs, sizeof(int64_t) * (size_t)need);
+    if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
+    in->pattern_dofs = grown;
+    in->pattern_capacity = need;
+  }
+  int64_t *dofs = in->pattern_dofs;
   for (int k = 0; k < in->n_slave; ++k) {
     if (!slave->owned[k]) continue;
-    const int need = dim * (1 + (master ? in->cand_count[k] * master->nen : 0));
-    if (need > in->pattern_capacity) {
-      int64_t *grown = realloc(in->pattern_dofs, sizeof(int64_t) * (size_t)need);
-      if (!grown) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
-      in->pattern_dofs = grown;
-      in->pattern_capacity = need;
+    for (int i = 0; i < dim; ++i) dofs[i] = slave->dofs[k * dim + i];
+    if (!master || in->cand_count[k] == 0) {
+      pattern->add_block(pattern, dim, dofs, dim, dofs);
+      continue;
     }
-    int64_t *dofs = in->pattern_dofs;
-    int n = 0;
-    for (int i = 0; i < dim; ++i) dofs[n++] = slave->dofs[k * dim + i];
-    for (int c = 0; master && c < in->cand_count[k]; ++c) {
+    for (int c = 0; c < in->cand_count[k]; ++c) {
       const int32_t *conn = master->conn + in->cand.faces[in->cand_start[k] + c] * master->nen;
-      for (int I = 0; I < master->nen; ++I) {
-        const int64_t first = master->dofs[conn[I] * dim];
-        int seen = 0;
-        for (int j = 0; j < n && !seen; j += dim) seen = dofs[j] == first;
-        if (seen) continue;
+      int n = dim;
+      for (int I = 0; I < master->nen; ++I)
         for (int i = 0; i < dim; ++i) dofs[n++] = master->dofs[conn[I] * dim + i];
-      }
+      pattern->add_block(pattern, n, dofs, n, dofs);
     }
-    pattern->add_block(pattern, n, dofs, n, dofs);
   }
   return SK_OK;
 }
