@@ -107,18 +107,13 @@ static void chain_apply(const pair_chain *pc, const fwd *y, double scale, double
   }
 }
 
-static int64_t node_dof(const sk_instance *inst, int side, int node, int i) {
-  const sk_view *v = side == SIDE_SLAVE ? inst->slave : inst->master;
-  return v->dofs[(int64_t)node * v->dim + i];
-}
-
 /* Position of each chain column in owned node o's sorted column list (-1 if absent: not a coupling of the node). */
 static void map_to_node(sk_instance *inst, const owned_node *o) {
   const pair_chain *pc = &inst->chain;
   const int64_t *cols = inst->col + o->cols;
   for (int n = 0; n < pc->n_nodes; ++n)
     for (int i = 0; i < inst->dim; ++i) {
-      const int64_t key = node_dof(inst, pc->side[n], pc->node[n], i);
+      const int64_t key = mortar_node_dof(inst, pc->side[n], pc->node[n], i);
       int lo = 0, hi = o->n_cols - 1, found = -1;
       while (lo <= hi) {
         const int mid = (lo + hi) / 2;
@@ -154,8 +149,8 @@ static void add_forces(sk_instance *inst, const sk_state *state, eval_mode mode,
   int nr = 0;
   for (int a = first; a < last; ++a)
     for (int i = 0; i < dim; ++i)
-      rows[nr++] = a < ns ? node_dof(inst, SIDE_SLAVE, inst->slave->conn[(int64_t)f * ns + a], i)
-                          : node_dof(inst, SIDE_MASTER, inst->master->conn[(int64_t)m * nm + a - ns], i);
+      rows[nr++] = a < ns ? mortar_node_dof(inst, SIDE_SLAVE, inst->slave->conn[(int64_t)f * ns + a], i)
+                          : mortar_node_dof(inst, SIDE_MASTER, inst->master->conn[(int64_t)m * nm + a - ns], i);
   if (mode == EVAL_RESIDUAL) {
     double vals[2 * MORTAR_MAX_NEN * 3];
     int r = 0;
@@ -172,7 +167,7 @@ static void add_forces(sk_instance *inst, const sk_state *state, eval_mode mode,
   for (int a = first; a < last; ++a)
     for (int i = 0; i < dim; ++i, ++r) chain_apply(pc, &F[a][i], 1.0, inst->block + (size_t)r * nc);
   for (int n = 0; n < pc->n_nodes; ++n)
-    for (int i = 0; i < dim; ++i) inst->block_cols[n * dim + i] = node_dof(inst, pc->side[n], pc->node[n], i);
+    for (int i = 0; i < dim; ++i) inst->block_cols[n * dim + i] = mortar_node_dof(inst, pc->side[n], pc->node[n], i);
   sink->add_matrix(sink, nr, rows, nc, inst->block_cols, inst->block);
   /* columns of the unknowns z~_j = A_j z_j [U1]: d f_k,i / d z~_j,i = D_jk / A_j (slave rows), -M_jl / A_j (master) */
   int64_t zcols[MORTAR_MAX_NEN * 3];
@@ -266,7 +261,7 @@ static void contribute(sk_instance *inst, const eval_ctx *ec, int f, int m, cons
         const double coef = m < 0 ? ((inst->basis == MORTAR_DUAL && k != a) ? 0.0 : I->D[a][k].v) : -I->M[a][k].v;
         const int side = m < 0 ? SIDE_SLAVE : SIDE_MASTER;
         const int node = m < 0 ? sv->conn[(int64_t)f * ns + k] : inst->master->conn[(int64_t)m * p->nen_m + k];
-        const int64_t key = node_dof(inst, side, node, 0);
+        const int64_t key = mortar_node_dof(inst, side, node, 0);
         for (int c = 0; c < o->n_cols; ++c)
           if (inst->col[o->cols + c] == key) {
             inst->commit_rows[o->cols + c] += coef;
@@ -533,7 +528,7 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
       if (inst->master)
         for (int h = o->hist; h < o->hist + o->n_hist; ++h)
           for (int i = 0; i < dim; ++i) {
-            const int pos = column_of(inst, o, node_dof(inst, inst->hist_side[h], inst->hist_node[h], i));
+            const int pos = column_of(inst, o, mortar_node_dof(inst, inst->hist_side[h], inst->hist_node[h], i));
             if (pos >= 0) row[pos] += ds * tau[a][i] * inst->hist_value[h];
           }
     }
@@ -541,7 +536,7 @@ static sk_status ncp_rows(sk_instance *inst, const eval_ctx *ec, owned_node *o, 
     for (int e = inst->star_node_ptr[j]; e < inst->star_node_ptr[j + 1]; ++e) {
       const double *dn = inst->dnormal + 9 * (size_t)e;
       for (int mcomp = 0; mcomp < dim; ++mcomp) {
-        const int pos = column_of(inst, o, node_dof(inst, SIDE_SLAVE, inst->star_node[e], mcomp));
+        const int pos = column_of(inst, o, mortar_node_dof(inst, SIDE_SLAVE, inst->star_node[e], mcomp));
         if (pos < 0) continue;
         double v = 0.0;
         for (int i = 0; i < dim; ++i) v += r.dC[c][0] * z[i] * dn[i * 3 + mcomp];
@@ -607,100 +602,5 @@ sk_status mortar_evaluate(sk_instance *inst, const sk_state *state, eval_mode mo
   int count = 0;
   for (int i = 0; i < inst->n_owned; ++i) SK_TRY(ncp_rows(inst, &ec, &inst->owned[i], xs, xm, &count));
   if (changed) *changed = count;
-  return SK_OK;
-}
-
-/* ---- columns of the owned nodes' rows --------------------------------------------------------------------------- */
-struct column_entry {
-  int64_t dof;
-  int side, node, comp;
-};
-
-static int compare_entries(const void *a, const void *b) {
-  const int64_t x = ((const struct column_entry *)a)->dof, y = ((const struct column_entry *)b)->dof;
-  return x < y ? -1 : x > y;
-}
-
-static sk_status push_node(sk_instance *inst, int *n, int side, int node) {
-  if (*n + inst->dim > inst->tmp_cap) {
-    const int cap = 2 * (*n + inst->dim) + 64;
-    struct column_entry *t = realloc(inst->tmp_entries, sizeof *t * (size_t)cap);
-    if (!t) return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (column lists)");
-    inst->tmp_entries = t;
-    inst->tmp_cap = cap;
-  }
-  for (int i = 0; i < inst->dim; ++i)
-    inst->tmp_entries[(*n)++] = (struct column_entry){node_dof(inst, side, node, i), side, node, i};
-  return SK_OK;
-}
-
-sk_status mortar_build_columns(sk_instance *inst) {
-  const sk_view *sv = inst->slave;
-  SK_TRY(mortar_cache_size(inst)); /* the candidates changed */
-  inst->n_col = 0;
-  int max_cols = 0;
-  for (int oi = 0; oi < inst->n_owned; ++oi) {
-    owned_node *o = &inst->owned[oi];
-    int n = 0;
-    for (int e = inst->star_face_ptr[o->node]; e < inst->star_face_ptr[o->node + 1]; ++e) {
-      const int f = inst->star_face[e];
-      for (int a = 0; a < sv->nen; ++a) {
-        const int b = sv->conn[(int64_t)f * sv->nen + a];
-        for (int s = inst->star_node_ptr[b]; s < inst->star_node_ptr[b + 1]; ++s)
-          SK_TRY(push_node(inst, &n, SIDE_SLAVE, inst->star_node[s]));
-      }
-      if (inst->master)
-        for (int c = inst->cand_ptr[f]; c < inst->cand_ptr[f + 1]; ++c)
-          for (int b = 0; b < inst->master->nen; ++b)
-            SK_TRY(push_node(inst, &n, SIDE_MASTER,
-                             inst->master->conn[(int64_t)inst->cand[c] * inst->master->nen + b]));
-    }
-    for (int h = o->hist; h < o->hist + o->n_hist; ++h)
-      SK_TRY(push_node(inst, &n, inst->hist_side[h], inst->hist_node[h]));
-    qsort(inst->tmp_entries, (size_t)n, sizeof *inst->tmp_entries, compare_entries);
-    int unique = 0;
-    for (int k = 0; k < n; ++k)
-      if (unique == 0 || inst->tmp_entries[k].dof != inst->tmp_entries[unique - 1].dof)
-        inst->tmp_entries[unique++] = inst->tmp_entries[k];
-    if (inst->n_col + unique > inst->col_cap) {
-      const int cap = 2 * (inst->n_col + unique) + 256;
-      int64_t *c = realloc(inst->col, sizeof *c * (size_t)cap);
-      if (c) inst->col = c;
-      int *cs = realloc(inst->col_side, sizeof *cs * (size_t)cap);
-      if (cs) inst->col_side = cs;
-      int *cn = realloc(inst->col_node, sizeof *cn * (size_t)cap);
-      if (cn) inst->col_node = cn;
-      int *cc = realloc(inst->col_comp, sizeof *cc * (size_t)cap);
-      if (cc) inst->col_comp = cc;
-      double *ag = realloc(inst->acc_gap, sizeof *ag * (size_t)cap);
-      if (ag) inst->acc_gap = ag;
-      double *cr = realloc(inst->commit_rows, sizeof *cr * (size_t)cap);
-      if (cr) inst->commit_rows = cr;
-      if (!c || !cs || !cn || !cc || !ag || !cr)
-        return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (column lists)");
-      inst->col_cap = cap;
-    }
-    o->cols = inst->n_col;
-    o->n_cols = unique;
-    for (int k = 0; k < unique; ++k) {
-      inst->col[inst->n_col + k] = inst->tmp_entries[k].dof;
-      inst->col_side[inst->n_col + k] = inst->tmp_entries[k].side;
-      inst->col_node[inst->n_col + k] = inst->tmp_entries[k].node;
-      inst->col_comp[inst->n_col + k] = inst->tmp_entries[k].comp;
-    }
-    inst->n_col += unique;
-    if (unique > max_cols) max_cols = unique;
-  }
-  /* acc_W holds 3 columns lists; the scratch block dim rows of the longest list (or of a pair chain) */
-  double *aw = realloc(inst->acc_W, sizeof(double) * 3 * (size_t)(inst->n_col > 0 ? inst->n_col : 1));
-  if (!aw) return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (accumulators)");
-  inst->acc_W = aw;
-  const int need = 3 * max_cols;
-  if (need > inst->block_cap) {
-    double *b = realloc(inst->block, sizeof(double) * (size_t)need);
-    if (!b) return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (scratch)");
-    inst->block = b;
-    inst->block_cap = need;
-  }
   return SK_OK;
 }

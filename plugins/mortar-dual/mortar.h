@@ -1,12 +1,16 @@
-/* mortar-dual — the glue's shared state (plugin.c: the ABI calls; assemble.c: the contact terms at a point x).
+/* mortar-dual — the glue's shared state (plugin.c: the ABI calls; parameters.c, surface.c, checkpoint.c: what they
+ * read, build and save; assemble.c: the contact terms at a point x).
  * Views: attach->views = {slave, master} (or {slave} with an obstacle). Extra unknowns: z, dim per slave surface
  * node, at dim * node_index. Faces of the slave view are processed when owned (their forces) or when they touch an
  * owned node (that node's weighted gap and slip). */
 #ifndef MORTAR_GLUE_H
 #define MORTAR_GLUE_H
 
+#include <stdlib.h>
+
 #include "candidates.h"
 #include "kernel.h"
+#include "stickslip/modified_basis.h"
 #include "stickslip/plugin.h"
 
 enum { STRATEGY_SADDLE_POINT = 0, STRATEGY_CONDENSED = 1 };
@@ -209,7 +213,7 @@ sk_status mortar_self_create(sk_instance *inst);
 /* Self contact: the search hits of every face over the step x_n -> xs (search.c). */
 sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const double *xs, const double *xm);
 
-/* The attempt's columns of every owned node's rows (after the candidates; begin_step). */
+/* The attempt's columns of every owned node's rows (after the candidates; begin_step; columns.c). */
 sk_status mortar_build_columns(sk_instance *inst);
 
 /* The integral cache (cache.c). mortar_cache_size: sized for the candidates and dropped (after every change of the
@@ -223,6 +227,46 @@ void mortar_cache_end(sk_instance *inst, sk_status status);
 void mortar_cache_put(sk_instance *inst, int entry, const mortar_integrals *I);
 /* I zeroed for the pair (mortar_integrals_zero) on entry. */
 void mortar_cache_get(const sk_instance *inst, int entry, mortar_integrals *I);
+
+/* Out of memory, as every glue file reports it (`what`: the arrays being grown, or ""). */
+static inline sk_status mortar_nomem(sk_instance *inst, const char *what) {
+  return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory%s%s%s", what[0] ? " (" : "", what,
+                          what[0] ? ")" : "");
+}
+
+/* calloc that returns a pointer for zero entries too (a NULL then means out of memory). */
+static inline void *mortar_alloc_zero(size_t n, size_t size) { return calloc(n > 0 ? n : 1, size); }
+
+/* Slave faces whose multipliers are dual to the transformed functions (TRI6, QUAD8: section 3.5 of the plugin page). */
+static inline int mortar_transformed_face(sk_elem_type type) { return sk_modified_basis_corners(type) > 0; }
+
+/* The parameters of sk_plugin.parameters, read and checked into inst (parameters.c). */
+sk_status mortar_read_parameters(sk_instance *inst);
+/* sk_plugin.check: what the plugin cannot run (parameters.c); the scheme and face checks again at creation and at a
+ * step, for hosts before ABI 2.7 (no check()): 1 and the reason when refused. */
+sk_status mortar_check(const sk_scene_info *scene, char *reason, int size);
+int mortar_scheme_refused(const char *scheme, double alpha, char *reason, int size);
+int mortar_faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, int has_master,
+                         sk_elem_type master, char *reason, int size);
+
+/* Node -> faces and node -> nodes of those faces (CSR) of view v; node_ptr may be NULL (surface.c). */
+sk_status mortar_build_stars(sk_instance *inst, const sk_view *v, int **face_ptr, int **faces, int **node_ptr,
+                             int **nodes);
+/* Every node of a needed slave face has all its faces in this rank's view (surface.c). */
+sk_status mortar_check_stars(sk_instance *inst);
+/* The slave surface's tributary measures int N_j at positions x (dim per view node) (surface.c). */
+void mortar_tributary_measures(const sk_instance *inst, const double *x, double *measure);
+/* A_j at the reference positions, into inst->A_node and the owned nodes' A_ref (surface.c). */
+void mortar_reference_measures(sk_instance *inst);
+
+/* The stickslip.checkpoint.v1 extension (checkpoint.c). */
+extern const sk_checkpoint_ext mortar_checkpoint;
+
+/* Global unknown index of component i of a node of the slave (side SIDE_SLAVE) or master view. */
+static inline int64_t mortar_node_dof(const sk_instance *inst, int side, int node, int i) {
+  const sk_view *v = side == SIDE_SLAVE ? inst->slave : inst->master;
+  return v->dofs[(int64_t)node * v->dim + i];
+}
 
 /* Global unknown index of z_j component i for owned node o. */
 static inline int64_t mortar_z_index(const sk_instance *inst, const sk_state *state, int64_t extra, int i) {

@@ -45,7 +45,6 @@
 #define mortar_compute_normals mortar_narrow_compute_normals
 #define mortar_pair_reaches mortar_narrow_pair_reaches
 #define mortar_evaluate mortar_narrow_evaluate
-#define mortar_build_columns mortar_narrow_build_columns
 #define mortar_cache_size mortar_narrow_cache_size
 #define mortar_cache_begin mortar_narrow_cache_begin
 #define mortar_cache_end mortar_narrow_cache_end

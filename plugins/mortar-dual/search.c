@@ -7,15 +7,11 @@
 
 #include "mortar.h"
 
-static sk_status nomem(sk_instance *inst) {
-  return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (candidate faces)");
-}
-
 sk_status mortar_grow(sk_instance *inst, int **array, int *cap, int need) {
   if (need <= *cap) return SK_OK;
   const int grown = 2 * need + 64;
   int *a = realloc(*array, sizeof(int) * (size_t)grown);
-  if (!a) return nomem(inst);
+  if (!a) return mortar_nomem(inst, "candidate faces");
   *array = a;
   *cap = grown;
   return SK_OK;
@@ -44,7 +40,7 @@ sk_status mortar_search_faces(sk_instance *inst, const sk_state *state, const do
     int start, count;
     if (cand_query_swept(inst->api->contact, inst->search, lo, hi, dim, inst->search_margin, &inst->hits, &start,
                          &count) != 0)
-      return nomem(inst);
+      return mortar_nomem(inst, "candidate faces");
   }
   inst->hit_ptr[sv->n_cells] = inst->hits.used;
   return SK_OK;

@@ -11,10 +11,6 @@
 #include "defaults.h"
 #include "mortar.h"
 
-static sk_status nomem(sk_instance *inst) {
-  return inst->api->error(inst->host, SK_ERR_NOMEM, "mortar-dual: out of memory (self contact)");
-}
-
 /* The point and normal of face f at its parametric centre in the reference configuration. */
 static void reference_centre(const sk_instance *inst, int f, sk_surface_point *p) {
   const sk_view *v = inst->master;
@@ -224,6 +220,6 @@ sk_status mortar_self_create(sk_instance *inst) {
   inst->queue = calloc(nf + 1, sizeof(int));
   if (!inst->role || !inst->role_committed || !inst->role_preferred || !inst->on_master || !inst->adj_ptr ||
       !inst->queue)
-    return nomem(inst);
+    return mortar_nomem(inst, "self contact");
   return SK_OK;
 }
