@@ -147,6 +147,13 @@ void nts_self_free(sk_instance *inst);
  * projections get face -1 (those nodes are master nodes only this step). */
 sk_status nts_self_sides(sk_instance *inst, sk_projection *proj);
 
+/* history.c: the sk_plugin calls of a step's end and of the results, and the checkpoint extension. */
+sk_status nts_commit_step(sk_instance *inst, const sk_state *state);
+void nts_reject_step(sk_instance *inst);
+sk_status nts_report(sk_instance *inst, const sk_state *state, sk_contact_report *rep);
+sk_status nts_points(sk_instance *inst, const sk_state *state, sk_point_callback callback, void *ctx);
+extern const sk_checkpoint_ext nts_checkpoint;
+
 /* step.c */
 sk_status nts_begin_step(sk_instance *inst, const sk_state *state);
 /* The element's positions q_A = [slave node | facet nodes] (3 per node; z = 0 in 2D) from the positions per view
