@@ -169,11 +169,12 @@ int mortar_faces_refused(const char *slave_name, sk_elem_type slave, const char 
   return 1;
 }
 
-/* Self contact (section 3.6 of the plugin page): 2D and 3D first-order faces (and LINE3), one rank. */
+/* Self contact (section 3.6 of the plugin page): LINE2, LINE3, TRI3, QUAD4 and QUAD9 faces, one rank. */
 static int self_refused(int self, int n_ranks, sk_elem_type type, char *reason, int size) {
-  if (self && (type == SK_QUAD9 || type == SK_TRI6 || type == SK_QUAD8)) {
-    snprintf(reason, (size_t)size, "mortar-dual's self contact runs on first-order faces in 3D (its face pairing is "
-             "not tested on %s faces)", face_name(type));
+  if (self && mortar_transformed_face(type)) {
+    snprintf(reason, (size_t)size, "mortar-dual's self contact runs on line2, line3, tri3, quad4 and quad9 faces; on "
+             "%s faces the multipliers are dual to transformed functions that mix each face's vertex and mid-side "
+             "nodes, which a self pair's per-step slave and master sides are not built for", face_name(type));
     return 1;
   }
   if (!self || n_ranks <= 1) return 0;

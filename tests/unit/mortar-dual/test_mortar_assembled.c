@@ -210,6 +210,35 @@ static void mesh_2d_self(kit *k) {
   k->attach.self_contact = 1;
 }
 
+/* The slot of mesh_3d_self on QUAD9 faces: its 18 nodes (X, layers y ~ 0 and 0.5) are the faces' corners; the
+ * mid-side and centre nodes are the means of their corners (straight edges, the QUAD4 slot's geometry): nodes
+ * 0-8 and 9-17 as in mesh_3d_self, 18-26 the segments' midpoints at both layers (18 + s, 27 + s), 36-44 the
+ * corners' mid-layer nodes, 45-53 the segments' mid-layer centres. */
+static void mesh_3d_self_quad9(kit *k, const double *X) {
+  double Y[54 * 3];
+  memcpy(Y, X, sizeof(double) * 54);
+  for (int s = 0; s < 9; ++s)
+    for (int i = 0; i < 3; ++i) {
+      const int a = s, b = (s + 1) % 9;
+      Y[3 * (18 + s) + i] = 0.5 * (X[3 * a + i] + X[3 * b + i]);
+      Y[3 * (27 + s) + i] = 0.5 * (X[3 * (a + 9) + i] + X[3 * (b + 9) + i]);
+      Y[3 * (36 + s) + i] = 0.5 * (X[3 * a + i] + X[3 * (a + 9) + i]);
+    }
+  for (int s = 0; s < 9; ++s)
+    for (int i = 0; i < 3; ++i) Y[3 * (45 + s) + i] = 0.5 * (Y[3 * (18 + s) + i] + Y[3 * (27 + s) + i]);
+  kit_init(k, 3, 54, Y);
+  int conn[81];
+  for (int s = 0; s < 9; ++s) {
+    const int a = s, b = (s + 1) % 9;
+    /* the QUAD4 slot's corners {a, a + 9, b + 9, b}, then the edges' mid-nodes in that order and the centre */
+    const int quad[9] = {a, a + 9, b + 9, b, 36 + a, 27 + s, 36 + b, 18 + s, 45 + s};
+    memcpy(conn + 9 * s, quad, sizeof quad);
+  }
+  kit_surface(k, 0, SK_QUAD9, 9, 9, conn);
+  kit_surface(k, 1, SK_QUAD9, 9, 9, conn);
+  k->attach.self_contact = 1;
+}
+
 /* 3D self contact: the slot of mesh_2d_self (its left end steep, x from -0.01) extruded along y over about [0, 0.5] (nodes i and i + 9), warped, the
  * ends of the extrusion slanted differently on the two walls, so that the walls (top: normal -z, bottom: +z) face
  * each other with non-matching nodes and no edge of one parallel to an edge of the other (coinciding edges make the
@@ -226,6 +255,10 @@ static void mesh_3d_self(kit *k, sk_elem_type type) {
       x[1] = 0.5 * j + (i < 4 || i == 8 ? 0.1 : -0.1) * (XZ[2 * i] - 0.5); /* the walls' ends cross at 11 deg */
       x[2] = XZ[2 * i + 1] + 0.001 * j * (XZ[2 * i] - 0.5);
     }
+  if (type == SK_QUAD9) {
+    mesh_3d_self_quad9(k, X);
+    return;
+  }
   kit_init(k, 3, 18, X);
   int conn[54], n = 0;
   for (int s = 0; s < 9; ++s) {
@@ -319,6 +352,7 @@ static double check_case(const fd_case *c) {
   else if (c->dim == 3 && c->with_master == 6) mesh_3d_quad9(&k);
   else if (c->dim == 3 && c->with_master == 7) mesh_3d_tri6(&k);
   else if (c->dim == 3 && c->with_master == 8) mesh_3d_quad8(&k);
+  else if (c->dim == 3 && c->with_master == 9) mesh_3d_self(&k, SK_QUAD9);
   else if (c->dim == 3 && c->with_master >= 4) mesh_3d_self(&k, c->with_master == 4 ? SK_QUAD4 : SK_TRI3);
   else if (c->dim == 3) mesh_3d(&k);
   else if (c->with_master == 3) mesh_2d_line3(&k);
@@ -332,7 +366,7 @@ static double check_case(const fd_case *c) {
   SK_CHECK(kit_begin(&k) == SK_OK);
   SK_CHECK(kit_commit(&k) == SK_OK);
   /* the new step: positions perturbed by up to 0.002, compressive z with a tangential part */
-  double q[72];
+  double q[162];
   unsigned long long seed = 12345;
   const int dim = c->dim;
   for (int i = 0; i < k.n_dofs; ++i) {
@@ -368,8 +402,11 @@ static double check_case(const fd_case *c) {
      * master face: its z is not condensed. In 3D the same per 2D segment (its quad4, its two tri3), at both ends of
      * the extrusion (nodes 4 and 13), except the left end: its quad4 and one of its tri3 reach bottom-wall faces
      * within the search margin (the mean edge, 0.28 here), so they are slave too (inactive, far off; their
-     * grazing projections make the quad4 case's |J - FD| fall as h^2: 3.6e-7, 3.6e-9 at h = 1e-6, 1e-7). */
-    const char *sides = dim == 2 ? "SSSSMMMMI" : k.instance->slave->n_cells == 9 ? "SSSSMMMMS" : "SSSSSSSSMMMMMMMMIS";
+     * grazing projections make the quad4 case's |J - FD| fall as h^2: 3.6e-7, 3.6e-9 at h = 1e-6, 1e-7); on QUAD9
+     * faces the left end is idle, as in 2D (its faces' segments with the bottom wall lie beyond the margin). */
+    const char *sides = dim == 2 || k.instance->slave->cell_type == SK_QUAD9 ? "SSSSMMMMI"
+                        : k.instance->slave->n_cells == 9           ? "SSSSMMMMS"
+                                                                    : "SSSSSSSSMMMMMMMMIS";
     char got[19] = "";
     for (int f = 0; f < k.instance->slave->n_cells; ++f) got[f] = "ISM"[k.instance->role[f]];
     printf("    sides %s, face pairs", got);
@@ -404,8 +441,8 @@ static void check_errors(void) {
   kit_free(&k);
 }
 
-/* Self contact at check (sk_plugin.check): on one rank it runs, in 2D and on 3D first-order faces, with and without
- * friction; several ranks are refused with the reason. */
+/* Self contact at check (sk_plugin.check): on one rank it runs, in 2D and on 3D first-order and QUAD9 faces, with
+ * and without friction; several ranks, and TRI6 and QUAD8 faces, are refused with the reason. */
 static void check_self_refusals(void) {
   const sk_plugin *plugin = stickslip_plugin_entry();
   SK_CHECK((plugin->caps & SK_CAP_SELF_CONTACT) != 0);
@@ -416,9 +453,9 @@ static void check_self_refusals(void) {
                         .master = &side};
   char reason[300] = "";
   SK_CHECK(plugin->check(&info, reason, sizeof reason) == SK_OK);
-  for (int t = 0; t < 4; ++t) {
+  for (int t = 0; t < 6; ++t) {
     sk_scene_side s3 = side;
-    s3.cell_type = t % 2 ? SK_TRI3 : SK_QUAD4;
+    s3.cell_type = t >= 4 ? SK_QUAD9 : t % 2 ? SK_TRI3 : SK_QUAD4;
     sk_scene_info c = info;
     c.dim = 3;
     c.friction = t / 2;
@@ -427,11 +464,15 @@ static void check_self_refusals(void) {
   }
   static const struct {
     int dim, ranks, friction;
+    sk_elem_type type;
     const char *says;
-  } refused[] = {{2, 2, 0, "one rank"}, {3, 2, 1, "one rank"}};
+  } refused[] = {{2, 2, 0, SK_LINE2, "one rank"},
+                 {3, 2, 1, SK_QUAD4, "one rank"},
+                 {3, 1, 0, SK_TRI6, "TRI6"},
+                 {3, 1, 0, SK_QUAD8, "QUAD8"}};
   for (size_t i = 0; i < sizeof refused / sizeof refused[0]; ++i) {
     sk_scene_side s = side;
-    if (refused[i].dim == 3) s.cell_type = SK_QUAD4;
+    s.cell_type = refused[i].type;
     sk_scene_info c = info;
     c.dim = refused[i].dim;
     c.n_ranks = refused[i].ranks;
@@ -507,6 +548,11 @@ int main(void) {
       {"3D segments quad9/quad9 dual, mu 0.3", 3, 6, STRATEGY_SADDLE_POINT, NULL, dual, 0.0},
       {"3D segments quad9/quad9 dual, mu 0.05 (condensed)", 3, 6, STRATEGY_CONDENSED, NULL, slip, 0.0},
   };
+  /* A QUAD9 self pair (the slot on 9 QUAD9 faces, 54 nodes, 324 unknowns: about 5 s of CPU) runs as its own test,
+   * test_mortar_assembled_quad9_self (MORTAR_ASSEMBLED_QUAD9 = 2). Measured |J - FD| / max|J| 2.0e-9. */
+  const fd_case quad9_self_cases[] = {
+      {"3D self contact (slot), quad9, mu 0.3", 3, 9, STRATEGY_SADDLE_POINT, NULL, self_stick, 0.0},
+  };
   /* TRI6 pairs (the dual basis of the transformed functions, D not diagonal: saddle point only) run as their own
    * test, test_mortar_assembled_tri6 (MORTAR_ASSEMBLED_TRI6 = 1) */
   const fd_case tri6_cases[] = {
@@ -523,10 +569,12 @@ int main(void) {
   };
   const fd_case *list = MORTAR_ASSEMBLED_QUAD8  ? quad8_cases
                         : MORTAR_ASSEMBLED_TRI6 ? tri6_cases
+                        : MORTAR_ASSEMBLED_QUAD9 == 2 ? quad9_self_cases
                         : MORTAR_ASSEMBLED_QUAD9 ? quad9_cases
                                                  : cases;
   const size_t n_cases = MORTAR_ASSEMBLED_QUAD8   ? sizeof quad8_cases / sizeof quad8_cases[0]
                          : MORTAR_ASSEMBLED_TRI6  ? sizeof tri6_cases / sizeof tri6_cases[0]
+                         : MORTAR_ASSEMBLED_QUAD9 == 2 ? sizeof quad9_self_cases / sizeof quad9_self_cases[0]
                          : MORTAR_ASSEMBLED_QUAD9 ? sizeof quad9_cases / sizeof quad9_cases[0]
                                                   : sizeof cases / sizeof cases[0];
   double worst = 0.0;
@@ -538,6 +586,7 @@ int main(void) {
   }
   return sk_test_finish(MORTAR_ASSEMBLED_QUAD8   ? "test_mortar_assembled_quad8"
                         : MORTAR_ASSEMBLED_TRI6  ? "test_mortar_assembled_tri6"
+                        : MORTAR_ASSEMBLED_QUAD9 == 2 ? "test_mortar_assembled_quad9_self"
                         : MORTAR_ASSEMBLED_QUAD9 ? "test_mortar_assembled_quad9"
                                                  : "test_mortar_assembled");
 }
