@@ -15,7 +15,7 @@
 // 3. The size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
 //    entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover it is only a
 //    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones and the
-//    lagged LU do (up to kLaggedBand x the crossover), below it MUMPS and the lagged LU.
+//    lagged LU do (up to kLaggedBand x the crossover); below it MUMPS alone (factorisations cost milliseconds there).
 // 4. Every competing candidate is measured (a trial of kTrialSolves solves each, kLaggedWindow for the lagged LU,
 //    once the current one has a measurement at this size, within kMeasuredRange in stored entries); then the
 //    cheapest per solve wins — a switch needs a kSwitchMargin advantage (auto_rule.cpp). Fair trials: a one-time
@@ -205,11 +205,14 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   const bool contested = sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
   const bool direct_only = deficient || !any_iterative;
   // the candidates to compare: MUMPS below and near the crossover, the iterative ones near and above it, the lagged
-  // LU up to kLaggedBand x the crossover; MUMPS and the lagged LU alone where no iterative solver may run
+  // LU from the band's lower edge up to kLaggedBand x the crossover (below the band a factorisation costs
+  // milliseconds, and a choice by timing there would make the results of small runs vary at round-off from run to
+  // run: two-elements' histories digit for digit); MUMPS and the lagged LU alone where no iterative solver may run
+  const bool lagged_size = sys->n * kContestedBand >= limit && sys->n <= limit * kLaggedBand;
   bool eligible[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c) {
     const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
-    eligible[c] = kind == kLaggedBackend   ? direct_only || sys->n <= limit * kLaggedBand
+    eligible[c] = kind == kLaggedBackend   ? lagged_size
                   : is_direct(kind)        ? direct_only || contested || is_direct(by_size)
                                            : allowed[c] && !direct_only && (contested || !is_direct(by_size));
   }
