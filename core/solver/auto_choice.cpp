@@ -61,10 +61,11 @@ constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factoris
 constexpr int kTrialIterationFactor = 4;
 constexpr int kTrialIterationFloor = 30;
 // The lagged LU: measured over kLaggedWindow solves (on the Hertz ladder it refactorises every 3 (3D) to 6 (2D)
-// solves, so a window holds 1-3 of its cycles), competing up to kLaggedBand x the size rule's crossover (quad9
-// refine 1.6 on 2D Hertz, 25 648 unknowns at ~50 entries per row, is 12.8x the crossover of 2 000, and the lagged LU
-// is the fastest solver there); a window that costs more than kLaggedWindow solves of the cheapest candidate measured
-// is cut short (it cannot win); after a loss it is measured again after kLaggedRetrySolves x 2^(losses - 1) solves.
+// solves, so a window holds 1-3 of its cycles), competing up to kLaggedBand x the size rule's crossover (3D Hertz
+// tet10 refine 1, 8 901 unknowns, is 4.5x the crossover of 2 000, beyond the contested band, and gmres-lu is 1.8x
+// faster than MUMPS there; 16x is a factor 4 beyond the band, not measured further); a window that costs more than
+// kLaggedWindow solves of the cheapest candidate measured is cut short (it cannot win); after a loss it is
+// measured again after kLaggedRetrySolves x 2^(losses - 1) solves.
 constexpr int kLaggedWindow = 8;
 constexpr double kLaggedBand = 16.0;
 constexpr int kLaggedRetrySolves = 16;
@@ -280,11 +281,12 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   AutoEstimate estimates[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c) estimates[c] = estimate(sys, c, eligible[c], size);
   const int best = auto_cheapest(estimates, kAutoCandidates, current, kSwitchMargin);
-  if (best != lagged && m.current == kLaggedBackend) {  // the lagged LU lost: measured again later, and more rarely
+  // the lagged LU lost: measured again later, and more rarely with every loss (a win does not reset the count: on
+  // scenes/two-tori-coarse.yaml it won at tight tolerances and lost at loose ones, and was re-measured every 16
+  // solves)
+  if (best != lagged && m.current == kLaggedBackend) {
     lu.retry_solve = m.solves + (kLaggedRetrySolves << std::min(lu.losses, 16));
     ++lu.losses;
-  } else if (best == lagged) {
-    lu.losses = 0;
   }
   std::string others;
   for (int c = 0; c < kAutoCandidates; ++c)

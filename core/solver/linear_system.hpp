@@ -96,7 +96,7 @@ struct AutoMemory {
     // coefficients of the solves of its measuring window so far and their count; when it may be measured again
     double window_cost = 0;
     int window_solves = 0;
-    int losses = 0;       // times in a row another candidate was chosen over it
+    int losses = 0;       // times another candidate was chosen over it while it ran
     int retry_solve = 0;  // measured again (a new window) from this solve count on, unless it runs
   };
   Candidate candidates[kAutoCandidates];
