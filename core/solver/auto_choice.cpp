@@ -1,25 +1,34 @@
-// stickslip — what `auto` runs: the direct solver (MUMPS) or GMRES + MueLu, from what it has measured.
+// stickslip — what `auto` runs: the direct solver (MUMPS), its lagged factorisation, or GMRES + MueLu, from what it
+// has measured.
 //
 // The candidates: MUMPS, GMRES + MueLu (bounded iterations under refinement) and GMRES + one symmetric Gauss-Seidel
 // sweep (no set-up, half the cost per iteration: cheap where inertia dominates the stiffness), GMRES + Jacobi (a
-// diagonal scaling: a third of SGS's cost per iteration; on the paper tori 0.195 s per solve against 0.236 s).
+// diagonal scaling: a third of SGS's cost per iteration; on the paper tori 0.195 s per solve against 0.236 s), and
+// the lagged LU (gmres-lu: GMRES preconditioned by the last MUMPS factorisation, refactorised when GMRES needs more
+// than 10 iterations; lagged_lu.cpp), which is as robust as MUMPS (its fallback is a fresh factorisation).
 // 1. Never a solver that failed on this pattern; after a failure an iterative solver waits 2, 4, 8 ... patterns
 //    before it is tried again (a contact run changes pattern every few steps: before this rule GMRES was retried,
 //    and failed, at every one of them: 39 of 39 on scenes/two-tori-coarse.yaml). A failure also discards the
 //    solver's measurement: it comes back only through a capped trial, never on the cost it had measured before.
-// 2. Not GMRES when the nodal block has a zero diagonal (a saddle point given without coordinates, so without a
-//    constraint block to take the multiplier rows).
+// 2. Not GMRES with a nodal preconditioner when the nodal block has a zero diagonal (a saddle point given without
+//    coordinates, so without a constraint block to take the multiplier rows): MUMPS and the lagged LU only.
 // 3. The size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
 //    entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover it is only a
-//    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones do.
-// 4. Every competing candidate is measured (a trial of kTrialSolves solves each, once the current one has a
-//    measurement at this size, within kMeasuredRange in stored entries); then the cheapest per solve wins — a switch
-//    needs a kSwitchMargin advantage (auto_rule.cpp). Fair trials: a one-time set-up (MUMPS's analysis, MueLu's
-//    hierarchy) is measured apart from the solves and charged as often as it recurs (MUMPS's at every pattern,
-//    MueLu's once: it is kept across patterns) — counted into a 3-solve trial it made GMRES + MueLu 6.24 s per
-//    solve on the 3D Hertz tet4 where it takes 1.6 s; and a Krylov cost is per digit of the tolerance it was
-//    measured at, compared at the current one (inexact Newton's tolerances span 1e-4 ... 1e-10, so a trial at 1e-4
-//    looked 2.5x cheaper than the same solver at 1e-10).
+//    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones and the
+//    lagged LU do (up to kLaggedBand x the crossover); below it MUMPS alone (factorisations cost milliseconds there).
+// 4. Every competing candidate is measured (a trial of kTrialSolves solves each, kLaggedWindow for the lagged LU,
+//    once the current one has a measurement at this size, within kMeasuredRange in stored entries); then the
+//    cheapest per solve wins — a switch needs a kSwitchMargin advantage (auto_rule.cpp). Fair trials: a one-time
+//    set-up (MUMPS's analysis, MueLu's hierarchy) is measured apart from the solves and charged as often as it
+//    recurs (MUMPS's at every pattern, for the lagged LU as for MUMPS; MueLu's once: it is kept across patterns) —
+//    counted into a 3-solve trial it made GMRES + MueLu 6.24 s per solve on the 3D Hertz tet4 where it takes 1.6 s;
+//    and a Krylov cost is per digit of the tolerance it was measured at, compared at the current one (inexact
+//    Newton's tolerances span 1e-4 ... 1e-10, so a trial at 1e-4 looked 2.5x cheaper than the same solver at
+//    1e-10). The lagged LU is judged by its mean cost per solve over a window that starts with a factorisation of
+//    its own (not on the factors of the MUMPS solve before it) and counts every refactorisation in it: one solve at
+//    a time, it is either a factorisation (dearer than MUMPS) or a few substitutions (far cheaper). While it runs,
+//    its mean is kept up to date, so a phase in which the matrix changes much between solves sends `auto` back;
+//    after a loss it is measured again after kLaggedRetrySolves, 2x, 4x ... solves.
 // Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
 // so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
 #include <algorithm>
@@ -51,6 +60,15 @@ constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factoris
 // where GMRES + MueLu needs 10: its uncapped trial cost 6.5 s of a 12 s run.
 constexpr int kTrialIterationFactor = 4;
 constexpr int kTrialIterationFloor = 30;
+// The lagged LU: measured over kLaggedWindow solves (on the Hertz ladder it refactorises every 3 (3D) to 6 (2D)
+// solves, so a window holds 1-3 of its cycles), competing up to kLaggedBand x the size rule's crossover (3D Hertz
+// tet10 refine 1, 8 901 unknowns, is 4.5x the crossover of 2 000, beyond the contested band, and gmres-lu is 1.8x
+// faster than MUMPS there; 16x is a factor 4 beyond the band, not measured further); a window that costs more than
+// kLaggedWindow solves of the cheapest candidate measured is cut short (it cannot win); after a loss it is
+// measured again after kLaggedRetrySolves x 2^(losses - 1) solves.
+constexpr int kLaggedWindow = 8;
+constexpr double kLaggedBand = 16.0;
+constexpr int kLaggedRetrySolves = 16;
 // A diagonal below this fraction of its row's largest entry counts as zero (`reduced` multiplier rows: 1e-23).
 constexpr double kZeroDiagonal = 1e-12;
 constexpr double kTiniestCost = 1e-300;  // a measured cost coefficient below the clock's resolution
@@ -58,6 +76,7 @@ constexpr double kTiniestCost = 1e-300;  // a measured cost coefficient below th
 // elasticity and on the contact saddle-point systems (docs/linear-solvers.md).
 constexpr sk_linear_solver_kind kDirectBackend = SK_LINEAR_DIRECT_MUMPS;
 constexpr sk_linear_solver_kind kIterativeBackend = SK_LINEAR_GMRES_MUELU;
+constexpr sk_linear_solver_kind kLaggedBackend = SK_LINEAR_GMRES_LU;
 
 int index_of(sk_linear_solver_kind kind) {
   for (int c = 0; c < kAutoCandidates; ++c)
@@ -65,7 +84,8 @@ int index_of(sk_linear_solver_kind kind) {
   return 0;
 }
 
-double exponent(sk_linear_solver_kind kind) { return is_direct(kind) ? kDirectExponent : kIterativeExponent; }
+// the lagged LU grows like the factorisations it makes
+double exponent(sk_linear_solver_kind kind) { return mumps_backed(kind) ? kDirectExponent : kIterativeExponent; }
 
 double entries(const sk_linear_system *sys) { return static_cast<double>(sys->global_entries); }
 
@@ -75,9 +95,9 @@ bool measured_here(const AutoMemory::Candidate &c, double size) {
 }
 
 // The digits a solve of `kind` at the system's tolerance must gain (1 for a direct solve: its cost does not depend
-// on them).
+// on them; 1 for the lagged LU too: its cost is that of its factorisations and a few substitutions).
 double digits(const sk_linear_system *sys, sk_linear_solver_kind kind) {
-  return is_direct(kind) ? 1.0 : tolerance_digits(sys->options.tolerance);
+  return mumps_backed(kind) ? 1.0 : tolerance_digits(sys->options.tolerance);
 }
 
 double predicted_seconds(const sk_linear_system *sys, const AutoMemory::Candidate &c, sk_linear_solver_kind kind,
@@ -94,7 +114,8 @@ AutoEstimate estimate(const sk_linear_system *sys, int c, bool eligible, double 
   e.solve_seconds = predicted_seconds(sys, m.candidates[c], kind, size);
   e.setup_seconds = m.candidates[c].setup_coefficient * std::pow(size, exponent(kind));
   // a direct solver's analysis recurs at every pattern; a preconditioner built from scratch is kept across them
-  e.setups_per_solve = is_direct(kind) ? static_cast<double>(sys->pattern_generation) / std::max(1, m.solves) : 0.0;
+  e.setups_per_solve =
+      mumps_backed(kind) ? static_cast<double>(sys->pattern_generation) / std::max(1, m.solves) : 0.0;
   return e;
 }
 
@@ -135,8 +156,9 @@ sk_linear_solver_kind auto_fallback(sk_linear_system *sys) {
   const sk_linear_solver_kind failed_kind = m.current;
   const AutoMemory::Candidate &failed = m.candidates[index_of(failed_kind)];
   const sk_linear_solver_kind back = m.before_trial;
-  const bool back_usable = back != SK_LINEAR_AUTO && back != failed_kind &&
-                           (is_direct(back) || m.candidates[index_of(back)].failed_on_pattern != sys->pattern_generation);
+  const bool back_usable =
+      back != SK_LINEAR_AUTO && back != failed_kind &&
+      (mumps_backed(back) || m.candidates[index_of(back)].failed_on_pattern != sys->pattern_generation);
   const sk_linear_solver_kind kind = back_usable ? back : kDirectBackend;
   m.before_trial = SK_LINEAR_AUTO;
   return decide(sys, kind, "fallback",
@@ -150,15 +172,15 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   const double size = entries(sys);
   const double per_row = sys->n > 0 ? size / sys->n : 0.0;
 
-  // which candidates may run: iterative ones not after a failure on this pattern, not in back-off, and not on a
-  // nodal block with a zero diagonal
+  // which candidates may run: the MUMPS-backed ones always; iterative ones not after a failure on this pattern,
+  // not in back-off, and not on a nodal block with a zero diagonal
   const bool deficient = nodal_diagonal_deficient(sys);
   bool allowed[kAutoCandidates];
   std::string excluded;
   for (int c = 0; c < kAutoCandidates; ++c) {
     const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
     const AutoMemory::Candidate &k = m.candidates[c];
-    allowed[c] = is_direct(kind) || (!deficient && k.failed_on_pattern != generation && generation >= k.retry_pattern);
+    allowed[c] = mumps_backed(kind) || (!deficient && k.failed_on_pattern != generation && generation >= k.retry_pattern);
     if (allowed[c] || deficient) continue;
     excluded += format("%s%s %s", excluded.empty() ? "" : "; ", sk_linear_solver_name(kind),
                        k.failed_on_pattern == generation
@@ -174,57 +196,98 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   m.trial_solves_left = 0;
   m.iteration_cap = 0;
   m.before_trial = SK_LINEAR_AUTO;  // no trial running: a failure falls back to the direct solver
-  if (deficient)
-    return decide(sys, kDirectBackend, "diagonal",
-                  "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "
-                  "split them off), which the iterative solvers' smoothers divide by");
   bool any_iterative = false;
-  for (int c = 0; c < kAutoCandidates; ++c) any_iterative = any_iterative || (allowed[c] && !is_direct(kAutoCandidateKinds[c]));
-  if (!any_iterative) {
-    bool failed_here = false;
-    for (const AutoMemory::Candidate &k : m.candidates) failed_here = failed_here || k.failed_on_pattern == generation;
-    return decide(sys, kDirectBackend, failed_here ? "failed" : "backoff", excluded);
-  }
+  for (int c = 0; c < kAutoCandidates; ++c)
+    any_iterative = any_iterative || (allowed[c] && !mumps_backed(kAutoCandidateKinds[c]));
 
   // the size rule, and where it is only a first guess
   const int limit = per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
   const sk_linear_solver_kind by_size = sys->n <= limit ? kDirectBackend : kIterativeBackend;
   const bool contested = sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
-  const std::string size_reason =
-      format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)", sys->n,
-             per_row, limit);
-  if (!contested && is_direct(by_size)) return decide(sys, kDirectBackend, "size", size_reason);
-  // the candidates to compare: the iterative ones, and the direct one near the crossover
+  const bool direct_only = deficient || !any_iterative;
+  // the candidates to compare: MUMPS below and near the crossover, the iterative ones near and above it, the lagged
+  // LU from the band's lower edge up to kLaggedBand x the crossover (below the band a factorisation costs
+  // milliseconds, and a choice by timing there would make the results of small runs vary at round-off from run to
+  // run: two-elements' histories digit for digit); MUMPS and the lagged LU alone where no iterative solver may run
+  const bool lagged_size = sys->n * kContestedBand >= limit && sys->n <= limit * kLaggedBand;
   bool eligible[kAutoCandidates];
-  for (int c = 0; c < kAutoCandidates; ++c) eligible[c] = allowed[c] && (contested || !is_direct(kAutoCandidateKinds[c]));
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
+    eligible[c] = kind == kLaggedBackend   ? lagged_size
+                  : is_direct(kind)        ? direct_only || contested || is_direct(by_size)
+                                           : allowed[c] && !direct_only && (contested || !is_direct(by_size));
+  }
   if (m.current == SK_LINEAR_AUTO || !eligible[index_of(m.current)]) {
+    if (deficient)
+      return decide(sys, kDirectBackend, "diagonal",
+                    "a zero diagonal in the nodal block (a saddle point: multiplier rows without coordinates to "
+                    "split them off), which the iterative solvers' smoothers divide by");
+    if (!any_iterative) {
+      bool failed_here = false;
+      for (const AutoMemory::Candidate &k : m.candidates) failed_here = failed_here || k.failed_on_pattern == generation;
+      return decide(sys, kDirectBackend, failed_here ? "failed" : "backoff", excluded);
+    }
+    const std::string size_reason =
+        format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)", sys->n,
+               per_row, limit);
     int first = index_of(by_size);
     for (int c = 0; c < kAutoCandidates && !eligible[first]; ++c) first = c;
     return decide(sys, kAutoCandidateKinds[first], "size",
                   excluded.empty() ? size_reason : size_reason + "; " + excluded);
   }
   const int current = index_of(m.current);
+  const int lagged = index_of(kLaggedBackend);
+  AutoMemory::Candidate &lu = m.candidates[lagged];
   if (!measured_here(m.candidates[current], size)) return m.current;  // being measured
+  // the lagged LU measured again, after a loss, once its wait is over
+  if (m.current != kLaggedBackend && lu.retry_solve > 0 && m.solves >= lu.retry_solve) {
+    lu.cost_coefficient = 0;
+    lu.retry_solve = 0;
+  }
+  // a trial is measured against, and falls back to, the cheapest candidate measured so far, not the one that ran
+  // last (after its own trial, MUMPS at 0.30 s per solve on the 3D Hertz tet4 refine 2, where GMRES + MueLu takes
+  // 0.042 s and the failed trials of GMRES + SGS and + Jacobi fell back to it: 4 factorisations)
+  AutoEstimate measured[kAutoCandidates];
+  for (int c = 0; c < kAutoCandidates; ++c)
+    measured[c] = estimate(sys, c, eligible[c] && measured_here(m.candidates[c], size), size);
+  const int cheapest = auto_cheapest(measured, kAutoCandidates, current, kSwitchMargin);
+  const int incumbent = cheapest >= 0 ? cheapest : current;
   for (int c = 0; c < kAutoCandidates; ++c) {
     if (!eligible[c] || measured_here(m.candidates[c], size)) continue;
-    m.trial_solves_left = kTrialSolves - 1;
-    m.before_trial = m.current;
+    const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
+    const bool window = kind == kLaggedBackend;
+    m.trial_solves_left = (window ? kLaggedWindow : kTrialSolves) - 1;
+    m.before_trial = kAutoCandidateKinds[incumbent];
     // the competitor's iterations at this tolerance (a trial is capped at the same tolerance it will run at)
     const double competitor_iterations =
-        m.candidates[current].iterations_per_digit * tolerance_digits(sys->options.tolerance);
-    m.iteration_cap = is_direct(m.current)
-                          ? kTrialIterationFloor
-                          : std::max(kTrialIterationFloor,
-                                     static_cast<int>(std::ceil(kTrialIterationFactor * competitor_iterations)));
-    return decide(sys, kAutoCandidateKinds[c], "trial",
-                  format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)", kTrialSolves,
-                         sys->n, sk_linear_solver_name(m.current),
-                         auto_cost_per_solve(estimate(sys, current, true, size))));
+        m.candidates[incumbent].iterations_per_digit * tolerance_digits(sys->options.tolerance);
+    m.iteration_cap = mumps_backed(kind)             ? 0
+                      : mumps_backed(m.before_trial) ? kTrialIterationFloor
+                                                : std::max(kTrialIterationFloor,
+                                                           static_cast<int>(std::ceil(kTrialIterationFactor *
+                                                                                      competitor_iterations)));
+    if (window) {  // a window of its own: it starts with a factorisation, not on the factors of a MUMPS solve
+      lu.cost_coefficient = 0;
+      lu.window_cost = 0;
+      lu.window_solves = 0;
+      sys->lagged_refactorise = true;
+    }
+    return decide(sys, kind, "trial",
+                  format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)",
+                         window ? kLaggedWindow : kTrialSolves, sys->n, sk_linear_solver_name(m.before_trial),
+                         auto_cost_per_solve(estimate(sys, incumbent, true, size))));
   }
   // all measured: the cheapest, if clearly cheaper than the current one (timings are noisy on a shared machine)
   AutoEstimate estimates[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c) estimates[c] = estimate(sys, c, eligible[c], size);
   const int best = auto_cheapest(estimates, kAutoCandidates, current, kSwitchMargin);
+  // the lagged LU lost: measured again later, and more rarely with every loss (a win does not reset the count: on
+  // scenes/two-tori-coarse.yaml it won at tight tolerances and lost at loose ones, and was re-measured every 16
+  // solves)
+  if (best != lagged && m.current == kLaggedBackend) {
+    lu.retry_solve = m.solves + (kLaggedRetrySolves << std::min(lu.losses, 16));
+    ++lu.losses;
+  }
   std::string others;
   for (int c = 0; c < kAutoCandidates; ++c)
     if (eligible[c] && c != best)
@@ -235,8 +298,44 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
                        auto_cost_per_solve(estimates[best]), others.c_str(), sys->n, sys->options.tolerance));
 }
 
+namespace {
+
+// The lagged LU's solve of cost coefficient `coefficient`: into its window while it is measured (the window's
+// mean becomes its cost; cut short once it has cost more than kLaggedWindow solves of the cheapest other candidate
+// measured), then into a running mean over about a window's solves.
+void record_lagged(sk_linear_system *sys, AutoMemory::Candidate &c, double coefficient, double size) {
+  AutoMemory &m = sys->auto_memory;
+  if (c.cost_coefficient > 0 && !measured_here(c, size)) {  // measured at another size: a new window
+    c.cost_coefficient = 0;
+    c.window_cost = 0;
+    c.window_solves = 0;
+  }
+  if (c.cost_coefficient > 0) {
+    c.cost_coefficient += (coefficient - c.cost_coefficient) / kLaggedWindow;
+    return;
+  }
+  c.window_cost += coefficient;
+  ++c.window_solves;
+  const double scale = std::pow(size, kDirectExponent);
+  // the cheapest other candidate measured at this size: a window that has cost more than kLaggedWindow of its solves
+  // cannot win (on the 3D Hertz tet4 refine 2 GMRES + MueLu takes 0.044 s per solve, a factorisation 0.3 s)
+  double rival = -1;
+  for (int k = 0; k < kAutoCandidates; ++k) {
+    if (kAutoCandidateKinds[k] == kLaggedBackend || !measured_here(m.candidates[k], size)) continue;
+    const double seconds = estimate(sys, k, true, size).solve_seconds;
+    rival = rival < 0 ? seconds : std::min(rival, seconds);
+  }
+  const bool hopeless = rival >= 0 && c.window_cost * scale > kLaggedWindow * rival;
+  if (c.window_solves >= kLaggedWindow || hopeless) {
+    c.cost_coefficient = std::max(c.window_cost / c.window_solves, kTiniestCost);
+    m.trial_solves_left = 0;
+  }
+}
+
+}  // namespace
+
 void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
-                 double setup_seconds, int iterations) {
+                 double setup_seconds, const sk_linear_report &report) {
   AutoMemory &m = sys->auto_memory;
   ++m.solves;
   double local[2] = {seconds, setup_seconds}, agreed[2];  // every rank must take the same decisions: the slowest's
@@ -247,16 +346,24 @@ void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status st
   if (status == SK_OK) {
     const double setup = std::min(agreed[1], agreed[0]);
     const double coefficient = (agreed[0] - setup) / (scale * digits(sys, kind));
-    c.cost_coefficient = measured_here(c, size) ? 0.7 * c.cost_coefficient + 0.3 * coefficient : coefficient;
-    c.cost_coefficient = std::max(c.cost_coefficient, kTiniestCost);  // > 0: measured
+    if (kind == kLaggedBackend) {
+      record_lagged(sys, c, coefficient, size);
+      // a lagged solve that factorised afresh and solved directly was a MUMPS solve: it keeps MUMPS's cost current
+      AutoMemory::Candidate &direct = m.candidates[index_of(kDirectBackend)];
+      if (report.factorisations == 1 && report.iterations == 0 && measured_here(direct, size))
+        direct.cost_coefficient = 0.7 * direct.cost_coefficient + 0.3 * coefficient;
+    } else {
+      c.cost_coefficient = measured_here(c, size) ? 0.7 * c.cost_coefficient + 0.3 * coefficient : coefficient;
+      c.cost_coefficient = std::max(c.cost_coefficient, kTiniestCost);  // > 0: measured
+    }
     if (setup > 0) c.setup_coefficient = setup / scale;
     c.entries_measured = static_cast<int64_t>(size);
     c.failures_in_a_row = 0;
-    c.iterations_per_digit = iterations / digits(sys, kind);
+    c.iterations_per_digit = report.iterations / digits(sys, kind);
     return;
   }
-  if (is_direct(kind)) return;  // nothing to fall back to: the caller reports it
-  c.cost_coefficient = 0;       // its measurement no longer holds: back only through a capped trial
+  if (mumps_backed(kind)) return;  // nothing to fall back to: the caller reports it
+  c.cost_coefficient = 0;          // its measurement no longer holds: back only through a capped trial
   c.failed_on_pattern = sys->pattern_generation;
   ++c.failures_in_a_row;
   c.retry_pattern = sys->pattern_generation + (1 << std::min(c.failures_in_a_row, 16));
@@ -266,7 +373,7 @@ void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status st
   m.iteration_cap = 0;
 }
 
-const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates] = {kDirectBackend, kIterativeBackend,
-                                                                    SK_LINEAR_GMRES_SGS, SK_LINEAR_GMRES_JACOBI};
+const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates] = {
+    kDirectBackend, kIterativeBackend, SK_LINEAR_GMRES_SGS, SK_LINEAR_GMRES_JACOBI, kLaggedBackend};
 
 }  // namespace stickslip::bridge

@@ -124,6 +124,8 @@ bool is_direct(sk_linear_solver_kind kind) {
          kind == SK_LINEAR_DIRECT_KLU;
 }
 
+bool mumps_backed(sk_linear_solver_kind kind) { return is_direct(kind) || kind == SK_LINEAR_GMRES_LU; }
+
 void release_direct(sk_linear_system *sys) {
   sys->amesos = Teuchos::null;
   sys->epetra_problem = Teuchos::null;

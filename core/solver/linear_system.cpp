@@ -503,15 +503,16 @@ sk_status sk_linsys_solve(sk_linear_system *sys, const double *b, double *x, sk_
     const sk_linear_solver_kind kind = auto_choose(sys);
     const double attempt_start = cpu_seconds();
     status = solve_with(sys, kind, b, x, report);
-    auto_record(sys, kind, status, cpu_seconds() - attempt_start, sys->setup_cpu_seconds, report->iterations);
+    auto_record(sys, kind, status, cpu_seconds() - attempt_start, sys->setup_cpu_seconds, *report);
     // the fallback may be the iterative solver a trial was measured against, which can fail on this system too:
-    // fall back again until a solver converges or the direct one has answered (at most once per candidate)
+    // fall back again until a solver converges or a MUMPS-backed one (which falls back to a fresh factorisation
+    // itself) has answered (at most once per candidate)
     int iterations = report->iterations;
-    for (sk_linear_solver_kind tried = kind; status == SK_ERR_LINEAR_SOLVER && !is_direct(tried);) {
+    for (sk_linear_solver_kind tried = kind; status == SK_ERR_LINEAR_SOLVER && !mumps_backed(tried);) {
       tried = auto_fallback(sys);
       const double fallback_start = cpu_seconds();
       status = solve_with(sys, tried, b, x, report);
-      auto_record(sys, tried, status, cpu_seconds() - fallback_start, sys->setup_cpu_seconds, report->iterations);
+      auto_record(sys, tried, status, cpu_seconds() - fallback_start, sys->setup_cpu_seconds, *report);
       iterations += report->iterations;
       report->iterations = iterations;
       report->refactored_symbolic = 1;

@@ -76,8 +76,9 @@ struct ConstraintBlock;  // constraint_block.cpp
 struct AutoChoice;       // auto_choice.cpp
 
 // The solvers `auto` chooses among (auto_choice.cpp), and what it remembers of each, across pattern changes.
-enum { kAutoCandidates = 4 };
-extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];  // mumps, gmres-muelu, gmres-sgs, gmres-jacobi
+enum { kAutoCandidates = 5 };
+// mumps, gmres-muelu, gmres-sgs, gmres-jacobi, gmres-lu
+extern const sk_linear_solver_kind kAutoCandidateKinds[kAutoCandidates];
 
 struct AutoMemory {
   struct Candidate {
@@ -91,6 +92,12 @@ struct AutoMemory {
     int retry_pattern = 0;         // the first pattern generation it may be tried on again (back-off)
     double iterations_per_digit = 0;  // Krylov iterations of its last successful solve / tolerance_digits
     std::string failure;           // the message of its last failure
+    // gmres-lu, whose solves differ by design (a factorisation, then cheap lagged solves): the sum of the cost
+    // coefficients of the solves of its measuring window so far and their count; when it may be measured again
+    double window_cost = 0;
+    int window_solves = 0;
+    int losses = 0;       // times another candidate was chosen over it while it ran
+    int retry_solve = 0;  // measured again (a new window) from this solve count on, unless it runs
   };
   Candidate candidates[kAutoCandidates];
   sk_linear_solver_kind current = SK_LINEAR_AUTO;  // the candidate in use (SK_LINEAR_AUTO: none yet)
@@ -259,6 +266,9 @@ void refill_submatrix(const sk_linear_system *sys, SubMatrix &block);
 
 // direct_solvers.cpp
 bool is_direct(sk_linear_solver_kind kind);
+// A direct solver, or gmres-lu (whose GMRES falls back to a fresh factorisation): it answers whenever the matrix
+// can be factorised, so `auto` does not fall back from it and charges it as a direct solve.
+bool mumps_backed(sk_linear_solver_kind kind);
 sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
 sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                        sk_linear_report *report);
@@ -302,7 +312,7 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys);
 sk_linear_solver_kind auto_fallback(sk_linear_system *sys);
 // `seconds`: CPU time of the attempt, of which `setup_seconds` went to a one-time set-up.
 void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status status, double seconds,
-                 double setup_seconds, int iterations);
+                 double setup_seconds, const sk_linear_report &report);
 
 // system_dump.cpp
 void dump_system(sk_linear_system *sys, const double *b);

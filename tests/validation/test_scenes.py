@@ -91,7 +91,7 @@ def compressed_block(c):
         used = results.summary["linear_solvers_used"]
         ranges = re.findall(r"([a-z0-9-]+(?: \+ [a-z0-9-]+)*) \(steps? (\d+)(?:-(\d+))?\)(?:, |$)", used)
         covered = [n for _, first, last in ranges for n in range(int(first), int(last or first) + 1)]
-        known = {"mumps", "klu", "klu2", "gmres-muelu", "gmres-ilu", "gmres-sgs", "gmres-jacobi", "cg-muelu"}
+        known = {"mumps", "klu", "klu2", "gmres-muelu", "gmres-ilu", "gmres-sgs", "gmres-jacobi", "gmres-lu", "cg-muelu"}
         names = {n for solvers, _, _ in ranges for n in solvers.split(" + ")}
         c.check(covered == list(range(1, len(results.rows))) and names <= known,
                 "refine %d: summary.json names the solvers that ran over each step range: %s" % (refine, used))

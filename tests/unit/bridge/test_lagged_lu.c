@@ -2,7 +2,9 @@
  * contact-like saddle-point systems on one pattern, as Newton makes them (the nodal diagonal drifting by a few per
  * cent, then jumping), solved by gmres-lu and by MUMPS afresh: the same solutions to the linear tolerance, one
  * factorisation for the drifting ones, a refactorisation when the factors no longer serve, and one at every new
- * pattern. */
+ * pattern. Then `auto` on such sequences (auto_choice.cpp): it takes the lagged LU where the matrix drifts slowly
+ * (cheaper per solve, factorisations included) and keeps MUMPS where it changes much between solves, with MUMPS's
+ * solutions either way. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,6 +61,78 @@ static sk_linear_report solve_both(sk_linear_system *lagged, sk_linear_system *f
   return report;
 }
 
+/* The contact system of `grid` with its nodal diagonal scaled row by row by 1 + amplitude * r(row, solve), r a
+ * fixed pseudo-random number in [0, 1): a matrix that drifts (small amplitude growing with `solve`) or changes
+ * much and unpredictably between solves (large amplitude). */
+static test_csr perturbed_system(int grid, double amplitude, int solve) {
+  test_csr a = test_contact_3d(grid, kActive, kInactive, 0.0, 1, 1.0, NULL);
+  const int n_nodal = 3 * grid * grid * grid;
+  for (int i = 0; i < n_nodal; ++i)
+    for (int64_t k = a.row_ptr[i]; k < a.row_ptr[i + 1]; ++k)
+      if (a.cols[k] == i) {
+        const unsigned h = (unsigned)i * 2654435761u ^ (unsigned)solve * 40503u;
+        a.values[k] *= 1.0 + amplitude * (double)(h % 1000u) / 1000.0;
+      }
+  return a;
+}
+
+/* `auto` over `solves` systems of one pattern; returns how many of the last `tail` solves ran the lagged LU and
+ * counts their factorisations. Every solution equals MUMPS's (solved afresh) to the solve tolerance. */
+static int auto_sequence(double amplitude_per_solve, double amplitude_fixed, int solves, int tail,
+                         int *tail_factorisations) {
+  enum { kAutoGrid = 10 };
+  sk_linear_system *sys = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_AUTO);
+  sk_linear_system *fresh = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_DIRECT_MUMPS);
+  SK_CHECK(sys && fresh);
+  int lagged = 0;
+  *tail_factorisations = 0;
+  for (int solve = 0; sys && fresh && solve < solves; ++solve) {
+    test_csr a = perturbed_system(kAutoGrid, amplitude_fixed + amplitude_per_solve * solve, solve);
+    double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+    double *x = malloc(sizeof(double) * (size_t)a.n), *x_mumps = malloc(sizeof(double) * (size_t)a.n);
+    test_reference_solution(a.n, x_ref);
+    test_csr_multiply(&a, x_ref, b);
+    if (solve == 0) SK_CHECK(set_pattern(sys, &a) == SK_OK && set_pattern(fresh, &a) == SK_OK);
+    SK_CHECK(load(sys, &a) == SK_OK && load(fresh, &a) == SK_OK);
+    sk_linear_report report = {0};
+    SK_CHECK(sk_linsys_solve(sys, b, x, &report) == SK_OK);
+    SK_CHECK(sk_linsys_solve(fresh, b, x_mumps, NULL) == SK_OK);
+    const double difference = test_max_difference(a.n, x, x_mumps);
+    printf("auto solve %2d: %-8s %2d iterations, %d factorisations, |x - x_mumps| %.1e%s%s\n", solve,
+           sk_linear_solver_name(report.solver), report.iterations, report.factorisations, difference,
+           report.decision ? " - " : "", report.decision ? report.decision : "");
+    SK_CHECK(report.solver == SK_LINEAR_DIRECT_MUMPS || report.solver == SK_LINEAR_GMRES_LU);
+    SK_CHECK(report.relative_residual <= 1e-12);
+    SK_CHECK(difference <= 5e-10); /* measured: at most 1.4e-10 (|x_ref| up to 31) */
+    if (solve >= solves - tail) {
+      lagged += report.solver == SK_LINEAR_GMRES_LU;
+      *tail_factorisations += report.factorisations;
+    }
+    test_csr_free(&a);
+    free(x_ref);
+    free(b);
+    free(x);
+    free(x_mumps);
+  }
+  sk_linsys_destroy(sys);
+  sk_linsys_destroy(fresh);
+  return lagged;
+}
+
+/* A slowly drifting matrix: after MUMPS's first solve and the lagged LU's measuring window (8 solves, the first a
+ * factorisation of its own), `auto` keeps the lagged LU, which refactorises rarely. A matrix that changes much
+ * between solves: the old factors are no preconditioner (GMRES gives up and the solve refactorises), so the lagged
+ * LU costs more than MUMPS and `auto` goes back to MUMPS. */
+static void check_auto_learns(void) {
+  int factorisations = 0;
+  const int drifting = auto_sequence(0.002, 0.0, 16, 6, &factorisations);
+  printf("drifting: %d of the last 6 solves lagged, %d factorisations\n", drifting, factorisations);
+  SK_CHECK(drifting == 6 && factorisations <= 2);
+  const int jumping = auto_sequence(0.0, 3.0, 16, 6, &factorisations);
+  printf("changing: %d of the last 6 solves lagged, %d factorisations\n", jumping, factorisations);
+  SK_CHECK(jumping == 0 && factorisations == 6);
+}
+
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
   sk_linear_system *lagged = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_GMRES_LU), *fresh = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_DIRECT_MUMPS);
@@ -91,6 +165,7 @@ int main(int argc, char **argv) {
   }
   sk_linsys_destroy(lagged);
   sk_linsys_destroy(fresh);
+  check_auto_learns();
   const int result = sk_test_finish("bridge gmres-lu");
   MPI_Finalize();
   return result;
