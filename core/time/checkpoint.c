@@ -11,6 +11,7 @@
 #define _GNU_SOURCE
 #include "checkpoint.h"
 #include "checkpoint_format.h"
+#include "checkpoint_partition.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -110,7 +111,7 @@ static void remove_step(const char *folder) {
   while ((e = readdir(d))) {
     const char *n = e->d_name;
     const int ours = strcmp(n, "checkpoint.yaml") == 0 || strcmp(n, "history.csv") == 0 ||
-                     strcmp(n, "contact.csv") == 0 ||
+                     strcmp(n, "contact.csv") == 0 || strcmp(n, sk_checkpoint_partition_file()) == 0 ||
                      (strncmp(n, "state-", 6) == 0 && strstr(n, ".bin"));
     if (!ours) continue;
     snprintf(path, sizeof path, "%s/%s", folder, n);
@@ -308,6 +309,13 @@ sk_status sk_checkpoint_write(const sk_run_options *options, sk_system *sys, con
       snprintf(path, sizeof path, "%s/contact.csv", partial);
       status = copy_file(rec->contact_path, path);
     }
+    sk_byte_buffer part = {0};
+    if (status == SK_OK) status = sk_checkpoint_partition_bytes(sys, &part);
+    if (status == SK_OK && part.size > 0) {
+      snprintf(path, sizeof path, "%s/%s", partial, sk_checkpoint_partition_file());
+      status = write_file(path, part.data, part.size);
+    }
+    free(part.data);
     /* in place: a checkpoint of the same step from an earlier run is replaced */
     if (status == SK_OK && sk_is_directory(final)) remove_step(final);
     if (status == SK_OK && rename(partial, final) != 0)

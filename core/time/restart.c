@@ -12,6 +12,7 @@
 
 #include "checkpoint.h"
 #include "checkpoint_format.h"
+#include "checkpoint_partition.h"
 #include "../model/master_ghosts.h"
 #include "stickslip/config.h"
 #include "stickslip/files.h"
@@ -373,15 +374,20 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
     if (r->linear_fallback) status = sk_linsys_set_solver(sys->linsys, SK_LINEAR_DIRECT);
     sys->x_version++;
   }
-  /* the master faces held from the restart's positions (its bodies may have moved beyond the set-up's reach) */
+  /* the contact partition of the checkpointed step, then the master faces held from the restart's positions (its
+   * bodies may have moved beyond the set-up's reach) */
+  int repartitioned = 0;
+  if (status == SK_OK) status = sk_restart_partition(r->dir, sys, &repartitioned);
   if (status == SK_OK) status = sk_master_ghosts_restart(sys);
   for (int t = 0, k = 0; t < n_plugins && status == SK_OK; ++t) {
     while (sk_term_plugin_checkpointable(sys->terms[k], NULL) < 0) ++k;
     sk_term *term = sys->terms[k++];
     if (!sk_record_set_sort(&sets[t])) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
+    const int pair = sk_term_plugin_pair(term), slave_too = repartitioned && pair >= 0 && m->pairs[pair].contact_node_owner;
     if (status == SK_OK)
-      status = sk_master_ghosts_term(sys, term) ? sk_term_plugin_renew_master(term, sys, &sets[t].abi, 0)
-                                                : sk_term_plugin_load(term, sys, &sets[t].abi);
+      status = sk_master_ghosts_term(sys, term) || slave_too
+                   ? sk_term_plugin_renew_master(term, sys, &sets[t].abi, slave_too)
+                   : sk_term_plugin_load(term, sys, &sets[t].abi);
     if (status != SK_OK) sk_error_prefix(status, "--restart: %s: ", term->name);
     status = sk_system_collective(sys, status);
   }
