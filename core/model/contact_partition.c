@@ -188,7 +188,8 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
   if (m->contact_rebalance)
     fprintf(out, "  split again between steps after a step whose max/mean contact time over the ranks exceeds %g "
             "(contact_balance.time_ratio) or whose active slave points per rank, (max - min)/max, exceed %g "
-            "(contact_balance.entity_imbalance), weighted by the ranks' contact time\n", m->rebalance_time_ratio,
+            "(contact_balance.entity_imbalance), each entity weighted by its work: its rank's contact time, split "
+            "between the entities in contact and the others\n", m->rebalance_time_ratio,
             m->rebalance_entity_imbalance);
   for (int k = 0; m->contact_rebalance && k < m->n_pairs; ++k) {
     const sk_contact_pair *pair = &m->pairs[k];
@@ -303,7 +304,8 @@ static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *chan
   const sk_model *m = sys->model;
   const sk_surface *s = &pair->slave;
   const int n = s->n_nodes_global, nf = s->n_faces_global, dim = m->dim;
-  double *pos = calloc(3 * (size_t)(n + nf) + 1, sizeof(double)), *weight = malloc(sizeof(double) * ((size_t)(n + nf) + 1));
+  double *pos = calloc(3 * (size_t)(n + nf) + 1, sizeof(double));
+  double *weight = malloc(sizeof(double) * ((size_t)(n + nf) + 1));
   int *owner = malloc(sizeof(int) * ((size_t)(n + nf) + 1));
   int ok = pos && weight && owner;
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, sys->comm);

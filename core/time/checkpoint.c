@@ -53,6 +53,25 @@ uint64_t sk_checkpoint_mesh_hash(const sk_model *m) {
   return all;
 }
 
+int sk_checkpoint_slurp(FILE *f, sk_byte_buffer *b) {
+  char chunk[65536];
+  size_t got;
+  while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) sk_byte_buffer_put(b, chunk, got);
+  fclose(f);
+  return b->failed ? -1 : 0;
+}
+
+int sk_checkpoint_whole(const sk_byte_buffer *b, const char magic[8], size_t head) {
+  const size_t tail = sizeof(uint64_t) + sizeof sk_checkpoint_end_magic;
+  if (b->size < 8 + head + tail || memcmp(b->data, magic, 8) != 0 ||
+      memcmp(b->data + b->size - sizeof sk_checkpoint_end_magic, sk_checkpoint_end_magic,
+             sizeof sk_checkpoint_end_magic) != 0)
+    return 0;
+  uint64_t sum;
+  memcpy(&sum, b->data + b->size - tail, sizeof sum);
+  return sum == sk_fnv1a(SK_CHECKPOINT_FNV_SEED, b->data, b->size - tail) ? 1 : -1;
+}
+
 /* ---- paths ---------------------------------------------------------------------------------------------------- */
 
 static void step_name(int64_t step, char *out, size_t n) { snprintf(out, n, "step-%08lld", (long long)step); }
@@ -220,11 +239,7 @@ static sk_status copy_file(const char *from, const char *to) {
   FILE *in = fopen(from, "rb");
   if (!in) return sk_error_set(SK_ERR_IO, "checkpoint: cannot read '%s': %s", from, strerror(errno));
   sk_byte_buffer b = {0};
-  char chunk[65536];
-  size_t got;
-  while ((got = fread(chunk, 1, sizeof chunk, in)) > 0) sk_byte_buffer_put(&b, chunk, got);
-  fclose(in);
-  sk_status status = b.failed ? sk_error_set(SK_ERR_NOMEM, "checkpoint: out of memory copying '%s'", from)
+  sk_status status = sk_checkpoint_slurp(in, &b) != 0 ? sk_error_set(SK_ERR_NOMEM, "checkpoint: out of memory copying '%s'", from)
                               : write_file(to, b.data, b.size);
   free(b.data);
   return status;

@@ -50,19 +50,10 @@ sk_status sk_checkpoint_partition_bytes(const sk_system *sys, sk_byte_buffer *b)
 static sk_status read_file(const char *path, sk_byte_buffer *b, int *found) {
   FILE *f = fopen(path, "rb");
   *found = f != NULL;
-  if (!f) return errno == ENOENT ? SK_OK : sk_error_set(SK_ERR_INPUT, "--restart: cannot read %s: %s", path, strerror(errno));
-  char chunk[65536];
-  size_t got;
-  while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) sk_byte_buffer_put(b, chunk, got);
-  fclose(f);
-  if (b->failed) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory reading %s", path);
-  const size_t tail = sizeof(uint64_t) + sizeof sk_checkpoint_end_magic;
-  uint64_t sum = 0;
-  if (b->size >= sizeof MAGIC + 3 * sizeof(int32_t) + tail) memcpy(&sum, b->data + b->size - tail, sizeof sum);
-  if (b->size < sizeof MAGIC + 3 * sizeof(int32_t) + tail || memcmp(b->data, MAGIC, sizeof MAGIC) != 0 ||
-      memcmp(b->data + b->size - sizeof sk_checkpoint_end_magic, sk_checkpoint_end_magic,
-             sizeof sk_checkpoint_end_magic) != 0 ||
-      sum != sk_fnv1a(SK_CHECKPOINT_FNV_SEED, b->data, b->size - tail))
+  if (!f)
+    return errno == ENOENT ? SK_OK : sk_error_set(SK_ERR_INPUT, "--restart: cannot read %s: %s", path, strerror(errno));
+  if (sk_checkpoint_slurp(f, b) != 0) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory reading %s", path);
+  if (sk_checkpoint_whole(b, MAGIC, 3 * sizeof(int32_t)) != 1)
     return sk_error_set(SK_ERR_INPUT, "--restart: %s is not a whole stickslip contact partition (truncated or damaged)",
                         path);
   return SK_OK;
@@ -141,7 +132,8 @@ sk_status sk_restart_partition(const char *dir, sk_system *sys, int *changed) {
   if (sys->verbose && sys->rank == 0) {
     fprintf(stderr, "restart: the contact partition of the checkpoint (written on %d ranks)%s\n", head[0],
             same_ranks ? (head[1] ? ", and its rebalance at the next step" : "")
-                       : measured ? ": its measured work split again over these ranks" : ": none measured, the set-up's");
+            : measured ? ": its measured work split again over these ranks"
+                       : ": none measured, the set-up's");
     sk_contact_partition_explain(m, stderr);
   }
   return SK_OK;

@@ -184,8 +184,9 @@ def contact_partition_restart(checks):
     """A run with the contact partition on 4 ranks stopped at a checkpoint after step 2 and restarted on 2 ranks: the
     plugin's history (friction anchors, slip) moves by key from the 4 ranks' contact owners to the 2 ranks', and the
     history equals the 1-rank bulk run. Measured: forces within 4.9e-13 of the largest contact force, about 3.6 s CPU.
-    (Restarted on 4 ranks, the 8-step run at dt 0.25 from step 5 is 1.0e-11 from the uninterrupted one, where the
-    bulk partition restarts to the bit; 3.5e-13 with STICKSLIP_MASTER_GHOSTING=replicated: cause not pinned down.)"""
+    (Restarted on 4 ranks, the 8-step run at dt 0.25 from step 5 is 2.1e-13 from the uninterrupted one, where the
+    bulk partition restarts to the bit: a stick/slip tie at the first iterate, docs/design.md, "Contact partition".)
+    A truncated contact-partition.bin is refused with its name."""
     reference, _ = run(SCENE, *PARTITION_ARGS)
     folder = tempfile.mkdtemp(prefix="stickslip-partition-restart-")
     checkpoint = os.path.join(folder, "checkpoint")
