@@ -15,3 +15,5 @@ endforeach()
 # long in CMakeLists.txt.
 stickslip_scene_tests(test_contact_balance.py contact_partition_mortar)
 set_tests_properties(validation_contact_partition_mortar PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
+# A restart equal to the uninterrupted run to the bit (1 rank, about 3 s CPU).
+stickslip_scene_tests(test_contact_balance.py restart_to_the_bit)
