@@ -198,6 +198,11 @@ void sk_search_update(sk_search *search, const double *q0, const double *q1, dou
   }
 }
 
+static int compare_faces(const void *a, const void *b) {
+  const int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
 static int overlaps(const double *lo, const double *hi, const double *box_lo, const double *box_hi) {
   return lo[0] <= box_hi[0] && box_lo[0] <= hi[0] && lo[1] <= box_hi[1] && box_lo[1] <= hi[1] &&
          lo[2] <= box_hi[2] && box_lo[2] <= hi[2];
@@ -222,6 +227,17 @@ int sk_search_query(const sk_search *search, const double lo[3], const double hi
       stack[top++] = node->left;
     }
   }
+  /* In face order, not the tree's: a tree built at other positions (a restart's, against the set-up's refitted
+   * since) splits the faces otherwise, and a plugin breaking a tie between candidates by their order would then
+   * take another face (docs/contact-services.md). */
+  const int written = found < max_faces ? found : max_faces;
+  if (faces && written > 16) qsort(faces, (size_t)written, sizeof *faces, compare_faces);
+  for (int i = 1; faces && written <= 16 && i < written; ++i)
+    for (int j = i; j > 0 && faces[j - 1] > faces[j]; --j) {
+      const int t = faces[j];
+      faces[j] = faces[j - 1];
+      faces[j - 1] = t;
+    }
   return found;
 }
 

@@ -89,7 +89,8 @@ static sk_status plan_pair(sk_model *m, sk_contact_pair *pair) {
   double *pos = calloc(3 * (size_t)(n > 0 ? n : 1), sizeof(double));
   pair->contact_node_owner = malloc(sizeof(int) * (size_t)(s->n_nodes > 0 ? s->n_nodes : 1));
   pair->contact_face_owner = malloc(sizeof(int) * (size_t)(s->n_faces > 0 ? s->n_faces : 1));
-  int failed = !pos || !pair->contact_node_owner || !pair->contact_face_owner;
+  pair->contact_weight = calloc((size_t)(s->n_nodes + s->n_faces) + 1, sizeof(double));
+  int failed = !pos || !pair->contact_node_owner || !pair->contact_face_owner || !pair->contact_weight;
   for (int k = 0; !failed && k < s->n_nodes; ++k)
     for (int i = 0; i < dim; ++i) pos[3 * (size_t)k + i] = m->X[(size_t)s->nodes[k] * dim + i];
   failed = failed || sk_rcb(s->n_nodes, pos, NULL, m->n_ranks, 0, pair->contact_node_owner) != 0;
@@ -187,7 +188,8 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
   if (m->contact_rebalance)
     fprintf(out, "  split again between steps after a step whose max/mean contact time over the ranks exceeds %g "
             "(contact_balance.time_ratio) or whose active slave points per rank, (max - min)/max, exceed %g "
-            "(contact_balance.entity_imbalance), weighted by the ranks' contact time\n", m->rebalance_time_ratio,
+            "(contact_balance.entity_imbalance), each entity weighted by its work: its rank's contact time, split "
+            "between the entities in contact and the others\n", m->rebalance_time_ratio,
             m->rebalance_entity_imbalance);
   for (int k = 0; m->contact_rebalance && k < m->n_pairs; ++k) {
     const sk_contact_pair *pair = &m->pairs[k];
@@ -206,12 +208,104 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
   }
 }
 
-/* The new owners of one pair's slave nodes and faces (whole-surface arrays); *changed |= any differs. */
+/* A point of the step that asks for a rebalance (sk_system_points): marks its slave node, or its face (a Gauss
+ * point), in its pair's `active` (whole-surface indices: nodes, then faces) when it is in contact. */
+typedef struct {
+  const sk_model *m;
+  unsigned char **active; /* per pair, NULL without a contact partition */
+} marks;
+
+static void mark_point(void *ctx, int k, const sk_contact_point *p) {
+  const marks *mk = ctx;
+  if (k < 0 || k >= mk->m->n_pairs || !mk->active[k] || p->state <= 0) return;
+  const sk_surface *s = &mk->m->pairs[k].slave;
+  if (p->slave_node >= 0) {
+    const int local = sk_model_node_of(mk->m, p->slave_node);
+    const int64_t at = local >= 0 ? sk_index_in_sorted(s->nodes, s->n_nodes, local) : -1;
+    if (at >= 0) mk->active[k][s->node_index[at]] = 1;
+  } else if (SK_HAS(p, slave_face) && p->slave_face >= 0 && p->slave_face < s->n_faces_global) {
+    mk->active[k][s->n_nodes_global + p->slave_face] = 1;
+  }
+}
+
+/* The per-entity weights of one kind of slave entity (count of them, whole indices; owner[j] its contact owner,
+ * active[j] 1 when in contact at the step): each rank's contact seconds of the step, t_r, split into a part per
+ * active entity b and a rest a_r shared evenly by the rank's entities, b from a least-squares fit of t_r against the
+ * ranks' active entities x_r (t_r = a + b x_r over the ranks; b = 0 when every rank has as many, or the fit slopes
+ * down): an active entity weighs a_r / n_r + b, an inactive one a_r / n_r, a_r = max(t_r - b x_r, 0). */
+static void entity_weights(const sk_system *sys, int count, const int *owner, const unsigned char *active,
+                           double *work, double *weight) {
+  const int n_ranks = sys->n_ranks;
+  double *t = work, *x = work + n_ranks, *held = work + 2 * (size_t)n_ranks;
+  for (int r = 0; r < 3 * n_ranks; ++r) work[r] = 0.0;
+  t[sys->rank] = sys->contact_step_seconds;
+  for (int j = 0; j < count; ++j) {
+    held[owner[j]] += 1.0;
+    x[owner[j]] += active[j];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, t, n_ranks, MPI_DOUBLE, MPI_SUM, sys->comm);
+  double t_mean = 0.0, x_mean = 0.0, sxy = 0.0, sxx = 0.0;
+  for (int r = 0; r < n_ranks; ++r) t_mean += t[r] / n_ranks, x_mean += x[r] / n_ranks;
+  for (int r = 0; r < n_ranks; ++r) {
+    sxy += (x[r] - x_mean) * (t[r] - t_mean);
+    sxx += (x[r] - x_mean) * (x[r] - x_mean);
+  }
+  const double b = sxx > 0.0 && sxy > 0.0 ? sxy / sxx : 0.0;
+  for (int j = 0; j < count; ++j) {
+    const int r = owner[j];
+    weight[j] = fmax(t[r] - b * x[r], 0.0) / held[r] + (active[j] ? b : 0.0);
+  }
+}
+
+/* One pair's weights from its marks (collective): the marks of every rank, then the faces with a node in contact
+ * and the nodes of a face with a Gauss point in contact are in contact too. */
+static void weigh_pair(const sk_system *sys, sk_contact_pair *pair, unsigned char *active, double *work) {
+  const sk_surface *s = &pair->slave;
+  const int n = s->n_nodes_global, nf = s->n_faces_global;
+  MPI_Allreduce(MPI_IN_PLACE, active, n + nf, MPI_UNSIGNED_CHAR, MPI_MAX, sys->comm);
+  for (int f = 0; f < s->n_faces; ++f)
+    for (int a = 0; a < s->nen; ++a) {
+      const int64_t node = s->node_index[sk_index_in_sorted(s->nodes, s->n_nodes, s->conn[(size_t)f * s->nen + a])];
+      const int64_t face = n + s->face_index[f];
+      if (active[node] & 1) active[face] |= 2;
+      if (active[face] & 1) active[node] |= 2;
+    }
+  for (int j = 0; j < n + nf; ++j) active[j] = active[j] != 0;
+  entity_weights(sys, n, pair->contact_node_owner, active, work, pair->contact_weight);
+  entity_weights(sys, nf, pair->contact_face_owner, active + n, work, pair->contact_weight + n);
+}
+
+sk_status sk_contact_partition_weigh(sk_system *sys) {
+  sk_model *m = sys->model;
+  unsigned char **active = calloc((size_t)m->n_pairs + 1, sizeof *active);
+  double *work = malloc(sizeof(double) * 3 * (size_t)m->n_ranks);
+  int ok = active && work;
+  for (int k = 0; ok && k < m->n_pairs; ++k)
+    if (m->pairs[k].contact_weight) {
+      active[k] = calloc((size_t)(m->pairs[k].slave.n_nodes_global + m->pairs[k].slave.n_faces_global) + 1, 1);
+      ok = active[k] != NULL;
+    }
+  sk_status status = ok ? SK_OK : sk_error_set(SK_ERR_NOMEM, "out of memory weighing the contact partition");
+  if (status == SK_OK) {
+    marks mk = {m, active};
+    status = sk_system_points(sys, 0, mark_point, &mk);
+  }
+  status = sk_system_collective(sys, status);
+  for (int k = 0; status == SK_OK && k < m->n_pairs; ++k)
+    if (active[k]) weigh_pair(sys, &m->pairs[k], active[k], work);
+  for (int k = 0; active && k < m->n_pairs; ++k) free(active[k]);
+  free(active), free(work);
+  return status;
+}
+
+/* The new owners of one pair's slave nodes and faces (whole-surface arrays) from its weights; *changed |= any
+ * differs. */
 static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *changed) {
   const sk_model *m = sys->model;
   const sk_surface *s = &pair->slave;
   const int n = s->n_nodes_global, nf = s->n_faces_global, dim = m->dim;
-  double *pos = calloc(3 * (size_t)(n + nf) + 1, sizeof(double)), *weight = calloc((size_t)(n + nf) + 2, sizeof(double));
+  double *pos = calloc(3 * (size_t)(n + nf) + 1, sizeof(double));
+  double *weight = malloc(sizeof(double) * ((size_t)(n + nf) + 1));
   int *owner = malloc(sizeof(int) * ((size_t)(n + nf) + 1));
   int ok = pos && weight && owner;
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, sys->comm);
@@ -219,33 +313,23 @@ static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *chan
     free(pos), free(weight), free(owner);
     return sk_error_set(SK_ERR_NOMEM, "out of memory rebalancing the contact partition of pair %s", pair->name);
   }
-  /* positions at t_n from the nodes' owners; each rank's contact seconds shared by the entities it contact-owns */
-  int mine_nodes = 0, mine_faces = 0;
-  for (int k = 0; k < s->n_nodes; ++k) mine_nodes += pair->contact_node_owner[s->node_index[k]] == m->rank;
-  for (int f = 0; f < s->n_faces; ++f) mine_faces += pair->contact_face_owner[s->face_index[f]] == m->rank;
-  for (int k = 0; k < s->n_nodes; ++k) {
-    const int64_t whole = s->node_index[k];
+  /* positions at t_n from the nodes' owners; the faces' centroids (every rank holds every slave face) */
+  for (int k = 0; k < s->n_nodes; ++k)
     if (m->node_owner[s->nodes[k]] == m->rank)
-      for (int i = 0; i < dim; ++i) pos[3 * whole + i] = sys->q_n[(int64_t)s->nodes[k] * dim + i];
-    if (pair->contact_node_owner[whole] == m->rank) weight[whole] = sys->contact_step_seconds / mine_nodes;
-  }
-  for (int f = 0; f < s->n_faces; ++f)
-    if (pair->contact_face_owner[s->face_index[f]] == m->rank)
-      weight[n + s->face_index[f]] = sys->contact_step_seconds / mine_faces;
+      for (int i = 0; i < dim; ++i) pos[3 * s->node_index[k] + i] = sys->q_n[(int64_t)s->nodes[k] * dim + i];
   MPI_Allreduce(MPI_IN_PLACE, pos, 3 * n, MPI_DOUBLE, MPI_SUM, sys->comm);
-  MPI_Allreduce(MPI_IN_PLACE, weight, n + nf, MPI_DOUBLE, MPI_SUM, sys->comm);
-  /* the faces' centroids (every rank holds every slave face); a floor of 1e-3 of the mean weight keeps entities of
-   * a rank without contact time in the split */
   for (int f = 0; f < s->n_faces; ++f)
     for (int a = 0; a < s->nen; ++a) {
       const int64_t k = sk_index_in_sorted(s->nodes, s->n_nodes, s->conn[(size_t)f * s->nen + a]);
       for (int i = 0; i < 3; ++i) pos[3 * (n + s->face_index[f]) + i] += pos[3 * s->node_index[k] + i] / s->nen;
     }
+  /* a floor of 1e-3 of the mean weight keeps entities of a rank without contact time in the split */
   for (int part = 0; part < 2; ++part) {
+    const double *from = pair->contact_weight + (part ? n : 0);
     double *w = weight + (part ? n : 0), total = 0.0;
     const int count = part ? nf : n;
-    for (int j = 0; j < count; ++j) total += w[j];
-    for (int j = 0; j < count; ++j) w[j] = total > 0.0 ? w[j] + 1e-3 * total / count : 1.0;
+    for (int j = 0; j < count; ++j) total += from[j];
+    for (int j = 0; j < count; ++j) w[j] = total > 0.0 ? from[j] + 1e-3 * total / count : 1.0;
   }
   sk_status status = sk_rcb(n, pos, weight, m->n_ranks, 0, owner) == 0 &&
                              sk_rcb(nf, pos + 3 * (size_t)n, weight + n, m->n_ranks, 0, owner + n) == 0

@@ -25,11 +25,16 @@ const char *sk_contact_partition_refused(const sk_model *model, int k);
 /* The whole model, before it is distributed (collective only in that every rank computes the same): with
  * model->contact_rebalance, every eligible pair's contact owners (sk_contact_pair.contact_node_owner, _face_owner). */
 sk_status sk_contact_partition_plan(sk_model *model);
+/* After a step that asks for a rebalance (collective): each slave entity's measured work, the next bisection's
+ * weight (sk_contact_pair.contact_weight): its contact owner's contact seconds of the step, split between the
+ * entities in contact (from the pairs' points) and the others by a fit over the ranks of seconds against entities in
+ * contact (entity_weights in contact_partition.c). */
+sk_status sk_contact_partition_weigh(sk_system *sys);
 /* A new contact partition at the predictor of a step after one whose contact work was uneven
  * (sys->contact_rebalance_pending, core/time/contact_balance.c; collective): each pair's bisection again, over the
- * slave nodes' positions at t_n and the faces' centroids, each entity weighted by its contact owner's contact
- * seconds of the last step shared evenly over the entities it owns. *changed: 1 when an owner changed; the caller
- * then re-creates the pairs' instances over their new views (sk_master_ghosts_renew). */
+ * slave nodes' positions at t_n and the faces' centroids, each entity weighted by its measured work
+ * (sk_contact_partition_weigh; 1 each when none is measured). *changed: 1 when an owner
+ * changed; the caller then re-creates the pairs' instances over their new views (sk_master_ghosts_renew). */
 sk_status sk_contact_partition_rebalance(sk_system *sys, int *changed);
 /* The contact owner of the slave surface's k-th node (its position in pair->slave.nodes) and f-th face: the
  * contact partition's, else the bulk owner (the node's owner; the face's element's). */

@@ -289,6 +289,7 @@ void sk_model_free(sk_model *model) {
     free(pair->master_face_box);
     free(pair->contact_node_owner);
     free(pair->contact_face_owner);
+    free(pair->contact_weight);
   }
   free(model->pairs);
   for (int k = 0; k < model->n_dirichlet; ++k) free(model->dirichlet[k].nodes);

@@ -11,6 +11,7 @@
 #define _GNU_SOURCE
 #include "checkpoint.h"
 #include "checkpoint_format.h"
+#include "checkpoint_partition.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -50,6 +51,25 @@ uint64_t sk_checkpoint_mesh_hash(const sk_model *m) {
   uint64_t all = 0;
   MPI_Allreduce(&mine, &all, 1, MPI_UINT64_T, MPI_BXOR, m->comm);
   return all;
+}
+
+int sk_checkpoint_slurp(FILE *f, sk_byte_buffer *b) {
+  char chunk[65536];
+  size_t got;
+  while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) sk_byte_buffer_put(b, chunk, got);
+  fclose(f);
+  return b->failed ? -1 : 0;
+}
+
+int sk_checkpoint_whole(const sk_byte_buffer *b, const char magic[8], size_t head) {
+  const size_t tail = sizeof(uint64_t) + sizeof sk_checkpoint_end_magic;
+  if (b->size < 8 + head + tail || memcmp(b->data, magic, 8) != 0 ||
+      memcmp(b->data + b->size - sizeof sk_checkpoint_end_magic, sk_checkpoint_end_magic,
+             sizeof sk_checkpoint_end_magic) != 0)
+    return 0;
+  uint64_t sum;
+  memcpy(&sum, b->data + b->size - tail, sizeof sum);
+  return sum == sk_fnv1a(SK_CHECKPOINT_FNV_SEED, b->data, b->size - tail) ? 1 : -1;
 }
 
 /* ---- paths ---------------------------------------------------------------------------------------------------- */
@@ -110,7 +130,7 @@ static void remove_step(const char *folder) {
   while ((e = readdir(d))) {
     const char *n = e->d_name;
     const int ours = strcmp(n, "checkpoint.yaml") == 0 || strcmp(n, "history.csv") == 0 ||
-                     strcmp(n, "contact.csv") == 0 ||
+                     strcmp(n, "contact.csv") == 0 || strcmp(n, sk_checkpoint_partition_file()) == 0 ||
                      (strncmp(n, "state-", 6) == 0 && strstr(n, ".bin"));
     if (!ours) continue;
     snprintf(path, sizeof path, "%s/%s", folder, n);
@@ -219,11 +239,7 @@ static sk_status copy_file(const char *from, const char *to) {
   FILE *in = fopen(from, "rb");
   if (!in) return sk_error_set(SK_ERR_IO, "checkpoint: cannot read '%s': %s", from, strerror(errno));
   sk_byte_buffer b = {0};
-  char chunk[65536];
-  size_t got;
-  while ((got = fread(chunk, 1, sizeof chunk, in)) > 0) sk_byte_buffer_put(&b, chunk, got);
-  fclose(in);
-  sk_status status = b.failed ? sk_error_set(SK_ERR_NOMEM, "checkpoint: out of memory copying '%s'", from)
+  sk_status status = sk_checkpoint_slurp(in, &b) != 0 ? sk_error_set(SK_ERR_NOMEM, "checkpoint: out of memory copying '%s'", from)
                               : write_file(to, b.data, b.size);
   free(b.data);
   return status;
@@ -308,6 +324,13 @@ sk_status sk_checkpoint_write(const sk_run_options *options, sk_system *sys, con
       snprintf(path, sizeof path, "%s/contact.csv", partial);
       status = copy_file(rec->contact_path, path);
     }
+    sk_byte_buffer part = {0};
+    if (status == SK_OK) status = sk_checkpoint_partition_bytes(sys, &part);
+    if (status == SK_OK && part.size > 0) {
+      snprintf(path, sizeof path, "%s/%s", partial, sk_checkpoint_partition_file());
+      status = write_file(path, part.data, part.size);
+    }
+    free(part.data);
     /* in place: a checkpoint of the same step from an earlier run is replaced */
     if (status == SK_OK && sk_is_directory(final)) remove_step(final);
     if (status == SK_OK && rename(partial, final) != 0)

@@ -6,6 +6,8 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "../model/contact_partition.h"
+
 /* min, mean, max over ranks of one value per rank (collective) */
 static void reduce_min_mean_max(double value, MPI_Comm comm, int n_ranks, double out[3]) {
   double extremes[2] = {-value, value}, sum = value;
@@ -19,22 +21,23 @@ static void reduce_min_mean_max(double value, MPI_Comm comm, int n_ranks, double
 /* The rebalancing trigger (contact_balance.time_ratio, .entity_imbalance): after a step whose contact time max/mean
  * over the ranks or active slave points (max - min) / max exceed them, with a contact partition, the next step starts
  * from a new one (core/model/contact_partition.h). The same decision on every rank (reduced figures). */
-static void trigger(sk_system *sys, double ratio, const double active[3], int64_t step, int verbose) {
+static sk_status trigger(sk_system *sys, double ratio, const double active[3], int64_t step, int verbose) {
   const sk_model *m = sys->model;
   int partitioned = 0;
   for (int k = 0; k < m->n_pairs; ++k) partitioned |= m->pairs[k].contact_node_owner != NULL;
   const double spread = active[2] > 0.0 ? (active[2] - active[0]) / active[2] : 0.0;
   if (!partitioned || sys->n_ranks < 2 ||
       !(ratio > m->rebalance_time_ratio || spread > m->rebalance_entity_imbalance))
-    return;
+    return SK_OK;
   sys->contact_rebalance_pending = 1;
   if (verbose && sys->rank == 0)
     fprintf(stderr, "step %lld: contact work uneven over the ranks (max/mean contact time %.2f, limit %g; active "
             "slave points (max - min)/max %.2f, limit %g): the contact partition is rebalanced at the next step\n",
             (long long)step, ratio, m->rebalance_time_ratio, spread, m->rebalance_entity_imbalance);
+  return sk_contact_partition_weigh(sys);
 }
 
-void sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, const sk_contact_totals *totals,
+sk_status sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, const sk_contact_totals *totals,
                              int64_t step, int verbose) {
   double step_seconds[3], active[3];
   sys->contact_step_seconds = sys->t_contact - balance->seconds_mark;
@@ -61,7 +64,7 @@ void sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, const 
             "%.2f), active slave points %.0f / %.3g / %.0f\n",
             (long long)step, sys->n_ranks, step_seconds[0], step_seconds[1], step_seconds[2], ratio, active[0],
             active[1], active[2]);
-  trigger(sys, ratio, active, step, verbose);
+  return trigger(sys, ratio, active, step, verbose);
 }
 
 sk_status sk_contact_balance_write(const sk_contact_balance *balance, sk_json *json) {

@@ -22,8 +22,9 @@ typedef struct {
 
 /* After a converged step (collective): reduces this step's contact time and the totals' per-rank active entities;
  * with verbose and more than one rank, rank 0 prints one line. With a contact partition and the step's contact work
- * uneven beyond contact_balance.time_ratio or .entity_imbalance, sets sys->contact_rebalance_pending. */
-void sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, const sk_contact_totals *totals,
+ * uneven beyond contact_balance.time_ratio or .entity_imbalance, sets sys->contact_rebalance_pending and weighs
+ * the slave entities by their work (sk_contact_partition_weigh). */
+sk_status sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, const sk_contact_totals *totals,
                              int64_t step, int verbose);
 /* The contact_balance_* keys of summary.json (rank 0). */
 sk_status sk_contact_balance_write(const sk_contact_balance *balance, sk_json *json);

@@ -492,7 +492,8 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   double load_work = 0.0;
   SK_TRY(sk_system_load_work(sys, rec->load_scratch, &load_work));
   rec->external_work += load_work;
-  if (rec->scene->model.n_pairs > 0) sk_contact_balance_step(&rec->balance, sys, &contact, sys->step, rec->options->verbose);
+  if (rec->scene->model.n_pairs > 0)
+    SK_TRY(sk_contact_balance_step(&rec->balance, sys, &contact, sys->step, rec->options->verbose));
   sk_status status = history_row(rec, sys->x, sys->v, sys->t, sys->step, substep, sys->newton.iterations, &contact);
   status = sk_system_collective(sys, status);
   rec->last_step = sys->step;

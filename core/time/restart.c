@@ -12,6 +12,7 @@
 
 #include "checkpoint.h"
 #include "checkpoint_format.h"
+#include "checkpoint_partition.h"
 #include "../model/master_ghosts.h"
 #include "stickslip/config.h"
 #include "stickslip/files.h"
@@ -239,19 +240,11 @@ static sk_status load_state_file(const sk_restart *r, int rank, sk_byte_buffer *
   if (!f)
     return sk_error_set(SK_ERR_INPUT, "--restart: %s is missing (the checkpoint was written by %d ranks): %s", path,
                         r->ranks, strerror(errno));
-  char chunk[65536];
-  size_t got;
-  while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) sk_byte_buffer_put(b, chunk, got);
-  fclose(f);
-  if (b->failed) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory reading %s", path);
-  const size_t tail = sizeof(uint64_t) + sizeof sk_checkpoint_end_magic;
-  if (b->size < sizeof sk_checkpoint_state_magic + 16 + tail || memcmp(b->data, sk_checkpoint_state_magic, sizeof sk_checkpoint_state_magic) != 0 ||
-      memcmp(b->data + b->size - sizeof sk_checkpoint_end_magic, sk_checkpoint_end_magic, sizeof sk_checkpoint_end_magic) != 0)
+  if (sk_checkpoint_slurp(f, b) != 0) return sk_error_set(SK_ERR_NOMEM, "--restart: out of memory reading %s", path);
+  const int whole = sk_checkpoint_whole(b, sk_checkpoint_state_magic, 16);
+  if (whole == 0)
     return sk_error_set(SK_ERR_INPUT, "--restart: %s is not a whole stickslip state file (truncated or damaged)", path);
-  uint64_t sum;
-  memcpy(&sum, b->data + b->size - tail, sizeof sum);
-  if (sum != sk_fnv1a(SK_CHECKPOINT_FNV_SEED, b->data, b->size - tail))
-    return sk_error_set(SK_ERR_INPUT, "--restart: %s is damaged (its checksum does not match)", path);
+  if (whole < 0) return sk_error_set(SK_ERR_INPUT, "--restart: %s is damaged (its checksum does not match)", path);
   int32_t head[4];
   memcpy(head, b->data + sizeof sk_checkpoint_state_magic, sizeof head);
   if (head[0] != rank || head[1] != r->ranks || head[2] != r->dim || head[3] != SK_CHECKPOINT_FORMAT)
@@ -373,15 +366,21 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
     if (r->linear_fallback) status = sk_linsys_set_solver(sys->linsys, SK_LINEAR_DIRECT);
     sys->x_version++;
   }
-  /* the master faces held from the restart's positions (its bodies may have moved beyond the set-up's reach) */
+  /* the contact partition of the checkpointed step, then the master faces held from the restart's positions (its
+   * bodies may have moved beyond the set-up's reach) */
+  int repartitioned = 0;
+  if (status == SK_OK) status = sk_restart_partition(r->dir, sys, &repartitioned);
   if (status == SK_OK) status = sk_master_ghosts_restart(sys);
   for (int t = 0, k = 0; t < n_plugins && status == SK_OK; ++t) {
     while (sk_term_plugin_checkpointable(sys->terms[k], NULL) < 0) ++k;
     sk_term *term = sys->terms[k++];
     if (!sk_record_set_sort(&sets[t])) status = sk_error_set(SK_ERR_NOMEM, "--restart: out of memory");
+    const int pair = sk_term_plugin_pair(term);
+    const int slave_too = repartitioned && pair >= 0 && m->pairs[pair].contact_node_owner;
     if (status == SK_OK)
-      status = sk_master_ghosts_term(sys, term) ? sk_term_plugin_renew_master(term, sys, &sets[t].abi, 0)
-                                                : sk_term_plugin_load(term, sys, &sets[t].abi);
+      status = sk_master_ghosts_term(sys, term) || slave_too
+                   ? sk_term_plugin_renew_master(term, sys, &sets[t].abi, slave_too)
+                   : sk_term_plugin_load(term, sys, &sets[t].abi);
     if (status != SK_OK) sk_error_prefix(status, "--restart: %s: ", term->name);
     status = sk_system_collective(sys, status);
   }

@@ -5,6 +5,8 @@ time statistics are ordered (min <= mean <= max, 1 <= mean imbalance <= worst), 
 the run's own contact_seconds (imbalance exactly 1). A direct solver (MUMPS): both runs take the same active set."""
 import os
 import re
+import shutil
+import struct
 import subprocess
 import tempfile
 
@@ -182,8 +184,9 @@ def contact_partition_restart(checks):
     """A run with the contact partition on 4 ranks stopped at a checkpoint after step 2 and restarted on 2 ranks: the
     plugin's history (friction anchors, slip) moves by key from the 4 ranks' contact owners to the 2 ranks', and the
     history equals the 1-rank bulk run. Measured: forces within 4.9e-13 of the largest contact force, about 3.6 s CPU.
-    (Restarted on 4 ranks, the 8-step run at dt 0.25 from step 5 is 1.0e-11 from the uninterrupted one, where the
-    bulk partition restarts to the bit; 3.5e-13 with STICKSLIP_MASTER_GHOSTING=replicated: cause not pinned down.)"""
+    (Restarted on 4 ranks without a rebalance, the 8-step run at dt 0.25 from step 5 equals the uninterrupted one to
+    the bit: restart_to_the_bit, docs/design.md, "Contact partition".)
+    A truncated contact-partition.bin is refused with its name."""
     reference, _ = run(SCENE, *PARTITION_ARGS)
     folder = tempfile.mkdtemp(prefix="stickslip-partition-restart-")
     checkpoint = os.path.join(folder, "checkpoint")
@@ -197,9 +200,105 @@ def contact_partition_restart(checks):
     if proc.returncode == 0:
         same_history(checks, "written on 4 ranks, restarted on 2, contact partition vs 1 rank, bulk", reference,
                      Results(out))
+    # a damaged contact-partition.bin is refused with its name
+    step = os.path.join(checkpoint, "step-00000002")
+    damaged = os.path.join(folder, "damaged")
+    shutil.copytree(step, damaged)
+    path = os.path.join(damaged, "contact-partition.bin")
+    with open(path, "r+b") as f:
+        f.truncate(os.path.getsize(path) - 5)
+    proc = subprocess.run([binary, "run", "--restart", damaged, "--out", os.path.join(folder, "refused"), "--quiet"],
+                          capture_output=True, text=True)
+    checks.check(proc.returncode != 0 and "contact-partition.bin is not a whole stickslip contact partition" in
+                 proc.stderr, "a truncated contact-partition.bin is refused: " + proc.stderr.strip()[-200:])
+
+
+def checkpointed_partition(step_folder):
+    """contact-partition.bin of a checkpoint (core/time/checkpoint_partition.c): per pair its name and its slave
+    nodes' and faces' owners."""
+    with open(os.path.join(step_folder, "contact-partition.bin"), "rb") as f:
+        data = f.read()
+    assert data[:8] == b"SKCPART1" and data[-8:] == b"SKSTEND1", "contact-partition.bin: marks"
+    ranks, pending, n_pairs = struct.unpack_from("<3i", data, 8)
+    at, pairs = 20, {}
+    for _ in range(n_pairs):
+        (length,) = struct.unpack_from("<i", data, at)
+        name = data[at + 4:at + 4 + length].decode()
+        at += 4 + length
+        n, nf = struct.unpack_from("<2i", data, at)
+        owners = struct.unpack_from("<%di" % (n + nf), data, at + 8)
+        at += 8 + 12 * (n + nf)
+        pairs[name] = (owners[:n], owners[n:])
+    return ranks, pending, pairs
+
+
+def partition_line(name, owners, ranks):
+    nodes = [owners[0].count(r) for r in range(ranks)]
+    faces = [owners[1].count(r) for r in range(ranks)]
+    return "contact pair %s: %d to %d slave nodes and %d to %d slave faces per rank over %d ranks" % (
+        name, min(nodes), max(nodes), min(faces), max(faces), ranks)
+
+
+def restart_from(checkpoint, np):
+    binary = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
+    mpiexec = os.environ.get("STICKSLIP_MPIEXEC", "mpirun")
+    out = os.path.join(tempfile.mkdtemp(prefix="stickslip-partition-restart-"), "restarted")
+    proc = subprocess.run([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", str(np), binary, "run",
+                           "--restart", checkpoint, "--out", out, "--quiet", "--verbose"], capture_output=True, text=True)
+    return (Results(out) if proc.returncode == 0 else None), proc
+
+
+def contact_partition_restart_rebalanced(checks):
+    """The rebalanced partition in a checkpoint: a run on 4 ranks rebalancing after every step (as
+    contact_partition_rebalanced_4) writes a checkpoint after step 4 and runs on to step 8; restarted from it on 4
+    ranks, the run resumes with the checkpoint's contact owners (--verbose prints them: the same nodes and faces per
+    rank as contact-partition.bin holds) and the rebalance that step 4 asked for; on 2 ranks the checkpointed
+    entities' weights are split again over 2. Both restarted histories equal the uninterrupted run's. Measured:
+    forces within 4.5e-13 (4 ranks) and 2.5e-13 (2 ranks) of the largest contact force; 8.4e-13 and 8.1e-12 in
+    another run (the rebalances after the restart follow the ranks' wall times). About 9 s CPU: labelled long."""
+    folder = tempfile.mkdtemp(prefix="stickslip-partition-restart-")
+    checkpoint = os.path.join(folder, "checkpoint")
+    full, proc = run(SCENE, *EIGHT_STEPS, *REBALANCE, "--checkpoint-every", "4", "--checkpoint", checkpoint, np=4)
+    step = os.path.join(checkpoint, "step-00000004")
+    ranks, pending, pairs = checkpointed_partition(step)
+    checks.check(ranks == 4 and pending == 1 and list(pairs) == ["corner"],
+                 "the checkpoint holds pair corner's partition on 4 ranks with a rebalance due (%d, %d, %s)" %
+                 (ranks, pending, list(pairs)))
+    for np in (4, 2):
+        restarted, proc = restart_from(step, np)
+        checks.check(restarted is not None, "the restart on %d ranks runs: %s" % (np, proc.stderr.strip()[-300:]))
+        if restarted is None:
+            continue
+        same_history(checks, "rebalanced on 4 ranks, restarted after step 4 on %d" % np, full, restarted)
+        if np == 4:
+            line = partition_line("corner", pairs["corner"], 4)
+            checks.check("written on 4 ranks), and its rebalance at the next step" in proc.stderr and line in proc.stderr,
+                         "4 ranks: the restart resumes with the checkpoint's partition ('%s')" % line)
+        else:
+            checks.check("its measured work split again over these ranks" in proc.stderr,
+                         "2 ranks: the checkpoint's weights split again over 2 ranks")
+
+
+def restart_to_the_bit(checks):
+    """A restart equals the uninterrupted run to the bit with a direct solver: the 8-step run at dt 0.25 on 1 rank
+    (KLU), checkpointed after step 5. The broad phase's candidates come in face order whatever the positions its
+    tree was built at (docs/contact-services.md); in the tree's order the restart took other faces at penalty-nts's
+    ties and differed by 2.3e-13 of the largest contact force, with another Newton iteration count at step 8."""
+    folder = tempfile.mkdtemp(prefix="stickslip-restart-bit-")
+    checkpoint = os.path.join(folder, "checkpoint")
+    full, _ = run(SCENE, *EIGHT_STEPS, "--checkpoint-every", "5", "--checkpoint", checkpoint)
+    restarted, proc = restart_from(os.path.join(checkpoint, "step-00000005"), 1)
+    checks.check(restarted is not None, "the restart runs: %s" % proc.stderr.strip()[-300:])
+    if restarted is None:
+        return
+    names = [n for n in full.rows[0] if n.startswith(("contact_force_", "reaction_"))] + ["newton_iterations"]
+    differ = [(row["step"], n) for row, other in zip(full.rows, restarted.rows) for n in names if row[n] != other[n]]
+    checks.check(len(full.rows) == len(restarted.rows) and not differ,
+                 "restarted after step 5: forces, reactions and Newton iterations equal to the bit (%s)" % differ[:3])
 
 
 if __name__ == "__main__":
     main([contact_balance, contact_partition, contact_partition_4, contact_partition_extras,
           contact_partition_extras_4, contact_partition_mortar, contact_partition_restart, contact_partition_rebalanced,
-          contact_partition_rebalanced_4, contact_partition_rebalanced_extras])
+          contact_partition_rebalanced_4, contact_partition_rebalanced_extras, contact_partition_restart_rebalanced,
+          restart_to_the_bit])

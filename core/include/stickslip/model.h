@@ -104,6 +104,9 @@ typedef struct {
    * node and each slave face, by its index in the whole slave surface (surface-sized, on every rank) */
   int *contact_node_owner;
   int *contact_face_owner;
+  /* with a contact partition: the measured work of each slave node, then each slave face (whole-surface indices), at
+   * the last step that asked for a rebalance (the bisection's weights; all 0 before) */
+  double *contact_weight;
 } sk_contact_pair;
 
 typedef struct {
