@@ -21,6 +21,7 @@ int mortar_face_type_init(mortar_face_type *ft, sk_elem_type type, mortar_shape_
   ft->type = type;
   ft->shape = shape;
   ft->shape_hessian = shape_hessian;
+  ft->alpha = SK_MODIFIED_BASIS_ALPHA;
   return 0;
 }
 
@@ -103,7 +104,7 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
   fwd xs[MORTAR_MAX_NEN][3];
   memcpy(xs, p->xs, sizeof xs);
   double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
-  const int transformed = basis == MORTAR_DUAL_TRANSFORMED && mortar_transform(ft->type, T);
+  const int transformed = basis == MORTAR_DUAL_TRANSFORMED && mortar_transform(ft, T);
   for (int q = 0; q < nq; ++q) {
     fwd x_q[2] = {fwd_const(xi[q * ft->pdim]), fwd_const(ft->pdim > 1 ? xi[q * ft->pdim + 1] : 0.0)};
     fwd N[MORTAR_MAX_NEN], a[2][3];
@@ -157,12 +158,12 @@ void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_
     for (int k = 0; k < nen; ++k) A->coeff[j][k] = At[j][k];
 }
 
-int mortar_transform(sk_elem_type type, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN]) {
+int mortar_transform(const mortar_face_type *ft, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN]) {
   /* the corners first, then edge node e between corners e and e + 1 (gmsh's TRI6 and QUAD8): the weights of
    * sk_modified_basis_weights, as a matrix */
-  const int corners = sk_modified_basis_corners(type);
+  const int corners = sk_modified_basis_corners(ft->type);
   if (!corners) return 0;
-  const double alpha = SK_MODIFIED_BASIS_ALPHA;
+  const double alpha = ft->alpha;
   memset(T, 0, sizeof(double) * MORTAR_MAX_NEN * MORTAR_MAX_NEN);
   for (int v = 0; v < corners; ++v) T[v][v] = 1.0;
   for (int e = 0; e < corners; ++e) {

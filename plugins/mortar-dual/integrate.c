@@ -259,7 +259,7 @@ void mortar_add_point_shapes(const mortar_pair *p, const mortar_basis_coeffs *A,
    * to a negative value) */
   double Nc[MORTAR_MAX_NEN], T[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
   for (int j = 0; j < ns; ++j) Nc[j] = N1[j].v;
-  if (mortar_transform(p->slave->type, T)) {
+  if (mortar_transform(p->slave, T)) {
     double Nv[MORTAR_MAX_NEN];
     memcpy(Nv, Nc, sizeof Nv);
     mortar_transform_values(ns, T, Nv, Nc);

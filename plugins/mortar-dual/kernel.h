@@ -36,6 +36,7 @@ typedef struct {
   int nen, pdim;
   mortar_shape_fn shape;
   mortar_shape_hessian_fn shape_hessian;
+  double alpha; /* TRI6 and QUAD8: alpha of the transformed functions (mortar_transform); SK_MODIFIED_BASIS_ALPHA */
 } mortar_face_type;
 
 /* Fills a face descriptor; returns -1 for a face type the kernel does not handle. */
@@ -93,10 +94,11 @@ typedef struct {
 void mortar_basis_coefficients(const mortar_pair *p, mortar_basis basis, mortar_basis_coeffs *A);
 /* TRI6 and QUAD8 (gmsh order: the corners, then the mid-side node of the edge from corner e to e + 1): T[j][k] with
  * N~_j = sum_k T_jk N_k, N~_v = N_v + alpha (N_e1 + N_e2) for the vertex v and its two edges, N~_e = (1 - 2 alpha) N_e,
- * alpha = 1/5 (SK_MODIFIED_BASIS_ALPHA, the host's tributary weights): every N~ integrates to a positive share of a
- * flat face (TRI6: 2/15 at the vertices, 1/5 at the edges; QUAD8: 1/20 and 1/5 of a parallelogram) and
- * sum_j N~_j = 1. Returns the number of face nodes, 0 (T untouched) for a face type that is not transformed. */
-int mortar_transform(sk_elem_type type, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN]);
+ * alpha = ft->alpha (mortar_face_type_init: 1/5, SK_MODIFIED_BASIS_ALPHA, the host's tributary weights; the plugin's
+ * `transform_alpha`): every N~ integrates to a positive share of a flat face (at 1/5, TRI6: 2/15 at the vertices, 1/5
+ * at the edges; QUAD8: 1/20 and 1/5 of a parallelogram) and sum_j N~_j = 1. Returns the number of face nodes, 0 (T
+ * untouched) for a face type that is not transformed. */
+int mortar_transform(const mortar_face_type *ft, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN]);
 /* Nt = T N (values, nen entries). */
 void mortar_transform_values(int nen, double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN], const double *N, double *Nt);
 

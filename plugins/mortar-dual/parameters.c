@@ -63,6 +63,39 @@ static sk_status read_complementarity(sk_instance *inst) {
 /* Slave faces whose multipliers are dual to the transformed functions (TRI6, QUAD8: section 3.5 of the plugin page). */
 static int quadratic_quad(sk_elem_type type) { return type == SK_QUAD8 || type == SK_QUAD9; }
 
+static const char *face_name(sk_elem_type type) {
+  switch (type) {
+    case SK_TRI6: return "TRI6";
+    case SK_QUAD8: return "QUAD8";
+    case SK_QUAD9: return "QUAD9";
+    default: return "second-order";
+  }
+}
+
+/* alpha of the transformed functions on TRI6 and QUAD8 slave faces (section 3.5 of the plugin page): the vertex
+ * functions must integrate to a positive share of the face, 2 alpha / 3 on a flat TRI6 (alpha > 0) and
+ * -1/12 + 2 alpha / 3 on a QUAD8 parallelogram (alpha > 1/8), the edge ones (1 - 2 alpha) / 3 (alpha < 1/2). The
+ * default on TRI6 is the value whose Hertz tet10 profile error was the smallest measured; QUAD8 keeps 1/5. */
+static const double TRI6_ALPHA = 0.1;
+
+static sk_status read_transform_alpha(sk_instance *inst) {
+  const sk_elem_type type = inst->slave->cell_type;
+  if (!mortar_transformed_face(type)) return SK_OK;
+  const double lowest = type == SK_QUAD8 ? 0.125 : 0.0, computed = type == SK_TRI6 ? TRI6_ALPHA : 0.2;
+  char reason[200];
+  snprintf(reason, sizeof reason, "%s on the slave surface's %s faces (docs/plugins/mortar-dual.md section 3.5)",
+           type == SK_TRI6 ? "the measured best" : "Popp et al.'s 1/5", face_name(type));
+  double alpha = computed;
+  SK_TRY(sk_defaults_param(inst->api, inst->host, sk_defaults_scene(inst->api, inst->host), "transform_alpha",
+                           computed, reason, &alpha));
+  if (!(alpha > lowest && alpha < 0.5))
+    return inst->api->error(inst->host, SK_ERR_INPUT, "mortar-dual: transform_alpha must lie in (%g, 0.5) on %s faces "
+                            "(its vertex and edge functions must integrate to positive shares of the face; got %g)",
+                            lowest, face_name(type), alpha);
+  inst->st.alpha = alpha;
+  return SK_OK;
+}
+
 sk_status mortar_read_parameters(sk_instance *inst) {
   const sk_host_api *api = inst->api;
   sk_host *host = inst->host;
@@ -81,6 +114,7 @@ sk_status mortar_read_parameters(sk_instance *inst) {
   SK_TRY(read_choice(inst, "active_set", sets, &inst->active_set));
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->ncp.mu));
   SK_TRY(read_complementarity(inst));
+  SK_TRY(read_transform_alpha(inst));
   /* straight faces: Phi_j N_l of degree 2 (line2) or 4 (line3) on a segment; curved LINE3 faces are not polynomial */
   const int curved = inst->slave->cell_type == SK_LINE3 || (inst->master && inst->master->cell_type == SK_LINE3);
   SK_TRY(api->param_int(host, "segment_gauss", 0, curved ? 5 : 3, &inst->segment_gauss));
@@ -148,15 +182,6 @@ int mortar_scheme_refused(const char *scheme, double alpha, char *reason, int si
 static int face_supported(sk_elem_type type) {
   return type == SK_LINE2 || type == SK_LINE3 || type == SK_TRI3 || type == SK_QUAD4 || type == SK_QUAD9 ||
          type == SK_TRI6 || type == SK_QUAD8;
-}
-
-static const char *face_name(sk_elem_type type) {
-  switch (type) {
-    case SK_TRI6: return "TRI6";
-    case SK_QUAD8: return "QUAD8";
-    case SK_QUAD9: return "QUAD9";
-    default: return "second-order";
-  }
 }
 
 int mortar_faces_refused(const char *slave_name, sk_elem_type slave, const char *master_name, int has_master,

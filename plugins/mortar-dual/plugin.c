@@ -29,6 +29,8 @@ static const char *const parameters[] = {
     "master face chosen at the step's start (0.1: 5 % of an edge); 0 chooses again whenever it leaves the face, "
     "path-independent to round-off at the cost of more Newton runs [0.1]",
     "max_flips: active-set changes of a node within a step before its branch is frozen (semismooth) [8]",
+    "transform_alpha: TRI6 and QUAD8 slave faces: alpha of the transformed functions the dual basis is built on, "
+    "N~_vertex = N_vertex + alpha (N_edge1 + N_edge2), N~_edge = (1 - 2 alpha) N_edge [0.1 on TRI6, 0.2 on QUAD8]",
     "min_cover: share of a node's support the master must cover for it to enter contact [0.5]",
     "search_margin: inflation of the search boxes (length) [the mean master edge length]",
     "self_exclusion: self contact only: faces with nodes within this distance of each other in the reference "

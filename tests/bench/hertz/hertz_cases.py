@@ -62,9 +62,10 @@ def run_child(command):
 def run_case(element, plugin, refine, keep=None, extra_sets=()):
     """One benchmark run: a dict of cost and errors, and the profile [(r/a, p/p0)] at reference positions."""
     dim, scene, sets = ELEMENTS[element]
-    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"] + list(extra_sets)
+    sets = list(sets) + ["mesh.parameters.refine=%g" % refine, "output.vtu_every=4"]
     if plugin != "penalty-nts":
         sets += ["contact.0.plugin=%s" % plugin, "contact.0.parameters={}"]
+    sets += list(extra_sets)  # after the plugin's parameters are cleared, so that they can set them
     out = keep or os.path.join(tempfile.mkdtemp(prefix="stickslip-bench-hertz-"), "results")
     cpu, rss, process_wall = run_child(driver_command(scene, sets, out))
     results = Results(out)

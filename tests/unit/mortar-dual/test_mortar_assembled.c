@@ -439,6 +439,17 @@ static void check_errors(void) {
   SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_SADDLE_POINT) == SK_ERR_INPUT);
   SK_CHECK(strstr(sk_error_message(), "concentrated") != NULL);
   kit_free(&k);
+  /* transform_alpha: the transformed functions' integrals must stay positive (QUAD8 vertices: alpha > 1/8) */
+  mesh_3d_quad8(&k);
+  kit_param(&k, "transform_alpha", 0.1);
+  SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_SADDLE_POINT) == SK_ERR_INPUT);
+  SK_CHECK(strstr(sk_error_message(), "transform_alpha must lie in (0.125, 0.5) on QUAD8") != NULL);
+  kit_free(&k);
+  mesh_3d_tri6(&k);
+  kit_param(&k, "transform_alpha", 0.5);
+  SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_SADDLE_POINT) == SK_ERR_INPUT);
+  SK_CHECK(strstr(sk_error_message(), "transform_alpha must lie in (0, 0.5) on TRI6") != NULL);
+  kit_free(&k);
 }
 
 /* Self contact at check (sk_plugin.check): on one rank it runs, in 2D and on 3D first-order and QUAD9 faces, with

@@ -85,7 +85,7 @@ static void check_transformed_basis(const mortar_face_type *ft, const double *x,
   mortar_basis_coeffs A;
   mortar_basis_coefficients(&p, MORTAR_DUAL_TRANSFORMED, &A);
   double T[MORTAR_MAX_NEN][MORTAR_MAX_NEN];
-  SK_CHECK(mortar_transform(ft->type, T) == nen);
+  SK_CHECK(mortar_transform(ft, T) == nen);
   /* the reference rule: points (s, t) and weights on the parameter domain */
   enum { SPLIT = 4, QUAD_POINTS = 16 };
   double rs[2 * QUAD_POINTS * QUAD_POINTS], rwt[QUAD_POINTS * QUAD_POINTS]; /* >= TRI6's 16 x 12 points */
