@@ -451,7 +451,7 @@ static void log_linear_decision(void *ctx, const char *line) {
  * before it is cut: backtracking converges the frictional scenes a user writes from the scene reference where the
  * full step stalls in step 1, but as the only search it fails cases the full step runs (a graded patch test, mortar-dual
  * on stacked blocks) and costs iterations where the full step converges — docs/linear-solvers.md, "Line search". */
-static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
+static sk_status read_solver(const sk_cfg *root, const sk_time_integrator *integrator, sk_solver_settings *solver) {
   const sk_cfg *node = sk_cfg_section(root, "solver");
   if (node && sk_cfg_kind_of(node) != SK_CFG_MAP)
     return sk_scene_fail_at(node, "%s", "expects a map with `newton` and/or `linear`");
@@ -470,7 +470,9 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
   SK_TRY(sk_cfg_bool(newton, "verbose", 0, solver->newton.verbose, &solver->newton.verbose));
   SK_TRY(sk_cfg_bool(newton, "inexact", 0, solver->newton.forcing, &solver->newton.forcing));
   SK_TRY(sk_cfg_choice(newton, "predictor", 0, predictor_names, 0, &solver->predictor));
-  SK_TRY(sk_cfg_bool(newton, "predicted_update", 0, 0, &solver->newton.predicted_update));
+  /* quasi-static steps accept the predicted update by default (one confirming solve less per step, docs/hertz.md);
+   * dynamic ones keep the confirming solve: their energy balances were measured with it */
+  SK_TRY(sk_cfg_bool(newton, "predicted_update", 0, !integrator->dynamic, &solver->newton.predicted_update));
   SK_TRY(sk_cfg_int(newton, "max_active_set_loops", 0, 10, &solver->max_active_set_loops));
   if (solver->max_active_set_loops < 1)
     return sk_scene_fail_at(sk_cfg_get(newton, "max_active_set_loops"), "%s", "must be at least 1");
@@ -526,7 +528,7 @@ static sk_status build(sk_scene *scene) {
   SK_TRY(sk_cfg_string(root, "description", 0, "", &description));
   snprintf(scene->description, sizeof scene->description, "%s", description);
   SK_TRY(read_time(root, &model->time));
-  SK_TRY(read_solver(root, &scene->solver));
+  SK_TRY(read_solver(root, model->time.integrator, &scene->solver));
   SK_TRY(read_output(root, &scene->output));
   SK_TRY(load_meshes(root, &model->mesh));
   model->dim = model->mesh.dim;
@@ -593,6 +595,15 @@ static void explain_newton(const sk_solver_settings *solver, FILE *out) {
             line_search_names[n->line_search]);
   fprintf(out, "  %-16s ||F|| <= %g or ||F||/||F0|| <= %g, with ||dx|| <= %g (1 + ||x||); at most %d iterations\n",
           "convergence", n->residual_tolerance, n->relative_tolerance, n->update_tolerance, n->max_iterations);
+  fprintf(out, "  %-16s %s\n", "predicted_update",
+          n->predicted_update ? "true: the update test also accepts the next update predicted from the residual's "
+                                "decrease (no confirming solve; the default of quasi-static steps)"
+                              : "false: the update test reads the step taken (a confirming solve; the default of "
+                                "dynamic steps)");
+  fprintf(out, "  %-16s %s\n", "predictor",
+          solver->predictor ? "previous-increment: quasi-static steps start from u_n plus the previous increment "
+                              "scaled to dt"
+                            : "last-state: quasi-static steps start from u_n (dynamic schemes predict from v_n)");
   const sk_linear_options *l = &solver->linear;
   fprintf(out, "linear solver (solver.linear):\n  %-16s %s\n", "solver", linear_names[l->kind]);
   fprintf(out, "  %-16s Krylov relative residual <= %g in at most %d iterations (direct solvers ignore it)\n",
