@@ -92,12 +92,14 @@ def only_mu_runs(c):
 
 
 def explain_newton_defaults(c):
-    # solver.newton.predicted_update: on by default for quasi-static steps, off for dynamic ones; a given value wins
+    # solver.newton.predicted_update: on by default for quasi-static steps, off for dynamic ones and for plugins with
+    # multiplier unknowns; a given value wins
     lines = {}
     for label, scene, extra in (("quasi-static", ONLY_MU, ()),
                                 ("backward-euler", ONLY_MU, ("--set", "time.scheme=backward-euler", "--set",
                                                              "bodies.0.material.density=1")),
-                                ("given", ONLY_MU, ("--set", "solver.newton.predicted_update=false"))):
+                                ("given", ONLY_MU, ("--set", "solver.newton.predicted_update=false")),
+                                ("multipliers", ONLY_MU, ("--plugin", "nts-augmented"))):
         c.run_scene(scene, *extra, "--explain", command="check")
         c.no_crash()
         lines[label] = [l.strip() for l in c.proc.stdout.splitlines() if l.strip().startswith("predicted_update")]
@@ -107,6 +109,8 @@ def explain_newton_defaults(c):
             "backward-euler: predicted_update false (%s)" % lines["backward-euler"])
     c.check(lines["given"] and lines["given"][0].split()[1] == "false:",
             "quasi-static with predicted_update=false given: false (%s)" % lines["given"])
+    c.check(lines["multipliers"] and lines["multipliers"][0].split()[1] == "false:",
+            "quasi-static with nts-augmented's multipliers: false (%s)" % lines["multipliers"])
 
 
 if __name__ == "__main__":
