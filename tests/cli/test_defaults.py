@@ -91,6 +91,28 @@ def only_mu_runs(c):
         c.check(c.proc.returncode == 0, "%s runs with only mu (exit %d)" % (plugin, c.proc.returncode))
 
 
+def explain_newton_defaults(c):
+    # solver.newton.predicted_update: on by default for quasi-static steps, off for dynamic ones and for plugins with
+    # multiplier unknowns; a given value wins
+    lines = {}
+    for label, scene, extra in (("quasi-static", ONLY_MU, ()),
+                                ("backward-euler", ONLY_MU, ("--set", "time.scheme=backward-euler", "--set",
+                                                             "bodies.0.material.density=1")),
+                                ("given", ONLY_MU, ("--set", "solver.newton.predicted_update=false")),
+                                ("multipliers", ONLY_MU, ("--plugin", "nts-augmented"))):
+        c.run_scene(scene, *extra, "--explain", command="check")
+        c.no_crash()
+        lines[label] = [l.strip() for l in c.proc.stdout.splitlines() if l.strip().startswith("predicted_update")]
+    c.check(lines["quasi-static"] and lines["quasi-static"][0].split()[1] == "true:",
+            "quasi-static: predicted_update true (%s)" % lines["quasi-static"])
+    c.check(lines["backward-euler"] and lines["backward-euler"][0].split()[1] == "false:",
+            "backward-euler: predicted_update false (%s)" % lines["backward-euler"])
+    c.check(lines["given"] and lines["given"][0].split()[1] == "false:",
+            "quasi-static with predicted_update=false given: false (%s)" % lines["given"])
+    c.check(lines["multipliers"] and lines["multipliers"][0].split()[1] == "false:",
+            "quasi-static with nts-augmented's multipliers: false (%s)" % lines["multipliers"])
+
+
 if __name__ == "__main__":
     main({f.__name__: f for f in [explain_defaults, second_order_faces, given_value_wins, run_explain,
-                                  plugins_state_rules, only_mu_runs]})
+                                  plugins_state_rules, only_mu_runs, explain_newton_defaults]})

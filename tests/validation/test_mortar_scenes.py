@@ -96,14 +96,6 @@ def mortar_patch_test_2d_quadratic(c):
                                                                   saddle.summary["linear_system_size"]))
 
 
-def hertz_points(results):
-    """[(r, p, gap, node)] at the reference positions (test_contact_scenes.reference_points) with the plugin's own
-    contact state: an active node's weighted gap is 0 up to round-off (+-1e-19 here), whose sign must not decide
-    whether the fit of hertz_profile.profile_errors (gap <= 0) takes the node."""
-    return sorted((q["reference_x"], q["pressure"], min(q["gap"], 0.0) if q["state"] > 0 else q["gap"], int(q["node"]))
-                  for q in results.contact_points())
-
-
 def mortar_hertz_2d_quadratic(c):
     """scenes/hertz-2d.yaml (cylinder on a stiff block, the Hertz set-up of test_quadratic_scenes.py) with quad9
     elements and mortar-dual (segments on curved LINE3 faces, dual basis, its default parameters) against Hertz's
@@ -112,13 +104,14 @@ def mortar_hertz_2d_quadratic(c):
     quad9 meshes 0.0325 / 0.0096 (a -1.3 % / +0.59 %). Condensed = saddle-point: nodal pressures to
     1.2e-15 of p0. About 6 s of CPU."""
     from hertz_profile import hertz_reference, profile_errors
+    from test_contact_scenes import reference_points
     mortar = ("--plugin", "mortar-dual", "--replace", "contact.0.parameters={}")
     errors = {}
     for refine, strategy in ((0.5, "saddle-point"), (0.5, "condensed"), (1, "saddle-point")):
         results, _ = run("scenes/hertz-2d.yaml", *ORDER2, *mortar, "--set", "contact.0.strategy=%s" % strategy,
                          "--set", "mesh.parameters.refine=%g" % refine)
         _, a, p0 = hertz_reference(2, results)
-        e = profile_errors(hertz_points(results), a, p0)
+        e = profile_errors(reference_points(results, radial=False), a, p0)
         print("quad9 refine %g %s: %d unknowns, L2 profile %.4f, a %+.3e, p0 %+.3e, centre %+.3e, %d Newton iterations"
               % (refine, strategy, results.summary["unknowns"], e["l2"], e["a"], e["p0"], e["peak"],
                  sum(results.column("newton_iterations"))))

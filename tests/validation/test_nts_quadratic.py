@@ -70,8 +70,11 @@ def nts_hex27_patch_3d(c):
 
 
 def nts_quad9_hertz_2d(c):
-    """Measured at refine 1: 11 503 unknowns, L2 profile 0.0091, a -0.18 %, p0 +0.42 % (penalty-nts: 0.0096, a
-    +0.59 %, p0 +0.23 %)."""
+    """Measured at refine 1: 11 503 unknowns, L2 profile 0.0091, a +0.54 %, p0 +0.27 % over the 11 active nodes
+    (penalty-nts: 0.0096, a +0.59 %, p0 +0.23 %; mortar-dual: 0.0090, a +0.54 %, p0 +0.27 %). The fit's a and p0 were
+    -0.18 % and +0.42 % when it took an active node only where the sign of its round-off gap (+-1e-19) was negative:
+    5 of the 11 nodes, 7 when the Newton iterations stopped one earlier (a +0.62 %); reference_points now takes them
+    all from the plugin's contact state, so the bound on a sits at the value of the whole active set."""
     results, _ = run("scenes/hertz-2d.yaml", *NTS, *ORDER2, "--set", "output.vtu_every=4")
     last = results.rows[-1]
     c.check(results.summary["status"] == "ok" and last["constraint_violation"] <= 1e-13,
@@ -81,7 +84,7 @@ def nts_quad9_hertz_2d(c):
     print("quad9 refine 1: %d unknowns, %d nodes in r < 1.25 a, L2 profile %.4f, a %+.3e, p0 %+.3e"
           % (results.summary["unknowns"], e["profile_nodes"], e["l2"], e["a"], e["p0"]))
     c.check(e["l2"] <= 0.0095, "L2 profile error %.4f <= 0.0095 (penalty-nts on this mesh: 0.0096)" % e["l2"])
-    c.check(abs(e["a"]) <= 0.003 and abs(e["p0"]) <= 0.005, "fit errors a %+.2e (<= 0.3 %%), p0 %+.2e (<= 0.5 %%)"
+    c.check(abs(e["a"]) <= 0.006 and abs(e["p0"]) <= 0.005, "fit errors a %+.2e (<= 0.6 %%), p0 %+.2e (<= 0.5 %%)"
             % (e["a"], e["p0"]))
 
 
