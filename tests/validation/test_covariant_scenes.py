@@ -213,12 +213,9 @@ def ks_parabolic_table4_penalty_e(c):
     6, 5, 5, then 4 (steps 4-18), 5, 5: 86. Measured at 2f6c26c (2026-11-29): 6, 5, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4,
     4, 4, 5, 4, 4, 4, 5: 86 (with the scene's 2.1e5: 7, 7, 5, then 4-5, 92). Checked: the paper's 6 and 5 in the first
     two steps, the paper's 4 or 5 in every later step, at most three 5s as in the paper, the total the paper's 86 to
-    2 (the count's round-off: the line search's choices move single steps by one). Counted with the confirming
-    Newton solve (solver.newton.predicted_update false), which these counts were measured with; with the quasi-static
-    default the sliding steps take 5, 4, then 3-4: 72 (measured 2026-11-30). About 25 s CPU: labelled long."""
+    2 (the count's round-off: the line search's choices move single steps by one). About 25 s CPU: labelled long."""
     res = run_variant("scenes/ks-parabolic.yaml", "full", "--set", "contact.0.parameters.penalty=2.1e4",
-                      "--set", "contact.0.parameters.penalty_tangential=2.1e4",
-                      "--set", "solver.newton.predicted_update=false")
+                      "--set", "contact.0.parameters.penalty_tangential=2.1e4")
     its = iterations(res)
     c.check(res.summary["status"] == "ok" and len(its) == 27, "27 steps done")
     sliding = its[7:]
