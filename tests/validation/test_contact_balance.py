@@ -143,12 +143,9 @@ def contact_partition_mortar(checks):
 # Rebalancing between steps: entity_imbalance 0 triggers it after every step whose active points differ between
 # ranks (6 to 7 on 4 ranks, 12 to 13 on 2: every step in contact); the new partition's weights are the ranks' measured
 # contact seconds, so which entities move differs from run to run, and the results must not. dt = 0.25 to t = 2 (8
-# steps) gives the rebalances room. Newton ends each step with the solve whose step passes the update test
-# (predicted_update false): with the quasi-static default each run stops where its own residual passes the
-# tolerances, and the partitions' round-off moved the forces by up to 5.8e-10 of the largest (4 ranks).
+# steps) gives the rebalances room.
 EIGHT_STEPS = ["--set", "mesh.0.parameters.nx=8", "--set", "mesh.0.parameters.ny=8", "--set", "mesh.0.parameters.nz=2",
-               "--set", "time.dt=0.25", "--set", "solver.linear.solver=klu", "--set", "output.vtu=false",
-               "--set", "solver.newton.predicted_update=false"]
+               "--set", "time.dt=0.25", "--set", "solver.linear.solver=klu", "--set", "output.vtu=false"]
 REBALANCE = ["--set", "contact_balance.rebalance=on", "--set", "contact_balance.entity_imbalance=0"]
 
 
