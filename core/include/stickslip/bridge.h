@@ -182,8 +182,8 @@ typedef struct {
   int verbose;                /* NOX output on rank 0 */
   /* 1: the update test accepts the predicted next update (one solve less per step). Default 0 here: iterates stop
    * where they are up to the tolerances, and the validation tests with tight energy balances (corot, two-elements
-   * none vs reduced: 2.9e-10 against 1e-10) were measured with the confirming solve. The scene reader's default is
-   * 1 for quasi-static scenes, 0 for dynamic ones (solver.newton.predicted_update, docs/hertz.md). */
+   * none vs reduced: 2.9e-10 against 1e-10) were measured with the confirming solve; the scene reader's default is 0
+   * too (solver.newton.predicted_update, docs/hertz.md). */
   int predicted_update;
   /* The size of the quantities the unknowns are measured from (the norm of the reference coordinates of the
    * displacement unknowns; 0 for none): a Newton correction is at round-off when ||dx||_2 <= SK_NEWTON_ROUNDOFF_ULPS
