@@ -80,7 +80,15 @@ static const double TRI6_ALPHA = 0.1;
 
 static sk_status read_transform_alpha(sk_instance *inst) {
   const sk_elem_type type = inst->slave->cell_type;
-  if (!mortar_transformed_face(type)) return SK_OK;
+  if (!mortar_transformed_face(type)) { /* given for other faces: said so, rather than "unknown key" */
+    double given = NAN;
+    SK_TRY(inst->api->param_double(inst->host, "transform_alpha", 0, NAN, &given));
+    if (!isnan(given))
+      return inst->api->error(inst->host, SK_ERR_INPUT, "mortar-dual: transform_alpha applies to TRI6 and QUAD8 slave "
+                              "faces (the transformed basis); slave surface '%s' has faces of another type",
+                              inst->slave->name);
+    return SK_OK;
+  }
   const double lowest = type == SK_QUAD8 ? 0.125 : 0.0, computed = type == SK_TRI6 ? TRI6_ALPHA : 0.2;
   char reason[200];
   snprintf(reason, sizeof reason, "%s on the slave surface's %s faces (docs/plugins/mortar-dual.md section 3.5)",

@@ -450,6 +450,11 @@ static void check_errors(void) {
   SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_SADDLE_POINT) == SK_ERR_INPUT);
   SK_CHECK(strstr(sk_error_message(), "transform_alpha must lie in (0, 0.5) on TRI6") != NULL);
   kit_free(&k);
+  mesh_2d(&k, 1); /* LINE2 faces: no transformed basis, the key is refused rather than ignored */
+  kit_param(&k, "transform_alpha", 0.1);
+  SK_CHECK(kit_create(&k, stickslip_plugin_entry(), STRATEGY_SADDLE_POINT) == SK_ERR_INPUT);
+  SK_CHECK(strstr(sk_error_message(), "transform_alpha applies to TRI6 and QUAD8") != NULL);
+  kit_free(&k);
 }
 
 /* Self contact at check (sk_plugin.check): on one rank it runs, in 2D and on 3D first-order and QUAD9 faces, with
