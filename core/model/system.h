@@ -196,6 +196,13 @@ static inline sk_term *const *sk_system_live_terms(const sk_system *sys, int *n)
 /* Internal to system*.c: the plugins' sink; the attempt's pattern from the terms' declarations (system_pattern.c). */
 void sk_system_sink_init(sk_system *sys);
 sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);
+/* The pattern keys *keys (row * n + col, local unknowns) widened by `rings` rings of neighbouring contact-surface
+ * nodes (solver.pattern_margin), sorted and unique; *keys is replaced (left as it is when out of memory: widening
+ * only saves work) (system_widening.c). */
+void sk_system_widen_keys(const sk_system *sys, int rings, int64_t **keys, int64_t *n_keys);
+/* qsort/bsearch order of int64_t; sorts keys[*n] and drops repeats (system_widening.c). */
+int sk_compare_i64(const void *a, const void *b);
+void sk_sort_unique_i64(int64_t *keys, int64_t *n);
 /* Position of (row, col) (local unknowns) in this rank's contributions (sys->values), or -1. */
 int64_t sk_system_position(const sk_system *sys, int64_t row, int64_t col);
 /* The local index of an unknown in the plugins' (ABI) numbering, or -1 when this rank does not hold it. */

@@ -19,10 +19,6 @@ static int compare_int(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-static int compare_i64(const void *a, const void *b) {
-  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-  return (x > y) - (x < y);
-}
 
 /* ---- the plugins' sink ------------------------------------------------------------------------------------------ */
 
@@ -381,198 +377,6 @@ static sk_status build_rows(sk_system *sys, int follow) {
   return status;
 }
 
-/* ---- widening (solver.pattern_margin) ------------------------------------------------------------------------- */
-
-static void sort_unique(int64_t *keys, int64_t *n) {
-  if (*n < 2) return; /* also keys == NULL with none */
-  qsort(keys, (size_t)*n, sizeof(int64_t), compare_i64);
-  int64_t unique = 0;
-  for (int64_t k = 0; k < *n; ++k)
-    if (k == 0 || keys[k] != keys[unique - 1]) keys[unique++] = keys[k];
-  *n = unique;
-}
-
-/* The neighbourhoods the pattern widens over. Unknowns are grouped by "points": the nodes (0 .. n_nodes-1, dim
- * unknowns each), then one point per extra unknown. A node's neighbours are itself and the contact-surface nodes that
- * share an element with it (model.h: surface_ptr; interior nodes never enter a contact coupling, and widening
- * through them filled the condensed operator for nothing) that this rank holds; an extra unknown's are the extras
- * anchored at the neighbours of its anchor node (sk_layout.extra_anchor), or itself without an anchor. */
-typedef struct {
-  const sk_system *sys;
-  int64_t n_points;
-  int64_t *anchor_node;   /* per extra (local index - n_dofs): its anchor node, or -1 */
-  int64_t *anchored_ptr;  /* n_nodes + 1: CSR of the extras anchored at each node */
-  int64_t *anchored;
-} widening;
-
-static void widening_free(widening *w) {
-  free(w->anchor_node);
-  free(w->anchored_ptr);
-  free(w->anchored);
-}
-
-static int widening_init(widening *w, const sk_system *sys) {
-  const sk_model *m = sys->model;
-  const int64_t n_extras = sys->n - m->n_dofs;
-  memset(w, 0, sizeof *w);
-  w->sys = sys;
-  w->n_points = m->n_nodes + n_extras;
-  w->anchor_node = malloc(sizeof(int64_t) * (size_t)(n_extras > 0 ? n_extras : 1));
-  w->anchored_ptr = calloc((size_t)m->n_nodes + 1, sizeof(int64_t));
-  w->anchored = malloc(sizeof(int64_t) * (size_t)(n_extras > 0 ? n_extras : 1));
-  if (!w->anchor_node || !w->anchored_ptr || !w->anchored) {
-    widening_free(w);
-    return 0;
-  }
-  for (int64_t e = 0; e < n_extras; ++e) w->anchor_node[e] = -1;
-  for (int k = 0; k < sys->n_terms; ++k) {
-    const sk_term *term = sys->terms[k];
-    for (int64_t j = 0; term->anchor && j < term->n_extra; ++j) {
-      const int64_t local = term->anchor[j] >= 0 ? sk_system_local_of(sys, term->anchor[j]) : -1;
-      if (local >= 0 && local < m->n_dofs) w->anchor_node[term->extra_local + j - m->n_dofs] = local / m->dim;
-    }
-  }
-  for (int64_t e = 0; e < n_extras; ++e)
-    if (w->anchor_node[e] >= 0) w->anchored_ptr[w->anchor_node[e] + 1]++;
-  for (int64_t a = 0; a < m->n_nodes; ++a) w->anchored_ptr[a + 1] += w->anchored_ptr[a];
-  int64_t *fill = calloc((size_t)m->n_nodes + 1, sizeof(int64_t));
-  if (!fill) {
-    widening_free(w);
-    return 0;
-  }
-  for (int64_t e = 0; e < n_extras; ++e)
-    if (w->anchor_node[e] >= 0) {
-      const int64_t a = w->anchor_node[e];
-      w->anchored[w->anchored_ptr[a] + fill[a]++] = m->n_nodes + e;
-    }
-  free(fill);
-  return 1;
-}
-
-/* The neighbour points of `point` into out (when not NULL); returns how many. */
-static int64_t neighbours(const widening *w, int64_t point, int64_t *out) {
-  const sk_model *m = w->sys->model;
-  int64_t n = 0;
-  if (point < m->n_nodes) {
-    for (int64_t j = m->surface_ptr[point]; j < m->surface_ptr[point + 1]; ++j) {
-      if (out) out[n] = m->surface_cols[j];
-      ++n;
-    }
-    if (n == 0) { /* itself, also when it is on no contact surface */
-      if (out) out[0] = point;
-      n = 1;
-    }
-    return n;
-  }
-  const int64_t a = w->anchor_node[point - m->n_nodes];
-  if (a < 0) {
-    if (out) out[0] = point;
-    return 1;
-  }
-  for (int64_t j = m->surface_ptr[a]; j < m->surface_ptr[a + 1]; ++j) {
-    const int64_t b = m->surface_cols[j];
-    for (int64_t k = w->anchored_ptr[b]; k < w->anchored_ptr[b + 1]; ++k) {
-      if (out) out[n] = w->anchored[k];
-      ++n;
-    }
-  }
-  return n;
-}
-
-/* Point pairs (a, b) -> (a', b) for every neighbour a' of a (side 0), or (a, b') (side 1); sorted, unique. */
-static int64_t *widen_pairs(const widening *w, const int64_t *pairs, int64_t n, int side, int64_t *n_out) {
-  const int64_t np = w->n_points;
-  int64_t count = 0;
-  for (int64_t k = 0; k < n; ++k) count += neighbours(w, side == 0 ? pairs[k] / np : pairs[k] % np, NULL);
-  int64_t *out = malloc(sizeof(int64_t) * (size_t)(count > 0 ? count : 1));
-  if (!out) return NULL;
-  int64_t used = 0;
-  for (int64_t k = 0; k < n; ++k) {
-    const int64_t a = pairs[k] / np, b = pairs[k] % np;
-    const int64_t first = used;
-    used += neighbours(w, side == 0 ? a : b, out + used);
-    for (int64_t j = first; j < used; ++j) out[j] = side == 0 ? out[j] * np + b : a * np + out[j];
-  }
-  sort_unique(out, &used);
-  *n_out = used;
-  return out;
-}
-
-/* The keys widened by `rings` rings of neighbours on both sides (see widening): the couplings a contact declares
- * move with sliding to the neighbouring faces' nodes, and each growth of the pattern rebuilds the solver's matrix
- * and the condensed operator (0.3 s per step on the full two-tori, where every contact step grew it by a few hundred
- * keys). The added entries stay zero. Each rank widens its own keys: the owned rows of the matrix, the union over
- * ranks, are the widened union. On failure (memory) the keys stay as they are: widening only saves work. */
-static void widen_keys(const sk_system *sys, int rings, int64_t **keys, int64_t *n_keys) {
-  const sk_model *m = sys->model;
-  const int64_t n = sys->n;
-  widening w;
-  if (rings <= 0 || *n_keys == 0 || !m->surface_ptr || !widening_init(&w, sys)) return;
-  const int64_t np = w.n_points;
-  int64_t count = *n_keys;
-  int64_t *pairs = malloc(sizeof(int64_t) * (size_t)count);
-  if (!pairs) {
-    widening_free(&w);
-    return;
-  }
-  for (int64_t k = 0; k < count; ++k) {
-    const int64_t r = (*keys)[k] / n, c = (*keys)[k] % n;
-    pairs[k] = (r < m->n_dofs ? r / m->dim : m->n_nodes + (r - m->n_dofs)) * np +
-               (c < m->n_dofs ? c / m->dim : m->n_nodes + (c - m->n_dofs));
-  }
-  sort_unique(pairs, &count);
-  /* extra unknowns are coupled among themselves only as declared: a multiplier's block with its neighbours' would
-   * break the block-diagonal D that condensation eliminates through (and fill the condensed operator) */
-  const int64_t n_declared_pairs = count;
-  int64_t *declared_pairs = malloc(sizeof(int64_t) * (size_t)count);
-  if (!declared_pairs) {
-    free(pairs);
-    widening_free(&w);
-    return;
-  }
-  memcpy(declared_pairs, pairs, sizeof(int64_t) * (size_t)count);
-  for (int ring = 0; ring < 2 * rings && pairs; ++ring) {
-    int64_t *wider = widen_pairs(&w, pairs, count, ring % 2, &count);
-    free(pairs);
-    pairs = wider;
-  }
-  widening_free(&w);
-  if (pairs) {
-    int64_t kept = 0;
-    for (int64_t k = 0; k < count; ++k) {
-      const int both_extras = pairs[k] / np >= m->n_nodes && pairs[k] % np >= m->n_nodes;
-      if (!both_extras || bsearch(&pairs[k], declared_pairs, (size_t)n_declared_pairs, sizeof(int64_t), compare_i64))
-        pairs[kept++] = pairs[k];
-    }
-    count = kept;
-  }
-  free(declared_pairs);
-  if (!pairs) return;
-  /* the unknowns of each point pair (dim x dim, or fewer for extras) */
-  int64_t total = 0;
-  for (int64_t k = 0; k < count; ++k)
-    total += (int64_t)(pairs[k] / np < m->n_nodes ? m->dim : 1) * (pairs[k] % np < m->n_nodes ? m->dim : 1);
-  int64_t *wide = malloc(sizeof(int64_t) * (size_t)(total > 0 ? total : 1));
-  if (!wide) {
-    free(pairs);
-    return;
-  }
-  int64_t used = 0;
-  for (int64_t k = 0; k < count; ++k) {
-    const int64_t a = pairs[k] / np, b = pairs[k] % np;
-    const int64_t r0 = a < m->n_nodes ? a * m->dim : m->n_dofs + (a - m->n_nodes), nr = a < m->n_nodes ? m->dim : 1;
-    const int64_t c0 = b < m->n_nodes ? b * m->dim : m->n_dofs + (b - m->n_nodes), nc = b < m->n_nodes ? m->dim : 1;
-    for (int64_t r = r0; r < r0 + nr; ++r)
-      for (int64_t c = c0; c < c0 + nc; ++c)
-        if (sys->solver_of[r] >= 0 && sys->solver_of[c] >= 0) wide[used++] = r * n + c;
-  }
-  free(pairs);
-  sort_unique(wide, &used);
-  free(*keys);
-  *keys = wide;
-  *n_keys = used;
-}
-
 /* ---- settling the pattern of an attempt ------------------------------------------------------------------------ */
 
 /* Adds keys to extra_keys (sorted, unique). */
@@ -583,7 +387,7 @@ static sk_status merge_keys(sk_system *sys, const int64_t *keys, int64_t n_keys)
   sys->extra_keys = merged;
   memcpy(merged + sys->n_extra_keys, keys, sizeof(int64_t) * (size_t)n_keys);
   int64_t n = sys->n_extra_keys + n_keys;
-  sort_unique(merged, &n);
+  sk_sort_unique_i64(merged, &n);
   sys->n_extra_keys = n;
   return SK_OK;
 }
@@ -626,10 +430,10 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   MPI_Allreduce(MPI_IN_PLACE, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
   if (!anywhere) return SK_OK;
   int64_t n_send = sys->n_declared;
-  sort_unique(sys->declared, &n_send);
+  sk_sort_unique_i64(sys->declared, &n_send);
   if (renumbered || rings > 0) sys->n_extra_keys = 0; /* renumbered: the keys were in the old numbering */
   SK_TRY(merge_keys(sys, sys->declared, n_send));
-  widen_keys(sys, rings, &sys->extra_keys, &sys->n_extra_keys);
+  sk_system_widen_keys(sys, rings, &sys->extra_keys, &sys->n_extra_keys);
   sys->key_columns = n;
   const int follow = !renumbered && sys->row_ptr != NULL;
   sys->pattern_n = sys->n_kept;

@@ -162,11 +162,6 @@ static const sk_term_ops bulk_ops = {.kind = "bulk",
                                      .jacobian = bulk_jacobian,
                                      .commit = bulk_commit};
 
-static int compare_i64(const void *a, const void *b) {
-  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-  return (x > y) - (x < y);
-}
-
 /* The initial velocity of the body's nodes: translation plus spin about its centre. */
 static void initial_velocity(const sk_model *m, const sk_body *body, double *v) {
   const int dim = m->dim;
@@ -278,7 +273,7 @@ sk_status sk_term_bulk_create(sk_system *sys, int body_index, sk_term **out) {
   snprintf(term->base.name, sizeof term->base.name, "body '%s'", body->name);
   term->body = body_index;
   for (int64_t k = 0; k < n_conn; ++k) nodes[k] = g->conn[k];
-  qsort(nodes, (size_t)n_conn, sizeof(int64_t), compare_i64);
+  qsort(nodes, (size_t)n_conn, sizeof(int64_t), sk_compare_i64);
   int64_t unique = 0;
   for (int64_t k = 0; k < n_conn; ++k)
     if (k == 0 || nodes[k] != nodes[unique - 1]) nodes[unique++] = nodes[k];

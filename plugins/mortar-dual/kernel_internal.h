@@ -20,6 +20,8 @@ int mortar_along(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *x1
 /* The same with derivatives (xi0 in: start, out: root). */
 int mortar_along_fwd(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *x1, const fwd *d, double xi0[2],
                      fwd xi[2], fwd *t);
+/* The closest point of the master face to x1 with derivatives (xi0 in: start, out: root). 0 or -1. */
+int mortar_closest_fwd(const mortar_face_type *mt, fwd xm[][3], int dim, const fwd *x1, double xi0[2], fwd xi[2]);
 /* A local Newton iteration on face parameters (and a distance along a normal) is done: its step (max norm) at the
  * round-off of the unknowns' size, or below 1e-9 of it and no longer halving (the round-off floor: the parameters of
  * a short face carry its distance from the origin over its length times the coordinates' round-off; an absolute

@@ -11,6 +11,7 @@
 #define mortar_add_point_shapes mortar_narrow_add_point_shapes
 #define mortar_along mortar_narrow_along
 #define mortar_along_fwd mortar_narrow_along_fwd
+#define mortar_closest_fwd mortar_narrow_closest_fwd
 #define mortar_basis_coefficients mortar_narrow_basis_coefficients
 #define mortar_face_exact_order mortar_narrow_face_exact_order
 #define mortar_face_normal mortar_narrow_face_normal
@@ -53,6 +54,7 @@
 
 #include "basis.c"
 #include "integrate.c"
+#include "projection.c"
 #include "clip.c"
 #include "assemble.c"
 #include "cache.c"
