@@ -1,4 +1,4 @@
-/* What scene.c and scene_contact.c share: errors that name the file, line and key, and the readers one part uses of
+/* What scene.c, scene_mesh.c and scene_contact.c share: errors that name the file, line and key, and the readers one part uses of
  * the other. */
 #ifndef STICKSLIP_SCENE_INTERNAL_H
 #define STICKSLIP_SCENE_INTERNAL_H
@@ -18,6 +18,8 @@ sk_status sk_scene_check_kind(const sk_cfg *at, const sk_plugin *plugin, sk_kind
                               const char *name);
 /* `strategy:` of a pair or body: one of the plugin's strategies (the first by default). */
 sk_status sk_scene_choose_strategy(const sk_cfg *entry, const sk_plugin *plugin, int *strategy);
+/* The `mesh:` entries loaded and merged into *mesh (scene_mesh.c). */
+sk_status sk_scene_load_meshes(const sk_cfg *root, sk_mesh *mesh);
 /* The `contact:` list into scene->model's pairs. */
 sk_status sk_scene_read_contact(const sk_cfg *root, sk_scene *scene);
 
