@@ -29,6 +29,10 @@
 //    a time, it is either a factorisation (dearer than MUMPS) or a few substitutions (far cheaper). While it runs,
 //    its mean is kept up to date, so a phase in which the matrix changes much between solves sends `auto` back;
 //    after a loss it is measured again after kLaggedRetrySolves, 2x, 4x ... solves.
+// 5. On a run of known length (sk_linsys_set_steps_left) a trial starts only while the rest of the run can pay for
+//    it: solves left to use its result, an expected extra cost below what it could save, and the trials' extra cost
+//    within kExplorationShare of the projected linear-solve time (auto_trial_refusal, auto_rule.cpp). On the Hertz
+//    ladder (17-33 solves) five candidates' trials took a large share of the run.
 // Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
 // so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
 #include <algorithm>
