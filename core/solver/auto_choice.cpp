@@ -218,6 +218,10 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   }
   m.trial_solves_left = 0;
   m.iteration_cap = 0;
+  // the candidate a trial that just ended was measured against keeps the switch margin, not the trial's candidate
+  // (on the 2D Hertz quad9 refine 1.6 MUMPS, measured within the lagged LU's window, took over from the lagged LU
+  // at 0.160 against 0.174 s per solve when the margin went to GMRES + MueLu's trial: 15 factorisations against 6)
+  const sk_linear_solver_kind trial_incumbent = m.before_trial;
   m.before_trial = SK_LINEAR_AUTO;  // no trial running: a failure falls back to the direct solver
   bool any_iterative = false;
   for (int c = 0; c < kAutoCandidates; ++c)
@@ -281,7 +285,10 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   AutoEstimate measured[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c)
     measured[c] = estimate(sys, c, eligible[c] && measured_here(m.candidates[c], size), size);
-  const int cheapest = auto_cheapest(measured, kAutoCandidates, current, kSwitchMargin);
+  const int holder = trial_incumbent != SK_LINEAR_AUTO && measured[index_of(trial_incumbent)].eligible
+                         ? index_of(trial_incumbent)
+                         : current;
+  const int cheapest = auto_cheapest(measured, kAutoCandidates, holder, kSwitchMargin);
   const int incumbent = cheapest >= 0 ? cheapest : current;
   // a trial only where the rest of the run can pay for it (auto_rule.cpp); a factorisation not yet measured is
   // priced by the size rule (at the crossover it costs what an iterative solve does, and grows n^0.5 faster
@@ -342,7 +349,7 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   AutoEstimate estimates[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c)
     estimates[c] = estimate(sys, c, eligible[c] && measured_here(m.candidates[c], size), size);
-  const int best = auto_cheapest(estimates, kAutoCandidates, current, kSwitchMargin);
+  const int best = auto_cheapest(estimates, kAutoCandidates, holder, kSwitchMargin);
   // the lagged LU lost: measured again later, and more rarely with every loss (a win does not reset the count: on
   // scenes/two-tori-coarse.yaml it won at tight tolerances and lost at loose ones, and was re-measured every 16
   // solves)
