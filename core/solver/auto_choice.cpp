@@ -62,7 +62,7 @@ constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factoris
 constexpr int kDirectTrialSolves = 1;
 // The exploration budget of a run of known length: trials may cost (beyond the leader's solves they replace) this
 // share of the run's projected linear-solve time at the leader's cost.
-constexpr double kExplorationShare = 0.10;
+constexpr double kExplorationShare = 0.05;
 // The order in which unmeasured candidates are tried: the iterative ones first (a capped trial costs about a solve
 // of the leader), then the lagged LU (its first solve is a fresh factorisation solved directly, which measures MUMPS
 // too), MUMPS last (measured by then wherever the lagged LU was tried).
