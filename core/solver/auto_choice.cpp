@@ -29,6 +29,10 @@
 //    a time, it is either a factorisation (dearer than MUMPS) or a few substitutions (far cheaper). While it runs,
 //    its mean is kept up to date, so a phase in which the matrix changes much between solves sends `auto` back;
 //    after a loss it is measured again after kLaggedRetrySolves, 2x, 4x ... solves.
+// 5. On a run of known length (sk_linsys_set_steps_left) a trial starts only while the rest of the run can pay for
+//    it: solves left to use its result, an expected extra cost below what it could save, and the trials' extra cost
+//    within kExplorationShare of the projected linear-solve time (auto_trial_refusal, auto_rule.cpp). On the Hertz
+//    ladder (17-33 solves) five candidates' trials took a large share of the run.
 // Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
 // so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
 #include <algorithm>
@@ -54,6 +58,14 @@ constexpr double kIterativeExponent = 1.1;
 constexpr double kMeasuredRange = 2.0;
 constexpr double kSwitchMargin = 1.2;
 constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factorisation / AMG hierarchy)
+// MUMPS's trial: one solve (its analysis is timed apart, and every solve is a fresh numeric factorisation)
+constexpr int kDirectTrialSolves = 1;
+// The exploration budget of a run of known length: trials may cost (beyond the leader's solves they replace) this
+// share of the run's projected linear-solve time at the leader's cost.
+constexpr double kExplorationShare = 0.05;
+// The order in which unmeasured candidates are tried: the iterative ones first (a capped trial costs about a solve
+// of the leader), then the lagged LU (its first solve is a fresh factorisation solved directly, which measures MUMPS
+// too), MUMPS last (measured by then wherever the lagged LU was tried).
 // A trial of an iterative candidate may take kTrialIterationFactor x the iterations of the current iterative
 // solver (at least kTrialIterationFloor), or kTrialIterationFloor against a direct one; beyond that it is not
 // competitive and counts as failed. On the quasi-static Hertz 2D (refine 4) GMRES + SGS needs > 500 iterations
@@ -135,6 +147,17 @@ bool nodal_diagonal_deficient(const sk_linear_system *sys) {
   return any != 0;
 }
 
+// The solves left in the run, this one included, projected from the steps left (sk_linsys_set_steps_left) and the
+// solves per step so far (the current step's count so far, plus one, as a lower bound); -1 if not told.
+double projected_solves_left(const AutoMemory &m) {
+  if (m.steps_left < 0) return -1;
+  const int this_step = m.solves - m.solves_at_step_start;
+  const int completed = m.steps_begun - 1;
+  const double per_step =
+      std::max(completed > 0 ? static_cast<double>(m.solves_at_step_start) / completed : 0.0, this_step + 1.0);
+  return std::max(1.0, per_step * m.steps_left - this_step);
+}
+
 // Takes the decision; it is logged when the solver or the kind of reason changes.
 sk_linear_solver_kind decide(sk_linear_system *sys, sk_linear_solver_kind kind, const char *reason_class,
                              const std::string &reason) {
@@ -195,6 +218,10 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   }
   m.trial_solves_left = 0;
   m.iteration_cap = 0;
+  // the candidate a trial that just ended was measured against keeps the switch margin, not the trial's candidate
+  // (on the 2D Hertz quad9 refine 1.6 MUMPS, measured within the lagged LU's window, took over from the lagged LU
+  // at 0.160 against 0.174 s per solve when the margin went to GMRES + MueLu's trial: 15 factorisations against 6)
+  const sk_linear_solver_kind trial_incumbent = m.before_trial;
   m.before_trial = SK_LINEAR_AUTO;  // no trial running: a failure falls back to the direct solver
   bool any_iterative = false;
   for (int c = 0; c < kAutoCandidates; ++c)
@@ -230,7 +257,15 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
     const std::string size_reason =
         format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)", sys->n,
                per_row, limit);
+    // on elasticity (coordinates given: the dimension is known) the lagged LU first where the direct solver would
+    // be, in 2D and on saddle points (multiplier rows): the best fixed solver on the 2D Hertz ladder and with
+    // mortar-dual (docs/linear-solvers.md); its first solve measures MUMPS as well. GMRES + MueLu first in 3D above
+    // the crossover; without coordinates the size rule's guess.
     int first = index_of(by_size);
+    const int lagged_first = index_of(kLaggedBackend);
+    if (eligible[lagged_first] && sys->coordinate_dim > 0 &&
+        (is_direct(by_size) || sys->coordinate_dim == 2 || sys->n > sys->n_nodal))
+      first = lagged_first;
     for (int c = 0; c < kAutoCandidates && !eligible[first]; ++c) first = c;
     return decide(sys, kAutoCandidateKinds[first], "size",
                   excluded.empty() ? size_reason : size_reason + "; " + excluded);
@@ -250,13 +285,46 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   AutoEstimate measured[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c)
     measured[c] = estimate(sys, c, eligible[c] && measured_here(m.candidates[c], size), size);
-  const int cheapest = auto_cheapest(measured, kAutoCandidates, current, kSwitchMargin);
+  const int holder = trial_incumbent != SK_LINEAR_AUTO && measured[index_of(trial_incumbent)].eligible
+                         ? index_of(trial_incumbent)
+                         : current;
+  const int cheapest = auto_cheapest(measured, kAutoCandidates, holder, kSwitchMargin);
   const int incumbent = cheapest >= 0 ? cheapest : current;
-  for (int c = 0; c < kAutoCandidates; ++c) {
+  // a trial only where the rest of the run can pay for it (auto_rule.cpp); a factorisation not yet measured is
+  // priced by the size rule (at the crossover it costs what an iterative solve does, and grows n^0.5 faster
+  // beyond it: an optimistic price in 3D, where the Hertz tet4 refine 2 measured 7x the GMRES + MueLu solve)
+  const int direct = index_of(kDirectBackend);
+  const double leader = auto_cost_per_solve(estimate(sys, incumbent, true, size));
+  const double factorisation =
+      measured_here(m.candidates[direct], size)
+          ? auto_cost_per_solve(estimate(sys, direct, true, size))
+          : mumps_backed(kAutoCandidateKinds[incumbent])
+                ? leader
+                : leader * std::pow(std::max(1.0, static_cast<double>(sys->n) / limit), kDirectExponent - kIterativeExponent);
+  const double solves_left = projected_solves_left(m);
+  std::string skipped;
+  const sk_linear_solver_kind trial_order[] = {kIterativeBackend, SK_LINEAR_GMRES_SGS, SK_LINEAR_GMRES_JACOBI,
+                                               kLaggedBackend, kDirectBackend};
+  for (const sk_linear_solver_kind kind : trial_order) {
+    const int c = index_of(kind);
     if (!eligible[c] || measured_here(m.candidates[c], size)) continue;
-    const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
     const bool window = kind == kLaggedBackend;
-    m.trial_solves_left = (window ? kLaggedWindow : kTrialSolves) - 1;
+    AutoTrial trial;
+    trial.solves_left = solves_left;
+    trial.solves_total = m.solves + solves_left;
+    trial.trial_solves = window ? kLaggedWindow : is_direct(kind) ? kDirectTrialSolves : kTrialSolves;
+    // a capped iterative trial that fails wastes about one solve of the leader; a factorising one its factorisation
+    trial.extra_seconds = mumps_backed(kind) ? std::max(0.0, factorisation - leader) : leader;
+    trial.optimistic_seconds = is_direct(kind) ? factorisation : 0.0;
+    trial.leader_seconds = leader;
+    trial.spent_seconds = m.explored_seconds;
+    trial.share = kExplorationShare;
+    if (const char *refusal = auto_trial_refusal(trial)) {
+      skipped += format("%s%s not tried (%s)", skipped.empty() ? "" : "; ", sk_linear_solver_name(kind), refusal);
+      continue;
+    }
+    m.trial_solves_left = trial.trial_solves - 1;
+    m.trial_leader_seconds = leader;
     m.before_trial = kAutoCandidateKinds[incumbent];
     // the competitor's iterations at this tolerance (a trial is capped at the same tolerance it will run at)
     const double competitor_iterations =
@@ -274,13 +342,14 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
     }
     return decide(sys, kind, "trial",
                   format("trying it for %d solves: not measured at %d unknowns (%s: %.3g s per solve)",
-                         window ? kLaggedWindow : kTrialSolves, sys->n, sk_linear_solver_name(m.before_trial),
-                         auto_cost_per_solve(estimate(sys, incumbent, true, size))));
+                         trial.trial_solves, sys->n, sk_linear_solver_name(m.before_trial), leader));
   }
-  // all measured: the cheapest, if clearly cheaper than the current one (timings are noisy on a shared machine)
+  // all measured (or not worth a trial): the cheapest, if clearly cheaper than the current one (timings are noisy
+  // on a shared machine)
   AutoEstimate estimates[kAutoCandidates];
-  for (int c = 0; c < kAutoCandidates; ++c) estimates[c] = estimate(sys, c, eligible[c], size);
-  const int best = auto_cheapest(estimates, kAutoCandidates, current, kSwitchMargin);
+  for (int c = 0; c < kAutoCandidates; ++c)
+    estimates[c] = estimate(sys, c, eligible[c] && measured_here(m.candidates[c], size), size);
+  const int best = auto_cheapest(estimates, kAutoCandidates, holder, kSwitchMargin);
   // the lagged LU lost: measured again later, and more rarely with every loss (a win does not reset the count: on
   // scenes/two-tori-coarse.yaml it won at tight tolerances and lost at loose ones, and was re-measured every 16
   // solves)
@@ -290,12 +359,13 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   }
   std::string others;
   for (int c = 0; c < kAutoCandidates; ++c)
-    if (eligible[c] && c != best)
+    if (estimates[c].eligible && c != best)
       others += format("%s %s %.3g s", others.empty() ? "" : ",", sk_linear_solver_name(kAutoCandidateKinds[c]),
                        auto_cost_per_solve(estimates[c]));
-  return decide(sys, kAutoCandidateKinds[best], "measured",
-                format("measured %.3g s per solve against%s (%d unknowns, tolerance %.2g)",
-                       auto_cost_per_solve(estimates[best]), others.c_str(), sys->n, sys->options.tolerance));
+  return decide(sys, kAutoCandidateKinds[best], skipped.empty() ? "measured" : "budget",
+                format("measured %.3g s per solve against%s (%d unknowns, tolerance %.2g)%s%s",
+                       auto_cost_per_solve(estimates[best]), others.c_str(), sys->n, sys->options.tolerance,
+                       skipped.empty() ? "" : "; ", skipped.c_str()));
 }
 
 namespace {
@@ -343,15 +413,24 @@ void auto_record(sk_linear_system *sys, sk_linear_solver_kind kind, sk_status st
   AutoMemory::Candidate &c = m.candidates[index_of(kind)];
   const double size = entries(sys);
   const double scale = std::pow(size, exponent(kind));
+  // a trial's solve: what it cost beyond the leader's solve it replaced (all of it if it failed: the fallback solves)
+  if (m.before_trial != SK_LINEAR_AUTO && kind == m.current && kind != m.before_trial)
+    m.explored_seconds += status == SK_OK ? std::max(0.0, agreed[0] - m.trial_leader_seconds) : agreed[0];
   if (status == SK_OK) {
     const double setup = std::min(agreed[1], agreed[0]);
     const double coefficient = (agreed[0] - setup) / (scale * digits(sys, kind));
     if (kind == kLaggedBackend) {
       record_lagged(sys, c, coefficient, size);
-      // a lagged solve that factorised afresh and solved directly was a MUMPS solve: it keeps MUMPS's cost current
+      // a lagged solve that factorised afresh and solved directly was a MUMPS solve: it measures MUMPS (which then
+      // needs no trial of its own) and keeps its cost current
       AutoMemory::Candidate &direct = m.candidates[index_of(kDirectBackend)];
-      if (report.factorisations == 1 && report.iterations == 0 && measured_here(direct, size))
-        direct.cost_coefficient = 0.7 * direct.cost_coefficient + 0.3 * coefficient;
+      if (report.factorisations == 1 && report.iterations == 0) {
+        direct.cost_coefficient = measured_here(direct, size)
+                                      ? 0.7 * direct.cost_coefficient + 0.3 * coefficient
+                                      : std::max(coefficient, kTiniestCost);
+        if (setup > 0) direct.setup_coefficient = setup / scale;
+        direct.entries_measured = static_cast<int64_t>(size);
+      }
     } else {
       c.cost_coefficient = measured_here(c, size) ? 0.7 * c.cost_coefficient + 0.3 * coefficient : coefficient;
       c.cost_coefficient = std::max(c.cost_coefficient, kTiniestCost);  // > 0: measured

@@ -28,4 +28,15 @@ double tolerance_digits(double tolerance) {
   return tolerance > 0 && tolerance < 0.1 ? -std::log10(tolerance) : 1.0;
 }
 
+const char *auto_trial_refusal(const AutoTrial &t) {
+  if (t.solves_left < 0) return nullptr;  // a run of unknown length: explore
+  const double after = t.solves_left - t.trial_solves;
+  if (after < 1) return "too few solves left to use its result";
+  if (t.extra_seconds >= std::max(0.0, t.leader_seconds - t.optimistic_seconds) * after)
+    return "it could not repay its trial in the solves left";
+  if (t.spent_seconds + t.extra_seconds > t.share * t.leader_seconds * t.solves_total)
+    return "the exploration budget of this run is spent";
+  return nullptr;
+}
+
 }  // namespace stickslip::bridge

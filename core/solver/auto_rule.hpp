@@ -25,4 +25,22 @@ int auto_cheapest(const AutoEstimate *estimates, int count, int current, double 
 // cost, grow with them. Measurements taken at one tolerance are compared at another by this factor.
 double tolerance_digits(double tolerance);
 
+// A trial `auto` considers: what it is expected to cost beyond the leader's solves, against what the rest of the
+// run can repay. Solve counts are projections (the stepper's steps left times the solves per step so far).
+struct AutoTrial {
+  double solves_left = -1;         // projected solves from this one on; < 0: unknown (every trial is affordable)
+  double solves_total = 0;         // projected solves of the whole run (those made and those left)
+  int trial_solves = 1;            // solves the trial takes
+  double extra_seconds = 0;        // its expected cost beyond that of the leader's solves it replaces
+  double optimistic_seconds = 0;   // the least the candidate can cost per solve afterwards
+  double leader_seconds = 0;       // the leader's (cheapest measured candidate's) cost per solve
+  double spent_seconds = 0;        // what the trials so far cost beyond the leader's solves
+  double share = 0;                // the part of the run's projected solve time exploration may take
+};
+
+// nullptr if the trial is worth starting; otherwise why not: too few solves left to use its result, its expected
+// extra cost exceeds what the candidate could save over the rest of the run at its optimistic cost, or the
+// exploration so far plus this trial would exceed `share` of the projected linear-solve time at the leader's cost.
+const char *auto_trial_refusal(const AutoTrial &trial);
+
 }  // namespace stickslip::bridge

@@ -402,6 +402,13 @@ sk_status sk_linsys_set_tolerance(sk_linear_system *sys, double tolerance) {
   return SK_OK;
 }
 
+void sk_linsys_set_steps_left(sk_linear_system *sys, int steps_left) {
+  stickslip::bridge::AutoMemory &m = sys->auto_memory;
+  m.steps_left = steps_left;
+  m.steps_begun += 1;
+  m.solves_at_step_start = m.solves;
+}
+
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size) {
   // checked against the unknowns by the next sk_linsys_set_pattern, which callers make after this
   if (block_size < 1) return sk_error_set(SK_ERR_INPUT, "linear system: block size %d must be >= 1", block_size);

@@ -105,6 +105,12 @@ struct AutoMemory {
   int trial_solves_left = 0;                       // solves left in a trial of another candidate
   int iteration_cap = 0;                           // Krylov iterations allowed in this solve (0: max_iterations)
   sk_linear_solver_kind before_trial = SK_LINEAR_AUTO;  // the candidate a trial replaced
+  // the run's length as the stepper projects it (sk_linsys_set_steps_left): exploration is budgeted against it
+  int steps_left = -1;            // steps left, the current one included (-1: not told; trials are not budgeted)
+  int steps_begun = 0;            // steps (attempts) begun
+  int solves_at_step_start = 0;   // `solves` when the current step began
+  double explored_seconds = 0;    // what trial solves cost beyond the leader's solves they replaced
+  double trial_leader_seconds = 0;  // the leader's cost per solve when the current trial began
   std::string reason_class;                        // the kind of the last logged reason (logged when it changes)
   std::string decision;                            // the last decision, for the log and the report
   bool decision_pending = false;                   // decided in this solve: report it

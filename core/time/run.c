@@ -196,6 +196,11 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
     const double step_dt = step_size(sys->t_n, dt, target, t_eps);
     const int on_schedule = step_dt == target - sys->t_n;
     const int64_t step = summary->steps + 1;
+    if (sys->linsys) { /* the run's projected length, for `auto`'s exploration budget */
+      double left = ceil((time->t_end - sys->t_n) / time->dt - 1e-9);
+      if (options->max_steps > 0) left = fmin(left, (double)(options->max_steps - steps_here));
+      sk_linsys_set_steps_left(sys->linsys, (int)fmax(1.0, fmin(left, 1e9)));
+    }
     status = attempt(sys, step_dt, step, 0);
     summary->newton_iterations += sys->newton.iterations;
     if ((status == SK_ERR_DIVERGED || status == SK_ERR_INVERTED) && scene->solver.backtrack_retry)

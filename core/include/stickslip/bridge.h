@@ -100,6 +100,10 @@ sk_status sk_linsys_set_solver(sk_linear_system *sys, sk_linear_solver_kind kind
 /* The Krylov relative residual tolerance of the next solves (an inexact Newton's forcing term); direct solvers
  * ignore it. */
 sk_status sk_linsys_set_tolerance(sk_linear_system *sys, double tolerance);
+/* The time steps left in the run, the one beginning included; called as each step (attempt) begins. `auto` projects
+ * the solves left from it and the solves per step so far, and explores other solvers only while their trials can pay
+ * for themselves in that projection (docs/linear-solvers.md); never called: trials are not budgeted. */
+void sk_linsys_set_steps_left(sk_linear_system *sys, int steps_left);
 /* Unknowns per mesh node for systems without coordinates (default 1): MueLu aggregates whole nodes and rows are
  * distributed in whole nodes. Call before sk_linsys_set_pattern. */
 sk_status sk_linsys_set_block_size(sk_linear_system *sys, int block_size);

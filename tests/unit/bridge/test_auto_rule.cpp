@@ -6,7 +6,9 @@
 
 using stickslip::bridge::auto_cheapest;
 using stickslip::bridge::auto_cost_per_solve;
+using stickslip::bridge::auto_trial_refusal;
 using stickslip::bridge::AutoEstimate;
+using stickslip::bridge::AutoTrial;
 using stickslip::bridge::tolerance_digits;
 
 namespace {
@@ -72,9 +74,50 @@ void check_tolerance_digits() {
   SK_CHECK_CLOSE(tolerance_digits(0.0), 1.0, 0.0);
 }
 
+// The exploration budget, on the 3D Hertz tet4 refine 2 costs (4 steps, 21 solves; GMRES + MueLu the leader at
+// 0.043 s per solve, a MUMPS factorisation 0.28 s): the lagged LU's window (8 solves, its first a factorisation) and
+// MUMPS's one-solve trial are refused on a run of 21 solves, the window taken on one of 400 (MUMPS, dearer than the
+// leader, never); a capped iterative trial (one leader solve of expected waste) fits the budget of 21 solves once
+// (5 %: 1.05 leader solves), not twice; no trial without solves left to use its result; a run of unknown length
+// explores.
+AutoTrial tet4_trial(double solves_left, double solves_total, int trial_solves, double extra, double optimistic,
+                     double spent) {
+  AutoTrial t;
+  t.solves_left = solves_left;
+  t.solves_total = solves_total;
+  t.trial_solves = trial_solves;
+  t.extra_seconds = extra;
+  t.optimistic_seconds = optimistic;
+  t.leader_seconds = 0.043;
+  t.spent_seconds = spent;
+  t.share = 0.05;
+  return t;
+}
+
+void check_exploration_budget() {
+  const double leader = 0.043, factorisation = 0.28;
+  // short run (19 solves left of 21): the factorising trials cost more than the budget (0.05 x 21 x 0.043 = 0.045 s)
+  const AutoTrial lagged_short = tet4_trial(19, 21, 8, factorisation - leader, 0.0, 0.0);
+  SK_CHECK(auto_trial_refusal(lagged_short) != nullptr);
+  const AutoTrial mumps_short = tet4_trial(19, 21, 1, factorisation - leader, factorisation, 0.0);
+  SK_CHECK(auto_trial_refusal(mumps_short) != nullptr);  // cannot beat the leader even at its optimistic cost
+  // capped iterative trials: one within the budget, not a second
+  SK_CHECK(auto_trial_refusal(tet4_trial(19, 21, 3, leader, 0.0, 0.0)) == nullptr);
+  SK_CHECK(auto_trial_refusal(tet4_trial(16, 21, 3, leader, 0.0, leader)) != nullptr);
+  // long run (398 solves left): the lagged LU's window is worth its factorisation; MUMPS still cannot win
+  SK_CHECK(auto_trial_refusal(tet4_trial(398, 400, 8, factorisation - leader, 0.0, 0.0)) == nullptr);
+  SK_CHECK(auto_trial_refusal(tet4_trial(398, 400, 1, factorisation - leader, factorisation, 0.0)) != nullptr);
+  // no solves left after the trial
+  SK_CHECK(auto_trial_refusal(tet4_trial(3, 21, 3, 0.0, 0.0, 0.0)) != nullptr);
+  SK_CHECK(auto_trial_refusal(tet4_trial(4, 21, 3, 0.0, 0.0, 0.0)) == nullptr);
+  // unknown length: every trial
+  SK_CHECK(auto_trial_refusal(tet4_trial(-1, 0, 8, 10.0, 0.0, 10.0)) == nullptr);
+}
+
 }  // namespace
 
 int main() {
+  check_exploration_budget();
   check_setup_apart();
   check_failed_excluded();
   check_margin();

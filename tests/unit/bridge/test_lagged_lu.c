@@ -133,6 +133,50 @@ static void check_auto_learns(void) {
   SK_CHECK(jumping == 0 && factorisations == 6);
 }
 
+/* `auto` on a run of known length (sk_linsys_set_steps_left, two solves per step) on a 2D Laplacian of 14 400
+ * unknowns (no coordinates: GMRES + MueLu by the size rule, the other four compete): in a run of 3 steps no trial
+ * fits the exploration budget, and every solve stays with GMRES + MueLu — the decision names the candidates not
+ * tried — where a run of 200 steps tries others within its first 12 solves. Every solution is right either way. */
+static int auto_run(int steps, int solves, int *not_tried) {
+  test_csr a = test_laplacian_2d(120, 0.0);
+  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+  double *x = malloc(sizeof(double) * (size_t)a.n);
+  test_reference_solution(a.n, x_ref);
+  test_csr_multiply(&a, x_ref, b);
+  sk_linear_options options;
+  sk_linear_options_default(&options);
+  options.kind = SK_LINEAR_AUTO;
+  options.tolerance = 1e-10;
+  sk_linear_system *sys = NULL;
+  SK_CHECK(sk_linsys_create(MPI_COMM_WORLD, &options, &sys) == SK_OK && set_pattern(sys, &a) == SK_OK);
+  int other = 0;
+  *not_tried = 0;
+  for (int solve = 0; sys && solve < solves; ++solve) {
+    if (solve % 2 == 0) sk_linsys_set_steps_left(sys, steps - solve / 2);
+    sk_linear_report report;
+    SK_CHECK(load(sys, &a) == SK_OK && sk_linsys_solve(sys, b, x, &report) == SK_OK);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-7);
+    other += report.solver != SK_LINEAR_GMRES_MUELU;
+    *not_tried += report.decision != NULL && strstr(report.decision, "not tried (") != NULL;
+    printf("%d steps, solve %2d: %-12s%s%s\n", steps, solve, sk_linear_solver_name(report.solver),
+           report.decision ? " — " : "", report.decision ? report.decision : "");
+  }
+  sk_linsys_destroy(sys);
+  free(x_ref);
+  free(b);
+  free(x);
+  test_csr_free(&a);
+  return other;
+}
+
+static void check_auto_budget(void) {
+  int not_tried = 0;
+  SK_CHECK(auto_run(3, 6, &not_tried) == 0);
+  SK_CHECK(not_tried == 1);
+  SK_CHECK(auto_run(200, 12, &not_tried) >= 2);
+  SK_CHECK(not_tried == 0);
+}
+
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
   sk_linear_system *lagged = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_GMRES_LU), *fresh = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_DIRECT_MUMPS);
@@ -166,6 +210,7 @@ int main(int argc, char **argv) {
   sk_linsys_destroy(lagged);
   sk_linsys_destroy(fresh);
   check_auto_learns();
+  check_auto_budget();
   const int result = sk_test_finish("bridge gmres-lu");
   MPI_Finalize();
   return result;
