@@ -3,7 +3,7 @@
 # runs one to three scenes (ks_parabolic: 15 steps of the hex27 mesh and a 7-step pressing; ks_block_b: two
 # 21-step runs), tens of seconds each. Labelled long (tests/validation/CMakeLists.txt): ks_parabolic_contact_loss
 # (39 steps) and ks_parabolic_table4_penalty_e (27 steps), about 25 s CPU each, and ks_parabolic_table4_main_only
-# (27 steps, linear convergence), about 60 s CPU.
+# (27 steps, linear convergence), about 40 s CPU.
 stickslip_scene_tests(test_covariant_scenes.py ks_block_b ks_block_a ks_block_a_plane_strain ks_parabolic ks_spiral
                       ks_spiral_rotated ks_spiral_mpi ks_parabolic_contact_loss ks_parabolic_table4_penalty_e
                       ks_parabolic_table4_main_only)

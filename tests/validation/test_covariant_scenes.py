@@ -247,7 +247,7 @@ def ks_parabolic_table4_main_only(c):
     6, 5, 5, 6, 6, 6, 6, 7, 9, 10, 8, 8, 8, 9, 12: 142; at 1e-14 165 (full 82 and 88 there, the paper's 86). On the
     top translated along (116) the compression grows (contact force 286 -> 2182, contact 123 -> 45 slave nodes) and
     main-only takes 191 at 1e-12, 24 in the last step (docs, "Against the paper"). Checked: the paper's 156 between
-    the counts at 1e-12 and 1e-14. About 60 s CPU: labelled long."""
+    the counts at 1e-12 and 1e-14. About 40 s CPU: labelled long."""
     import iterations as feap  # tests/bench/covariant-penalty/iterations.py
     res, proc = run("scenes/ks-parabolic.yaml", "--verbose", "--replace", CONSTANT_COMPRESSION_E,
                     "--set", "contact.0.parameters.tangent=main-only",
