@@ -348,7 +348,7 @@ def mortar_deep_ironing_refinement(c):
     element of the soft slab), the ripple of F_x about its 20 mm moving mean over t in [2.3, 3], where every active
     node slides (from t = 2.07 and 2.13). Measured at bb687e1, 2026-11-30: 28.7 N and 15.4 N (6.7 N at refine 1.5,
     not run here: 158 s CPU to t = 4), a ratio of 0.54. Checked: the finer mesh's ripple at most 0.7 of the coarser's,
-    both meshes in full slip over the window. About 45 s CPU: labelled long."""
+    both meshes in full slip over the window. About 35 s CPU: labelled long."""
     ripple = {}
     for refine in (0.75, 1):
         r, _ = run("scenes/mortar-deep-ironing.yaml", "--set", "contact.0.parameters.mu=0.3", "--set", "time.end=3",
