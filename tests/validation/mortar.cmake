@@ -14,7 +14,8 @@ stickslip_scene_tests(test_mortar_scenes.py mortar_patch_test_2d mortar_patch_te
                       mortar_ironing_3d_conforming)
 # Hammer's examples with his set-up, against the thesis (test_mortar_thesis.py; docs/plugins/mortar-dual.md, "Against
 # the paper"): the simple benchmark frictionless (Tables 8.2/8.3, Fig. 8.4) and with friction (Fig. 8.5), Hertz, the
-# elastic ring, the deep ironing (its press and the start of the ironing).
+# elastic ring, the deep ironing (its press and the start of the ironing; with friction to t = 3 at two refinements,
+# about 35 s CPU: labelled long, tests/validation/CMakeLists.txt).
 stickslip_scene_tests(test_mortar_thesis.py mortar_hammer_thesis mortar_hammer_thesis_friction mortar_hertz_2d
-                      mortar_ring mortar_deep_ironing)
+                      mortar_ring mortar_deep_ironing mortar_deep_ironing_refinement)
 set_tests_properties(validation_mortar_mpi PROPERTIES LABELS "validation;mpi" PROCESSORS 2)

@@ -151,19 +151,29 @@ def spin_rate(res, v0_x, omega0):
 
 def corot_ball_on_plane_friction_model1(c):
     """Also Fig. 6.8: the paper sees a slightly larger rotation rate after contact with its standard nonlinear scheme
-    than with the co-rotational ones. Our comparison scheme (SVK midpoint, penalty-nts friction) gives a larger one:
-    measured -0.857 against Model 1's -1.086 (the same with eps_t 1e9 or 1e11; -0.889 at dt 0.001), so not slightly
-    (docs/plugins/corotational.md, Against the paper); the direction is checked."""
+    than with the co-rotational ones. At the paper's dt 0.002 Model 1's rate is one sample of a step function of the
+    touch's place in the step grid (the switch (3.5) reads the gap at t_n): -1.086 here, -0.66 ... -1.30 with the plane
+    moved by 0.04 ... 0.16, where the comparison scheme (SVK midpoint, penalty-nts friction) stays within -0.855 ...
+    -0.871. Both converge as dt -> 0 (Model 1 -0.840, -0.833 at dt 1.25e-4, 6.25e-5; nonlinear -0.897, -0.897), so the
+    comparison is made at dt 0.00025, where the plane's place moves Model 1 within -0.848 ... -0.881 and the nonlinear
+    within -0.895 ... -0.897 (docs/plugins/corotational.md, Against the paper; paper_cases.py friction)."""
     corot, rows = ball_on_plane(c, 1, True)
-    nonlinear, _ = run("scenes/corot-ball-on-plane-nonlinear.yaml", "--set", "contact.0.parameters.mu=0.2")
-    w_corot, w_nonlinear = spin_rate(corot, 40.0, rows[0]["w"]), spin_rate(nonlinear, 40.0, rows[0]["w"])
-    print("  theta' after contact: Model 1 %.4f (its own w %.4f), nonlinear %.4f"
-          % (w_corot, rows[-1]["w"], w_nonlinear))
+    w_scene = spin_rate(corot, 40.0, rows[0]["w"])
     # the two differ by the disk's deformation in I (measured 2.9e-4)
-    c.check(abs(w_corot - rows[-1]["w"]) <= 1e-3 * abs(rows[-1]["w"]),
-            "the rate from the momenta, %.5f, is Model 1's w %.5f" % (w_corot, rows[-1]["w"]))
-    c.check(w_corot < w_nonlinear < 0, "Fig. 6.8: the nonlinear scheme's rate after contact %.4f above Model 1's %.4f"
-            % (w_nonlinear, w_corot))
+    c.check(abs(w_scene - rows[-1]["w"]) <= 1e-3 * abs(rows[-1]["w"]),
+            "the rate from the momenta, %.5f, is Model 1's w %.5f" % (w_scene, rows[-1]["w"]))
+    fine = ("--set", "time.dt=0.00025")
+    corot, _ = run("scenes/corot-ball-on-plane-friction.yaml", *fine)
+    nonlinear, _ = run("scenes/corot-ball-on-plane-nonlinear.yaml", "--set", "contact.0.parameters.mu=0.2", *fine)
+    w_corot, w_nonlinear = spin_rate(corot, 40.0, rows[0]["w"]), spin_rate(nonlinear, 40.0, rows[0]["w"])
+    excess = w_nonlinear / w_corot - 1
+    print("  theta' after contact at dt 0.00025: Model 1 %.4f, nonlinear %.4f (%+.1f %%)"
+          % (w_corot, w_nonlinear, 100 * excess))
+    # measured -0.8634 and -0.8967: the nonlinear rate 3.9 % larger (1.8 % ... 5.7 % over the plane's places above,
+    # 6.7 % at dt 1.25e-4); "slightly larger" read as 1 % ... 10 %
+    c.check(w_nonlinear < w_corot < 0 and 0.01 < excess < 0.1,
+            "Fig. 6.8: the nonlinear scheme's rate after contact %.4f slightly larger than Model 1's %.4f (%.1f %%)"
+            % (w_nonlinear, w_corot, 100 * excess))
 
 
 def corot_ball_on_plane_friction_model2(c):

@@ -8,6 +8,9 @@ Hauret et al., all through the driver:
                                                                    # place in the step grid (why the angle error is
                                                                    # not monotone in dt)
     python3 tests/bench/corotational/paper_cases.py ellipse        # 6.4: the ellipse, Models 1 vs 2
+    python3 tests/bench/corotational/paper_cases.py friction       # 6.3 with friction (Fig. 6.8): theta' after contact,
+                                                                   # Model 1 against the SVK midpoint comparison, over
+                                                                   # dt, the plane's place and E
 
 Each prints a table; nothing is written. [--stickslip PATH] selects the binary (default build/bin/stickslip).
 """
@@ -134,12 +137,46 @@ def ellipse(stickslip):
             if abs(a["t"] * 100 - round(a["t"] * 100)) < 1e-9))
 
 
+def spin_after(rows):
+    """(theta' about the centre of mass at the last row, angular impulse per tangential impulse): J_c = J - x_c x P
+    with the centre moved by the momenta from the origin (mass P_x(0) / 40), I = J(0) / 2 (theta'_0 = 2)."""
+    mass, centre = rows[0]["momentum_x"] / 40.0, [0.0, 0.0]
+    for a, b in zip(rows, rows[1:]):
+        for i, key in enumerate(("momentum_x", "momentum_y")):
+            centre[i] += (b["time"] - a["time"]) * (a[key] + b[key]) / (2 * mass)
+    last = rows[-1]
+    j_centre = last["angular_momentum_z"] - (centre[0] * last["momentum_y"] - centre[1] * last["momentum_x"])
+    j0 = rows[0]["angular_momentum_z"]
+    return 2 * j_centre / j0, (j_centre - j0) / (last["momentum_x"] - rows[0]["momentum_x"])
+
+
+def friction(stickslip):
+    print("6.3 ball with friction 0.2 (Fig. 6.8): theta' after contact (t = 0.06) and the angular impulse per")
+    print("tangential impulse, Model 1 against the SVK midpoint comparison (penalty-nts friction)")
+    print("| variant | Model 1 | nonlinear |")
+    print("|---|---|---|")
+    schemes = (("scenes/corot-ball-on-plane-friction.yaml",),
+               ("scenes/corot-ball-on-plane-nonlinear.yaml", "contact.0.parameters.mu=0.2"))
+    variants = [("dt %g" % dt, ("time.dt=%r" % dt,)) for dt in (0.002, 0.001, 0.0005, 0.00025, 0.000125, 0.0000625)]
+    variants += [("dt %g, plane moved by %.2f" % (dt, d), ("time.dt=%r" % dt, "contact.0.obstacle.point=[0, %r, 0]"
+                                                            % (-10.5 - d)))
+                 for dt in (0.002, 0.00025) for d in (0.04, 0.08, 0.12, 0.16)]
+    variants += [("E x %d" % f, ("bodies.0.material.E=%r" % (1.62e7 * f),)) for f in (10, 100)]
+    for name, sets in variants:
+        cells = []
+        for scheme in schemes:
+            rows, _ = simulate(stickslip, scheme[0], *(scheme[1:] + sets))
+            cells.append("%.4f, %.3f" % spin_after(rows))
+        print("| %s | %s | %s |" % (name, cells[0], cells[1]))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("case", choices=("two-planes", "impact-phase", "ellipse"))
+    parser.add_argument("case", choices=("two-planes", "impact-phase", "ellipse", "friction"))
     parser.add_argument("--stickslip", default=os.path.join(ROOT, "build", "bin", "stickslip"))
     args = parser.parse_args()
-    {"two-planes": two_planes, "impact-phase": impact_phase, "ellipse": ellipse}[args.case](args.stickslip)
+    {"two-planes": two_planes, "impact-phase": impact_phase, "ellipse": ellipse,
+     "friction": friction}[args.case](args.stickslip)
 
 
 if __name__ == "__main__":

@@ -21,7 +21,8 @@ import sys
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tests", "validation"))
 from stickslip_results import Results  # noqa: E402
-from test_mortar_thesis import ellipse_fit, hertz_2d_profile, newton_runs, HERTZ_2D_F, HERTZ_2D_H  # noqa: E402
+from test_mortar_thesis import (ellipse_fit, hertz_2d_profile, newton_runs, oscillation,  # noqa: E402
+                                HERTZ_2D_F, HERTZ_2D_H)
 
 OUT = os.path.join(os.environ.get("STICKSLIP_BENCH_OUT", os.path.join(ROOT, "results", "bench")), "mortar-thesis")
 BINARY = os.environ.get("STICKSLIP_BIN", os.path.join(ROOT, "build", "bin", "stickslip"))
@@ -164,16 +165,6 @@ DEEP_RUNS = (("M-mu0", []), ("A-mu0", ["--set", "contact.0.parameters.normal=A"]
              ("M-mu0.3", ["--set", "contact.0.parameters.mu=0.3"]),
              ("M-mu0.3-refine1.5", ["--set", "contact.0.parameters.mu=0.3", "--set", "mesh.0.parameters.refine=1.5",
                                     "--set", "mesh.1.parameters.refine=1.5"]))
-
-
-def oscillation(times, values, window=20.0 / 30.0):
-    """Root mean square of the values about their moving mean over `window` (20 mm of travel: five slab cells at
-    refine 1), and that mean's average: the facets' ripple without the slow trend."""
-    dev = []
-    for t, v in zip(times, values):
-        near = [w for s, w in zip(times, values) if abs(s - t) <= window / 2]
-        dev.append(v - statistics.fmean(near))
-    return math.sqrt(statistics.fmean(d * d for d in dev)), statistics.fmean(values)
 
 
 def deep_ironing():
