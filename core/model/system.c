@@ -26,6 +26,20 @@ static double now_seconds(void) {
 
 double sk_system_seconds(void) { return now_seconds(); }
 
+sk_clock sk_system_clock(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return (sk_clock){now_seconds(), (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec};
+}
+
+void sk_system_charge_contact(sk_system *sys, int phase, sk_clock t0) {
+  const sk_clock t = sk_system_clock();
+  sys->t_contact += t.wall - t0.wall;
+  sys->t_contact_cpu += t.cpu - t0.cpu;
+  sys->contact_phase[phase][0] += t.wall - t0.wall;
+  sys->contact_phase[phase][1] += t.cpu - t0.cpu;
+}
+
 static sk_status out_of_memory(const char *what, int64_t count) {
   return sk_error_set(SK_ERR_NOMEM, "out of memory for %s (%lld entries)", what, (long long)count);
 }
@@ -256,9 +270,9 @@ static sk_status update_active_set(sk_system *sys) {
     sk_term *term = live[k];
     if (!term->ops->update_active_set) continue;
     int changed = 0;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_clock();
     status = term->ops->update_active_set(term, sys, &changed);
-    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_ACTIVE_SET, t0);
     if (status != SK_OK) sk_error_prefix(status, "%s: update_active_set: ", term->name);
   }
   return status;
@@ -307,9 +321,9 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   for (int k = 0; k < n_live; ++k) {
     sk_term *term = live[k];
     if (!term->ops->begin_step) continue;
-    const double t0 = now_seconds(); /* the contact search: contact work (contact_seconds) */
+    const sk_clock t0 = sk_system_clock(); /* the contact search: contact work (contact_seconds) */
     status = term->ops->begin_step(term, sys);
-    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_SEARCH, t0);
     status = sk_system_collective(sys, status);
     if (status != SK_OK) return sk_error_prefix(status, "%s: begin_step: ", term->name);
   }
@@ -445,11 +459,12 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->residual) continue;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_clock();
     status = term->ops->residual(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
-    *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_RESIDUAL, t0);
+    else sys->t_assembly += now_seconds() - t0.wall;
   }
   status = note_fatal(sys, sk_system_collective(sys, status));
   sys->worst_row = -1; /* a residual that cannot be evaluated names its own culprit (an element, a plugin) */
@@ -477,11 +492,12 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->jacobian) continue;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_clock();
     status = term->ops->jacobian(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: jacobian: ", term->name);
-    *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_JACOBIAN, t0);
+    else sys->t_assembly += now_seconds() - t0.wall;
   }
   for (int k = 0; k < n_live && status == SK_OK; ++k)
     if (live[k]->ops->finish_jacobian) status = live[k]->ops->finish_jacobian(live[k], sys);
@@ -715,9 +731,9 @@ sk_status sk_system_commit(sk_system *sys) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->commit) continue;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_clock();
     status = term->ops->commit(term, sys);
-    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_COMMIT, t0);
     if (status != SK_OK) sk_error_prefix(status, "%s: commit: ", term->name);
   }
   status = sk_system_collective(sys, status);

@@ -21,6 +21,15 @@
 
 typedef struct sk_condenser sk_condenser;
 
+/* The contact phases timed apart (sk_system_charge_contact): the plugins' begin_step (search), update_active_set,
+ * residual, jacobian, commit, and the host's broad phase over pairs. */
+enum { SK_CONTACT_SEARCH, SK_CONTACT_ACTIVE_SET, SK_CONTACT_RESIDUAL, SK_CONTACT_JACOBIAN, SK_CONTACT_COMMIT,
+       SK_CONTACT_BROAD_PHASE, SK_CONTACT_PHASES };
+/* A reading of both clocks: wall (monotonic) and this thread's CPU time, in seconds. */
+typedef struct {
+  double wall, cpu;
+} sk_clock;
+
 /* The sink plugins add through: the ABI table first, then the system. */
 typedef struct {
   sk_sink abi;
@@ -119,6 +128,10 @@ struct sk_system {
   unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
+  /* t_contact as this thread's CPU seconds (CLOCK_THREAD_CPUTIME_ID): a rank descheduled on a shared or
+   * oversubscribed machine does not accrue it, a rank busy-polling in a collective inside a contact call does */
+  double t_contact_cpu;
+  double contact_phase[SK_CONTACT_PHASES][2]; /* t_contact and t_contact_cpu by phase: wall, CPU */
   double t_broad_phase;       /* the host's broad phase over pairs (broad_phase.c), part of t_contact */
   struct sk_broad_phase *broad; /* its boxes and sweep (broad_phase.c), NULL without created pairs */
   sk_term **live;             /* with a broad phase: the terms an attempt visits (sk_system_live_terms) */
@@ -133,6 +146,7 @@ struct sk_system {
    * uneven (core/time/contact_balance.c), done at the next step's predictor */
   int contact_rebalance_pending;
   double contact_step_seconds; /* this rank's contact seconds in the last recorded step (the rebalance's weights) */
+  double contact_step_cpu;     /* the same in CPU seconds */
   int contact_rebalances;      /* rebalances done */
   int verbose;
   double newton_energy;     /* |dx . F| of the last Newton direction (FEAP's energy norm), printed with --verbose */
@@ -247,5 +261,8 @@ sk_status sk_system_load_work(sk_system *sys, double *scratch, double *work);
 
 /* Wall-clock seconds (monotonic) for the phases' timings. */
 double sk_system_seconds(void);
+/* Both clocks now; and the contact work since t0 charged to a phase (t_contact, t_contact_cpu, contact_phase). */
+sk_clock sk_system_clock(void);
+void sk_system_charge_contact(sk_system *sys, int phase, sk_clock t0);
 
 #endif
