@@ -177,7 +177,9 @@ static sk_status sweep(sk_system *sys) {
   const sk_model *m = sys->model;
   int n = 0;
   for (int b = 0; b < bp->n_bodies; ++b) body_box(m, bp->boundary[b], sys->u_n, sys->q, bp->box + 6 * b);
+  const sk_clock t0 = sk_system_clock();
   MPI_Allreduce(MPI_IN_PLACE, bp->box, 6 * bp->n_bodies, MPI_DOUBLE, MPI_MIN, sys->comm);
+  sk_system_charge_wait(sys, t0);
   for (int b = 0; b < bp->n_bodies; ++b)
     if (bp->boundary[b]) bp->order[n++] = b;
   sort_boxes = bp->box;
@@ -209,7 +211,7 @@ static sk_status sweep(sk_system *sys) {
 /* The ids of the pairs near at the current iterate (sweeping first if it moved), in bp->fresh, ascending. */
 static sk_status near_pairs(sk_system *sys, int *n_near) {
   sk_broad_phase *bp = sys->broad;
-  const sk_clock t0 = sk_system_clock();
+  const sk_clock t0 = sk_system_contact_clock(sys);
   *n_near = 0;
   if (bp->version != sys->x_version) SK_TRY(sweep(sys));
   for (int k = 0; k < bp->n_overlap; ++k) {

@@ -238,7 +238,7 @@ static void entity_weights(const sk_system *sys, int count, const int *owner, co
   const int n_ranks = sys->n_ranks;
   double *t = work, *x = work + n_ranks, *held = work + 2 * (size_t)n_ranks;
   for (int r = 0; r < 3 * n_ranks; ++r) work[r] = 0.0;
-  t[sys->rank] = sys->contact_step_seconds;
+  t[sys->rank] = sys->contact_step_cpu; /* CPU seconds: not the time the rank was descheduled (contact_balance.c) */
   for (int j = 0; j < count; ++j) {
     held[owner[j]] += 1.0;
     x[owner[j]] += active[j];

@@ -29,15 +29,30 @@ double sk_system_seconds(void) { return now_seconds(); }
 sk_clock sk_system_clock(void) {
   struct timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return (sk_clock){now_seconds(), (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec};
+  return (sk_clock){now_seconds(), (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec, 0.0, 0.0};
+}
+
+sk_clock sk_system_contact_clock(const sk_system *sys) {
+  sk_clock t = sk_system_clock();
+  t.wait_wall = sys->contact_wait[0];
+  t.wait_cpu = sys->contact_wait[1];
+  return t;
 }
 
 void sk_system_charge_contact(sk_system *sys, int phase, sk_clock t0) {
   const sk_clock t = sk_system_clock();
-  sys->t_contact += t.wall - t0.wall;
-  sys->t_contact_cpu += t.cpu - t0.cpu;
-  sys->contact_phase[phase][0] += t.wall - t0.wall;
-  sys->contact_phase[phase][1] += t.cpu - t0.cpu;
+  const double wall = t.wall - t0.wall - (sys->contact_wait[0] - t0.wait_wall);
+  const double cpu = t.cpu - t0.cpu - (sys->contact_wait[1] - t0.wait_cpu);
+  sys->t_contact += wall;
+  sys->t_contact_cpu += cpu;
+  sys->contact_phase[phase][0] += wall;
+  sys->contact_phase[phase][1] += cpu;
+}
+
+void sk_system_charge_wait(sk_system *sys, sk_clock t0) {
+  const sk_clock t = sk_system_clock();
+  sys->contact_wait[0] += t.wall - t0.wall;
+  sys->contact_wait[1] += t.cpu - t0.cpu;
 }
 
 static sk_status out_of_memory(const char *what, int64_t count) {
@@ -270,7 +285,7 @@ static sk_status update_active_set(sk_system *sys) {
     sk_term *term = live[k];
     if (!term->ops->update_active_set) continue;
     int changed = 0;
-    const sk_clock t0 = sk_system_clock();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->update_active_set(term, sys, &changed);
     if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_ACTIVE_SET, t0);
     if (status != SK_OK) sk_error_prefix(status, "%s: update_active_set: ", term->name);
@@ -321,7 +336,7 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   for (int k = 0; k < n_live; ++k) {
     sk_term *term = live[k];
     if (!term->ops->begin_step) continue;
-    const sk_clock t0 = sk_system_clock(); /* the contact search: contact work (contact_seconds) */
+    const sk_clock t0 = sk_system_contact_clock(sys); /* the contact search: contact work (contact_seconds) */
     status = term->ops->begin_step(term, sys);
     if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_SEARCH, t0);
     status = sk_system_collective(sys, status);
@@ -459,7 +474,7 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->residual) continue;
-    const sk_clock t0 = sk_system_clock();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->residual(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
@@ -492,7 +507,7 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->jacobian) continue;
-    const sk_clock t0 = sk_system_clock();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->jacobian(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: jacobian: ", term->name);
@@ -731,7 +746,7 @@ sk_status sk_system_commit(sk_system *sys) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->commit) continue;
-    const sk_clock t0 = sk_system_clock();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->commit(term, sys);
     if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_COMMIT, t0);
     if (status != SK_OK) sk_error_prefix(status, "%s: commit: ", term->name);

@@ -1,6 +1,9 @@
-/* Contact work per rank (contact_balance.h). Time is the wall time spent in the contact terms' residual and Jacobian
- * evaluation (core/model/system.c, t_contact: search, projection and element kernels of the plugins), cut attempts
- * of the step included; entities are the active slave points each rank's plugins report. */
+/* Contact work per rank (contact_balance.h). Time is the time spent in the contact terms' calls (core/model/system.c,
+ * t_contact: search, active set, residual, Jacobian and commit of the plugins, the broad phase), cut attempts of the
+ * step included, the waits in collectives inside them left out (contact_wait); as wall time and as this thread's CPU
+ * time. The rebalancing trigger and the entities' weights read the CPU time: on a shared or oversubscribed machine a
+ * rank's wall time grows by the time it is descheduled, which is not its work (docs/scaling.md, "Contact
+ * partition"). Entities are the active slave points each rank's plugins report. */
 #include "contact_balance.h"
 
 #include <math.h>
@@ -60,7 +63,7 @@ static sk_status trigger(sk_system *sys, double ratio, const double active[3], i
     return SK_OK;
   sys->contact_rebalance_pending = 1;
   if (verbose && sys->rank == 0)
-    fprintf(stderr, "step %lld: contact work uneven over the ranks (max/mean contact time %.2f, limit %g; active "
+    fprintf(stderr, "step %lld: contact work uneven over the ranks (max/mean contact CPU time %.2f, limit %g; active "
             "slave points (max - min)/max %.2f, limit %g): the contact partition is rebalanced at the next step\n",
             (long long)step, ratio, m->rebalance_time_ratio, spread, m->rebalance_entity_imbalance);
   return sk_contact_partition_weigh(sys);
@@ -69,7 +72,6 @@ static sk_status trigger(sk_system *sys, double ratio, const double active[3], i
 sk_status sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, const sk_contact_totals *totals,
                              int64_t step, int verbose) {
   double step_seconds[3], active[3];
-  sys->contact_step_seconds = sys->t_contact - balance->seconds_mark;
   reduce_min_mean_max(sys->t_contact - balance->seconds_mark, sys->comm, sys->n_ranks, step_seconds);
   reduce_min_mean_max(sys->t_contact, sys->comm, sys->n_ranks, balance->run_seconds);
   reduce_min_mean_max(totals->active_local, sys->comm, sys->n_ranks, active);
@@ -86,6 +88,7 @@ sk_status sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, c
     if (balance->cpu_steps++ == 0 || cpu_ratio > balance->cpu_ratio_worst) balance->cpu_ratio_worst = cpu_ratio;
   }
   reduce_phases(balance, sys);
+  reduce_min_mean_max(sys->contact_wait[0], sys->comm, sys->n_ranks, balance->run_wait);
   double ratio = 0.0;
   if (step_seconds[1] > 0.0) {
     ratio = step_seconds[2] / step_seconds[1];
@@ -105,7 +108,7 @@ sk_status sk_contact_balance_step(sk_contact_balance *balance, sk_system *sys, c
             "%.2f; CPU %.3g / %.3g / %.3g s, max/mean %.2f), active slave points %.0f / %.3g / %.0f\n",
             (long long)step, sys->n_ranks, step_seconds[0], step_seconds[1], step_seconds[2], ratio, step_cpu[0],
             step_cpu[1], step_cpu[2], cpu_ratio, active[0], active[1], active[2]);
-  return trigger(sys, ratio, active, step, verbose);
+  return trigger(sys, cpu_ratio, active, step, verbose);
 }
 
 sk_status sk_contact_balance_write(const sk_contact_balance *balance, sk_json *json) {
@@ -127,6 +130,9 @@ sk_status sk_contact_balance_write(const sk_contact_balance *balance, sk_json *j
   SK_TRY(sk_json_number(json, "contact_cpu_imbalance_mean",
                         balance->cpu_steps ? balance->cpu_ratio_sum / balance->cpu_steps : none));
   SK_TRY(sk_json_number(json, "contact_cpu_imbalance_worst", balance->cpu_steps ? balance->cpu_ratio_worst : none));
+  static const char *const wait_keys[3] = {"contact_wait_seconds_rank_min", "contact_wait_seconds_rank_mean",
+                                           "contact_wait_seconds_rank_max"};
+  for (int i = 0; i < 3; ++i) SK_TRY(sk_json_number(json, wait_keys[i], balance->run_wait[i]));
   /* by phase: contact_<phase>_{seconds,cpu_seconds}_rank_{min,mean,max} and _imbalance_mean (per step max/mean) */
   static const char *const phases[SK_CONTACT_PHASES] = {"search", "active_set", "residual", "jacobian", "commit",
                                                         "broad_phase"};
