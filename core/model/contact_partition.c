@@ -186,9 +186,9 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
                                  "bisection of their reference positions at set-up; the contact owner evaluates them"
                                : "the slave entities are evaluated by the owners of the body elements they bound");
   if (m->contact_rebalance)
-    fprintf(out, "  split again between steps after a step whose max/mean contact time over the ranks exceeds %g "
+    fprintf(out, "  split again between steps after a step whose max/mean contact CPU time over the ranks exceeds %g "
             "(contact_balance.time_ratio) or whose active slave points per rank, (max - min)/max, exceed %g "
-            "(contact_balance.entity_imbalance), each entity weighted by its work: its rank's contact time, split "
+            "(contact_balance.entity_imbalance), each entity weighted by its work: its rank's contact CPU time, split "
             "between the entities in contact and the others\n", m->rebalance_time_ratio,
             m->rebalance_entity_imbalance);
   for (int k = 0; m->contact_rebalance && k < m->n_pairs; ++k) {
