@@ -88,6 +88,19 @@ static sk_status add_term(sk_system *sys, sk_term *term) {
   return SK_OK;
 }
 
+/* A plugin instance on every rank, or on none: a plugin may refuse its view on some ranks only (mortar-dual without
+ * the second layer of slave faces there), and the ranks that created theirs would wait for it in their first
+ * collective call. Every rank reports the failing rank's message (sk_system_collective). */
+static sk_status create_plugin_term(sk_system *sys, int body, int pair, sk_term **term) {
+  *term = NULL;
+  const sk_status status = sk_system_collective(sys, sk_term_plugin_create(sys, body, pair, term));
+  if (status != SK_OK && *term) {
+    (*term)->ops->destroy(*term);
+    *term = NULL;
+  }
+  return status;
+}
+
 static sk_status create_terms(sk_system *sys) {
   sk_model *m = sys->model;
   sk_term *term;
@@ -104,12 +117,12 @@ static sk_status create_terms(sk_system *sys) {
   /* body plugins before pair plugins: a pair instance may reach its body's instance at create */
   for (int b = 0; b < m->n_bodies; ++b) {
     if (!m->bodies[b].plugin) continue;
-    SK_TRY(sk_term_plugin_create(sys, b, -1, &term));
+    SK_TRY(create_plugin_term(sys, b, -1, &term));
     sys->body_plugin[b] = term;
     SK_TRY(add_term(sys, term));
   }
   for (int k = 0; k < m->n_pairs; ++k) {
-    SK_TRY(sk_term_plugin_create(sys, -1, k, &term));
+    SK_TRY(create_plugin_term(sys, -1, k, &term));
     SK_TRY(add_term(sys, term));
   }
   /* last: its finishing stages act on what every other term assembled */
