@@ -26,35 +26,6 @@ static double now_seconds(void) {
 
 double sk_system_seconds(void) { return now_seconds(); }
 
-sk_clock sk_system_clock(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return (sk_clock){now_seconds(), (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec, 0.0, 0.0};
-}
-
-sk_clock sk_system_contact_clock(const sk_system *sys) {
-  sk_clock t = sk_system_clock();
-  t.wait_wall = sys->contact_wait[0];
-  t.wait_cpu = sys->contact_wait[1];
-  return t;
-}
-
-void sk_system_charge_contact(sk_system *sys, int phase, sk_clock t0) {
-  const sk_clock t = sk_system_clock();
-  const double wall = t.wall - t0.wall - (sys->contact_wait[0] - t0.wait_wall);
-  const double cpu = t.cpu - t0.cpu - (sys->contact_wait[1] - t0.wait_cpu);
-  sys->t_contact += wall;
-  sys->t_contact_cpu += cpu;
-  sys->contact_phase[phase][0] += wall;
-  sys->contact_phase[phase][1] += cpu;
-}
-
-void sk_system_charge_wait(sk_system *sys, sk_clock t0) {
-  const sk_clock t = sk_system_clock();
-  sys->contact_wait[0] += t.wall - t0.wall;
-  sys->contact_wait[1] += t.cpu - t0.cpu;
-}
-
 static sk_status out_of_memory(const char *what, int64_t count) {
   return sk_error_set(SK_ERR_NOMEM, "out of memory for %s (%lld entries)", what, (long long)count);
 }
