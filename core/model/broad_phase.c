@@ -177,7 +177,9 @@ static sk_status sweep(sk_system *sys) {
   const sk_model *m = sys->model;
   int n = 0;
   for (int b = 0; b < bp->n_bodies; ++b) body_box(m, bp->boundary[b], sys->u_n, sys->q, bp->box + 6 * b);
+  const sk_clock t0 = sk_system_clock();
   MPI_Allreduce(MPI_IN_PLACE, bp->box, 6 * bp->n_bodies, MPI_DOUBLE, MPI_MIN, sys->comm);
+  sk_system_charge_wait(sys, t0);
   for (int b = 0; b < bp->n_bodies; ++b)
     if (bp->boundary[b]) bp->order[n++] = b;
   sort_boxes = bp->box;
@@ -209,7 +211,7 @@ static sk_status sweep(sk_system *sys) {
 /* The ids of the pairs near at the current iterate (sweeping first if it moved), in bp->fresh, ascending. */
 static sk_status near_pairs(sk_system *sys, int *n_near) {
   sk_broad_phase *bp = sys->broad;
-  const double t0 = sk_system_seconds();
+  const sk_clock t0 = sk_system_contact_clock(sys);
   *n_near = 0;
   if (bp->version != sys->x_version) SK_TRY(sweep(sys));
   for (int k = 0; k < bp->n_overlap; ++k) {
@@ -228,9 +230,8 @@ static sk_status near_pairs(sk_system *sys, int *n_near) {
     }
   }
   qsort(bp->fresh, (size_t)*n_near, sizeof *bp->fresh, by_value);
-  const double seconds = sk_system_seconds() - t0;
-  sys->t_broad_phase += seconds;
-  sys->t_contact += seconds; /* contact work (contact_seconds), as the pairs' own calls */
+  sys->t_broad_phase += sk_system_seconds() - t0.wall;
+  sk_system_charge_contact(sys, SK_CONTACT_BROAD_PHASE, t0); /* contact work (contact_seconds), as the pairs' own */
   return SK_OK;
 }
 

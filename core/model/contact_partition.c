@@ -186,9 +186,9 @@ void sk_contact_partition_explain(const sk_model *m, FILE *out) {
                                  "bisection of their reference positions at set-up; the contact owner evaluates them"
                                : "the slave entities are evaluated by the owners of the body elements they bound");
   if (m->contact_rebalance)
-    fprintf(out, "  split again between steps after a step whose max/mean contact time over the ranks exceeds %g "
+    fprintf(out, "  split again between steps after a step whose max/mean contact CPU time over the ranks exceeds %g "
             "(contact_balance.time_ratio) or whose active slave points per rank, (max - min)/max, exceed %g "
-            "(contact_balance.entity_imbalance), each entity weighted by its work: its rank's contact time, split "
+            "(contact_balance.entity_imbalance), each entity weighted by its work: its rank's contact CPU time, split "
             "between the entities in contact and the others\n", m->rebalance_time_ratio,
             m->rebalance_entity_imbalance);
   for (int k = 0; m->contact_rebalance && k < m->n_pairs; ++k) {
@@ -238,7 +238,7 @@ static void entity_weights(const sk_system *sys, int count, const int *owner, co
   const int n_ranks = sys->n_ranks;
   double *t = work, *x = work + n_ranks, *held = work + 2 * (size_t)n_ranks;
   for (int r = 0; r < 3 * n_ranks; ++r) work[r] = 0.0;
-  t[sys->rank] = sys->contact_step_seconds;
+  t[sys->rank] = sys->contact_step_cpu; /* CPU seconds: not the time the rank was descheduled (contact_balance.c) */
   for (int j = 0; j < count; ++j) {
     held[owner[j]] += 1.0;
     x[owner[j]] += active[j];

@@ -67,7 +67,9 @@ static void host_log(sk_host *host, int level, const char *fmt, ...) {
 static sk_status host_reduce(sk_host *host, int op, double *values, int n) {
   if (op != 0 && op != 1) return sk_error_set(SK_ERR_PLUGIN, "%s: reduce: op %d is neither 0 (sum) nor 1 (max)",
                                               host->name, op);
+  const sk_clock t0 = sk_system_clock();
   MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, op == 0 ? MPI_SUM : MPI_MAX, host->sys->comm);
+  sk_system_charge_wait(host->sys, t0); /* not contact work (contact_wait) */
   return SK_OK;
 }
 

@@ -59,6 +59,19 @@ static sk_status add_term(sk_system *sys, sk_term *term) {
   return SK_OK;
 }
 
+/* A plugin instance on every rank, or on none: a plugin may refuse its view on some ranks only (mortar-dual without
+ * the second layer of slave faces there), and the ranks that created theirs would wait for it in their first
+ * collective call. Every rank reports the failing rank's message (sk_system_collective). */
+static sk_status create_plugin_term(sk_system *sys, int body, int pair, sk_term **term) {
+  *term = NULL;
+  const sk_status status = sk_system_collective(sys, sk_term_plugin_create(sys, body, pair, term));
+  if (status != SK_OK && *term) {
+    (*term)->ops->destroy(*term);
+    *term = NULL;
+  }
+  return status;
+}
+
 static sk_status create_terms(sk_system *sys) {
   sk_model *m = sys->model;
   sk_term *term;
@@ -75,12 +88,12 @@ static sk_status create_terms(sk_system *sys) {
   /* body plugins before pair plugins: a pair instance may reach its body's instance at create */
   for (int b = 0; b < m->n_bodies; ++b) {
     if (!m->bodies[b].plugin) continue;
-    SK_TRY(sk_term_plugin_create(sys, b, -1, &term));
+    SK_TRY(create_plugin_term(sys, b, -1, &term));
     sys->body_plugin[b] = term;
     SK_TRY(add_term(sys, term));
   }
   for (int k = 0; k < m->n_pairs; ++k) {
-    SK_TRY(sk_term_plugin_create(sys, -1, k, &term));
+    SK_TRY(create_plugin_term(sys, -1, k, &term));
     SK_TRY(add_term(sys, term));
   }
   /* last: its finishing stages act on what every other term assembled */
@@ -256,9 +269,9 @@ static sk_status update_active_set(sk_system *sys) {
     sk_term *term = live[k];
     if (!term->ops->update_active_set) continue;
     int changed = 0;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->update_active_set(term, sys, &changed);
-    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_ACTIVE_SET, t0);
     if (status != SK_OK) sk_error_prefix(status, "%s: update_active_set: ", term->name);
   }
   return status;
@@ -307,9 +320,9 @@ sk_status sk_system_begin(sk_system *sys, double dt, int64_t step) {
   for (int k = 0; k < n_live; ++k) {
     sk_term *term = live[k];
     if (!term->ops->begin_step) continue;
-    const double t0 = now_seconds(); /* the contact search: contact work (contact_seconds) */
+    const sk_clock t0 = sk_system_contact_clock(sys); /* the contact search: contact work (contact_seconds) */
     status = term->ops->begin_step(term, sys);
-    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_SEARCH, t0);
     status = sk_system_collective(sys, status);
     if (status != SK_OK) return sk_error_prefix(status, "%s: begin_step: ", term->name);
   }
@@ -445,11 +458,12 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->residual) continue;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->residual(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
-    *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_RESIDUAL, t0);
+    else sys->t_assembly += now_seconds() - t0.wall;
   }
   status = note_fatal(sys, sk_system_collective(sys, status));
   sys->worst_row = -1; /* a residual that cannot be evaluated names its own culprit (an element, a plugin) */
@@ -477,11 +491,12 @@ static sk_status cb_jacobian(void *ctx, const double *x) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->jacobian) continue;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->jacobian(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
     if (status != SK_OK) sk_error_prefix(status, "%s: jacobian: ", term->name);
-    *(is_plugin(term) ? &sys->t_contact : &sys->t_assembly) += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_JACOBIAN, t0);
+    else sys->t_assembly += now_seconds() - t0.wall;
   }
   for (int k = 0; k < n_live && status == SK_OK; ++k)
     if (live[k]->ops->finish_jacobian) status = live[k]->ops->finish_jacobian(live[k], sys);
@@ -715,9 +730,9 @@ sk_status sk_system_commit(sk_system *sys) {
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     sk_term *term = live[k];
     if (!term->ops->commit) continue;
-    const double t0 = now_seconds();
+    const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->commit(term, sys);
-    if (is_plugin(term)) sys->t_contact += now_seconds() - t0;
+    if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_COMMIT, t0);
     if (status != SK_OK) sk_error_prefix(status, "%s: commit: ", term->name);
   }
   status = sk_system_collective(sys, status);

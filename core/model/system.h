@@ -21,6 +21,16 @@
 
 typedef struct sk_condenser sk_condenser;
 
+/* The contact phases timed apart (sk_system_charge_contact): the plugins' begin_step (search), update_active_set,
+ * residual, jacobian, commit, and the host's broad phase over pairs. */
+enum { SK_CONTACT_SEARCH, SK_CONTACT_ACTIVE_SET, SK_CONTACT_RESIDUAL, SK_CONTACT_JACOBIAN, SK_CONTACT_COMMIT,
+       SK_CONTACT_BROAD_PHASE, SK_CONTACT_PHASES };
+/* A reading of both clocks: wall (monotonic) and this thread's CPU time, in seconds; from sk_system_contact_clock
+ * also the rank's waits so far (contact_wait), which the contact time leaves out. */
+typedef struct {
+  double wall, cpu, wait_wall, wait_cpu;
+} sk_clock;
+
 /* The sink plugins add through: the ABI table first, then the system. */
 typedef struct {
   sk_sink abi;
@@ -119,6 +129,14 @@ struct sk_system {
   unsigned step_solvers;    /* bit k: the linear solver of kind k produced a solution in this attempt (auto resolved) */
   int active_set_loops;
   double t_assembly, t_contact, t_solve;
+  /* t_contact as this thread's CPU seconds (CLOCK_THREAD_CPUTIME_ID): a rank descheduled on a shared or
+   * oversubscribed machine does not accrue it, a rank busy-polling in a collective inside a contact call does */
+  double t_contact_cpu;
+  double contact_phase[SK_CONTACT_PHASES][2]; /* t_contact and t_contact_cpu by phase: wall, CPU */
+  /* wall and CPU seconds this rank spent in collectives and exchanges inside the contact calls (a plugin's reduce,
+   * the commit's status checks, the broad phase's boxes): waiting for the slowest rank, not contact work, so
+   * t_contact and t_contact_cpu leave them out (with busy polling a wait costs CPU time as well) */
+  double contact_wait[2];
   double t_broad_phase;       /* the host's broad phase over pairs (broad_phase.c), part of t_contact */
   struct sk_broad_phase *broad; /* its boxes and sweep (broad_phase.c), NULL without created pairs */
   sk_term **live;             /* with a broad phase: the terms an attempt visits (sk_system_live_terms) */
@@ -132,7 +150,7 @@ struct sk_system {
   /* the contact partition rebalanced between steps (contact_partition.h): set after a step whose contact work is
    * uneven (core/time/contact_balance.c), done at the next step's predictor */
   int contact_rebalance_pending;
-  double contact_step_seconds; /* this rank's contact seconds in the last recorded step (the rebalance's weights) */
+  double contact_step_cpu;     /* this rank's contact CPU seconds in the last recorded step (the rebalance's weights) */
   int contact_rebalances;      /* rebalances done */
   int verbose;
   double newton_energy;     /* |dx . F| of the last Newton direction (FEAP's energy norm), printed with --verbose */
@@ -254,5 +272,12 @@ sk_status sk_system_load_work(sk_system *sys, double *scratch, double *work);
 
 /* Wall-clock seconds (monotonic) for the phases' timings. */
 double sk_system_seconds(void);
+/* Both clocks now (no waits); the same with the rank's contact waits so far, to start a contact phase; the contact
+ * work since such a t0, its waits left out, charged to a phase (t_contact, t_contact_cpu, contact_phase); and a wait
+ * inside a contact call since t0 (sk_system_clock) charged to contact_wait. */
+sk_clock sk_system_clock(void);
+sk_clock sk_system_contact_clock(const sk_system *sys);
+void sk_system_charge_contact(sk_system *sys, int phase, sk_clock t0);
+void sk_system_charge_wait(sk_system *sys, sk_clock t0);
 
 #endif

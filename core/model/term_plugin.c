@@ -368,16 +368,22 @@ static sk_status plugin_commit(sk_term *base, sk_system *sys) {
   sk_status status = SK_OK;
   if (term->claimed && term->integrator) {
     memset(term->pending_v, 0, sizeof(double) * (size_t)dof_count(term->view_list[0]));
-    status = sk_system_collective(sys, term->integrator->velocity(term->instance, &term->state, term->pending_v));
+    status = term->integrator->velocity(term->instance, &term->state, term->pending_v);
+    const sk_clock t0 = sk_system_clock(); /* the status check and the exchange: waits (contact_wait) */
+    status = sk_system_collective(sys, status);
+    if (status == SK_OK) scatter_body(term, sys, term->pending_v, sys->v);
+    sk_system_charge_wait(sys, t0);
     if (status != SK_OK) return sk_error_prefix(status, "%s: velocity: ", base->name);
-    scatter_body(term, sys, term->pending_v, sys->v);
   }
   term->has_pending_state = 0;
   if (term->far) return SK_OK; /* nothing happened to the pair: its history stays */
-  status = sk_system_collective(sys, PLUGIN_CALL(term, commit_step, term->instance, &term->state));
-  if (status != SK_OK) return status;
+  status = PLUGIN_CALL(term, commit_step, term->instance, &term->state);
+  const sk_clock t0 = sk_system_clock();
+  status = sk_system_collective(sys, status);
   int pending = term->has_pending_state, anywhere = 0;
-  MPI_Allreduce(&pending, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
+  if (status == SK_OK) MPI_Allreduce(&pending, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
+  sk_system_charge_wait(sys, t0);
+  if (status != SK_OK) return status;
   if (anywhere) {
     /* set_state: the body's displacement and velocity for output, invariants and the next step */
     scatter_body(term, sys, term->pending_u, sys->x);

@@ -18,6 +18,15 @@ typedef struct {
   int64_t worst_step;
   double active_peak[3];    /* active slave entities per rank (min, mean, max) at the step with the most in all */
   int64_t active_peak_step;
+  /* the same in this thread's CPU seconds (sys->t_contact_cpu) */
+  double cpu_mark, run_cpu[3], cpu_ratio_sum, cpu_ratio_worst;
+  double run_wait[3];       /* the run's waits in contact calls per rank (sys->contact_wait, wall): min, mean, max */
+  int cpu_steps;
+  /* by contact phase (SK_CONTACT_*), wall [0] and CPU [1]: this rank's seconds at the last recorded step, the run's
+   * seconds per rank (min, mean, max over ranks), and the sum over steps of the step's max / mean (with its count) */
+  double phase_mark[SK_CONTACT_PHASES][2], phase_run[SK_CONTACT_PHASES][2][3];
+  double phase_ratio_sum[SK_CONTACT_PHASES][2];
+  int phase_steps[SK_CONTACT_PHASES][2];
 } sk_contact_balance;
 
 /* After a converged step (collective): reduces this step's contact time and the totals' per-rank active entities;

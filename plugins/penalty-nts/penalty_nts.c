@@ -53,6 +53,9 @@ static sk_status find_candidates(sk_instance *in, const double *const *x_n, cons
   in->cs->search_update(in->search, x_n[1], x[1], in->margin);
   in->cand.used = 0;
   for (int k = 0; k < in->n_slave; ++k) {
+    in->cand_start[k] = in->cand.used;
+    in->cand_count[k] = 0;
+    if (!in->evaluated[k]) continue; /* another rank's node: no candidates here */
     double x0[3], x1[3];
     slave_position(in, x_n, k, x0);
     slave_position(in, x, k, x1);
@@ -73,7 +76,7 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
   for (int k = 0; k < in->n_slave; ++k) {
     friction_history *a = &in->anchor[k];
     *a = in->committed[k];
-    if (in->mu == 0.0 || a->valid) continue;
+    if (in->mu == 0.0 || a->valid || !in->evaluated[k]) continue;
     double x0[3];
     slave_position(in, st->x_n, k, x0);
     if (master) {
@@ -107,7 +110,8 @@ static sk_status pnts_begin_step(sk_instance *in, const sk_state *st) {
   memset(in->held, 0, sizeof *in->held * (size_t)in->n_slave);
   for (int k = 0; k < in->n_slave; ++k) in->sel_face[k] = -1;
   if (master)
-    for (int k = 0; k < in->n_slave; ++k) SK_TRY(select_face(in, st->x, k));
+    for (int k = 0; k < in->n_slave; ++k)
+      if (in->evaluated[k]) SK_TRY(select_face(in, st->x, k));
   return SK_OK;
 }
 
@@ -187,7 +191,7 @@ static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int
   point_eval e;
   *changed = 0;
   for (int k = 0; k < in->n_slave; ++k) {
-    if (in->master) { /* every slave node of the view: commit_step evaluates them all */
+    if (in->master && in->evaluated[k]) { /* every node commit_step evaluates */
       int face = in->sel_face[k];
       SK_TRY(select_face(in, st->x, k));
       if (in->sel_face[k] != face && in->slave->owned[k]) *changed = 1;
@@ -263,6 +267,7 @@ static sk_status pnts_converged(sk_instance *in, const sk_state *st, int *accept
 static sk_status pnts_commit_step(sk_instance *in, const sk_state *st) {
   point_eval e;
   for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->evaluated[k]) continue; /* another rank's node: its owner keeps its history */
     friction_history *c = &in->committed[k];
     memset(c, 0, sizeof *c);
     memset(in->slip_increment[k], 0, sizeof in->slip_increment[k]);
@@ -315,8 +320,9 @@ static sk_status pnts_report(sk_instance *in, const sk_state *st, sk_contact_rep
 
 static sk_status pnts_points(sk_instance *in, const sk_state *st, sk_point_callback callback, void *ctx) {
   point_eval e;
-  /* The recovery combines neighbouring nodes' forces: evaluate every node of the view first (ghosts too). */
+  /* The recovery combines neighbouring nodes' forces: evaluate them first (ghosts too: mark_evaluated). */
   for (int k = 0; in->rec_start && k < in->n_slave; ++k) {
+    if (!in->evaluated[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     double *stored = in->rec_force + REC_STRIDE * k;
     stored[0] = e.p;
@@ -394,7 +400,7 @@ static sk_status pnts_save(sk_instance *in, const sk_state *st, sk_record_writer
   return SK_OK;
 }
 
-/* The history of every slave node this rank holds (owned and ghost: commit_step keeps both). */
+/* The history of every slave node this rank holds (owned and ghost; commit_step keeps the evaluated ones'). */
 static sk_status pnts_load(sk_instance *in, const sk_state *st, const sk_record_reader *reader) {
   (void)st;
   int *cells = in->master ? records_cells_of_view(in->master) : NULL;

@@ -76,6 +76,10 @@ struct sk_instance {
   double extension;             /* master_extension: band beyond the master's border, fraction of a face */
   int area_weighted;
   int n_slave;
+  /* 1 for the slave nodes this rank evaluates: its owned nodes and, for the TRI6 recovery, the edge nodes their
+   * reported pressure combines (rec_node). The others (ghost nodes of the view, whose rows are other ranks') get no
+   * candidates, selection or history here: their owners compute them (mark_evaluated). */
+  unsigned char *evaluated;
   double *area;                 /* tributary reference area of each slave node (1 when not area weighted) */
   sk_search *search;
   int *cand_start, *cand_count; /* candidate master faces of each slave node in cand (find_candidates) */

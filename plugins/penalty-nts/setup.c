@@ -125,10 +125,28 @@ done:
   return status;
 }
 
+/* The slave nodes this rank evaluates (sk_instance.evaluated): a node's residual, Jacobian and history depend on
+ * its own candidates, selection and anchor only, so a rank needs them for the nodes whose rows it writes (its owned
+ * nodes) and, with the TRI6 recovery, for the nodes their reported pressure combines. Under a contact partition the
+ * view holds two layers of faces around the owned nodes; evaluating every view node made each rank repeat most of
+ * its neighbours' work (corner-contact on 4 ranks: 20 to 25 view nodes for 6 or 7 owned, docs/scaling.md). */
+static sk_status mark_evaluated(sk_instance *in) {
+  in->evaluated = calloc((size_t)(in->n_slave > 0 ? in->n_slave : 1), 1);
+  if (!in->evaluated) return in->api->error(in->host, SK_ERR_NOMEM, "%s: penalty-nts: out of memory", in->name);
+  for (int k = 0; k < in->n_slave; ++k) {
+    if (!in->slave->owned[k]) continue;
+    in->evaluated[k] = 1;
+    for (int r = in->rec_start ? in->rec_start[k] : 0; in->rec_start && r < in->rec_start[k + 1]; ++r)
+      in->evaluated[in->rec_node[r]] = 1;
+  }
+  return SK_OK;
+}
+
 void pnts_destroy(sk_instance *in) {
   if (!in) return;
   if (in->search) in->cs->search_destroy(in->search);
   free(in->area);
+  free(in->evaluated);
   free(in->cand_start);
   free(in->cand_count);
   free(in->cand.faces);
@@ -276,6 +294,7 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
     for (int k = 0; k < in->n_slave; ++k) in->area[k] = 1.0;
   }
   SK_TRY(build_recovery(in));
+  SK_TRY(mark_evaluated(in));
   if (master) SK_TRY(in->cs->search_create(master, &in->search));
   return SK_OK;
 }
