@@ -11,8 +11,9 @@
 //
 // Reuse. AMG and ILU are kept across solves and across pattern changes (the nodal distribution depends on the node
 // count alone): GMRES always runs on the current matrix, so an older preconditioner costs iterations, never
-// accuracy. They are recomputed from the current values (MueLu keeps its aggregates) when a solve needs
-// kRefreshGrowth times the iterations it took right after the last computation, or fails. Gauss-Seidel is
+// accuracy. They are recomputed from the current values when a solve needs kRefreshGrowth times the iterations it
+// took right after the last computation, or fails: on one rank MueLu keeps its aggregates on the matrix it was built
+// for, on several ranks (and on a new pattern) it is built afresh. Gauss-Seidel is
 // recomputed every solve (its set-up is the inverse diagonal: 0.01 s at 72k unknowns).
 #include <algorithm>
 #include <cmath>
@@ -129,7 +130,13 @@ void compute_nodal_preconditioner(sk_linear_system *sys, sk_linear_solver_kind k
   RCP<Matrix> k = nodal_matrix(sys);
   NodalPreconditioner &p = preconditioner_of(sys, kind);
   if (kind == SK_LINEAR_GMRES_MUELU) {
-    if (!full && !p.muelu.is_null()) {
+    // Aggregates reused on one rank only, and on the matrix they were built for (a new pattern is a new matrix
+    // object). The reuse recomputes the products into their old static graphs and throws where a product gained an
+    // entry: on several ranks that happens on some ranks and not on others (scenes/corner-contact.yaml, 4 ranks,
+    // gmres-muelu, the same matrix: ranks 1-3 threw "insert a new entry into a static graph" in the first contact
+    // step), and the ranks that caught it built afresh while the others went on into the reuse's collectives:
+    // MPI_ERR_TRUNCATE and an aborted run. A fresh set-up is collective on every rank alike.
+    if (!full && !p.muelu.is_null() && p.matrix == k && sys->size == 1) {
       try {
         MueLu::ReuseTpetraPreconditioner(k, *p.muelu);
         p.matrix = k;

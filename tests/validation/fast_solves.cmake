@@ -9,3 +9,7 @@ stickslip_scene_tests(test_fast_solves.py pattern_margin_same_history)
 set_tests_properties(validation_pattern_margin_same_history PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
 # gmres-lu (the lagged LU) against MUMPS on 2D Hertz: the same forces and profile, fewer factorisations (~2 s).
 stickslip_scene_tests(test_fast_solves.py hertz_2d_lagged_lu)
+# GMRES + MueLu on 4 ranks through a recomputed preconditioner, against MUMPS on one rank (corner-contact, 2 steps;
+# ~2 s CPU).
+stickslip_scene_tests(test_fast_solves.py muelu_four_ranks)
+set_tests_properties(validation_muelu_four_ranks PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
