@@ -226,6 +226,28 @@ void sk_model_layer_roles(const sk_model *m, unsigned char *role) {
   }
 }
 
+/* Before distribution, the bulk partition: the nodes of every slave face sharing a node with a face that touches a
+ * node held so far (role set), so that after distribution the slave view's second layer of faces is held. */
+static sk_status hold_slave_stars(const sk_model *m, const sk_surface *s, unsigned char *role) {
+  unsigned char *near = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
+  if (!near) return sk_error_set(SK_ERR_NOMEM, "out of memory for the slave faces of a contact pair");
+  for (int f = 0; f < s->n_faces; ++f) {
+    const int *conn = s->conn + (size_t)f * s->nen;
+    int touches = 0;
+    for (int a = 0; a < s->nen && !touches; ++a) touches = role[conn[a]] != 0;
+    for (int a = 0; touches && a < s->nen; ++a) near[conn[a]] = 1;
+  }
+  for (int f = 0; f < s->n_faces; ++f) {
+    const int *conn = s->conn + (size_t)f * s->nen;
+    int around = 0;
+    for (int a = 0; a < s->nen && !around; ++a) around = near[conn[a]];
+    for (int a = 0; around && a < s->nen; ++a)
+      if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
+  }
+  free(near);
+  return SK_OK;
+}
+
 sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
   sk_model_layer_roles(m, role);
   /* master surfaces: a slave point may reach any of their faces; with ghost boxes, the faces this rank holds now
@@ -246,12 +268,17 @@ sk_status sk_model_node_roles(const sk_model *m, unsigned char *role) {
         if (!role[conn[a]]) role[conn[a]] = SK_NODE_GHOST;
     }
   }
-  /* the contact partition: the nodes of the faces of this rank's slave views (contact_partition.h); before the model
-   * is distributed (the surface not localized yet) every slave node, kept for a rebalancing (idle until used) */
+  /* the nodes of the faces of this rank's slave views (contact_partition.h: two layers of faces, the faces it
+   * evaluates and every face around their nodes). Before the model is distributed (the surface not localized yet):
+   * with a contact partition every slave node, kept for a rebalancing (idle until used); with the bulk partition the
+   * faces around the nodes of every face that touches the nodes held so far, a superset of the views' faces */
   for (int k = 0; k < m->n_pairs; ++k) {
     const sk_contact_pair *pair = &m->pairs[k];
     const sk_surface *s = &pair->slave;
-    if (!pair->contact_node_owner) continue;
+    if (!s->face_index && !pair->contact_node_owner) {
+      SK_TRY(hold_slave_stars(m, s, role));
+      continue;
+    }
     if (!s->face_index) {
       for (int j = 0; j < s->n_nodes; ++j)
         if (!role[s->nodes[j]]) role[s->nodes[j]] = SK_NODE_GHOST;

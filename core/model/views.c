@@ -201,9 +201,10 @@ sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *na
   const size_t nf = (size_t)(s->n_faces > 0 ? s->n_faces : 1);
   unsigned char *selected = calloc(nf, 1);
   if (!selected) return no_memory(v, name);
-  if (contact && (s != &contact->slave || !contact->contact_node_owner)) contact = NULL;
-  /* every face this rank owns or with a node it owns (with `whole`, every face it holds, or those `held` flags);
-   * with a contact partition the faces of its slave view there */
+  if (contact && (s != &contact->slave || whole)) contact = NULL;
+  /* a pair's slave surface: the faces this rank evaluates (it owns, or with a contact partition contact-owns, the face
+   * or one of its nodes) and every face around their nodes (contact_partition.h); other surfaces: every face this
+   * rank owns or with a node it owns (with `whole`, every face it holds, or those `held` flags) */
   if (contact && sk_contact_faces_used(m, contact, selected) != 0) {
     free(selected);
     return no_memory(v, name);
@@ -216,6 +217,7 @@ sk_status sk_view_surface(const sk_model *m, const sk_surface *s, const char *na
   const sk_status status = fill_surface(v, m, s, name, selected);
   free(selected);
   /* the contact partition: the view's owned nodes and faces are those this rank contact-owns */
+  if (contact && !contact->contact_node_owner) contact = NULL;
   for (int k = 0; status == SK_OK && contact && k < v->view.n_nodes; ++k)
     v->owned[k] = contact->contact_node_owner[v->node_index[k]] == m->rank;
   for (int c = 0; status == SK_OK && contact && c < v->view.n_cells; ++c)

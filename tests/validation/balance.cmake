@@ -15,5 +15,9 @@ endforeach()
 # long in CMakeLists.txt.
 stickslip_scene_tests(test_contact_balance.py contact_partition_mortar)
 set_tests_properties(validation_contact_partition_mortar PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
+# mortar-dual with the bulk partition on 8 ranks (the slave view's second layer of faces ghosted by the host): about
+# 25 s CPU, labelled long in CMakeLists.txt.
+stickslip_scene_tests(test_contact_balance.py bulk_partition_mortar_8)
+set_tests_properties(validation_bulk_partition_mortar_8 PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
 # A restart equal to the uninterrupted run to the bit (1 rank, about 3 s CPU).
 stickslip_scene_tests(test_contact_balance.py restart_to_the_bit)
