@@ -560,6 +560,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
 
 sk_status sk_recorder_close(sk_recorder *rec, sk_run_summary *summary, sk_status status) {
   const sk_model *m = &rec->scene->model;
+  summary->contact_seconds_largest = rec->balance.run_seconds[2];
   /* results: complete files up to the last converged step, then the folder is swapped in atomically */
   char message[1100];
   snprintf(message, sizeof message, "%s", sk_error_message());

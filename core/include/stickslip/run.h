@@ -45,7 +45,8 @@ typedef struct {
                               (line_search full-step-then-backtrack) */
   int backtrack_rescues;   /* of those, the ones that converged (no cut needed) */
   double final_time;
-  double wall_seconds, assembly_seconds, contact_seconds, solve_seconds;
+  double wall_seconds, assembly_seconds, contact_seconds, solve_seconds; /* rank 0's */
+  double contact_seconds_largest; /* the largest rank's contact seconds (0 when no results were written) */
   int failed;
   int interrupted;         /* with failed: stopped by SIGINT/SIGTERM between two steps (stickslip/interrupt.h) */
   char message[1024];
