@@ -1,7 +1,10 @@
 /* A plugin instance as a term of the system (internal): the instance, its host handle, attachment, views and the
- * state it sees. term_plugin.c runs the ABI calls; host.c serves the api and the extensions. */
+ * state it sees. term_plugin_create.c creates it, term_plugin.c runs the ABI calls; host.c serves the api and the
+ * extensions. */
 #ifndef STICKSLIP_TERM_PLUGIN_H
 #define STICKSLIP_TERM_PLUGIN_H
+
+#include <stdlib.h>
 
 #include "host.h"
 #include "scene_info.h"
@@ -61,6 +64,14 @@ typedef struct plugin_term {
   int n_computed;
 } plugin_term;
 
+/* n doubles set to zero (at least one, so that an empty view's arrays are not NULL), and a view's dof count. */
+static inline double *sk_plugin_zeros(int64_t n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
+static inline int sk_view_dof_count(const sk_view *view) { return view->n_nodes * view->dim; }
+/* A plugin call's status, with a message naming the call and the status where the plugin returned an error without
+ * one; PLUGIN_CALL(term, call, args...) makes the call through it. */
+sk_status sk_plugin_term_said(const plugin_term *term, const char *call, sk_status status);
+#define PLUGIN_CALL(term, call, ...) \
+  (sk_error_clear(), sk_plugin_term_said((term), #call, (term)->table.call(__VA_ARGS__)))
 /* Positions, x_n and v_n of the views from the system (refresh_state: only when the iterate changed). */
 void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial);
 /* The ops of plugin terms (to tell them apart from core terms). */
