@@ -218,6 +218,8 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);
  * nodes (solver.pattern_margin), sorted and unique; *keys is replaced (left as it is when out of memory: widening
  * only saves work) (system_widening.c). */
 void sk_system_widen_keys(const sk_system *sys, int rings, int64_t **keys, int64_t *n_keys);
+/* The error of a failed allocation of `count` entries for `what` (SK_ERR_NOMEM). */
+sk_status sk_system_out_of_memory(const char *what, int64_t count);
 /* qsort/bsearch order of int64_t; sorts keys[*n] and drops repeats (system_widening.c). */
 int sk_compare_i64(const void *a, const void *b);
 void sk_sort_unique_i64(int64_t *keys, int64_t *n);

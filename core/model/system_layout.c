@@ -9,9 +9,6 @@
 
 #include "system.h"
 
-static sk_status out_of_memory(const char *what, int64_t count) {
-  return sk_error_set(SK_ERR_NOMEM, "out of memory for %s (%lld entries)", what, (long long)count);
-}
 
 int64_t sk_system_local_of(const sk_system *sys, int64_t abi) {
   const sk_model *m = sys->model;
@@ -54,7 +51,7 @@ sk_status sk_system_ensure_capacity(sk_system *sys, int64_t n) {
                         memory / 1e9);
   }
   double *x = calloc((size_t)cap, sizeof(double));
-  if (!x) return out_of_memory("the unknowns", cap);
+  if (!x) return sk_system_out_of_memory("the unknowns", cap);
   if (sys->x) memcpy(x, sys->x, sizeof(double) * (size_t)sys->capacity);
   free(sys->x);
   sys->x = x;
@@ -76,7 +73,7 @@ sk_status sk_system_ensure_capacity(sk_system *sys, int64_t n) {
   sys->owned = malloc(sizeof(int) * (size_t)cap);
   sys->constraint_out = malloc(sizeof(int) * (size_t)cap);
   if (!ok || !sys->solver_of || !sys->role || !sys->owned || !sys->constraint_out)
-    return out_of_memory("the work vectors", cap);
+    return sk_system_out_of_memory("the work vectors", cap);
   return SK_OK;
 }
 
@@ -86,7 +83,7 @@ sk_status sk_system_layout_dofs(sk_system *sys) {
   sk_model *m = sys->model;
   sys->node_role = calloc((size_t)(m->n_nodes > 0 ? m->n_nodes : 1), 1);
   sys->owned_dofs = malloc(sizeof(int) * (size_t)(m->n_dofs > 0 ? m->n_dofs : 1));
-  if (!sys->node_role || !sys->owned_dofs) return out_of_memory("the owned dofs", m->n_dofs);
+  if (!sys->node_role || !sys->owned_dofs) return sk_system_out_of_memory("the owned dofs", m->n_dofs);
   SK_TRY(sk_model_node_roles(m, sys->node_role));
   int64_t n_owned = 0;
   for (int a = 0; a < m->n_nodes; ++a)
@@ -112,7 +109,7 @@ sk_status sk_system_plan_ghost_dofs(sk_system *sys, sk_exchange *x, int every_no
   int64_t *gid = malloc(sizeof(int64_t) * (size_t)(n_ghosts * m->dim + 1));
   int *owner = malloc(sizeof(int) * (size_t)(n_ghosts * m->dim + 1));
   unsigned char *role = calloc((size_t)(m->n_dofs > 0 ? m->n_dofs : 1), 1);
-  sk_status status = local && gid && owner && role ? SK_OK : out_of_memory("the ghost dofs", n_ghosts);
+  sk_status status = local && gid && owner && role ? SK_OK : sk_system_out_of_memory("the ghost dofs", n_ghosts);
   int64_t g = 0;
   for (int a = 0; a < m->n_nodes && status == SK_OK; ++a) {
     for (int i = 0; i < m->dim; ++i) role[a * m->dim + i] = sys->node_role[a];
@@ -148,7 +145,7 @@ static sk_status plan_extras(sk_system *sys) {
   int64_t *local = malloc(sizeof(int64_t) * (size_t)(n_ghosts + 1));
   int64_t *gid = malloc(sizeof(int64_t) * (size_t)(n_ghosts + 1));
   int *owner = malloc(sizeof(int) * (size_t)(n_ghosts + 1));
-  sk_status status = local && gid && owner ? SK_OK : out_of_memory("the ghost extras", n_ghosts);
+  sk_status status = local && gid && owner ? SK_OK : sk_system_out_of_memory("the ghost extras", n_ghosts);
   int64_t g = 0;
   int n_live; /* a sleeping pair has no extra unknowns (sk_term_plugin_set_far) */
   sk_term *const *live = sk_system_live_terms(sys, &n_live);
@@ -188,7 +185,7 @@ static sk_status plan_constraints(sk_system *sys) {
   int *mine = malloc(sizeof(int) * (size_t)(sys->n_constraint_out + 1));
   if (!sys->constraint_counts || !sys->constraint_displs || !sys->constraint_row || !sys->constraint_buffer || !mine) {
     free(mine);
-    return out_of_memory("the constraint rows", n_constraints);
+    return sk_system_out_of_memory("the constraint rows", n_constraints);
   }
   for (int k = 0; k < sys->n_constraint_out; ++k) mine[k] = sys->solver_of[sys->constraint_out[k]] - (int)sys->n_nodal;
   MPI_Gather(&sys->n_constraint_out, 1, MPI_INT, sys->constraint_counts, 1, MPI_INT, last, sys->comm);
@@ -267,7 +264,7 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
     if (!old_solver || !old_role) {
       free(old_solver);
       free(old_role);
-      return out_of_memory("the unknowns' numbering", old_n);
+      return sk_system_out_of_memory("the unknowns' numbering", old_n);
     }
     memcpy(old_solver, sys->solver_of, sizeof(int) * (size_t)old_n);
     memcpy(old_role, sys->role, (size_t)old_n);

@@ -10,9 +10,6 @@
 #include "assemble.h"
 #include "system.h"
 
-static sk_status out_of_memory(const char *what, int64_t count) {
-  return sk_error_set(SK_ERR_NOMEM, "out of memory for %s (%lld entries)", what, (long long)count);
-}
 
 static int compare_int(const void *a, const void *b) {
   int x = *(const int *)a, y = *(const int *)b;
@@ -130,7 +127,7 @@ sk_status sk_system_declare_local(sk_system *sys, int nr, const int64_t *rows, i
   if (need > sys->cap_declared) {
     const int64_t cap = 2 * need + 1024;
     int64_t *grown = realloc(sys->declared, sizeof(int64_t) * (size_t)cap);
-    if (!grown) return out_of_memory("the declared pattern", cap);
+    if (!grown) return sk_system_out_of_memory("the declared pattern", cap);
     sys->declared = grown;
     sys->cap_declared = cap;
   }
@@ -168,7 +165,7 @@ static sk_status build_bulk_graph(sk_system *sys) {
   const sk_model *m = sys->model;
   const int nn = m->n_nodes;
   int *count = calloc((size_t)nn + 1, sizeof(int));
-  if (!count) return out_of_memory("the element graph", nn);
+  if (!count) return sk_system_out_of_memory("the element graph", nn);
   int nodes[SK_MAX_NEN];
   for (int e = 0; e < m->n_elements; ++e) {
     if (m->element_part[e] != m->rank) continue;
@@ -185,7 +182,7 @@ static sk_status build_bulk_graph(sk_system *sys) {
     free(count);
     free(cols);
     free(fill);
-    return out_of_memory("the element graph", total);
+    return sk_system_out_of_memory("the element graph", total);
   }
   for (int a = 0; a < nn; ++a)
     if (sys->node_role[a] == SK_NODE_OWNED) cols[count[a] + fill[a]++] = a;
@@ -206,7 +203,7 @@ static sk_status build_bulk_graph(sk_system *sys) {
   if (!ptr) {
     free(count);
     free(cols);
-    return out_of_memory("the element graph", nn);
+    return sk_system_out_of_memory("the element graph", nn);
   }
   ptr[0] = 0;
   for (int a = 0; a < nn; ++a) {
@@ -279,7 +276,7 @@ static sk_status hand_to_solver(sk_system *sys) {
   if (!rows || !ptr) {
     free(rows);
     free(ptr);
-    return out_of_memory("the rows of this rank", n_rows);
+    return sk_system_out_of_memory("the rows of this rank", n_rows);
   }
   ptr[0] = 0;
   for (int64_t r = 0, i = 0; r < sys->n; ++r) {
@@ -313,7 +310,7 @@ static sk_status place_elements(sk_system *sys) {
   sys->elem_pos_offset[m->n_elements] = total;
   free(sys->elem_pos);
   sys->elem_pos = malloc(sizeof(int64_t) * (size_t)(total > 0 ? total : 1));
-  if (!sys->elem_pos) return out_of_memory("the element positions", total);
+  if (!sys->elem_pos) return sk_system_out_of_memory("the element positions", total);
   for (int e = 0; e < m->n_elements; ++e) {
     if (m->element_part[e] != m->rank) continue;
     const int nd = sk_element_dofs(m, e, dofs, NULL, NULL);
@@ -341,7 +338,7 @@ static sk_status build_rows(sk_system *sys, int follow) {
   int64_t *moved_to = follow ? malloc(sizeof(int64_t) * (size_t)(old_entries > 0 ? old_entries : 1)) : NULL;
   if (!row_ptr || !cols || !row || (follow && !moved_to)) {
     free(row_ptr), free(cols), free(row), free(moved_to);
-    return out_of_memory("the sparsity pattern", bound);
+    return sk_system_out_of_memory("the sparsity pattern", bound);
   }
   int64_t used = 0;
   row_ptr[0] = 0;
@@ -383,7 +380,7 @@ static sk_status build_rows(sk_system *sys, int follow) {
 static sk_status merge_keys(sk_system *sys, const int64_t *keys, int64_t n_keys) {
   if (n_keys == 0) return SK_OK; /* keys may be NULL then (an attempt that declares nothing new) */
   int64_t *merged = realloc(sys->extra_keys, sizeof(int64_t) * (size_t)(sys->n_extra_keys + n_keys + 1));
-  if (!merged) return out_of_memory("the pattern keys", sys->n_extra_keys + n_keys);
+  if (!merged) return sk_system_out_of_memory("the pattern keys", sys->n_extra_keys + n_keys);
   sys->extra_keys = merged;
   memcpy(merged + sys->n_extra_keys, keys, sizeof(int64_t) * (size_t)n_keys);
   int64_t n = sys->n_extra_keys + n_keys;
@@ -399,11 +396,11 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   if (!sys->bulk_ptr) SK_TRY(build_bulk_graph(sys));
   sys->n_declared = 0;
   if (!sys->declared_recent) sys->declared_recent = malloc(sizeof(int64_t) * DECLARED_RECENT);
-  if (!sys->declared_recent) return out_of_memory("the declared pattern", DECLARED_RECENT);
+  if (!sys->declared_recent) return sk_system_out_of_memory("the declared pattern", DECLARED_RECENT);
   for (int k = 0; k < DECLARED_RECENT; ++k) sys->declared_recent[k] = -1;
   free(sys->row_local);
   sys->row_local = calloc((size_t)n + 1, 1);
-  if (!sys->row_local) return out_of_memory("the rows of this rank", n);
+  if (!sys->row_local) return sk_system_out_of_memory("the rows of this rank", n);
   /* extras this rank holds: it may add to an entity's rows (its owner sums) */
   for (int64_t r = sys->model->n_dofs; r < n; ++r) sys->row_local[r] = sys->role[r] != 0;
   sk_status status = SK_OK;
