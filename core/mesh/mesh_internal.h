@@ -15,7 +15,20 @@ void sk_geo_names_free(char **names, int n_names);
  * mesh_orient.c). */
 sk_status sk_mesh_orient(sk_mesh *mesh);
 
-/* ---- gmsh's element arrays (mesh_load.c) -------------------------------------------------------------------- */
+/* ---- the gmsh model (gmsh_model.c) ------------------------------------------------------------------------- */
+
+/* gmsh keeps global state: each load runs between its own session begin and end, with the terminal quiet and the
+ * logger collecting errors for our message. */
+void sk_gmsh_session_begin(void);
+void sk_gmsh_session_end(void);
+/* Non-zero when the last gmsh call failed (ierr) or logged an error; the error message then names the file. */
+int sk_gmsh_failed(int ierr, const char *path, const char *what);
+/* The physical groups up to dimension `dim` and the nodes they use, from the current gmsh model. */
+sk_status sk_gmsh_read_model(const char *path, int dim, sk_mesh *mesh);
+/* The highest dimension carrying a physical group (-1: none) in *highest; 0 when gmsh failed (error set). */
+int sk_gmsh_highest_group_dimension(const char *path, int *highest);
+
+/* What gmshModelMeshGetElements returns for one entity (gmsh_model.c): */
 
 /* What gmshModelMeshGetElements returns for one entity: per element type t, tags_n[t] elements with their tags and
  * nodes (nodes_n[t] = tags_n[t] * nodes per element). */
