@@ -306,7 +306,7 @@ sk_status sk_master_ghosts_renew(sk_system *sys, int rebalanced) {
     sk_record_set records = {0};
     status = gather_records(sys, sys->terms[k], &records);
     if (status == SK_OK)
-      status = sk_term_plugin_renew_master(sys->terms[k], sys, &records.abi,
+      status = sk_term_plugin_recreate(sys->terms[k], sys, &records.abi,
                                            rebalanced && m->pairs[pair].contact_node_owner != NULL);
     status = sk_system_collective(sys, status);
     sk_record_set_free(&records);

@@ -36,7 +36,7 @@ sk_status sk_master_ghosts_check(sk_system *sys, int64_t *missing_faces);
 sk_status sk_master_ghosts_renew(sk_system *sys, int rebalanced);
 /* A restart (core/time/restart.c), with the state of every node it keeps read and q = q_n: the faces held from the
  * positions there (collective). The instances of the pairs it applies to (sk_master_ghosts_term) are then re-created
- * over their new master views as they load their records (sk_term_plugin_renew_master). */
+ * over their new master views as they load their records (sk_term_plugin_recreate). */
 sk_status sk_master_ghosts_restart(sk_system *sys);
 /* 1 when `term` is the plugin instance of a pair whose master faces are ghosted by swept boxes. */
 int sk_master_ghosts_term(const sk_system *sys, const sk_term *term);

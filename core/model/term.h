@@ -124,7 +124,7 @@ sk_status sk_term_plugin_save(sk_term *term, sk_system *sys, sk_record_writer *w
 /* A pair's instance re-created over its master view built again from the faces held now (master_ghosts.c) — with
  * slave_too also its slave view, from the slave entities its rank contact-owns now (contact_partition.h), and its
  * extras' owners recomputed — its history loaded from `records` (every rank's, as at a restart). */
-sk_status sk_term_plugin_renew_master(sk_term *term, sk_system *sys, const sk_record_reader *records, int slave_too);
+sk_status sk_term_plugin_recreate(sk_term *term, sk_system *sys, const sk_record_reader *records, int slave_too);
 sk_status sk_term_plugin_load(sk_term *term, sk_system *sys, const sk_record_reader *reader);
 /* A plugin term that claimed its body and whose integrator reports the energy its scheme conserves (ABI 2.5): *body
  * is that body and energy[0], energy[1] its kinetic and strain energy, this rank's part (initial: of the initial

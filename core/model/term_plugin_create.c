@@ -245,7 +245,7 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   return SK_OK;
 }
 
-sk_status sk_term_plugin_renew_master(sk_term *base, sk_system *sys, const sk_record_reader *records,
+sk_status sk_term_plugin_recreate(sk_term *base, sk_system *sys, const sk_record_reader *records,
                                       int slave_too) {
   plugin_term *term = (plugin_term *)base;
   const sk_contact_pair *pair = &sys->model->pairs[term->pair];

@@ -379,7 +379,7 @@ sk_status sk_restart_apply(const sk_restart *r, sk_system *sys, sk_progress *pro
     const int slave_too = repartitioned && pair >= 0 && m->pairs[pair].contact_node_owner;
     if (status == SK_OK)
       status = sk_master_ghosts_term(sys, term) || slave_too
-                   ? sk_term_plugin_renew_master(term, sys, &sets[t].abi, slave_too)
+                   ? sk_term_plugin_recreate(term, sys, &sets[t].abi, slave_too)
                    : sk_term_plugin_load(term, sys, &sets[t].abi);
     if (status != SK_OK) sk_error_prefix(status, "--restart: %s: ", term->name);
     status = sk_system_collective(sys, status);
