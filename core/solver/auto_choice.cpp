@@ -165,8 +165,8 @@ double projected_solves_left(const AutoMemory &m) {
 // set-up, the inverse diagonal, is part of every solve) or where it is made already (MueLu's hierarchy is kept
 // across patterns, MUMPS's analysis within one); else the candidate's own set-up measured at this size, else the
 // largest one-time set-up another candidate measured at this size: MUMPS's analysis and MueLu's hierarchy are
-// both graph work over the same entries, and on the 2D Hertz ladder MueLu's hierarchy measured 0.83-1.06 x MUMPS's
-// analysis (quad4 refine 2 and 3, quad9 refine 1 and 1.6).
+// both graph work over the same entries: MueLu's hierarchy measured 0.8-1.0 x MUMPS's analysis on the 2D Hertz
+// ladder (quad4 refine 2 and 3, quad9 refine 1 and 1.6), 1.0-2.3 x on the 3D one (docs/linear-solvers.md).
 double trial_setup_seconds(const sk_linear_system *sys, sk_linear_solver_kind kind, double size) {
   const AutoMemory &m = sys->auto_memory;
   const bool made = mumps_backed(kind)           ? !sys->amesos.is_null() && sys->amesos_kind == kDirectBackend
