@@ -31,8 +31,11 @@
 //    after a loss it is measured again after kLaggedRetrySolves, 2x, 4x ... solves.
 // 5. On a run of known length (sk_linsys_set_steps_left) a trial starts only while the rest of the run can pay for
 //    it: solves left to use its result, an expected extra cost below what it could save, and the trials' extra cost
-//    within kExplorationShare of the projected linear-solve time (auto_trial_refusal, auto_rule.cpp). On the Hertz
-//    ladder (17-33 solves) five candidates' trials took a large share of the run.
+//    within kExplorationShare of the projected linear-solve time (auto_trial_refusal, auto_rule.cpp), a trial's
+//    one-time set-up counted in (trial_setup_seconds). On the Hertz ladder (17-33 solves) five candidates' trials
+//    took a large share of the run; on the 2D quad9 GMRES + MueLu's trial, priced without its hierarchy, fitted
+//    the budget and cost its hierarchy and three solves each dearer than the lagged LU's.
+// 6. A trial of an iterative candidate ends as soon as its candidate would not be chosen (auto_trial_lost).
 // Measurements are kept across pattern changes as cost coefficients (seconds / entries^p, p the measured growth),
 // so a pattern that gains a few contact entries keeps its decision. Every decision is logged once, with its reason.
 #include <algorithm>
@@ -57,7 +60,7 @@ constexpr double kDirectExponent = 1.6;
 constexpr double kIterativeExponent = 1.1;
 constexpr double kMeasuredRange = 2.0;
 constexpr double kSwitchMargin = 1.2;
-constexpr int kTrialSolves = 3;  // the first pays the set-up (symbolic factorisation / AMG hierarchy)
+constexpr int kTrialSolves = 3;  // at most: a trial ends once its candidate has lost (auto_trial_lost)
 // MUMPS's trial: one solve (its analysis is timed apart, and every solve is a fresh numeric factorisation)
 constexpr int kDirectTrialSolves = 1;
 // The exploration budget of a run of known length: trials may cost (beyond the leader's solves they replace) this
@@ -158,6 +161,30 @@ double projected_solves_left(const AutoMemory &m) {
   return std::max(1.0, per_step * m.steps_left - this_step);
 }
 
+// The one-time set-up a trial of `kind` pays before its first solve: none for GMRES + SGS and + Jacobi (their
+// set-up, the inverse diagonal, is part of every solve) or where it is made already (MueLu's hierarchy is kept
+// across patterns, MUMPS's analysis within one); else the candidate's own set-up measured at this size, else the
+// largest one-time set-up another candidate measured at this size: MUMPS's analysis and MueLu's hierarchy are
+// both graph work over the same entries: MueLu's hierarchy measured 0.8-1.0 x MUMPS's analysis on the 2D Hertz
+// ladder (quad4 refine 2 and 3, quad9 refine 1 and 1.6), 1.0-2.3 x on the 3D one (docs/linear-solvers.md).
+double trial_setup_seconds(const sk_linear_system *sys, sk_linear_solver_kind kind, double size) {
+  const AutoMemory &m = sys->auto_memory;
+  const bool made = mumps_backed(kind)           ? !sys->amesos.is_null() && sys->amesos_kind == kDirectBackend
+                    : kind == kIterativeBackend ? !sys->preconditioners[0].muelu.is_null()  // GMRES_MUELU's slot
+                                                : true;
+  if (made) return 0;
+  const int own = index_of(kind);
+  double seconds = 0;
+  for (int c = 0; c < kAutoCandidates; ++c) {
+    const AutoMemory::Candidate &k = m.candidates[c];
+    if (k.setup_coefficient <= 0 || !measured_here(k, size)) continue;
+    const double setup = estimate(sys, c, true, size).setup_seconds;
+    if (c == own) return setup;
+    seconds = std::max(seconds, setup);
+  }
+  return seconds;
+}
+
 // Takes the decision; it is logged when the solver or the kind of reason changes.
 sk_linear_solver_kind decide(sk_linear_system *sys, sk_linear_solver_kind kind, const char *reason_class,
                              const std::string &reason) {
@@ -213,8 +240,20 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
                                  .c_str());
   }
   if (m.trial_solves_left > 0 && m.current != SK_LINEAR_AUTO && allowed[index_of(m.current)]) {
-    --m.trial_solves_left;
-    return m.current;  // the trial goes on, with its iteration cap
+    // an iterative candidate that would not be chosen over the candidate it is measured against ends its trial
+    // (auto_trial_lost): on the 2D Hertz quad9 refine 1.6 GMRES + MueLu measured 0.19 s per solve against the
+    // lagged LU's 0.20 s at its first solve (not 1.2 x cheaper), and its two further solves cost 0.13 and 0.53 s
+    const int trial = index_of(m.current);
+    const bool lost = !mumps_backed(m.current) && m.before_trial != SK_LINEAR_AUTO &&
+                      measured_here(m.candidates[trial], size) &&
+                      auto_trial_lost(estimate(sys, trial, true, size),
+                                      estimate(sys, index_of(m.before_trial),
+                                               measured_here(m.candidates[index_of(m.before_trial)], size), size),
+                                      kSwitchMargin);
+    if (!lost) {
+      --m.trial_solves_left;
+      return m.current;  // the trial goes on, with its iteration cap
+    }
   }
   m.trial_solves_left = 0;
   m.iteration_cap = 0;
@@ -315,6 +354,7 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
     trial.trial_solves = window ? kLaggedWindow : is_direct(kind) ? kDirectTrialSolves : kTrialSolves;
     // a capped iterative trial that fails wastes about one solve of the leader; a factorising one its factorisation
     trial.extra_seconds = mumps_backed(kind) ? std::max(0.0, factorisation - leader) : leader;
+    trial.setup_seconds = trial_setup_seconds(sys, kind, size);
     trial.optimistic_seconds = is_direct(kind) ? factorisation : 0.0;
     trial.leader_seconds = leader;
     trial.spent_seconds = m.explored_seconds;

@@ -32,11 +32,17 @@ const char *auto_trial_refusal(const AutoTrial &t) {
   if (t.solves_left < 0) return nullptr;  // a run of unknown length: explore
   const double after = t.solves_left - t.trial_solves;
   if (after < 1) return "too few solves left to use its result";
-  if (t.extra_seconds >= std::max(0.0, t.leader_seconds - t.optimistic_seconds) * after)
+  const double cost = t.extra_seconds + t.setup_seconds;  // a trial pays its candidate's set-up before a solve
+  if (cost >= std::max(0.0, t.leader_seconds - t.optimistic_seconds) * after)
     return "it could not repay its trial in the solves left";
-  if (t.spent_seconds + t.extra_seconds > t.share * t.leader_seconds * t.solves_total)
+  if (t.spent_seconds + cost > t.share * t.leader_seconds * t.solves_total)
     return "the exploration budget of this run is spent";
   return nullptr;
+}
+
+bool auto_trial_lost(const AutoEstimate &trial, const AutoEstimate &holder, double switch_margin) {
+  return trial.eligible && holder.eligible &&
+         auto_cost_per_solve(trial) * switch_margin >= auto_cost_per_solve(holder);
 }
 
 }  // namespace stickslip::bridge

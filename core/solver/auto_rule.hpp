@@ -32,6 +32,7 @@ struct AutoTrial {
   double solves_total = 0;         // projected solves of the whole run (those made and those left)
   int trial_solves = 1;            // solves the trial takes
   double extra_seconds = 0;        // its expected cost beyond that of the leader's solves it replaces
+  double setup_seconds = 0;        // the one-time set-up it would pay first (a hierarchy, an analysis not yet made)
   double optimistic_seconds = 0;   // the least the candidate can cost per solve afterwards
   double leader_seconds = 0;       // the leader's (cheapest measured candidate's) cost per solve
   double spent_seconds = 0;        // what the trials so far cost beyond the leader's solves
@@ -39,8 +40,16 @@ struct AutoTrial {
 };
 
 // nullptr if the trial is worth starting; otherwise why not: too few solves left to use its result, its expected
-// extra cost exceeds what the candidate could save over the rest of the run at its optimistic cost, or the
-// exploration so far plus this trial would exceed `share` of the projected linear-solve time at the leader's cost.
+// extra cost (its set-up included) exceeds what the candidate could save over the rest of the run at its optimistic
+// cost, or the exploration so far plus this trial would exceed `share` of the projected linear-solve time at the
+// leader's cost.
 const char *auto_trial_refusal(const AutoTrial &trial);
+
+// Whether a trial that has measured its candidate (`trial`) ends before its planned solves: the candidate would not
+// be chosen over the candidate it is measured against (`holder`), its cost per solve times `switch_margin` not below
+// the holder's. Its later solves would have to be cheaper than its first by more than the margin to change that,
+// and a preconditioner kept across solves (MueLu's aggregates) ages on a drifting matrix: on the 2D Hertz quad9
+// refine 1 GMRES + MueLu took 19, 25 and 26 iterations in its trial's three solves.
+bool auto_trial_lost(const AutoEstimate &trial, const AutoEstimate &holder, double switch_margin);
 
 }  // namespace stickslip::bridge

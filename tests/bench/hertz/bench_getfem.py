@@ -2,9 +2,10 @@
 mesh, problem and load steps (getfem_hertz.py), the same error metric (tests/validation/hertz_profile.py, fed with
 GetFEM's pressures at the slave nodes), runs interleaved (stickslip, GetFEM, stickslip, GetFEM, ...) on one machine.
 
-  python3 tests/bench/hertz/bench_getfem.py run [--repeats N] [--set KEY=VALUE ...] ELEMENT:REFINE[,REFINE...] ...
+  python3 tests/bench/hertz/bench_getfem.py run [--repeats N] [--each] [--set KEY=VALUE ...] ELEMENT:REFINE[,REFINE...] ...
                                      runs the cases N times each (default 3), merges them into getfem.csv; --set
-                                     runs stickslip with that override as well (rows "stickslip KEY=VALUE")
+                                     runs stickslip with that override as well (rows "stickslip KEY=VALUE"; several
+                                     --set together, or with --each one run per --set, all interleaved)
   python3 tests/bench/hertz/bench_getfem.py report
                                      prints the tables and draws docs/img/hertz-getfem.png (bench_hertz.py report
                                      puts the tables into docs/hertz.md)
@@ -111,8 +112,11 @@ def parse_cases(specs):
 
 
 def run(args):
-    repeats, sets = 3, []
-    while args[:1] in (["--repeats"], ["--set"]):
+    repeats, sets, each = 3, [], False
+    while args[:1] in (["--repeats"], ["--set"], ["--each"]):
+        if args[0] == "--each":
+            each, args = True, args[1:]
+            continue
         if len(args) < 2:
             sys.exit("bench_getfem.py: %s needs a value" % args[0])
         if args[0] == "--set":
@@ -124,7 +128,9 @@ def run(args):
         else:
             repeats = int(args[1])
         args = args[2:]
-    codes = ["stickslip"] + ([" ".join(["stickslip"] + sets)] if sets else []) + ["getfem"]
+    variants = [[s] for s in sets] if each else [sets] if sets else []
+    codes = ["stickslip"] + [" ".join(["stickslip"] + v) for v in variants] + ["getfem"]
+    variant_sets = {" ".join(["stickslip"] + v): v for v in variants}
     cases = parse_cases(args)
     if not cases:
         sys.exit(__doc__)
@@ -136,7 +142,7 @@ def run(args):
             new = []
             for code in codes:  # interleaved: the codes see the same machine load
                 row = (getfem_run(python, element, refine) if code == "getfem" else
-                       stickslip_run(element, refine, sets if code != "stickslip" else []))
+                       stickslip_run(element, refine, variant_sets.get(code, [])))
                 row.update({"code": code, "dim": ELEMENTS[element][0], "element": element, "refine": "%g" % refine,
                             "repeat": repeat})
                 print("%-9s %-6s refine %-5g #%d %7d unknowns  Newton %3d  wall %7.2f s  cpu %7.2f s  l2 %.4f  "

@@ -1,11 +1,13 @@
 // auto_rule: the comparison `auto` makes, on given costs — set-ups charged as often as they recur (never spread
 // over the few solves of a trial), a candidate that failed never chosen, a switch only for a clear advantage, Krylov
-// costs compared at the same tolerance.
+// costs compared at the same tolerance; a trial priced with its candidate's set-up, and ended once its candidate
+// has lost.
 #include "auto_rule.hpp"
 #include "sk_test.h"
 
 using stickslip::bridge::auto_cheapest;
 using stickslip::bridge::auto_cost_per_solve;
+using stickslip::bridge::auto_trial_lost;
 using stickslip::bridge::auto_trial_refusal;
 using stickslip::bridge::AutoEstimate;
 using stickslip::bridge::AutoTrial;
@@ -114,9 +116,53 @@ void check_exploration_budget() {
   SK_CHECK(auto_trial_refusal(tet4_trial(-1, 0, 8, 10.0, 0.0, 10.0)) == nullptr);
 }
 
+// A trial pays its candidate's one-time set-up. The 2D Hertz quad9 refine 1 (measured, 19 solves): the lagged LU
+// leads at 0.033 s per solve after its window of 8, 15 solves projected left; GMRES + MueLu's trial (3 solves, its
+// hierarchy priced at MUMPS's measured analysis, 0.036 s) exceeds the run's 5 % budget (0.05 x 23 x 0.033 = 0.038 s)
+// with its set-up and fits it without; on a run of 400 solves it is taken. A set-up larger than all the candidate
+// could save (the leader's cost over the solves after the trial) refuses it whatever the budget.
+void check_trial_setup() {
+  AutoTrial t;
+  t.solves_left = 15;
+  t.solves_total = 23;
+  t.trial_solves = 3;
+  t.extra_seconds = 0.033;  // a capped iterative trial: about one solve of the leader wasted
+  t.leader_seconds = 0.033;
+  t.share = 0.05;
+  SK_CHECK(auto_trial_refusal(t) == nullptr);
+  t.setup_seconds = 0.036;
+  SK_CHECK(auto_trial_refusal(t) != nullptr);
+  t.solves_left = 398;
+  t.solves_total = 400;
+  SK_CHECK(auto_trial_refusal(t) == nullptr);
+  t.share = 1.0;  // no budget to speak of: only what it could save limits it
+  t.setup_seconds = 0.033 * 393;  // with the solve wasted: 394 of the 395 leader solves after the trial
+  SK_CHECK(auto_trial_refusal(t) == nullptr);
+  t.setup_seconds = 0.033 * 395;
+  SK_CHECK(auto_trial_refusal(t) != nullptr);
+}
+
+// A trial ends once its candidate would not be chosen over the one it is measured against (its cost times the
+// switch margin not below the holder's), and not before: GMRES + MueLu's first solve on the 2D Hertz quad9 refine
+// 1.6 (0.19 s against the lagged LU's 0.20 s) ends its trial, on quad4 refine 2 (0.020 s against 0.034 s) it goes
+// on; a candidate not measured (or a holder not measured) decides nothing.
+void check_trial_lost() {
+  SK_CHECK(auto_trial_lost(candidate(true, 0.19), candidate(true, 0.20), 1.2));
+  SK_CHECK(!auto_trial_lost(candidate(true, 0.19), candidate(true, 0.20), 1.0));  // without the margin: goes on
+  SK_CHECK(auto_trial_lost(candidate(true, 0.25), candidate(true, 0.20), 1.0));
+  SK_CHECK(!auto_trial_lost(candidate(true, 0.020), candidate(true, 0.034), 1.2));
+  SK_CHECK(!auto_trial_lost(candidate(false, 0.19), candidate(true, 0.20), 1.2));
+  SK_CHECK(!auto_trial_lost(candidate(true, 0.19), candidate(false, 0.20), 1.2));
+  // a recurring set-up counts as in the comparison: 0.02 s + 0.04 s analysis per solve against 0.06 s
+  SK_CHECK(auto_trial_lost(candidate(true, 0.02, 0.04, 1.0), candidate(true, 0.06), 1.2));
+  SK_CHECK(!auto_trial_lost(candidate(true, 0.02, 0.04, 0.0), candidate(true, 0.06), 1.2));
+}
+
 }  // namespace
 
 int main() {
+  check_trial_setup();
+  check_trial_lost();
   check_exploration_budget();
   check_setup_apart();
   check_failed_excluded();
