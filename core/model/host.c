@@ -336,15 +336,15 @@ static sk_status linear_solve_again(sk_host *host, const double *const *b_view, 
       if (view->owned[k])
         for (int i = 0; i < view->dim; ++i) term->again_b[dofs[k * view->dim + i]] += b_view[v][k * view->dim + i];
   }
-  for (int64_t j = 0; j < term->base.n_extra; ++j)
-    if (sys->role[term->base.extra_local + j]) term->again_b[term->base.extra_local + j] += b_extra[j];
+  for (int64_t k = 0; k < term->base.n_held; ++k)
+    term->again_b[term->base.extra_local + k] += b_extra[term->base.held[k]];
   SK_TRY(sk_system_solve_again(sys, term->again_b, term->again_y));
   for (int v = 0; v < term->n_views; ++v) {
     const sk_view *view = term->view_list[v];
     const int64_t *dofs = term->views[v].local_dofs;
     for (int k = 0; k < view->n_nodes * view->dim; ++k) y_view[v][k] = term->again_y[dofs[k]];
   }
-  for (int64_t j = 0; j < term->base.n_extra; ++j) y_extra[j] = term->again_y[term->base.extra_local + j];
+  sk_system_extras_to_block(&term->base, term->again_y, y_extra);
   return SK_OK;
 }
 

@@ -52,8 +52,9 @@ struct sk_system {
   unsigned char *claimed;  /* per body: 1 when a body plugin claimed it (no bulk term acts on it) */
 
   /* Local numbering (docs/design.md): the model's dofs (node * dim + i, owned and ghost nodes; the model holds this
-   * rank's nodes), then each term's extra unknowns as one block of its n_extra (extra_local). The plugins' (ABI)
-   * numbering is the mesh node id * dim + i and, for extras, term->extra_offset + j. */
+   * rank's nodes), then each term's extra unknowns that this rank owns or ghosts, one block per term (extra_local,
+   * n_held: term.h). The plugins' (ABI) numbering is the mesh node id * dim + i and, for extras,
+   * term->extra_offset + j. */
   unsigned char *node_role;  /* per model node: SK_NODE_OWNED, SK_NODE_GHOST or 0 (not held by this rank) */
   int64_t n_owned_dofs;
   int *owned_dofs;           /* local dofs this rank owns, in the order of its nodal rows in the linear system */
@@ -70,7 +71,7 @@ struct sk_system {
 
   /* the attempt's unknowns: n local ones (dofs, then the extras blocks) */
   int64_t n, capacity;
-  int64_t extra_shift;     /* local index of the ABI extra unknown e: e + extra_shift */
+  int64_t n_abi;           /* the unknowns over all ranks (ABI numbering: every dof, every term's n_extra) */
   int *solver_of;          /* n: the unknown's row / column in the linear system, or -1 (eliminated, not held) */
   unsigned char *role;     /* n: SK_NODE_OWNED, SK_NODE_GHOST (kept up to date from its owner) or 0 (not held) */
   int64_t n_owned;         /* NOX's unknowns: the owned ones */
@@ -229,6 +230,13 @@ int64_t sk_system_position(const sk_system *sys, int64_t row, int64_t col);
 int64_t sk_system_local_of(const sk_system *sys, int64_t abi);
 /* The ABI index of a local unknown. */
 int64_t sk_system_abi_of(const sk_system *sys, int64_t local);
+/* A term's block of extra unknowns as the plugins read it (sk_state.extra: n_extra values by j): the held ones
+ * copied from x, the others the layout's starting values (no allocation: sized at layout). */
+double *sk_system_extra_block(const sk_system *sys, sk_term *term);
+/* A vector over the local unknowns to a term's block (n_extra values by j, 0 at the extras this rank does not hold),
+ * and the held entries of such a block back into the vector. */
+void sk_system_extras_to_block(const sk_term *term, const double *local, double *block);
+void sk_system_extras_from_block(const sk_term *term, const double *block, double *local);
 /* Copies the owners' values of the local dofs into their ghosts (collective). */
 void sk_system_update_ghost_dofs(sk_system *sys, double *dofs);
 /* Sets up a plugin term's view of a surface or body (term_plugin.c) — see views.h. */

@@ -160,7 +160,11 @@ sk_status sk_system_add_term(sk_system *sys, sk_term *term) {
 
 void sk_system_destroy(sk_system *sys) {
   if (!sys) return;
-  for (int k = sys->n_terms - 1; k >= 0; --k) sys->terms[k]->ops->destroy(sys->terms[k]);
+  for (int k = sys->n_terms - 1; k >= 0; --k) {
+    free(sys->terms[k]->held);
+    free(sys->terms[k]->extra_values);
+    sys->terms[k]->ops->destroy(sys->terms[k]);
+  }
   free(sys->terms);
   sk_broad_phase_free(sys);
   free_unknown_arrays(sys);

@@ -10,6 +10,27 @@
 #include "system.h"
 
 
+/* The live term whose block of extras holds `index` (by_local: a local unknown, else an ABI index), or NULL: the
+ * last term whose block starts at or before it (the blocks follow the terms' order; empty ones are passed over). */
+static const sk_term *term_of_extra(const sk_system *sys, int64_t index, int by_local) {
+  int n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  int lo = 0, hi = n_live - 1, found = -1;
+  while (lo <= hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if ((by_local ? live[mid]->extra_local : live[mid]->extra_offset) <= index) {
+      found = mid;
+      lo = mid + 1;
+    } else {
+      hi = mid - 1;
+    }
+  }
+  if (found < 0) return NULL;
+  const sk_term *term = live[found];
+  return by_local ? (index - term->extra_local < term->n_held ? term : NULL)
+                  : (index - term->extra_offset < term->n_extra ? term : NULL);
+}
+
 int64_t sk_system_local_of(const sk_system *sys, int64_t abi) {
   const sk_model *m = sys->model;
   if (abi < 0) return -1;
@@ -17,14 +38,62 @@ int64_t sk_system_local_of(const sk_system *sys, int64_t abi) {
     const int node = sk_model_node_of(m, abi / m->dim);
     return node >= 0 && sys->node_role[node] ? (int64_t)node * m->dim + abi % m->dim : -1;
   }
-  const int64_t local = abi + sys->extra_shift;
-  return local < sys->n ? local : -1;
+  const sk_term *term = abi < sys->n_abi ? term_of_extra(sys, abi, 0) : NULL;
+  if (!term) return -1;
+  const int64_t j = abi - term->extra_offset;
+  const int64_t *at = bsearch(&j, term->held, (size_t)term->n_held, sizeof(int64_t), sk_compare_i64);
+  return at ? term->extra_local + (at - term->held) : -1;
 }
 
 int64_t sk_system_abi_of(const sk_system *sys, int64_t local) {
   const sk_model *m = sys->model;
   if (local < m->n_dofs) return m->node_gid[local / m->dim] * m->dim + local % m->dim;
-  return local - sys->extra_shift;
+  const sk_term *term = term_of_extra(sys, local, 1);
+  return term ? term->extra_offset + term->held[local - term->extra_local] : -1;
+}
+
+double *sk_system_extra_block(const sk_system *sys, sk_term *term) {
+  if (!term->extra_values) return NULL;
+  for (int64_t k = 0; k < term->n_held; ++k) term->extra_values[term->held[k]] = sys->x[term->extra_local + k];
+  return term->extra_values;
+}
+
+void sk_system_extras_to_block(const sk_term *term, const double *local, double *block) {
+  for (int64_t j = 0; j < term->n_extra; ++j) block[j] = 0.0;
+  for (int64_t k = 0; k < term->n_held; ++k) block[term->held[k]] = local[term->extra_local + k];
+}
+
+void sk_system_extras_from_block(const sk_term *term, const double *block, double *local) {
+  for (int64_t k = 0; k < term->n_held; ++k) local[term->extra_local + k] = block[term->held[k]];
+}
+
+/* The extras of a term this rank holds (held, n_held: those with an owner; all without extra_owner) and room for
+ * the plugins' block; *moved when they differ from the last layout's. */
+static sk_status hold_extras(sk_term *term, int *moved) {
+  const int64_t n = term->n_extra;
+  if (n > term->held_size || n > term->values_size) {
+    int64_t *held = realloc(term->held, sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
+    if (held) {
+      term->held = held;
+      term->held_size = n;
+    }
+    double *values = realloc(term->extra_values, sizeof(double) * (size_t)(n > 0 ? n : 1));
+    if (values) {
+      term->extra_values = values;
+      term->values_size = n;
+    }
+    if (!held || !values) return sk_system_out_of_memory("the extra unknowns held", n);
+  }
+  int64_t count = 0;
+  for (int64_t j = 0; j < n; ++j) {
+    if (term->extra_owner && term->extra_owner[j] < 0) continue;
+    *moved |= count >= term->n_held || term->held[count] != j;
+    term->held[count++] = j;
+  }
+  *moved |= count != term->n_held || term->held_offset != term->extra_offset;
+  term->n_held = count;
+  term->held_offset = term->extra_offset;
+  return SK_OK;
 }
 
 /* The owner's local index of an unknown it owns (sk_exchange_lookup). */
@@ -34,22 +103,30 @@ static int64_t lookup_owned(void *ctx, int64_t abi) {
   return local >= 0 && sys->role[local] == SK_NODE_OWNED ? local : -1;
 }
 
+/* The room the work arrays of n unknowns get (some to spare, so that small changes do not reallocate). */
+static int64_t room_for(int64_t n) { return n + n / 4 + 16; }
+
+/* calloc of many GB succeeds lazily on Linux and the first touch gets the process killed by the OOM killer: refuses
+ * work vectors (x, numberings, nine vectors: about 90 bytes per unknown) for n unknowns larger than the machine's
+ * memory. */
+static sk_status refuse_beyond_memory(const sk_system *sys, int64_t n) {
+  const double need = 90.0 * (double)room_for(n);
+  const double memory = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+  if (memory <= 0 || need <= memory) return SK_OK;
+  const sk_term *largest = sys->terms[0];
+  for (int k = 1; k < sys->n_terms; ++k)
+    if (sys->terms[k]->n_extra > largest->n_extra) largest = sys->terms[k];
+  return sk_error_set(SK_ERR_NOMEM, "%lld unknowns (%lld displacement dofs, %lld extra unknowns of %s) need %.3g GB "
+                      "for the work vectors alone, more than this machine's %.3g GB of memory", (long long)n,
+                      (long long)sys->model->n_dofs, (long long)largest->n_extra, largest->name, need / 1e9,
+                      memory / 1e9);
+}
+
 /* The n-sized work arrays; x keeps its values when it grows. Called at layout time only. */
 sk_status sk_system_ensure_capacity(sk_system *sys, int64_t n) {
   if (n <= sys->capacity && sys->solver_of) return SK_OK;
-  const int64_t cap = n + n / 4 + 16;
-  /* calloc of many GB succeeds lazily on Linux and the first touch gets the process killed by the OOM killer: refuse
-   * work vectors (x, numberings, nine vectors: about 90 bytes per unknown) larger than the machine's memory */
-  const double need = 90.0 * (double)cap, memory = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
-  if (memory > 0 && need > memory) {
-    const sk_term *largest = sys->terms[0];
-    for (int k = 1; k < sys->n_terms; ++k)
-      if (sys->terms[k]->n_extra > largest->n_extra) largest = sys->terms[k];
-    return sk_error_set(SK_ERR_NOMEM, "%lld unknowns (%lld displacement dofs, %lld extra unknowns of %s) need %.3g GB "
-                        "for the work vectors alone, more than this machine's %.3g GB of memory", (long long)n,
-                        (long long)sys->model->n_dofs, (long long)largest->n_extra, largest->name, need / 1e9,
-                        memory / 1e9);
-  }
+  const int64_t cap = room_for(n);
+  SK_TRY(refuse_beyond_memory(sys, n));
   double *x = calloc((size_t)cap, sizeof(double));
   if (!x) return sk_system_out_of_memory("the unknowns", cap);
   if (sys->x) memcpy(x, sys->x, sizeof(double) * (size_t)sys->capacity);
@@ -151,8 +228,8 @@ static sk_status plan_extras(sk_system *sys) {
   sk_term *const *live = sk_system_live_terms(sys, &n_live);
   for (int k = 0; k < n_live && status == SK_OK; ++k) {
     const sk_term *term = live[k];
-    for (int64_t j = 0; j < term->n_extra; ++j) {
-      const int64_t i = term->extra_local + j;
+    for (int64_t h = 0; h < term->n_held; ++h) {
+      const int64_t i = term->extra_local + h, j = term->held[h];
       if (sys->role[i] != SK_NODE_GHOST) continue;
       local[g] = i;
       gid[g] = term->extra_offset + j;
@@ -234,22 +311,28 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
   sys->n_pairs = 0;
   int n_live; /* a sleeping pair keeps the layout of an apart pair: no extra unknowns (sk_term_plugin_set_far) */
   sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  /* again: the extras keep their values, kept by j while the held ones are laid out anew */
+  for (int k = 0; again && k < n_live; ++k) sk_system_extra_block(sys, live[k]);
+  int moved = 0;
   for (int k = 0; k < n_live; ++k) {
     sk_term *term = live[k];
     term->extra_offset = abi;
     term->extra_local = n;
     sk_term_no_extras(term);
-    if (!term->ops->layout) continue;
-    sk_status status = term->ops->layout(term, sys);
-    if (status != SK_OK) return sk_error_prefix(status, "%s: layout: ", term->name);
-    if (term->n_extra < 0) return sk_error_set(SK_ERR_PLUGIN, "%s: negative layout", term->name);
-    n += term->n_extra;
+    if (term->ops->layout) {
+      sk_status status = term->ops->layout(term, sys);
+      if (status != SK_OK) return sk_error_prefix(status, "%s: layout: ", term->name);
+      if (term->n_extra < 0) return sk_error_set(SK_ERR_PLUGIN, "%s: negative layout", term->name);
+    }
+    SK_TRY(refuse_beyond_memory(sys, n + term->n_extra)); /* before the held list: at most n_extra */
+    SK_TRY(hold_extras(term, &moved));
+    n += term->n_held;
     abi += term->n_extra;
   }
-  if (again && n != sys->n)
+  if (again && abi != sys->n_abi)
     return sk_error_set(SK_ERR_PLUGIN, "the number of extra unknowns changed from %lld to %lld within a step "
                         "attempt (a layout after converged() may change only what is eliminated)",
-                        (long long)(sys->n - m->n_dofs), (long long)(n - m->n_dofs));
+                        (long long)(sys->n_abi - m->n_dofs_global), (long long)(abi - m->n_dofs_global));
   /* the bridge and NOX count unknowns in int */
   if (abi > INT_MAX - 16)
     return sk_error_set(SK_ERR_INPUT, "%lld unknowns exceed the %d the linear solvers can number", (long long)abi,
@@ -276,17 +359,24 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
     return status;
   }
   sys->n = n;
-  sys->extra_shift = m->n_dofs - m->n_dofs_global;
+  sys->n_abi = abi;
   for (int64_t i = 0; i < m->n_dofs; ++i) sys->role[i] = sys->node_role[i / m->dim];
   int64_t kept = sys->n_nodal;
   for (int k = 0; k < n_live; ++k) {
-    const sk_term *term = live[k];
-    for (int64_t j = 0; j < term->n_extra; ++j) {
-      const int64_t i = term->extra_local + j;
+    sk_term *term = live[k];
+    /* the rows of the kept extras count over all of them (every rank numbers them alike), held or not */
+    for (int64_t j = 0, h = 0; j < term->n_extra; ++j) {
+      const int eliminated = term->eliminated && term->eliminated[j];
+      if (!again) term->extra_values[j] = term->initial ? term->initial[j] : 0.0;
+      if (h == term->n_held || term->held[h] != j) {
+        kept += !eliminated;
+        continue;
+      }
+      const int64_t i = term->extra_local + h++;
       const int owner = term->extra_owner ? term->extra_owner[j] : 0;
-      sys->role[i] = owner == sys->rank ? SK_NODE_OWNED : owner >= 0 ? SK_NODE_GHOST : 0;
-      sys->solver_of[i] = term->eliminated && term->eliminated[j] ? -1 : (int)kept++;
-      if (!again) sys->x[i] = term->initial ? term->initial[j] : 0.0;
+      sys->role[i] = owner == sys->rank ? SK_NODE_OWNED : SK_NODE_GHOST;
+      sys->solver_of[i] = eliminated ? -1 : (int)kept++;
+      sys->x[i] = term->extra_values[j];
     }
   }
   sys->n_kept = kept;
@@ -302,7 +392,7 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
   /* the dofs' rows: this rank's owned ones in order, the ghosts' from their owners */
   for (int64_t i = 0; i < m->n_dofs; ++i) sys->solver_of[i] = -1;
   for (int64_t k = 0; k < sys->n_owned_dofs; ++k) sys->solver_of[sys->owned_dofs[k]] = (int)(sys->first_row + k);
-  int roles_changed = old_n != n || (old_role && memcmp(old_role, sys->role, (size_t)n) != 0);
+  int roles_changed = moved || old_n != n || (old_role && memcmp(old_role, sys->role, (size_t)n) != 0);
   MPI_Allreduce(MPI_IN_PLACE, &roles_changed, 1, MPI_INT, MPI_MAX, sys->comm);
   if (roles_changed || !sys->owned_known) {
     double *rows = sys->q_work;
@@ -327,7 +417,7 @@ sk_status sk_system_layout_unknowns(sk_system *sys, int again, int *changed) {
     sk_exchange_reverse(&sys->ghost_extras, sys->x);
     sk_exchange_forward(&sys->ghost_extras, sys->x);
   }
-  *changed = roles_changed || old_kept != kept ||
+  *changed = roles_changed || old_kept != kept || /* roles_changed includes held extras that moved */
              (old_solver && memcmp(old_solver + m->n_dofs, sys->solver_of + m->n_dofs,
                                    sizeof(int) * (size_t)(n - m->n_dofs)) != 0);
   MPI_Allreduce(MPI_IN_PLACE, changed, 1, MPI_INT, MPI_MAX, sys->comm);

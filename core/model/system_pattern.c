@@ -26,7 +26,7 @@ static void sink_fail(sk_system_sink *sink, const char *fmt, long long a, long l
 }
 
 /* The unknowns over all ranks, in the ABI numbering. */
-static int64_t abi_count(const sk_system *sys) { return sys->n - sys->extra_shift; }
+static int64_t abi_count(const sk_system *sys) { return sys->n_abi; }
 
 /* The local row of an ABI index. A negative index means "no row" (skipped); one at or beyond the number of unknowns
  * is a plugin's error, never a contribution dropped without a word (issue 15, item 15); so is one this rank does not

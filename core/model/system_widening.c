@@ -54,11 +54,14 @@ static int widening_init(widening *w, const sk_system *sys) {
     return 0;
   }
   for (int64_t e = 0; e < n_extras; ++e) w->anchor_node[e] = -1;
-  for (int k = 0; k < sys->n_terms; ++k) {
-    const sk_term *term = sys->terms[k];
-    for (int64_t j = 0; term->anchor && j < term->n_extra; ++j) {
-      const int64_t local = term->anchor[j] >= 0 ? sk_system_local_of(sys, term->anchor[j]) : -1;
-      if (local >= 0 && local < m->n_dofs) w->anchor_node[term->extra_local + j - m->n_dofs] = local / m->dim;
+  int n_live;
+  sk_term *const *live = sk_system_live_terms(sys, &n_live);
+  for (int k = 0; k < n_live; ++k) {
+    const sk_term *term = live[k];
+    for (int64_t h = 0; term->anchor && h < term->n_held; ++h) {
+      const int64_t anchor = term->anchor[term->held[h]];
+      const int64_t local = anchor >= 0 ? sk_system_local_of(sys, anchor) : -1;
+      if (local >= 0 && local < m->n_dofs) w->anchor_node[term->extra_local + h - m->n_dofs] = local / m->dim;
     }
   }
   for (int64_t e = 0; e < n_extras; ++e)

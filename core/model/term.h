@@ -80,8 +80,15 @@ typedef struct sk_term_ops {
 struct sk_term {
   const sk_term_ops *ops;
   char name[96];                   /* for messages: "body 'disk'", "contact pair 'floor'" */
-  /* the extra unknowns of the current attempt (layout): ABI indices extra_offset + j, local extra_local + j */
+  /* the extra unknowns of the current attempt (layout): ABI indices extra_offset + j (j < n_extra); this rank holds
+   * (owns or ghosts) n_held of them, held[k] ascending, at the local unknowns extra_local + k (system_layout.c) */
   int64_t extra_offset, n_extra, extra_local;
+  int64_t *held, n_held, held_size;
+  int64_t held_offset;             /* extra_offset when held was made (a moved block is a changed layout) */
+  /* the block the plugins read (sk_state.extra, n_extra values by j): the held ones copied from x
+   * (sk_system_extra_block), the others the layout's starting values */
+  double *extra_values;
+  int64_t values_size;
   const double *initial;
   const unsigned char *eliminated;
   /* n_extra: the rank owning each extra (that of its entity) when this rank holds it, -1 when it does not; NULL:

@@ -36,14 +36,14 @@ void sk_plugin_term_refresh(plugin_term *term, sk_system *sys, int initial) {
     else if (term->x_version != sys->x_version) gather(view, sys->q, term->x[v]);
   }
   term->x_version = initial ? 0 : sys->x_version;
-  st->extra = initial ? NULL : sys->x + term->base.extra_local;
+  st->extra = initial ? NULL : sk_system_extra_block(sys, &term->base);
   st->n_extra = initial ? 0 : term->base.n_extra;
   st->extra_offset = term->base.extra_offset;
 }
 
 /* Within Newton only the iterate changes: positions only. */
 static void refresh_x(plugin_term *term, sk_system *sys) {
-  term->state.extra = sys->x + term->base.extra_local;
+  term->state.extra = sk_system_extra_block(sys, &term->base);
   term->state.n_extra = term->base.n_extra;
   term->state.extra_offset = term->base.extra_offset;
   if (term->x_version == sys->x_version) return;
@@ -84,6 +84,9 @@ static void plugin_destroy(sk_term *base) {
   free(term->in_view);
   free(term->again_b);
   free(term->again_y);
+  free(term->recover_F);
+  free(term->recover_dx);
+  free(term->recover_Jdx);
   free(term);
 }
 
@@ -164,13 +167,13 @@ enum { IDLE_CHUNK = 256 };
 static void idle_extra_rows(const plugin_term *term, sk_system *sys, int jacobian) {
   int64_t rows[IDLE_CHUNK];
   double values[IDLE_CHUNK];
-  for (int64_t first = 0; first < term->base.n_extra; first += IDLE_CHUNK) {
-    const int64_t end = term->base.n_extra - first < IDLE_CHUNK ? term->base.n_extra : first + IDLE_CHUNK;
+  for (int64_t first = 0; first < term->base.n_held; first += IDLE_CHUNK) {
+    const int64_t end = term->base.n_held - first < IDLE_CHUNK ? term->base.n_held : first + IDLE_CHUNK;
     int n = 0;
-    for (int64_t j = first; j < end; ++j) {
-      if (sys->role[term->base.extra_local + j] != SK_NODE_OWNED) continue;
-      rows[n] = term->base.extra_offset + j;
-      values[n++] = jacobian ? 1.0 : sys->x[term->base.extra_local + j];
+    for (int64_t k = first; k < end; ++k) {
+      if (sys->role[term->base.extra_local + k] != SK_NODE_OWNED) continue;
+      rows[n] = term->base.extra_offset + term->base.held[k];
+      values[n++] = jacobian ? 1.0 : sys->x[term->base.extra_local + k];
     }
     if (!jacobian) sys->sink.abi.add_vector(&sys->sink.abi, n, rows, values);
     for (int k = 0; jacobian && k < n; ++k) sys->sink.abi.add_matrix(&sys->sink.abi, 1, rows + k, 1, rows + k, values);
@@ -230,6 +233,20 @@ static sk_status combine_anchors(plugin_term *term, sk_system *sys) {
   return SK_OK;
 }
 
+/* recover's blocks of the extras (F, dx, J dx: n_extra each), grown at layout (recover runs inside Newton). */
+static sk_status recover_blocks(plugin_term *term, int64_t n) {
+  if (!term->table.recover || (term->recover_F && n <= term->recover_size)) return SK_OK;
+  double **blocks[] = {&term->recover_F, &term->recover_dx, &term->recover_Jdx};
+  for (size_t k = 0; k < sizeof blocks / sizeof blocks[0]; ++k) {
+    free(*blocks[k]);
+    *blocks[k] = sk_plugin_zeros(n);
+  }
+  const int ok = term->recover_F && term->recover_dx && term->recover_Jdx;
+  term->recover_size = ok ? n : 0;
+  return ok ? SK_OK : sk_error_set(SK_ERR_NOMEM, "out of memory for recover (%lld extra unknowns)",
+                                                   (long long)n);
+}
+
 static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   plugin_term *term = (plugin_term *)base;
   sk_layout *layout = &term->layout;
@@ -261,6 +278,7 @@ static sk_status plugin_layout(sk_term *base, sk_system *sys) {
   base->eliminated = layout->eliminated;
   base->recover_needs_jdx = layout->recover_needs_jdx;
   SK_TRY(combine_anchors(term, sys));
+  SK_TRY(recover_blocks(term, layout->n_extra));
   /* One answer on every rank: a skipped call must not leave a collective call of the plugin (reduce) unmatched. */
   int idle = (caps & SK_CAP_SAYS_IDLE) && SK_HAS(layout, idle) && layout->idle &&
              (layout->n_extra == 0 || extras_trivial(layout, sys->n_pairs - pairs_before)) &&
@@ -343,14 +361,20 @@ static sk_status plugin_recover(sk_term *base, sk_system *sys, const double *F, 
     gather(view, dx, term->dx_view[v]);
     if (base->recover_needs_jdx) gather(view, sys->Jdx, term->Jdx_view[v]);
   }
+  /* the extras in the instance's block (n_extra by j; 0 at those this rank does not hold) */
+  sk_system_extras_to_block(base, F, term->recover_F);
+  sk_system_extras_to_block(base, dx, term->recover_dx);
+  if (base->recover_needs_jdx) sk_system_extras_to_block(base, sys->Jdx, term->recover_Jdx);
   sk_vectors vectors = {.struct_size = sizeof vectors,
                         .F_view = term->F_list,
-                        .F_extra = F + base->extra_local,
+                        .F_extra = term->recover_F,
                         .dx_view = term->dx_list,
-                        .dx_extra = dx + base->extra_local,
+                        .dx_extra = term->recover_dx,
                         .Jdx_view = base->recover_needs_jdx ? term->Jdx_list : NULL,
-                        .Jdx_extra = base->recover_needs_jdx ? sys->Jdx + base->extra_local : NULL};
-  return PLUGIN_CALL(term, recover, term->instance, &term->state, &vectors);
+                        .Jdx_extra = base->recover_needs_jdx ? term->recover_Jdx : NULL};
+  const sk_status status = PLUGIN_CALL(term, recover, term->instance, &term->state, &vectors);
+  sk_system_extras_from_block(base, term->recover_dx, dx);
+  return status;
 }
 
 static sk_status plugin_converged(sk_term *base, sk_system *sys, int *accept) {

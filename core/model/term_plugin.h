@@ -48,6 +48,8 @@ typedef struct plugin_term {
   /* recover: the solve's vectors in the instance's layout */
   double *F_view[PLUGIN_MAX_VIEWS], *dx_view[PLUGIN_MAX_VIEWS], *Jdx_view[PLUGIN_MAX_VIEWS];
   const double *F_list[PLUGIN_MAX_VIEWS], *dx_list[PLUGIN_MAX_VIEWS], *Jdx_list[PLUGIN_MAX_VIEWS];
+  double *recover_F, *recover_dx, *recover_Jdx; /* and of the extras, as the instance's block (n_extra by j) */
+  int64_t recover_size;
   /* body plugins */
   int claimed;                     /* stickslip.bulk claim() */
   const sk_integrator *integrator; /* its own integrator when claimed */

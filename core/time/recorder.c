@@ -18,6 +18,7 @@
 #include "contact_balance.h"
 #include "contact_output.h"
 #include "stickslip/output.h"
+#include "vtu_pieces.h"
 
 /* history.csv: the fixed columns, by name; then reactions per Dirichlet condition and per obstacle, wall seconds */
 typedef enum {
@@ -290,36 +291,17 @@ static sk_status write_vtu(sk_recorder *rec, const double *u, const double *v, d
   vtu_piece p = {0};
   sk_vtu_field point_fields[3 + MAX_CONTACT_FIELDS], cell_fields[4];
   int n_point_fields = 0, n_cell_fields = 0;
-  char folder[1200], path[1400];
-  snprintf(folder, sizeof folder, "%s/step-%06lld", rec->pieces_dir, (long long)step);
+  char prefix[64];
+  snprintf(prefix, sizeof prefix, "step-%06lld", (long long)step);
   sk_status status = build_piece(rec, u, v, &p);
   if (status == SK_OK) n_point_fields = piece_fields(rec, &p, point_fields, cell_fields, &n_cell_fields);
-  /* every rank makes the step's folder (the first one does, the others find it) */
-  if (status == SK_OK && mkdir(folder, 0777) != 0 && errno != EEXIST)
-    status = sk_error_set(SK_ERR_IO, "cannot create directory '%s': %s", folder, strerror(errno));
-  snprintf(path, sizeof path, "%s/rank-%04d.vtu", folder, m->rank);
-  if (status == SK_OK)
-    status = sk_vtu_write(path, p.n_points, p.points, p.n_cells, p.types, p.offsets, p.conn, n_point_fields,
-                          point_fields, n_cell_fields, cell_fields);
-  /* the pieces are complete before the .pvtu names them */
-  status = sk_system_collective(rec->sys, status);
+  const sk_vtu_piece piece = {p.n_points, p.n_cells, p.points, p.types, p.offsets, p.conn, n_point_fields,
+                              n_cell_fields, point_fields, cell_fields};
+  status = sk_vtu_pieces_write(rec->sys, status, rec->pieces_dir, prefix, &piece);
   if (status == SK_OK && m->rank == 0) {
-    char **names = malloc(sizeof(char *) * (size_t)m->n_ranks);
-    char *storage = malloc(32 * (size_t)m->n_ranks);
-    if (!names || !storage) status = no_memory("the VTU output");
-    for (int r = 0; status == SK_OK && r < m->n_ranks; ++r) {
-      names[r] = storage + 32 * r;
-      snprintf(names[r], 32, "step-%06lld/rank-%04d.vtu", (long long)step, r);
-    }
-    char file[64];
-    snprintf(file, sizeof file, "step-%06lld.pvtu", (long long)step);
-    snprintf(path, sizeof path, "%s/%s", rec->dir, file);
-    if (status == SK_OK)
-      status = sk_pvtu_write(path, m->n_ranks, (const char *const *)names, n_point_fields, point_fields,
-                             n_cell_fields, cell_fields);
-    if (status == SK_OK) status = sk_pvd_add(rec->pvd, t, file);
-    free(names);
-    free(storage);
+    char file[80];
+    snprintf(file, sizeof file, "%s.pvtu", prefix);
+    status = sk_pvd_add(rec->pvd, t, file);
   }
   rec->vtu_count++;
   free_vtu_piece(&p);

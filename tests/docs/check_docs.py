@@ -112,23 +112,24 @@ def vtu_arrays(path, section):
 
 
 def vtu_contact_fields(c):
-    """The contact fields of the VTU files (the bodies' pieces step-NNNNNN/rank-RRRR.vtu, the slave surfaces' contact-NNNNNN.vtu, the
+    """The contact fields of the VTU files (the bodies' pieces step-NNNNNN/rank-RRRR.vtu, the slave surfaces' pieces
+    contact-NNNNNN/rank-RRRR.vtu, the
     obstacles') against the field table of docs/user-guide.md, both ways. mortar-dual on the block: a plugin with
     friction and multipliers, so that every optional field is written."""
     results, _ = run(BASE_SCENE, "--steps", "2", "--set", "contact.0.plugin=mortar-dual", "--set",
                      "contact.0.strategy=saddle-point", "--replace", "contact.0.parameters={mu: 0.3}")
-    documented = {name for name, _ in column_table("contact.pvd and contact-NNNNNN.vtu")}
+    documented = {name for name, _ in column_table("contact.pvd and contact-NNNNNN.pvtu")}
     folder = results.folder
     body = [n for n in vtu_arrays(os.path.join(folder, "step-000002", "rank-0000.vtu"), "PointData")
             if n.startswith("contact_")]
-    points = vtu_arrays(os.path.join(folder, "contact-000002.vtu"), "PointData")
-    cells = vtu_arrays(os.path.join(folder, "contact-000002.vtu"), "CellData")
-    for where, names in (("step-000002/rank-0000.vtu point", body), ("contact-000002.vtu point", points),
-                         ("contact-000002.vtu cell", cells)):
+    points = vtu_arrays(os.path.join(folder, "contact-000002", "rank-0000.vtu"), "PointData")
+    cells = vtu_arrays(os.path.join(folder, "contact-000002", "rank-0000.vtu"), "CellData")
+    for where, names in (("step-000002/rank-0000.vtu point", body), ("contact-000002/rank-0000.vtu point", points),
+                         ("contact-000002/rank-0000.vtu cell", cells)):
         for name in names:
             c.check(name in documented, "%s field `%s` is documented in docs/user-guide.md" % (where, name))
     for name in documented:
-        c.check(name in points or name in cells, "documented field `%s` is written to contact-NNNNNN.vtu" % name)
+        c.check(name in points or name in cells, "documented field `%s` is written to the contact pieces" % name)
         c.check(not name.startswith("contact_") or name in body, "documented field `%s` is on the bodies' nodes" % name)
     obstacle = vtu_arrays(os.path.join(folder, "obstacles-000002.vtu"), "CellData")
     c.check(obstacle == ["obstacle"], "obstacles-000002.vtu has the cell field `obstacle` (%s)" % obstacle)

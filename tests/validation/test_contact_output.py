@@ -133,7 +133,7 @@ def check_vtu_fields(c, results, plugin):
     points = results.contact_points()
     step = int(points[0]["step"])
     body = read_vtu(os.path.join(results.folder, "step-%06d.pvtu" % step))
-    surface = read_vtu(os.path.join(results.folder, "contact-%06d.vtu" % step))
+    surface = read_vtu(os.path.join(results.folder, "contact-%06d.pvtu" % step))
     names = ("contact_pressure", "contact_gap", "contact_state", "contact_normal_traction",
              "contact_tangential_traction", "contact_normal_force", "contact_slip_increment", "contact_slip")
     c.check(all(n in body for n in names) and all(n in surface for n in names),
@@ -154,10 +154,10 @@ def check_vtu_fields(c, results, plugin):
     c.check(bad == 0, "%s: the bodies' VTU fields at the %d node points are contact.csv's (%d differ)"
             % (plugin, len(nodes), bad))
     if nodes:
-        ids = [int(v[0]) for v in surface["node"]]
-        pressure = {ids[a]: surface["contact_pressure"][a][0] for a in range(len(ids))}
-        c.check(all(close(pressure[int(p["node"])], p["pressure"], scale) for p in nodes),
-                "%s: contact-%06d.vtu's point field contact_pressure is contact.csv's" % (plugin, step))
+        # the pieces joined by read_vtu: point k is mesh node k, which the point field `node` names too
+        c.check(all(int(surface["node"][int(p["node"])][0]) == int(p["node"]) and
+                    close(surface["contact_pressure"][int(p["node"])][0], p["pressure"], scale) for p in nodes),
+                "%s: contact-%06d.pvtu's point field contact_pressure is contact.csv's" % (plugin, step))
         return
     # Gauss points: each face's cell value is the mean of its points weighted by their measure
     faces = {}
@@ -168,7 +168,7 @@ def check_vtu_fields(c, results, plugin):
     for key, members in faces.items():
         mean = sum(p["pressure"] * p["area"] for p in members) / sum(p["area"] for p in members)
         bad += not close(surface["cell:contact_pressure"][cells[key]][0], mean, scale)
-    c.check(bad == 0, "%s: the %d faces of contact-%06d.vtu carry the area-weighted means of their Gauss points' "
+    c.check(bad == 0, "%s: the %d faces of contact-%06d.pvtu carry the area-weighted means of their Gauss points' "
             "pressures (%d differ)" % (plugin, len(faces), step, bad))
 
 
@@ -240,7 +240,7 @@ def contact_output_mpi(c):
     scale = max(p["pressure"] for p in a)
     worst = max(abs(p[k] - q[k]) for p, q in zip(a, b) for k in ("pressure", "normal_force", "traction_x", "slip"))
     c.check(worst <= 1e-9 * scale, "contact.csv equal to %.1e" % worst)
-    for name in ("step-000030.pvtu", "contact-000030.vtu"):
+    for name in ("step-000030.pvtu", "contact-000030.pvtu"):
         va, vb = read_vtu(os.path.join(one.folder, name)), read_vtu(os.path.join(two.folder, name))
         diff = max(abs(x - y) for f in ("contact_pressure", "contact_tangential_traction", "contact_slip")
                    for u, v in zip(va[f], vb[f]) for x, y in zip(u, v))
