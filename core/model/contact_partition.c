@@ -298,6 +298,40 @@ sk_status sk_contact_partition_weigh(sk_system *sys) {
   return status;
 }
 
+/* With STICKSLIP_DUMP_CONTACT_PARTITION=DIR, rank 0 writes a rebalance's input, DIR/<pair>-step-NNNNNN.txt: per
+ * slave node its position at t_n and weight, per slave face its centroid, weight and nodes (whole indices), for
+ * tests/bench/partition (sk_rcb against Zoltan2 on the same entities). */
+static void dump_input(const sk_system *sys, const sk_contact_pair *pair, const double *pos, const double *weight) {
+  const char *dir = getenv("STICKSLIP_DUMP_CONTACT_PARTITION");
+  if (!dir || sys->rank != 0) return;
+  const sk_surface *s = &pair->slave;
+  const int n = s->n_nodes_global, nf = s->n_faces_global;
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s-step-%06lld.txt", dir, pair->name, (long long)sys->step);
+  FILE *out = fopen(path, "w");
+  if (!out) {
+    fprintf(stderr, "warning: cannot write %s (STICKSLIP_DUMP_CONTACT_PARTITION)\n", path);
+    return;
+  }
+  fprintf(out, "# contact partition input: pair %s, step %lld, %d ranks\nnodes %d faces %d nen %d\n", pair->name,
+          (long long)sys->step, sys->n_ranks, n, nf, s->nen);
+  for (int j = 0; j < n; ++j)
+    fprintf(out, "%.17g %.17g %.17g %.17g\n", pos[3 * j], pos[3 * j + 1], pos[3 * j + 2], weight[j]);
+  int *conn = malloc(sizeof(int) * ((size_t)nf * s->nen + 1));
+  for (int f = 0; conn && f < s->n_faces; ++f)
+    for (int a = 0; a < s->nen; ++a)
+      conn[(size_t)s->face_index[f] * s->nen + a] =
+          (int)s->node_index[sk_index_in_sorted(s->nodes, s->n_nodes, s->conn[(size_t)f * s->nen + a])];
+  for (int f = 0; conn && f < nf; ++f) {
+    const double *c = pos + 3 * ((size_t)n + f);
+    fprintf(out, "%.17g %.17g %.17g %.17g", c[0], c[1], c[2], weight[n + f]);
+    for (int a = 0; a < s->nen; ++a) fprintf(out, " %d", conn[(size_t)f * s->nen + a]);
+    fputc('\n', out);
+  }
+  free(conn);
+  fclose(out);
+}
+
 /* The new owners of one pair's slave nodes and faces (whole-surface arrays) from its weights; *changed |= any
  * differs. */
 static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *changed) {
@@ -331,6 +365,7 @@ static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *chan
     for (int j = 0; j < count; ++j) total += from[j];
     for (int j = 0; j < count; ++j) w[j] = total > 0.0 ? from[j] + 1e-3 * total / count : 1.0;
   }
+  dump_input(sys, pair, pos, weight);
   sk_status status = sk_rcb(n, pos, weight, m->n_ranks, 0, owner) == 0 &&
                              sk_rcb(nf, pos + 3 * (size_t)n, weight + n, m->n_ranks, 0, owner + n) == 0
                          ? SK_OK
