@@ -19,19 +19,14 @@ static int compare_keyed(const void *a, const void *b) {
   return (x->i > y->i) - (x->i < y->i);
 }
 
-/* Bisects the points idx[0..n) (sorted scratch `key`) into parts [first, first + n_parts). */
+/* Bisects the points idx[0..n) (sorted scratch `key`) inside the box [lo, hi] into parts [first, first + n_parts). */
 static void bisect(int n, int *idx, const double *pos, const double *weight, int n_parts, int first, int *part,
-                   keyed *key) {
+                   keyed *key, const double lo[3], const double hi[3]) {
   if (n_parts <= 1 || n == 0) {
     for (int j = 0; j < n; ++j) part[idx[j]] = first;
     return;
   }
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, total = 0.0;
-  for (int j = 0; j < n; ++j)
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = fmin(lo[d], pos[3 * (size_t)idx[j] + d]);
-      hi[d] = fmax(hi[d], pos[3 * (size_t)idx[j] + d]);
-    }
+  double total = 0.0;
   int axis = 0;
   for (int d = 1; d < 3; ++d)
     if (hi[d] - lo[d] > hi[axis] - lo[axis]) axis = d;
@@ -53,8 +48,14 @@ static void bisect(int n, int *idx, const double *pos, const double *weight, int
     ++cut;
   }
   for (int j = 0; j < n; ++j) idx[j] = key[j].i;
-  bisect(cut, idx, pos, weight, left_parts, first, part, key);
-  bisect(n - cut, idx + cut, pos, weight, n_parts - left_parts, first + left_parts, part, key);
+  /* the halves' boxes: this box cut midway between the points either side, not the boxes of the halves' points,
+   * so that the bisections of the nodes and of the face centroids choose the same axes where a box is nearly
+   * square (docs/scaling.md, "sk_rcb against Zoltan2") */
+  const double at = cut == 0 ? lo[axis] : cut == n ? hi[axis] : 0.5 * (key[cut - 1].c + key[cut].c);
+  double left_hi[3] = {hi[0], hi[1], hi[2]}, right_lo[3] = {lo[0], lo[1], lo[2]};
+  left_hi[axis] = at, right_lo[axis] = at;
+  bisect(cut, idx, pos, weight, left_parts, first, part, key, lo, left_hi);
+  bisect(n - cut, idx + cut, pos, weight, n_parts - left_parts, first + left_parts, part, key, right_lo, hi);
 }
 
 int sk_rcb(int n, const double *pos, const double *weight, int n_parts, int first_part, int *part) {
@@ -65,8 +66,15 @@ int sk_rcb(int n, const double *pos, const double *weight, int n_parts, int firs
     free(key);
     return -1;
   }
-  for (int j = 0; j < n; ++j) idx[j] = j;
-  bisect(n, idx, pos, weight, n_parts, first_part, part, key);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int j = 0; j < n; ++j) {
+    idx[j] = j;
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = fmin(lo[d], pos[3 * (size_t)j + d]);
+      hi[d] = fmax(hi[d], pos[3 * (size_t)j + d]);
+    }
+  }
+  bisect(n, idx, pos, weight, n_parts, first_part, part, key, lo, hi);
   free(idx);
   free(key);
   return 0;
