@@ -19,19 +19,14 @@ static int compare_keyed(const void *a, const void *b) {
   return (x->i > y->i) - (x->i < y->i);
 }
 
-/* Bisects the points idx[0..n) (sorted scratch `key`) into parts [first, first + n_parts). */
+/* Bisects the points idx[0..n) (sorted scratch `key`) inside the box [lo, hi] into parts [first, first + n_parts). */
 static void bisect(int n, int *idx, const double *pos, const double *weight, int n_parts, int first, int *part,
-                   keyed *key) {
+                   keyed *key, const double lo[3], const double hi[3]) {
   if (n_parts <= 1 || n == 0) {
     for (int j = 0; j < n; ++j) part[idx[j]] = first;
     return;
   }
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, total = 0.0;
-  for (int j = 0; j < n; ++j)
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = fmin(lo[d], pos[3 * (size_t)idx[j] + d]);
-      hi[d] = fmax(hi[d], pos[3 * (size_t)idx[j] + d]);
-    }
+  double total = 0.0;
   int axis = 0;
   for (int d = 1; d < 3; ++d)
     if (hi[d] - lo[d] > hi[axis] - lo[axis]) axis = d;
@@ -53,8 +48,14 @@ static void bisect(int n, int *idx, const double *pos, const double *weight, int
     ++cut;
   }
   for (int j = 0; j < n; ++j) idx[j] = key[j].i;
-  bisect(cut, idx, pos, weight, left_parts, first, part, key);
-  bisect(n - cut, idx + cut, pos, weight, n_parts - left_parts, first + left_parts, part, key);
+  /* the halves' boxes: this box cut midway between the points either side, not the boxes of the halves' points,
+   * so that the bisections of the nodes and of the face centroids choose the same axes where a box is nearly
+   * square (docs/scaling.md, "sk_rcb against Zoltan2") */
+  const double at = cut == 0 ? lo[axis] : cut == n ? hi[axis] : 0.5 * (key[cut - 1].c + key[cut].c);
+  double left_hi[3] = {hi[0], hi[1], hi[2]}, right_lo[3] = {lo[0], lo[1], lo[2]};
+  left_hi[axis] = at, right_lo[axis] = at;
+  bisect(cut, idx, pos, weight, left_parts, first, part, key, lo, left_hi);
+  bisect(n - cut, idx + cut, pos, weight, n_parts - left_parts, first + left_parts, part, key, right_lo, hi);
 }
 
 int sk_rcb(int n, const double *pos, const double *weight, int n_parts, int first_part, int *part) {
@@ -65,8 +66,15 @@ int sk_rcb(int n, const double *pos, const double *weight, int n_parts, int firs
     free(key);
     return -1;
   }
-  for (int j = 0; j < n; ++j) idx[j] = j;
-  bisect(n, idx, pos, weight, n_parts, first_part, part, key);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int j = 0; j < n; ++j) {
+    idx[j] = j;
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = fmin(lo[d], pos[3 * (size_t)j + d]);
+      hi[d] = fmax(hi[d], pos[3 * (size_t)j + d]);
+    }
+  }
+  bisect(n, idx, pos, weight, n_parts, first_part, part, key, lo, hi);
   free(idx);
   free(key);
   return 0;
@@ -298,6 +306,40 @@ sk_status sk_contact_partition_weigh(sk_system *sys) {
   return status;
 }
 
+/* With STICKSLIP_DUMP_CONTACT_PARTITION=DIR, rank 0 writes a rebalance's input, DIR/<pair>-step-NNNNNN.txt: per
+ * slave node its position at t_n and weight, per slave face its centroid, weight and nodes (whole indices), for
+ * tests/bench/partition (sk_rcb against Zoltan2 on the same entities). */
+static void dump_input(const sk_system *sys, const sk_contact_pair *pair, const double *pos, const double *weight) {
+  const char *dir = getenv("STICKSLIP_DUMP_CONTACT_PARTITION");
+  if (!dir || sys->rank != 0) return;
+  const sk_surface *s = &pair->slave;
+  const int n = s->n_nodes_global, nf = s->n_faces_global;
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s-step-%06lld.txt", dir, pair->name, (long long)sys->step);
+  FILE *out = fopen(path, "w");
+  if (!out) {
+    fprintf(stderr, "warning: cannot write %s (STICKSLIP_DUMP_CONTACT_PARTITION)\n", path);
+    return;
+  }
+  fprintf(out, "# contact partition input: pair %s, step %lld, %d ranks\nnodes %d faces %d nen %d\n", pair->name,
+          (long long)sys->step, sys->n_ranks, n, nf, s->nen);
+  for (int j = 0; j < n; ++j)
+    fprintf(out, "%.17g %.17g %.17g %.17g\n", pos[3 * j], pos[3 * j + 1], pos[3 * j + 2], weight[j]);
+  int *conn = malloc(sizeof(int) * ((size_t)nf * s->nen + 1));
+  for (int f = 0; conn && f < s->n_faces; ++f)
+    for (int a = 0; a < s->nen; ++a)
+      conn[(size_t)s->face_index[f] * s->nen + a] =
+          (int)s->node_index[sk_index_in_sorted(s->nodes, s->n_nodes, s->conn[(size_t)f * s->nen + a])];
+  for (int f = 0; conn && f < nf; ++f) {
+    const double *c = pos + 3 * ((size_t)n + f);
+    fprintf(out, "%.17g %.17g %.17g %.17g", c[0], c[1], c[2], weight[n + f]);
+    for (int a = 0; a < s->nen; ++a) fprintf(out, " %d", conn[(size_t)f * s->nen + a]);
+    fputc('\n', out);
+  }
+  free(conn);
+  fclose(out);
+}
+
 /* The new owners of one pair's slave nodes and faces (whole-surface arrays) from its weights; *changed |= any
  * differs. */
 static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *changed) {
@@ -331,6 +373,7 @@ static sk_status rebalance_pair(sk_system *sys, sk_contact_pair *pair, int *chan
     for (int j = 0; j < count; ++j) total += from[j];
     for (int j = 0; j < count; ++j) w[j] = total > 0.0 ? from[j] + 1e-3 * total / count : 1.0;
   }
+  dump_input(sys, pair, pos, weight);
   sk_status status = sk_rcb(n, pos, weight, m->n_ranks, 0, owner) == 0 &&
                              sk_rcb(nf, pos + 3 * (size_t)n, weight + n, m->n_ranks, 0, owner + n) == 0
                          ? SK_OK

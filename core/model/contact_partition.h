@@ -15,9 +15,9 @@
 #include "system.h"
 
 /* Recursive coordinate bisection of n points (pos: 3 coordinates each) with weights (NULL: 1 each) into n_parts
- * parts first_part .. first_part + n_parts - 1 (part[i]). Each cut is across the longest side of the points' box,
- * splitting the weight in proportion to the parts on each side (ties broken by the points' order): deterministic.
- * Returns 0, or -1 when out of memory. */
+ * parts first_part .. first_part + n_parts - 1 (part[i]). Each cut is across the longest side of its box (the
+ * points' box at the first cut, then the parent's box cut at the cut), splitting the weight in proportion to the
+ * parts on each side (ties broken by the points' order): deterministic. Returns 0, or -1 when out of memory. */
 int sk_rcb(int n, const double *pos, const double *weight, int n_parts, int first_part, int *part);
 /* Why pair k keeps the bulk partition with rebalancing on (a self-contact pair, a plugin without records), or NULL
  * when the contact partition applies to it. */

@@ -61,6 +61,23 @@ int main(void) {
   for (int j = 1; j < 7; ++j) SK_CHECK(part[j - 1] <= part[j]);
   counts(part, 7, 3, 0, count);
   for (int r = 0; r < 3; ++r) SK_CHECK(count[r] == 2 || count[r] == 3);
+  /* the halves' boxes are the parent's box cut at the cut, not their points' boxes: two clusters of 2 columns of 3
+   * points at the ends of a 4 x 1 box, 4 parts. The first cut runs across x at 2; each half's box is then 2 x 1, so
+   * the second cut runs across x again (the clusters' own boxes, 0.4 x 1, would have turned it across y). Both
+   * bisections of a surface (its nodes, its faces' centroids) see nearly the same boxes this way, and their parts
+   * coincide. */
+  n = 0;
+  for (int c = 0; c < 2; ++c)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 2; ++i, ++n) {
+        pos[3 * n] = 3.6 * c + 0.4 * i;
+        pos[3 * n + 1] = 0.5 * j;
+        pos[3 * n + 2] = 0.0;
+      }
+  SK_CHECK(sk_rcb(n, pos, NULL, 4, 0, part) == 0);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b)
+      if (pos[3 * a] == pos[3 * b]) SK_CHECK(part[a] == part[b]); /* a column of a cluster: one part */
   /* fewer points than parts, and none */
   n = grid(3, 1, 1.0, 1.0, pos);
   SK_CHECK(sk_rcb(n, pos, NULL, 8, 0, part) == 0);
