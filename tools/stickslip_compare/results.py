@@ -42,10 +42,10 @@ def collection(folder, name="results.pvd"):
 
 def read_vtu(path):
     """Point and cell data arrays of a stickslip .vtu (raw appended or inline base64) as lists of tuples, by name; a
-    cell array whose name a point array has too (the contact fields of contact-NNNNNN.vtu) is under "cell:NAME".
-    A .pvtu (the bodies of an output step, one piece per rank) is read whole: its pieces joined into one grid whose
-    point k is mesh node k (node_id; 0 for a mesh node no element uses) and whose cells are in cell_id order, so the
-    arrays are the same whatever the number of ranks."""
+    cell array whose name a point array has too (the contact fields of a contact output's pieces) is under
+    "cell:NAME". A .pvtu (an output step's bodies or contact surfaces, one piece per rank) is read whole: its pieces
+    joined into one grid whose point k is mesh node k (node_id; 0 for a mesh node no element uses) and whose cells
+    are in cell_id order, so the arrays are the same whatever the number of ranks."""
     if path.endswith(".pvtu"):
         return read_pvtu(path)
     return _read_piece(path)[0]
