@@ -1,4 +1,4 @@
-/* The current gmsh model read into an sk_mesh: gmsh's element types, its sessions and errors, and the physical
+/* The current gmsh model read into an sk_mesh: gmsh's element types, its start and end, its errors, and the physical
  * groups with the nodes they use (compact 0-based node ids in gmsh tag order; gmsh's element node ordering kept). */
 #include <gmshc.h>
 #include <stdlib.h>

@@ -17,8 +17,8 @@ sk_status sk_mesh_orient(sk_mesh *mesh);
 
 /* ---- the gmsh model (gmsh_model.c) ------------------------------------------------------------------------- */
 
-/* gmsh keeps global state: each load runs between its own session begin and end, with the terminal quiet and the
- * logger collecting errors for our message. */
+/* gmsh keeps global state: each load runs between its own gmsh initialize and finalize, with the terminal quiet and
+ * the logger collecting errors for our message. */
 void sk_gmsh_session_begin(void);
 void sk_gmsh_session_end(void);
 /* Non-zero when the last gmsh call failed (ierr) or logged an error; the error message then names the file. */
