@@ -41,6 +41,7 @@ int64_t sk_system_local_of(const sk_system *sys, int64_t abi) {
   const sk_term *term = abi < sys->n_abi ? term_of_extra(sys, abi, 0) : NULL;
   if (!term) return -1;
   const int64_t j = abi - term->extra_offset;
+  if (term->n_held == term->n_extra) return term->extra_local + j; /* every extra held: held[k] = k, no search */
   const int64_t *at = bsearch(&j, term->held, (size_t)term->n_held, sizeof(int64_t), sk_compare_i64);
   return at ? term->extra_local + (at - term->held) : -1;
 }
