@@ -186,21 +186,33 @@ static sk_status pnts_jacobian(sk_instance *in, const sk_state *st, sk_sink *sin
 
 /* The master faces follow the iterate (select_face, with hysteresis); the penalty problem is smooth in q apart from
  * the kinks at g = 0 and |t| = mu p, so there is no active-set loop: `changed` only reports whether a point changed
- * its face or state since the previous point. */
+ * its face or state since the previous point. With --verbose each point's set is printed (this rank's owned nodes:
+ * in contact, entered and left since the previous point, changed master face), where the Newton iterations of a
+ * step go (docs/hertz.md, "Newton iterations and linear solvers"); at the first point of a step every node in
+ * contact counts as entered. */
 static sk_status pnts_update_active_set(sk_instance *in, const sk_state *st, int *changed) {
   point_eval e;
+  int active = 0, entered = 0, left = 0, moved = 0;
   *changed = 0;
   for (int k = 0; k < in->n_slave; ++k) {
     if (in->master && in->evaluated[k]) { /* every node commit_step evaluates */
       int face = in->sel_face[k];
       SK_TRY(select_face(in, st->x, k));
-      if (in->sel_face[k] != face && in->slave->owned[k]) *changed = 1;
+      if (in->sel_face[k] != face && in->slave->owned[k]) {
+        *changed = 1;
+        moved += face >= 0;
+      }
     }
     if (!in->slave->owned[k]) continue;
     SK_TRY(evaluate_point(in, st, k, 0, &e));
     if (e.state != in->last_state[k]) *changed = 1;
+    active += e.state != STATE_INACTIVE;
+    entered += e.state != STATE_INACTIVE && in->last_state[k] == STATE_INACTIVE;
+    left += e.state == STATE_INACTIVE && in->last_state[k] != STATE_INACTIVE;
     in->last_state[k] = (unsigned char)e.state;
   }
+  in->api->log(in->host, 2, "%s: penalty-nts: active set: %d slave nodes in contact, %d entered, %d left, %d changed "
+               "master face", in->name, active, entered, left, moved);
   return SK_OK;
 }
 
