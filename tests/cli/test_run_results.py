@@ -178,8 +178,52 @@ def smallest_step(c):
             "(got %d)" % summary["step_cuts"])
 
 
+def verbose_active_set(c):
+    """Issue 36: with --verbose penalty-nts prints its active set at every new Newton point (the predictor, then each
+    iterate; bench_newton_trace.py reads it): within a step the count follows from the last one and the nodes that
+    entered and left, at a step's first point every node in contact counts as entered, a step prints one line more
+    than it takes Newton iterations (full steps, no line-search trial points), and its last line's count is the step's
+    active_points in history.csv. The 2D Hertz at refine 0.5: 4 steps, 15 Newton iterations, 2 to 3 nodes in
+    contact (measured), about 0.3 s."""
+    c.run("run", os.path.join(ROOT, "scenes", "hertz-2d.yaml"), "--out", c.out, "--verbose", "--set",
+          "mesh.parameters.refine=0.5")
+    c.check(c.proc.returncode == 0, "the run succeeds")
+    active = re.compile(r"penalty-nts: active set: (\d+) slave nodes in contact, (\d+) entered, (\d+) left, "
+                        r"(\d+) changed master face")
+    newton = re.compile(r"^\s*step (\d+) newton (\d+) ")
+    steps, pending = {}, []  # step -> its points' [in contact, entered, left, faces]; the iterations it printed
+    iterations = {}
+    for line in c.proc.stderr.splitlines():
+        m = active.search(line)
+        if m:
+            pending.append([int(v) for v in m.groups()])
+            continue
+        m = newton.match(line)
+        if m:  # the points printed since the last iteration line belong to this iteration's step
+            step = int(m.group(1))
+            steps.setdefault(step, []).extend(pending)
+            pending = []
+            iterations[step] = int(m.group(2))
+    rows = read_history(c.out)[1:]
+    c.check(len(rows) == 4 and sorted(steps) == [1, 2, 3, 4], "4 steps, each with its points (%d rows, steps %s)"
+            % (len(rows), sorted(steps)))
+    for r in rows:
+        points = steps.get(int(r["step"]), [])
+        c.check(len(points) == r["newton_iterations"] + 1 == iterations.get(int(r["step"]), -1) + 1,
+                "step %d: one point per Newton iteration and the predictor (%d points, %d iterations)"
+                % (r["step"], len(points), r["newton_iterations"]))
+        if not points:
+            continue
+        c.check(points[0][0] == points[0][1] and points[0][2] == 0,
+                "step %d: at the first point every node in contact counts as entered (%s)" % (r["step"], points[0]))
+        c.check(all(b[0] == a[0] + b[1] - b[2] for a, b in zip(points, points[1:])),
+                "step %d: in contact = before + entered - left at every point (%s)" % (r["step"], points))
+        c.check(points[-1][0] == r["active_points"] > 0, "step %d: the last point's %d nodes in contact are "
+                "history.csv's active_points (%d)" % (r["step"], points[-1][0], r["active_points"]))
+
+
 CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin,
-                                 smallest_step, plugin_points_layouts]}
+                                 smallest_step, plugin_points_layouts, verbose_active_set]}
 
 if __name__ == "__main__":
     main(CASES)
