@@ -41,8 +41,11 @@ def trace(element, refine, sets, replaces=()):
     for r in replaces:
         command += ["--replace", r]
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    text = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
-                          cwd=ROOT, check=True).stdout
+    proc = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env, cwd=ROOT)
+    if proc.returncode != 0:
+        raise SystemExit("bench_newton_trace.py: the run failed (exit %d): %s\n%s"
+                         % (proc.returncode, " ".join(command[3:]), "\n".join(proc.stdout.splitlines()[-5:])))
+    text = proc.stdout
     steps, current, pending_set, bounds = [], None, None, {}
     for line in text.splitlines():
         m = ACTIVE.search(line)
