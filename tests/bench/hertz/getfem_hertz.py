@@ -10,8 +10,8 @@ isotropic linear elasticity, plane strain in 2D), the same boundary conditions (
 single prescribed component as a normal Dirichlet condition with multipliers on the flat group), the same load
 steps, frictionless contact of the scene's slave group on its master group by GetFEM's nodal contact brick between
 non-matching meshes (Alart-Curnier augmented Lagrangian, small sliding, one nodal force per slave node), Newton with
-MUMPS until min(|F|_1 / L, |du|_1 / |u|_1) <= --max-res after an iteration (GetFEM 5.4's classical_Newton: L the
-bricks' norm of the external data, du the step just taken). It writes JSON: the cost (unknowns, Newton iterations per step, phase times), the top reaction (the load),
+MUMPS until |F|_1 / L <= --max-res after an iteration (md.solve's Newton_with_step_control in GetFEM 5.4: L the
+bricks' norm of the external data; no update test). It writes JSON: the cost (unknowns, Newton iterations per step, phase times), the top reaction (the load),
 the sum of the contact forces, and the slave nodes' reference positions, pressures and gaps, from which
 bench_getfem.py computes the project's errors (hertz_profile.py). Pressures from the nodal forces f_k: p_k = f_k /
 w_k with w_k = the integral of the node's shape function over the slave faces, the lumped recovery penalty-nts
@@ -299,8 +299,8 @@ def main():
     parser.add_argument("out")
     parser.add_argument("--r", type=float, default=1.0, help="augmentation parameter in units of E (2D), E h (3D)")
     parser.add_argument("--max-res", type=float, default=1e-8,
-                        help="Newton's tolerance on min(|F|_1 / L, |du|_1 / |u|_1), GetFEM's max_res (its floor: 2e-9 "
-                        "on quad9 refine 1.6)")
+                        help="Newton's tolerance on |F|_1 / L, GetFEM's max_res (L its external load norm; its floor: "
+                        "2e-9 on quad9 refine 1.6)")
     parser.add_argument("--recovery", choices=("lumped", "consistent"), default="lumped",
                         help="pressure from the nodal forces: lumped (modified basis on TRI6) or consistent")
     args = parser.parse_args()
