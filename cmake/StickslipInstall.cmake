@@ -2,6 +2,7 @@
 #
 #   bin/stickslip                              the driver (RUNPATH $ORIGIN/../lib)
 #   lib/libstickslip_{core,sim,bridge}.so      the core the driver and the plugin kit link (RUNPATH $ORIGIN)
+#   lib/libstickslip_gmsh.so                   gmsh, loaded only by the mesh generator's child (mesh_load.c)
 #   lib/libstickslip_plugin_kit.so             the plugin test kit (mock host + FD check through the ABI)
 #   lib/stickslip/plugins/libstickslip-*.so    the plugins, where the driver looks for them: <bin>/../lib/...
 #   include/stickslip/plugin.h, plugin_types.h the plugin ABI (+ the contact/mesh/error headers the kit's header uses)
@@ -23,12 +24,12 @@ set(STICKSLIP_INSTALL_CMAKEDIR ${STICKSLIP_INSTALL_LIBDIR}/cmake/stickslip)
 # (a Trilinos outside /usr) stay on the path they were linked from.
 set_target_properties(stickslip PROPERTIES INSTALL_RPATH "$ORIGIN/../${STICKSLIP_INSTALL_LIBDIR}"
   INSTALL_RPATH_USE_LINK_PATH ON)
-foreach(lib stickslip_core stickslip_bridge stickslip_sim stickslip_plugin_kit)
+foreach(lib stickslip_core stickslip_gmsh stickslip_bridge stickslip_sim stickslip_plugin_kit)
   set_target_properties(${lib} PROPERTIES INSTALL_RPATH "$ORIGIN" INSTALL_RPATH_USE_LINK_PATH ON)
 endforeach()
 
 install(TARGETS stickslip RUNTIME DESTINATION bin)
-install(TARGETS stickslip_core stickslip_bridge stickslip_sim stickslip_plugin_kit
+install(TARGETS stickslip_core stickslip_gmsh stickslip_bridge stickslip_sim stickslip_plugin_kit
   LIBRARY DESTINATION ${STICKSLIP_INSTALL_LIBDIR})
 get_property(plugin_targets GLOBAL PROPERTY STICKSLIP_PLUGIN_TARGETS)
 install(TARGETS ${plugin_targets} LIBRARY DESTINATION ${STICKSLIP_INSTALL_PLUGINDIR})

@@ -15,7 +15,7 @@ void sk_geo_names_free(char **names, int n_names);
  * mesh_orient.c). */
 sk_status sk_mesh_orient(sk_mesh *mesh);
 
-/* ---- the gmsh model (gmsh_model.c) ------------------------------------------------------------------------- */
+/* ---- the gmsh model (gmsh_model.c, in libstickslip_gmsh.so) ---------------------------------------------- */
 
 /* gmsh keeps global state: each load runs between its own gmsh initialize and finalize, with the terminal quiet and
  * the logger collecting errors for our message. */
@@ -89,7 +89,7 @@ void sk_mesh_cache_store(const sk_mesh_cache_key *key, const sk_mesh *mesh);
 void sk_mesh_cache_note(const char *path, const sk_mesh_cache_key *key, int hit);
 int sk_mesh_scripts_trusted(void); /* geo_scan.c */
 
-/* ---- staged generation with a size guard (mesh_guard.c, in the child) ----------------------------------------- */
+/* ---- staged generation with a size guard (mesh_guard.c, in libstickslip_gmsh.so) ------------------------------ */
 
 typedef struct {
   const char *path;      /* for messages */
@@ -101,5 +101,19 @@ typedef struct {
  * estimate of the final element count or the final count exceeds guard->max_elements. `failed(ierr, what)` reports a
  * gmsh error after each stage (and records the message). */
 sk_status sk_mesh_generate_guarded(const sk_mesh_guard *guard, int dim, int (*failed)(int ierr, const char *what));
+
+/* ---- the mesh generator's work (gmsh_load.c, in libstickslip_gmsh.so, loaded only by the child) --------------- */
+
+typedef struct {
+  const char *path;        /* the file, for messages */
+  const char *open_path;   /* the file gmsh opens (the parameter wrapper, or the file itself) */
+  int is_geo, dim;
+  int order, serendipity;  /* sk_mesh_options' */
+  sk_mesh_guard guard;
+} sk_gmsh_load_job;
+
+/* Reads the file or meshes the script and fills `mesh` (its source set), or fails with a message. */
+sk_status sk_gmsh_load(const sk_gmsh_load_job *job, sk_mesh *mesh);
+typedef sk_status (*sk_gmsh_load_fn)(const sk_gmsh_load_job *job, sk_mesh *mesh);
 
 #endif

@@ -1,9 +1,9 @@
-/* sk_mesh_load: .geo scripts are meshed and .msh files read through the gmsh C API; the physical groups become
+/* sk_mesh_load: .geo scripts are meshed and .msh files read through the gmsh C API in a child process (gmsh_load.c); the physical groups become
  * sk_groups with compact 0-based node ids (gmsh's element node ordering is kept). */
-#define _DEFAULT_SOURCE /* realpath, mkstemps */
+#define _GNU_SOURCE /* realpath, mkstemps, dladdr */
 
 #include <errno.h>
-#include <gmshc.h>
+#include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -110,76 +110,30 @@ static sk_status check_plane(const char *path, const sk_mesh *mesh) {
 
 /* ---- the work done in the mesh generator's child process ------------------------------------------------------ */
 
-typedef struct {
-  const char *path;        /* the file, for messages */
-  const char *open_path;   /* the file gmsh opens (the parameter wrapper, or the file itself) */
-  int is_geo, dim;
-  int order, serendipity;  /* sk_mesh_options' */
-  sk_mesh_guard guard;
-} load_job;
-
-/* Second-order elements from the first-order mesh of the current model. gmsh puts the new nodes on the geometry
- * (curved boundaries stay curved) for a .geo script and on straight edges for a .msh file, which has no geometry. */
-static sk_status raise_order(const char *path, int order, int serendipity) {
-  int ierr = 0;
-  gmshOptionSetNumber("Mesh.SecondOrderIncomplete", serendipity ? 1 : 0, &ierr);
-  if (sk_gmsh_failed(ierr, path, "set Mesh.SecondOrderIncomplete")) return SK_ERR_INPUT;
-  gmshModelMeshSetOrder(order, &ierr);
-  if (sk_gmsh_failed(ierr, path, "make second-order elements")) return SK_ERR_INPUT;
-  return SK_OK;
-}
-
-static const char *failed_path; /* the file sk_gmsh_failed names (the child is single-threaded) */
-
-static int stage_failed(int ierr, const char *what) { return sk_gmsh_failed(ierr, failed_path, what); }
-
+/* gmsh and what it links (OpenCASCADE, FLTK, X11, image and network libraries: 79 libraries, 37 MiB resident) are
+ * mapped only in the mesh generator's child: it loads libstickslip_gmsh.so from the folder of this library, so no
+ * rank of a run ever holds them (docs/scaling.md, "What the part that does not fall with p is made of"). A library
+ * that is dlclose'd is not unmapped here (gmsh's C++ libraries are marked NODELETE), hence the child. */
 static sk_status load_in_child(void *arg, sk_mesh *mesh) {
-  load_job *job = arg;
-  const char *path = job->path;
-  failed_path = path;
-  sk_status status = SK_OK;
-  int ierr = 0, dim = job->dim;
-  sk_mesh_sandbox_phase(job->is_geo ? "evaluating the script" : "reading the file");
-  sk_gmsh_session_begin();
-  gmshOpen(job->open_path, &ierr);
-  if (sk_gmsh_failed(ierr, path, "read the file")) status = SK_ERR_INPUT;
-
-  int highest = -1;
-  if (status == SK_OK && !sk_gmsh_highest_group_dimension(path, &highest)) status = SK_ERR_INPUT;
-  if (status == SK_OK && highest < 0)
-    status = sk_error_set(SK_ERR_INPUT, "mesh %s: no physical groups (name the bodies and boundaries with "
-                                        "Physical Volume/Surface/Curve(\"name\"))", path);
-  if (status == SK_OK && dim == 0) {
-    dim = highest;
-    if (dim != 2 && dim != 3)
-      status = sk_error_set(SK_ERR_INPUT, "mesh %s: the highest physical group has dimension %d; stickslip meshes "
-                                          "are 2D or 3D", path, dim);
-  }
-  /* Script errors stay exceptions (the API's General.AbortOnError = 2), which gmshOpen catches: with 0, an Error()
-   * followed by Abort inside an Included script double-frees in gmsh 4.8.4. Meshing errors must not be exceptions:
-   * thrown inside gmsh's OpenMP regions (a mesh size <= 0 while meshing curves) nothing can catch them and the
-   * process aborts. With 0 gmsh logs them and goes on, and stage_failed() stops after the stage. */
-  gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
-  if (status == SK_OK && job->is_geo) status = sk_mesh_generate_guarded(&job->guard, dim, stage_failed);
-  if (status == SK_OK && job->order > 0) {
-    sk_mesh_sandbox_phase("making the elements second order");
-    status = raise_order(path, job->order, job->serendipity);
-  }
-  if (status == SK_OK) {
-    sk_mesh_sandbox_phase("reading the mesh from gmsh");
-    mesh->dim = dim;
-    status = sk_gmsh_read_model(path, dim, mesh);
-  }
-  if (status == SK_OK && !job->is_geo) {
-    double count = 0;
-    for (int g = 0; g < mesh->n_groups; ++g) count += mesh->groups[g].dim == dim ? mesh->groups[g].n_elems : 0;
-    if (count > (double)job->guard.max_elements)
-      status = sk_error_set(SK_ERR_INPUT, "mesh %s has %.0f elements of dimension %d, more than mesh.max_elements = "
-                            "%ld; raise mesh.max_elements if such a mesh is meant", path, count, dim,
-                            job->guard.max_elements);
-  }
-  sk_gmsh_session_end();
-  return status;
+  const sk_gmsh_load_job *job = arg;
+  Dl_info self;
+  if (!dladdr((void *)sk_mesh_load_with, &self) || !self.dli_fname)
+    return sk_error_set(SK_ERR_INTERNAL, "mesh %s: cannot find the folder of libstickslip_core", job->path);
+  char library[4096];
+  const char *slash = strrchr(self.dli_fname, '/');
+  int folder = slash ? (int)(slash - self.dli_fname) : 1;
+  int n = snprintf(library, sizeof library, "%.*s/libstickslip_gmsh.so", folder, slash ? self.dli_fname : ".");
+  if (n < 0 || (size_t)n >= sizeof library)
+    return sk_error_set(SK_ERR_INTERNAL, "mesh %s: the path of libstickslip_core is too long", job->path);
+  sk_mesh_sandbox_phase("loading gmsh");
+  void *handle = dlopen(library, RTLD_NOW | RTLD_LOCAL);
+  if (!handle)
+    return sk_error_set(SK_ERR_IO, "mesh %s: cannot load the mesh reader %s: %s (is stickslip installed whole?)",
+                        job->path, library, dlerror());
+  sk_gmsh_load_fn load;
+  *(void **)&load = dlsym(handle, "sk_gmsh_load");
+  if (!load) return sk_error_set(SK_ERR_INTERNAL, "mesh %s: %s has no sk_gmsh_load", job->path, library);
+  return load(job, mesh); /* the child ends after it: the library is never unloaded */
 }
 
 /* ---- public -------------------------------------------------------------------------------------------------- */
@@ -258,7 +212,7 @@ sk_status sk_mesh_load_with(const char *path, const sk_mesh_param *params, int n
   }
   char wrapper[1024] = "";
   if (n_params > 0) SK_TRY(write_wrapper_script(path, params, n_params, wrapper, sizeof wrapper));
-  load_job job = {.path = path, .open_path = wrapper[0] ? wrapper : path, .is_geo = is_geo, .dim = dim,
+  sk_gmsh_load_job job = {.path = path, .open_path = wrapper[0] ? wrapper : path, .is_geo = is_geo, .dim = dim,
                   .order = options->order, .serendipity = options->serendipity,
                   .guard = {.path = path, .parameters = parameters, .max_elements = options->max_elements}};
   sk_mesh_sandbox_limits limits = {.time_limit = options->time_limit,

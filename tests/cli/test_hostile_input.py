@@ -223,7 +223,7 @@ def interrupt_while_meshing(c):
             out, err = proc.communicate()
         print("$ stickslip run (%s while gmsh runs)\nexit %d\nstderr: %s" % (name, proc.returncode, err))
         c.check(proc.returncode == code, "exit %d after %s (got %d)" % (code, name, proc.returncode))
-        c.check(re.search(r"loop\.geo: interrupted by %s.* while (evaluating the script|starting gmsh)" % name, err)
+        c.check(re.search(r"loop\.geo: interrupted by %s.* while (evaluating the script|loading gmsh|starting gmsh)" % name, err)
                 is not None, "the message says what was interrupted")
         c.check(not os.path.exists(c.out), "nothing written")
         c.check(child == "" or not os.path.exists("/proc/" + child.split()[0]), "no mesh generator left behind")
