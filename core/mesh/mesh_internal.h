@@ -45,7 +45,7 @@ void sk_gmsh_elements_free(sk_gmsh_elements *elements);
 /* ---- the mesh generator's child process (mesh_sandbox.c) ---------------------------------------------------- */
 
 typedef struct {
-  double time_limit;    /* seconds of wall time for the whole load; <= 0: none */
+  double time_limit;    /* seconds of wall time gmsh may work, from sk_mesh_sandbox_start_clock; <= 0: none */
   size_t memory_limit;  /* bytes of resident memory of the child; 0: none */
   long max_elements;    /* for messages: the element limit the memory limit stands for */
 } sk_mesh_sandbox_limits;
@@ -60,6 +60,9 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
                           sk_mesh *mesh);
 /* In the child: what it is doing now ("meshing the surfaces (2D)"), for the messages above. */
 void sk_mesh_sandbox_phase(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* In the child: the time limit counts from now (called once gmsh is loaded: mesh.time_limit bounds gmsh's work on
+ * the file, not the loading of its libraries, which a loaded machine can stretch). */
+void sk_mesh_sandbox_start_clock(void);
 /* In the child: ends it at once with `status` and the current error message (from inside a gmsh callback). */
 _Noreturn void sk_mesh_sandbox_fail(sk_status status);
 /* The mesh as one buffer (malloc'ed; NULL when out of memory), and back (every size checked; a corrupt buffer is

@@ -133,6 +133,7 @@ static sk_status load_in_child(void *arg, sk_mesh *mesh) {
   sk_gmsh_load_fn load;
   *(void **)&load = dlsym(handle, "sk_gmsh_load");
   if (!load) return sk_error_set(SK_ERR_INTERNAL, "mesh %s: %s has no sk_gmsh_load", job->path, library);
+  sk_mesh_sandbox_start_clock();
   return load(job, mesh); /* the child ends after it: the library is never unloaded */
 }
 

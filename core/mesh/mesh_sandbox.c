@@ -28,7 +28,7 @@
 
 /* ---- frames: [kind (1 byte)][length (8 bytes)][payload] ---------------------------------------------------- */
 
-enum { FRAME_PHASE = 'P', FRAME_ERROR = 'E', FRAME_MESH = 'M' };
+enum { FRAME_PHASE = 'P', FRAME_ERROR = 'E', FRAME_MESH = 'M', FRAME_CLOCK = 'C' };
 
 static int child_fd = -1; /* the child's end of the pipe (-1 in the parent) */
 
@@ -56,6 +56,10 @@ void sk_mesh_sandbox_phase(const char *fmt, ...) {
   vsnprintf(text, sizeof text, fmt, args);
   va_end(args);
   write_frame(child_fd, FRAME_PHASE, text, strlen(text) + 1);
+}
+
+void sk_mesh_sandbox_start_clock(void) {
+  if (child_fd >= 0) write_frame(child_fd, FRAME_CLOCK, "", 0);
 }
 
 _Noreturn void sk_mesh_sandbox_fail(sk_status status) {
@@ -271,6 +275,7 @@ sk_status sk_mesh_sandbox(sk_mesh_sandbox_work work, void *arg, const sk_mesh_sa
       if (kind == FRAME_PHASE) snprintf(phase, sizeof phase, "%.*s", (int)length, payload);
       if (kind == FRAME_MESH) mesh_frame = payload, mesh_length = length;
       if (kind == FRAME_ERROR) error_frame = payload;
+      if (kind == FRAME_CLOCK) start = seconds_now(); /* gmsh loaded: its work on the file starts */
       parsed += 9 + length;
     }
     size_t resident = resident_bytes(pid);
