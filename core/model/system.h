@@ -147,6 +147,12 @@ struct sk_system {
                                   created pair sleeps) */
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
+  /* settling the pattern at an attempt's start (sk_system_settle_pattern), as [wall, CPU] seconds: all of it (the
+   * terms' declarations and the check included), the builds (keys sorted and widened, rows, positions, the bridge),
+   * and the bridge's part of the builds (sk_linsys_set_pattern); the keys sorted by the builds (declared ones and the
+   * pattern's keys after widening) */
+  double t_pattern[2], t_pattern_build[2], t_pattern_bridge[2];
+  int64_t pattern_keys_declared, pattern_keys_kept;
   int master_reghosts; /* steps at which the master faces were ghosted again (master_ghosts.c) */
   /* the contact partition rebalanced between steps (contact_partition.h): set after a step whose contact work is
    * uneven (core/time/contact_balance.c), done at the next step's predictor */

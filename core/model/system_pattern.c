@@ -16,6 +16,13 @@ static int compare_int(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* Adds the wall and CPU seconds since t0 to seconds[2]. */
+static void charge(double seconds[2], sk_clock t0) {
+  const sk_clock t = sk_system_clock();
+  seconds[0] += t.wall - t0.wall;
+  seconds[1] += t.cpu - t0.cpu;
+}
+
 
 /* ---- the plugins' sink ------------------------------------------------------------------------------------------ */
 
@@ -285,8 +292,10 @@ static sk_status hand_to_solver(sk_system *sys) {
     ptr[i + 1] = sys->row_ptr[r + 1];
     ++i;
   }
+  const sk_clock t0 = sk_system_clock();
   const sk_status status = sk_linsys_set_pattern(sys->linsys, (int)sys->n_owned_dofs, (int)(sys->n_kept - sys->n_nodal),
                                                  n_rows, rows, ptr, sys->cols);
+  charge(sys->t_pattern_bridge, t0);
   free(rows);
   free(ptr);
   SK_TRY(status);
@@ -389,9 +398,18 @@ static sk_status merge_keys(sk_system *sys, const int64_t *keys, int64_t n_keys)
   return SK_OK;
 }
 
+static sk_status settle_pattern(sk_system *sys, int layout_changed);
+
 /* The attempt's pattern: every term declares its couplings and rows; declared entries the current pattern lacks
  * (on any rank) grow it once, before Newton. */
 sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
+  const sk_clock t0 = sk_system_clock();
+  const sk_status status = settle_pattern(sys, layout_changed);
+  charge(sys->t_pattern, t0);
+  return status;
+}
+
+static sk_status settle_pattern(sk_system *sys, int layout_changed) {
   const int64_t n = sys->n;
   if (!sys->bulk_ptr) SK_TRY(build_bulk_graph(sys));
   sys->n_declared = 0;
@@ -426,6 +444,8 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   int anywhere = missing;
   MPI_Allreduce(MPI_IN_PLACE, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
   if (!anywhere) return SK_OK;
+  const sk_clock t0 = sk_system_clock();
+  sys->pattern_keys_declared += sys->n_declared;
   int64_t n_send = sys->n_declared;
   sk_sort_unique_i64(sys->declared, &n_send);
   if (renumbered || rings > 0) sys->n_extra_keys = 0; /* renumbered: the keys were in the old numbering */
@@ -434,5 +454,8 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   sys->key_columns = n;
   const int follow = !renumbered && sys->row_ptr != NULL;
   sys->pattern_n = sys->n_kept;
-  return build_rows(sys, follow);
+  sys->pattern_keys_kept += sys->n_extra_keys;
+  status = build_rows(sys, follow);
+  charge(sys->t_pattern_build, t0);
+  return status;
 }
