@@ -110,6 +110,8 @@ struct sk_system {
   unsigned char *row_local; /* n: rows this rank may write matrix entries into */
   int64_t pattern_n;       /* n_kept of the current pattern, -1 before the first */
   int *bulk_ptr, *bulk_cols; /* per local node: the local nodes its owned elements couple it with (sorted) */
+  int *pattern_dof_solver;  /* n_dofs: solver_of and role of the dofs when the current pattern was built (a new one */
+  unsigned char *pattern_dof_role; /* keeps the bulk entries of its dof rows while these hold) */
   int64_t *elem_pos_offset;/* per element: its entries' positions in elem_pos (own elements only) */
   int64_t *elem_pos;
   sk_linear_system *linsys;
