@@ -230,6 +230,21 @@ static sk_status build_bulk_graph(sk_system *sys) {
 
 /* ---- the rows ----------------------------------------------------------------------------------------------------- */
 
+/* The columns (linear system numbering) of the keys of local row r (extra_keys from *k on, advanced) and its diagonal
+ * when owned, added to the `len` in out; all of them sorted and unique; returns how many. */
+static int64_t key_columns(const sk_system *sys, int64_t r, int64_t *k, int *out, int64_t len) {
+  if (sys->role[r] == SK_NODE_OWNED) out[len++] = sys->solver_of[r];
+  for (; *k < sys->n_extra_keys && sys->extra_keys[*k] / sys->n == r; ++*k) {
+    const int c = sys->solver_of[sys->extra_keys[*k] % sys->n];
+    if (c >= 0) out[len++] = c;
+  }
+  qsort(out, (size_t)len, sizeof(int), compare_int);
+  int64_t unique = 0;
+  for (int64_t j = 0; j < len; ++j)
+    if (j == 0 || out[j] != out[unique - 1]) out[unique++] = out[j];
+  return unique;
+}
+
 /* The columns (linear system numbering, sorted, unique) of local row r: its node's element graph, the keys of the row
  * (extra_keys from *k on, advanced), its diagonal when owned; into out, returns how many. */
 static int64_t row_columns(const sk_system *sys, int64_t r, int64_t *k, int *out) {
@@ -247,16 +262,7 @@ static int64_t row_columns(const sk_system *sys, int64_t r, int64_t *k, int *out
         if (c >= 0) out[len++] = c;
       }
   }
-  if (sys->role[r] == SK_NODE_OWNED) out[len++] = sys->solver_of[r];
-  for (; *k < sys->n_extra_keys && sys->extra_keys[*k] / sys->n == r; ++*k) {
-    const int c = sys->solver_of[sys->extra_keys[*k] % sys->n];
-    if (c >= 0) out[len++] = c;
-  }
-  qsort(out, (size_t)len, sizeof(int), compare_int);
-  int64_t unique = 0;
-  for (int64_t j = 0; j < len; ++j)
-    if (j == 0 || out[j] != out[unique - 1]) out[unique++] = out[j];
-  return unique;
+  return key_columns(sys, r, k, out, len);
 }
 
 /* An upper bound of any row's length. */
@@ -330,22 +336,6 @@ static sk_status place_elements(sk_system *sys) {
   return SK_OK;
 }
 
-/* The columns (linear system numbering, sorted, unique) of the keys of local row r (extra_keys from *k on, advanced)
- * and its diagonal when owned, into out; returns how many. */
-static int64_t key_columns(const sk_system *sys, int64_t r, int64_t *k, int *out) {
-  int64_t len = 0;
-  if (sys->role[r] == SK_NODE_OWNED) out[len++] = sys->solver_of[r];
-  for (; *k < sys->n_extra_keys && sys->extra_keys[*k] / sys->n == r; ++*k) {
-    const int c = sys->solver_of[sys->extra_keys[*k] % sys->n];
-    if (c >= 0) out[len++] = c;
-  }
-  qsort(out, (size_t)len, sizeof(int), compare_int);
-  int64_t unique = 0;
-  for (int64_t j = 0; j < len; ++j)
-    if (j == 0 || out[j] != out[unique - 1]) out[unique++] = out[j];
-  return unique;
-}
-
 /* Marks the entries of the current pattern that belong to the bulk graph (row_columns: its node's element graph):
  * the element entries (elem_pos) and, for a node in its own graph, the columns of its own dofs. */
 static void mark_bulk(const sk_system *sys, unsigned char *bulk) {
@@ -387,9 +377,8 @@ static sk_status note_dof_numbering(sk_system *sys) {
 
 /* The rows from the element graph, the keys and the diagonal. `follow`: the dofs keep the current pattern's numbering
  * (solver_of, role), so the bulk entries of each dof row are those of its current row: they are merged with the
- * row's keys (no sort of the whole row, 28 % of a pattern build of the full two-tori) and each element position
- * follows its entry to where it moved (no binary search of every element entry); else the rows and the positions
- * are computed afresh. */
+ * row's keys (no sort of the whole row) and each element position follows its entry to where it moved (no binary
+ * search of every element entry); else the rows and the positions are computed afresh. */
 static sk_status build_rows(sk_system *sys) {
   const sk_model *m = sys->model;
   const int follow = same_dof_numbering(sys);
@@ -417,7 +406,7 @@ static sk_status build_rows(sk_system *sys) {
       len = row_columns(sys, r, &k, row); /* none; skips the row's keys */
     } else if (follow && r < m->n_dofs) {
       /* the current row's bulk entries merged with the row's keys (both sorted) */
-      const int64_t nk = key_columns(sys, r, &k, row);
+      const int64_t nk = key_columns(sys, r, &k, row, 0);
       int64_t q = used, j = 0;
       for (int64_t p = sys->row_ptr[r]; p < sys->row_ptr[r + 1]; ++p) {
         if (!bulk[p]) continue;
@@ -432,7 +421,7 @@ static sk_status build_rows(sk_system *sys) {
       row_ptr[r + 1] = used;
       continue;
     } else {
-      len = r < m->n_dofs ? row_columns(sys, r, &k, row) : key_columns(sys, r, &k, row);
+      len = r < m->n_dofs ? row_columns(sys, r, &k, row) : key_columns(sys, r, &k, row, 0);
     }
     memcpy(cols + used, row, sizeof(int) * (size_t)len);
     used += len;
