@@ -110,6 +110,8 @@ struct sk_system {
   unsigned char *row_local; /* n: rows this rank may write matrix entries into */
   int64_t pattern_n;       /* n_kept of the current pattern, -1 before the first */
   int *bulk_ptr, *bulk_cols; /* per local node: the local nodes its owned elements couple it with (sorted) */
+  int *pattern_dof_solver;  /* n_dofs: solver_of and role of the dofs when the current pattern was built (a new one */
+  unsigned char *pattern_dof_role; /* keeps the bulk entries of its dof rows while these hold) */
   int64_t *elem_pos_offset;/* per element: its entries' positions in elem_pos (own elements only) */
   int64_t *elem_pos;
   sk_linear_system *linsys;
@@ -147,6 +149,12 @@ struct sk_system {
                                   created pair sleeps) */
   int64_t unknowns_max, linear_size_max;
   int pattern_builds; /* sparsity patterns handed to the solver (each rebuilds its matrix): built or grown */
+  /* settling the pattern at an attempt's start (sk_system_settle_pattern), as [wall, CPU] seconds: all of it (the
+   * terms' declarations and the check included), the builds (keys sorted and widened, rows, positions, the bridge),
+   * and the bridge's part of the builds (sk_linsys_set_pattern); the keys sorted by the builds (declared ones and the
+   * pattern's keys after widening) */
+  double t_pattern[2], t_pattern_build[2], t_pattern_bridge[2];
+  int64_t pattern_keys_declared, pattern_keys_kept;
   int master_reghosts; /* steps at which the master faces were ghosted again (master_ghosts.c) */
   /* the contact partition rebalanced between steps (contact_partition.h): set after a step whose contact work is
    * uneven (core/time/contact_balance.c), done at the next step's predictor */

@@ -185,6 +185,8 @@ void sk_system_destroy(sk_system *sys) {
   free(sys->row_local);
   free(sys->bulk_ptr);
   free(sys->bulk_cols);
+  free(sys->pattern_dof_solver);
+  free(sys->pattern_dof_role);
   free(sys->node_role);
   free(sys->owned_dofs);
   sk_exchange_free(&sys->ghost_dofs);

@@ -16,6 +16,13 @@ static int compare_int(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* Adds the wall and CPU seconds since t0 to seconds[2]. */
+static void charge(double seconds[2], sk_clock t0) {
+  const sk_clock t = sk_system_clock();
+  seconds[0] += t.wall - t0.wall;
+  seconds[1] += t.cpu - t0.cpu;
+}
+
 
 /* ---- the plugins' sink ------------------------------------------------------------------------------------------ */
 
@@ -223,6 +230,21 @@ static sk_status build_bulk_graph(sk_system *sys) {
 
 /* ---- the rows ----------------------------------------------------------------------------------------------------- */
 
+/* The columns (linear system numbering) of the keys of local row r (extra_keys from *k on, advanced) and its diagonal
+ * when owned, added to the `len` in out; all of them sorted and unique; returns how many. */
+static int64_t key_columns(const sk_system *sys, int64_t r, int64_t *k, int *out, int64_t len) {
+  if (sys->role[r] == SK_NODE_OWNED) out[len++] = sys->solver_of[r];
+  for (; *k < sys->n_extra_keys && sys->extra_keys[*k] / sys->n == r; ++*k) {
+    const int c = sys->solver_of[sys->extra_keys[*k] % sys->n];
+    if (c >= 0) out[len++] = c;
+  }
+  qsort(out, (size_t)len, sizeof(int), compare_int);
+  int64_t unique = 0;
+  for (int64_t j = 0; j < len; ++j)
+    if (j == 0 || out[j] != out[unique - 1]) out[unique++] = out[j];
+  return unique;
+}
+
 /* The columns (linear system numbering, sorted, unique) of local row r: its node's element graph, the keys of the row
  * (extra_keys from *k on, advanced), its diagonal when owned; into out, returns how many. */
 static int64_t row_columns(const sk_system *sys, int64_t r, int64_t *k, int *out) {
@@ -240,16 +262,7 @@ static int64_t row_columns(const sk_system *sys, int64_t r, int64_t *k, int *out
         if (c >= 0) out[len++] = c;
       }
   }
-  if (sys->role[r] == SK_NODE_OWNED) out[len++] = sys->solver_of[r];
-  for (; *k < sys->n_extra_keys && sys->extra_keys[*k] / sys->n == r; ++*k) {
-    const int c = sys->solver_of[sys->extra_keys[*k] % sys->n];
-    if (c >= 0) out[len++] = c;
-  }
-  qsort(out, (size_t)len, sizeof(int), compare_int);
-  int64_t unique = 0;
-  for (int64_t j = 0; j < len; ++j)
-    if (j == 0 || out[j] != out[unique - 1]) out[unique++] = out[j];
-  return unique;
+  return key_columns(sys, r, k, out, len);
 }
 
 /* An upper bound of any row's length. */
@@ -285,8 +298,10 @@ static sk_status hand_to_solver(sk_system *sys) {
     ptr[i + 1] = sys->row_ptr[r + 1];
     ++i;
   }
+  const sk_clock t0 = sk_system_clock();
   const sk_status status = sk_linsys_set_pattern(sys->linsys, (int)sys->n_owned_dofs, (int)(sys->n_kept - sys->n_nodal),
                                                  n_rows, rows, ptr, sys->cols);
+  charge(sys->t_pattern_bridge, t0);
   free(rows);
   free(ptr);
   SK_TRY(status);
@@ -321,41 +336,99 @@ static sk_status place_elements(sk_system *sys) {
   return SK_OK;
 }
 
-/* The rows from the element graph, the keys and the diagonal. `follow`: the columns' numbering is the one of the
- * current pattern, so each element position follows its entry (always kept) to where it moved — a merge per row
- * instead of a binary search of every element entry (6.6 % of a full two-tori contact step, where each new contact
- * coupling grew the pattern); else the positions are computed afresh. */
-static sk_status build_rows(sk_system *sys, int follow) {
+/* Marks the entries of the current pattern that belong to the bulk graph (row_columns: its node's element graph):
+ * the element entries (elem_pos) and, for a node in its own graph, the columns of its own dofs. */
+static void mark_bulk(const sk_system *sys, unsigned char *bulk) {
+  const sk_model *m = sys->model;
+  const int64_t total = sys->elem_pos_offset[m->n_elements];
+  memset(bulk, 0, (size_t)sys->row_ptr[m->n_dofs]);
+  for (int64_t j = 0; j < total; ++j)
+    if (sys->elem_pos[j] >= 0) bulk[sys->elem_pos[j]] = 1;
+  for (int a = 0; a < m->n_nodes; ++a) {
+    const int *own = sys->bulk_cols + sys->bulk_ptr[a];
+    if (!bsearch(&a, own, (size_t)(sys->bulk_ptr[a + 1] - sys->bulk_ptr[a]), sizeof(int), compare_int)) continue;
+    for (int i = 0; i < m->dim; ++i)
+      for (int k = 0; k < m->dim; ++k) {
+        const int64_t p = sk_system_position(sys, (int64_t)a * m->dim + i, (int64_t)a * m->dim + k);
+        if (p >= 0) bulk[p] = 1;
+      }
+  }
+}
+
+/* 1 when the dofs' rows and columns (solver_of, role) are those the current pattern was built with: the bulk
+ * entries of its dof rows are still right. */
+static int same_dof_numbering(const sk_system *sys) {
+  const int64_t n_dofs = sys->model->n_dofs;
+  return sys->row_ptr && sys->pattern_dof_solver &&
+         memcmp(sys->pattern_dof_solver, sys->solver_of, sizeof(int) * (size_t)n_dofs) == 0 &&
+         memcmp(sys->pattern_dof_role, sys->role, (size_t)n_dofs) == 0;
+}
+
+/* Keeps the dofs' numbering of the pattern just built (same_dof_numbering). */
+static sk_status note_dof_numbering(sk_system *sys) {
+  const int64_t n_dofs = sys->model->n_dofs;
+  if (!sys->pattern_dof_solver) sys->pattern_dof_solver = malloc(sizeof(int) * (size_t)(n_dofs > 0 ? n_dofs : 1));
+  if (!sys->pattern_dof_role) sys->pattern_dof_role = malloc((size_t)(n_dofs > 0 ? n_dofs : 1));
+  if (!sys->pattern_dof_solver || !sys->pattern_dof_role) return sk_system_out_of_memory("the dofs' rows", n_dofs);
+  memcpy(sys->pattern_dof_solver, sys->solver_of, sizeof(int) * (size_t)n_dofs);
+  memcpy(sys->pattern_dof_role, sys->role, (size_t)n_dofs);
+  return SK_OK;
+}
+
+/* The rows from the element graph, the keys and the diagonal. `follow`: the dofs keep the current pattern's numbering
+ * (solver_of, role), so the bulk entries of each dof row are those of its current row: they are merged with the
+ * row's keys (no sort of the whole row) and each element position follows its entry to where it moved (no binary
+ * search of every element entry); else the rows and the positions are computed afresh. */
+static sk_status build_rows(sk_system *sys) {
+  const sk_model *m = sys->model;
+  const int follow = same_dof_numbering(sys);
   const int64_t n = sys->n;
   const int64_t longest = longest_row(sys);
   int64_t bound = 0, k = 0;
-  for (int a = 0; a < sys->model->n_nodes; ++a) bound += (int64_t)(sys->bulk_ptr[a + 1] - sys->bulk_ptr[a]) * sys->model->dim * sys->model->dim;
+  for (int a = 0; a < m->n_nodes; ++a) bound += (int64_t)(sys->bulk_ptr[a + 1] - sys->bulk_ptr[a]) * m->dim * m->dim;
   bound += n + sys->n_extra_keys;
   int64_t *row_ptr = malloc(sizeof(int64_t) * (size_t)(n + 1));
   int *cols = malloc(sizeof(int) * (size_t)(bound > 0 ? bound : 1));
   int *row = malloc(sizeof(int) * (size_t)longest);
-  const int64_t old_entries = follow && sys->row_ptr ? sys->row_ptr[n] : 0;
+  const int64_t old_entries = follow ? sys->row_ptr[m->n_dofs] : 0; /* the dof rows' entries: all element entries */
   int64_t *moved_to = follow ? malloc(sizeof(int64_t) * (size_t)(old_entries > 0 ? old_entries : 1)) : NULL;
-  if (!row_ptr || !cols || !row || (follow && !moved_to)) {
-    free(row_ptr), free(cols), free(row), free(moved_to);
+  unsigned char *bulk = follow ? malloc((size_t)(old_entries > 0 ? old_entries : 1)) : NULL;
+  if (!row_ptr || !cols || !row || (follow && (!moved_to || !bulk))) {
+    free(row_ptr), free(cols), free(row), free(moved_to), free(bulk);
     return sk_system_out_of_memory("the sparsity pattern", bound);
   }
+  if (follow) mark_bulk(sys, bulk);
   int64_t used = 0;
   row_ptr[0] = 0;
   for (int64_t r = 0; r < n; ++r) {
-    const int64_t len = row_columns(sys, r, &k, row);
-    memcpy(cols + used, row, sizeof(int) * (size_t)len);
-    if (follow) {
-      int64_t q = used;
+    int64_t len;
+    if (sys->solver_of[r] < 0) {
+      len = row_columns(sys, r, &k, row); /* none; skips the row's keys */
+    } else if (follow && r < m->n_dofs) {
+      /* the current row's bulk entries merged with the row's keys (both sorted) */
+      const int64_t nk = key_columns(sys, r, &k, row, 0);
+      int64_t q = used, j = 0;
       for (int64_t p = sys->row_ptr[r]; p < sys->row_ptr[r + 1]; ++p) {
-        while (q < used + len && cols[q] < sys->cols[p]) ++q;
-        moved_to[p] = q < used + len && cols[q] == sys->cols[p] ? q : -1;
+        if (!bulk[p]) continue;
+        const int c = sys->cols[p];
+        while (j < nk && row[j] < c) cols[q++] = row[j++];
+        if (j < nk && row[j] == c) ++j;
+        moved_to[p] = q;
+        cols[q++] = c;
       }
+      while (j < nk) cols[q++] = row[j++];
+      used = q;
+      row_ptr[r + 1] = used;
+      continue;
+    } else {
+      len = r < m->n_dofs ? row_columns(sys, r, &k, row) : key_columns(sys, r, &k, row, 0);
     }
+    memcpy(cols + used, row, sizeof(int) * (size_t)len);
     used += len;
     row_ptr[r + 1] = used;
   }
   free(row);
+  free(bulk);
   int *shrunk = realloc(cols, sizeof(int) * (size_t)(used > 0 ? used : 1));
   free(sys->row_ptr);
   free(sys->cols);
@@ -363,35 +436,48 @@ static sk_status build_rows(sk_system *sys, int follow) {
   sys->cols = shrunk ? shrunk : cols;
   sk_status status = SK_OK;
   if (follow) {
-    const sk_model *m = sys->model;
     const int64_t total = sys->elem_pos_offset[m->n_elements];
-    for (int64_t j = 0; j < total; ++j) sys->elem_pos[j] = moved_to[sys->elem_pos[j]];
+    for (int64_t j = 0; j < total; ++j) sys->elem_pos[j] = sys->elem_pos[j] >= 0 ? moved_to[sys->elem_pos[j]] : -1;
     free(moved_to);
   } else {
     status = place_elements(sys);
   }
+  if (status == SK_OK) status = note_dof_numbering(sys);
   if (status == SK_OK) status = hand_to_solver(sys);
   return status;
 }
 
 /* ---- settling the pattern of an attempt ------------------------------------------------------------------------ */
 
-/* Adds keys to extra_keys (sorted, unique). */
+/* Adds keys (sorted, unique) to extra_keys (sorted, unique): a merge. */
 static sk_status merge_keys(sk_system *sys, const int64_t *keys, int64_t n_keys) {
   if (n_keys == 0) return SK_OK; /* keys may be NULL then (an attempt that declares nothing new) */
-  int64_t *merged = realloc(sys->extra_keys, sizeof(int64_t) * (size_t)(sys->n_extra_keys + n_keys + 1));
-  if (!merged) return sk_system_out_of_memory("the pattern keys", sys->n_extra_keys + n_keys);
+  const int64_t *old = sys->extra_keys, n_old = sys->n_extra_keys;
+  int64_t *merged = malloc(sizeof(int64_t) * (size_t)(n_old + n_keys + 1));
+  if (!merged) return sk_system_out_of_memory("the pattern keys", n_old + n_keys);
+  int64_t i = 0, j = 0, n = 0;
+  while (i < n_old || j < n_keys) {
+    const int64_t next = j == n_keys || (i < n_old && old[i] < keys[j]) ? old[i++] : keys[j++];
+    if (n == 0 || merged[n - 1] != next) merged[n++] = next;
+  }
+  free(sys->extra_keys);
   sys->extra_keys = merged;
-  memcpy(merged + sys->n_extra_keys, keys, sizeof(int64_t) * (size_t)n_keys);
-  int64_t n = sys->n_extra_keys + n_keys;
-  sk_sort_unique_i64(merged, &n);
   sys->n_extra_keys = n;
   return SK_OK;
 }
 
+static sk_status settle_pattern(sk_system *sys, int layout_changed);
+
 /* The attempt's pattern: every term declares its couplings and rows; declared entries the current pattern lacks
  * (on any rank) grow it once, before Newton. */
 sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
+  const sk_clock t0 = sk_system_clock();
+  const sk_status status = settle_pattern(sys, layout_changed);
+  charge(sys->t_pattern, t0);
+  return status;
+}
+
+static sk_status settle_pattern(sk_system *sys, int layout_changed) {
   const int64_t n = sys->n;
   if (!sys->bulk_ptr) SK_TRY(build_bulk_graph(sys));
   sys->n_declared = 0;
@@ -426,13 +512,17 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed) {
   int anywhere = missing;
   MPI_Allreduce(MPI_IN_PLACE, &anywhere, 1, MPI_INT, MPI_MAX, sys->comm);
   if (!anywhere) return SK_OK;
+  const sk_clock t0 = sk_system_clock();
+  sys->pattern_keys_declared += sys->n_declared;
   int64_t n_send = sys->n_declared;
   sk_sort_unique_i64(sys->declared, &n_send);
   if (renumbered || rings > 0) sys->n_extra_keys = 0; /* renumbered: the keys were in the old numbering */
   SK_TRY(merge_keys(sys, sys->declared, n_send));
   sk_system_widen_keys(sys, rings, &sys->extra_keys, &sys->n_extra_keys);
   sys->key_columns = n;
-  const int follow = !renumbered && sys->row_ptr != NULL;
   sys->pattern_n = sys->n_kept;
-  return build_rows(sys, follow);
+  sys->pattern_keys_kept += sys->n_extra_keys;
+  status = build_rows(sys);
+  charge(sys->t_pattern_build, t0);
+  return status;
 }

@@ -536,6 +536,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_int(json, "pair_attempts", (long)rec->sys->pair_attempts);
   sk_json_int(json, "pair_attempts_apart", (long)rec->sys->far_pair_attempts);
   sk_json_number(json, "solve_seconds", sum->solve_seconds);
+  sk_json_number(json, "pattern_seconds", rec->sys->t_pattern[0]); /* rank 0's settling of the pattern (system.h) */
   sk_contact_balance_write(&rec->balance, json);
   return sk_json_close(json);
 }

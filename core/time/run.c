@@ -105,6 +105,14 @@ static void write_rank_stats(const sk_system *sys, const sk_run_summary *summary
   sk_json_number(json, "assembly_seconds", sys->t_assembly);
   sk_json_number(json, "contact_seconds", sys->t_contact);
   sk_json_number(json, "solve_seconds", sys->t_solve);
+  /* settling the pattern at the attempts' starts (system.h: t_pattern), outside the phases above */
+  sk_json_int(json, "pattern_builds", sys->pattern_builds);
+  sk_json_number(json, "pattern_seconds", sys->t_pattern[0]);
+  sk_json_number(json, "pattern_cpu_seconds", sys->t_pattern[1]);
+  sk_json_number(json, "pattern_build_cpu_seconds", sys->t_pattern_build[1]);
+  sk_json_number(json, "pattern_bridge_cpu_seconds", sys->t_pattern_bridge[1]);
+  sk_json_number(json, "pattern_keys_declared", (double)sys->pattern_keys_declared);
+  sk_json_number(json, "pattern_keys_kept", (double)sys->pattern_keys_kept);
   if (sk_json_close(json) != SK_OK) fprintf(stderr, "warning: STICKSLIP_RANK_STATS: %s\n", sk_error_message());
 }
 
