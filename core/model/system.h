@@ -229,9 +229,11 @@ sk_status sk_system_settle_pattern(sk_system *sys, int layout_changed);
 void sk_system_widen_keys(const sk_system *sys, int rings, int64_t **keys, int64_t *n_keys);
 /* The error of a failed allocation of `count` entries for `what` (SK_ERR_NOMEM). */
 sk_status sk_system_out_of_memory(const char *what, int64_t count);
-/* qsort/bsearch order of int64_t; sorts keys[*n] and drops repeats (system_widening.c). */
+/* qsort/bsearch order of int64_t; sorts keys[*n] and drops repeats (sort_keys.c). */
 int sk_compare_i64(const void *a, const void *b);
 void sk_sort_unique_i64(int64_t *keys, int64_t *n);
+/* Sorts keys in place, ascending, without allocating (sort_keys.c). */
+void sk_sort_i64(int64_t *keys, int64_t n);
 /* Position of (row, col) (local unknowns) in this rank's contributions (sys->values), or -1. */
 int64_t sk_system_position(const sk_system *sys, int64_t row, int64_t col);
 /* The local index of an unknown in the plugins' (ABI) numbering, or -1 when this rank does not hold it. */

@@ -1,25 +1,10 @@
 /* The widening of the pattern by solver.pattern_margin (system.h): the declared couplings grown by rings of
  * neighbouring contact-surface nodes, so that a contact zone that moves on keeps its entries in the pattern and the
- * matrix is not rebuilt at every step; and the sorting helpers the pattern code shares. */
+ * matrix is not rebuilt at every step. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "system.h"
-
-int sk_compare_i64(const void *a, const void *b) {
-  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-  return (x > y) - (x < y);
-}
-
-void sk_sort_unique_i64(int64_t *keys, int64_t *n) {
-  if (*n < 2) return; /* also keys == NULL with none */
-  qsort(keys, (size_t)*n, sizeof(int64_t), sk_compare_i64);
-  int64_t unique = 0;
-  for (int64_t k = 0; k < *n; ++k)
-    if (k == 0 || keys[k] != keys[unique - 1]) keys[unique++] = keys[k];
-  *n = unique;
-}
-
 
 /* The neighbourhoods the pattern widens over. Unknowns are grouped by "points": the nodes (0 .. n_nodes-1, dim
  * unknowns each), then one point per extra unknown. A node's neighbours are itself and the contact-surface nodes that
