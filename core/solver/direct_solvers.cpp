@@ -160,10 +160,10 @@ bool mumps_stats_on() {
 // Dropping a MUMPS instance (a new pattern, a failure) frees its factors and workspace, but glibc keeps most of it
 // resident: MUMPS's first factorisation frees buffers of tens of MB (its matrix redistribution), which raises malloc's
 // mmap threshold to their size, so the later workspaces come from the heap, where freed pages stay mapped. The next
-// instance is then built beside the old one's pages: at 8 ranks of the weak-scaled tori about 12 MB per rank
-// (docs/scaling.md, "Weak scaling in memory"). malloc_trim gives them back (a few ms, once per pattern).
+// instance is then built beside the old one's pages. malloc_trim gives them back: 26-42 MB per rank, 3-5 ms, at 8 ranks
+// of the weak-scaled tori, whose largest peak fell from 146 to 136 MB (docs/scaling.md, "The direct solver's share").
 void release_direct(sk_linear_system *sys) {
-  const bool held = !sys->amesos.is_null();
+  [[maybe_unused]] const bool held = !sys->amesos.is_null();
   sys->amesos = Teuchos::null;
   sys->epetra_problem = Teuchos::null;
   sys->epetra_x = Teuchos::null;
