@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdexcept>
 
 #include <Amesos.h>
@@ -126,7 +131,39 @@ bool is_direct(sk_linear_solver_kind kind) {
 
 bool mumps_backed(sk_linear_solver_kind kind) { return is_direct(kind) || kind == SK_LINEAR_GMRES_LU; }
 
+namespace {
+
+// The process's peak and current resident memory in KiB (VmHWM, VmRSS; 0 where /proc is missing).
+void resident_kib(long *peak, long *now) {
+  *peak = *now = 0;
+  if (FILE *status = std::fopen("/proc/self/status", "r")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, status)) {
+      std::sscanf(line, "VmHWM: %ld", peak);
+      std::sscanf(line, "VmRSS: %ld", now);
+    }
+    std::fclose(status);
+  }
+}
+
+// STICKSLIP_MUMPS_STATS set (and not 0): see mumps_stats.
+bool mumps_stats_on() {
+  static const bool on = [] {
+    const char *value = std::getenv("STICKSLIP_MUMPS_STATS");
+    return value && *value && std::strcmp(value, "0") != 0;
+  }();
+  return on;
+}
+
+}  // namespace
+
+// Dropping a MUMPS instance (a new pattern, a failure) frees its factors and workspace, but glibc keeps most of it
+// resident: MUMPS's first factorisation frees buffers of tens of MB (its matrix redistribution), which raises malloc's
+// mmap threshold to their size, so the later workspaces come from the heap, where freed pages stay mapped. The next
+// instance is then built beside the old one's pages. malloc_trim gives them back: 26-42 MB per rank, 3-5 ms, at 8 ranks
+// of the weak-scaled tori, whose largest peak fell from 146 to 136 MB (docs/scaling.md, "The direct solver's share").
 void release_direct(sk_linear_system *sys) {
+  [[maybe_unused]] const bool held = !sys->amesos.is_null();
   sys->amesos = Teuchos::null;
   sys->epetra_problem = Teuchos::null;
   sys->epetra_x = Teuchos::null;
@@ -138,6 +175,18 @@ void release_direct(sk_linear_system *sys) {
   sys->serial_matrix = Teuchos::null;
   sys->serial_map = Teuchos::null;
   sys->serial_slots.clear();
+#ifdef __GLIBC__
+  if (!held) return;
+  long peak = 0, before = 0, after = 0;
+  if (mumps_stats_on()) resident_kib(&peak, &before);
+  const double start = cpu_seconds();
+  malloc_trim(0);
+  if (mumps_stats_on()) {
+    resident_kib(&peak, &after);
+    std::fprintf(stderr, "mumps released rank %d: malloc_trim %.1f ms CPU, RSS %ld -> %ld KiB\n", sys->rank,
+                 1e3 * (cpu_seconds() - start), before, after);
+  }
+#endif
 }
 
 // Direct solve. KLU2 always runs on one process: the distributed matrix itself on one rank, the serial copy on
@@ -247,6 +296,28 @@ const char *mumps_meaning(int info) {
   return "see the MUMPS manual";
 }
 
+// STICKSLIP_MUMPS_STATS=1 (a measuring aid, docs/linear-solvers.md) prints to stderr, after each MUMPS analysis and
+// factorisation, every rank's memory — INFO(15)/(16), the MB MUMPS estimated / allocated for the factorisation (its
+// workspace, mostly never touched), INFO(9), the real entries of the rank's factors, and the rank's peak and current
+// resident memory — and rank 0's global figures: INFOG(7) ordering used, INFOG(32) analysis type (1 sequential),
+// INFOG(20)/(29) estimated / effective factor entries, INFOG(16)/(17) and (18)/(19) MB of the largest rank / all ranks
+// estimated and allocated, RINFOG(3) flops of the elimination.
+void mumps_stats(sk_linear_system *sys, const char *phase) {
+  auto *mumps = mumps_stats_on() ? dynamic_cast<Amesos_Mumps *>(sys->amesos.get()) : nullptr;
+  if (!mumps) return;
+  const int *info = mumps->GetINFO(), *infog = mumps->GetINFOG();
+  long peak = 0, now = 0;
+  resident_kib(&peak, &now);
+  std::fprintf(stderr, "mumps %s rank %d: INFO(15) %d MB, INFO(16) %d MB, INFO(9) %d, peak RSS %ld KiB, RSS %ld KiB\n",
+               phase, sys->rank, info[14], info[15], info[8], peak, now);
+  if (sys->rank == 0)
+    std::fprintf(stderr,
+                 "mumps %s: n %d, INFOG(7) %d, INFOG(32) %d, INFOG(20) %d, INFOG(29) %d, INFOG(16) %d, INFOG(17) %d, "
+                 "INFOG(18) %d, INFOG(19) %d, RINFOG(3) %.3g, ICNTL(14) %d\n",
+                 phase, sys->n, infog[6], infog[31], infog[19], infog[28], infog[15], infog[16], infog[17], infog[18],
+                 mumps->GetRINFOG()[2], sys->mumps_workspace_percent);
+}
+
 // The symbolic (once per pattern and backend) and numeric factorisation of the values in sys->epetra_matrix; *info:
 // MUMPS's INFO(1) when it failed (mumps_info), else 0.
 sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk_linear_report *report, int *info) {
@@ -289,6 +360,7 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
     }
     report->refactored_symbolic = 1;
     sys->setup_cpu_seconds = cpu_seconds() - setup_start;
+    mumps_stats(sys, "analysis");
   }
   if (const int code = failed(sys->amesos->NumericFactorization())) {
     describe(*info = mumps_info(sys, kind));
@@ -298,6 +370,7 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
                         code, mumps[0] ? mumps : ", singular matrix");
   }
   ++report->factorisations;
+  mumps_stats(sys, "factorisation");
   return SK_OK;
 }
 
