@@ -3,6 +3,7 @@ scenes (scenes/corot-*.yaml) against the paper's statements, and the measured ca
 (docs/plugins/corotational.md, "Against the paper"). history.csv's energies are the scheme's (ABI 2.5: the plugin
 reports 1/2 s.Ms + 1/2 u.Su); the plugin's per-step --verbose line adds theta, theta', J and the terms of the J balance.
 Usage: python3 test_corot_scenes.py CASE (see the cases at the bottom); exit code 0 when every check holds."""
+import math
 import re
 
 from stickslip_results import Checks, run, main
@@ -339,7 +340,6 @@ def corot_free_flight_momentum(c):
     but turns, each step by w dt - 2 atan(w dt / 2) (~ (w dt)^3 / 12): the frame turns by w dt (theta^{n+1} = theta^n
     + dt w), the co-rotated velocity s by the midpoint rule's Cayley angle 2 atan(w dt / 2) (docs/plugins/
     corotational.md, "Linear momentum"). Measured: the length to 7e-16, the angle to 1.4e-7 of the prediction."""
-    import math
     res, rows = simulate(c, "scenes/corot-ball-on-plane.yaml", "--steps", "5")
     c.check(not contact_steps(res), "free flight: no contact in the 5 steps")
     p0 = (res.rows[0]["momentum_x"], res.rows[0]["momentum_y"])
