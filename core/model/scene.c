@@ -76,6 +76,7 @@ static sk_status read_body_plugin(const sk_cfg *entry, const sk_model *model, sk
   SK_TRY(sk_scene_check_kind(sk_cfg_get(entry, "plugin"), body->plugin, SK_KIND_BODY, "body", body->name));
   SK_TRY(sk_scene_choose_strategy(entry, body->plugin, &body->strategy));
   body->params = sk_cfg_get(entry, "parameters");
+  body->plugin_node = sk_cfg_get(entry, "plugin");
   char where[SK_NAME_MAX + 1200];
   snprintf(where, sizeof where, "%s: body '%s'", sk_cfg_where(entry), body->name);
   sk_scene_description description;

@@ -111,6 +111,7 @@ static sk_status read_pair_plugin(const sk_cfg *entry, const char *name, sk_cont
     return sk_error_prefix(status, "%s: contact pair '%s': ", sk_cfg_where(sk_cfg_get(entry, "plugin")), name);
   SK_TRY(sk_scene_check_kind(sk_cfg_get(entry, "plugin"), pair->plugin, SK_KIND_PAIR, "contact pair", name));
   pair->params = sk_cfg_get(entry, "parameters");
+  pair->plugin_node = sk_cfg_get(entry, "plugin");
   return sk_scene_choose_strategy(entry, pair->plugin, &pair->strategy);
 }
 

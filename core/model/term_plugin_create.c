@@ -173,9 +173,10 @@ static void declare_friction(plugin_term *term) {
 }
 
 /* The message of a failed create() as "FILE:LINE:COL: contact pair 'NAME' (plugin P): ...": at the parameter the
- * plugin's message names ('key'), else at the `parameters` map, unless the message has its position already (the
- * host's getters give one); a plugin that names the pair itself ("hertz: ...") would say it twice, so that goes. */
-static void create_error(const plugin_term *term, sk_status status) {
+ * plugin's message names ('key'), else at the `parameters` map, else (no `parameters`) at the `plugin` key, unless
+ * the message has its position already (the host's getters give one); a plugin that names the pair itself
+ * ("hertz: ...") would say it twice, so that goes. */
+static void create_error(const plugin_term *term, const sk_model *m, sk_status status) {
   char message[2048];
   snprintf(message, sizeof message, "%s", sk_error_message());
   const char *text = message;
@@ -192,6 +193,7 @@ static void create_error(const plugin_term *term, sk_status status) {
     if (strstr(text, quoted)) at = sk_cfg_at(params, i);
   }
   if (params && !positioned && !at) at = params;
+  if (!positioned && !at) at = term->pair >= 0 ? m->pairs[term->pair].plugin_node : m->bodies[term->body].plugin_node;
   const char *rest = positioned ? strstr(text, ": ") : NULL; /* after the position the message has */
   if (rest)
     sk_error_set(status, "%.*s: %s (plugin %s): %s", (int)(rest - text), text, term->base.name, term->plugin->name,
@@ -221,7 +223,7 @@ sk_status sk_term_plugin_create(sk_system *sys, int body, int pair, sk_term **ou
   if (status == SK_OK && term->base.needs.needed[SK_NEED_MASS]) status = sk_model_build_mass(sys->model);
   if (status == SK_OK) {
     status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
-    if (status != SK_OK) create_error(term, status);
+    if (status != SK_OK) create_error(term, sys->model, status);
   }
   if (status == SK_OK) declare_friction(term);
   /* a body plugin's pair instances (its contacts, docs/plugin-abi.md §11.5) share the table but claim nothing */
@@ -278,7 +280,7 @@ sk_status sk_term_plugin_recreate(sk_term *base, sk_system *sys, const sk_record
   term->x_version = 0;
   sk_status status = PLUGIN_CALL(term, create, sk_host_api_table(), &term->host, &term->attach, &term->instance);
   if (status != SK_OK) {
-    create_error(term, status);
+    create_error(term, sys->model, status);
     return status;
   }
   return sk_term_plugin_load(base, sys, records);

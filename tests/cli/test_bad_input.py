@@ -6,7 +6,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cli_case import BLOCK, CONTACT, PLUGIN_DIR, ROOT, main, read_summary, replace  # noqa: E402
+from cli_case import BLOCK, CONTACT, MESHES, PLUGIN_DIR, ROOT, main, read_summary, replace  # noqa: E402
 
 
 # ---- cases -----------------------------------------------------------------------------------------------------------
@@ -210,12 +210,37 @@ def inverted_element(c):
         c.check(os.path.exists(os.path.join(c.out, "history.csv")), "history.csv written (initial row)")
 
 
+SPINNING = """\
+description: a spinning block integrated by a body plugin
+mesh:
+  file: %s/block.geo
+  parameters: {nx: 2, ny: 2, nz: 2}
+bodies:
+  - name: block
+    group: body
+    material: {model: svk, E: 1000, nu: 0.3, density: 1}
+    angular_velocity: [0, 3, 0]
+    plugin: corotational
+time: {scheme: midpoint, dt: 0.01, end: 0.02}
+""" % MESHES
+
+
+def body_plugin_refusal_position(c):
+    """A body plugin that refuses the body (the spin is not about its default axis e_z) is reported at the body's
+    `plugin` key, file:line:col, also when the body gives no `parameters` (the plugin's message has no position)."""
+    c.run_scene(SPINNING, command="check")
+    c.expect_failure(r"scene\.yaml:10:\d+: body 'block' \(plugin corotational\)", r"angular_velocity")
+    c.run_scene(replace(SPINNING, "plugin: corotational", "plugin: corotational\n    parameters: {model: 1}"),
+                command="check")
+    c.expect_failure(r"scene\.yaml:11:\d+: body 'block' \(plugin corotational\)", r"angular_velocity")
+
+
 CASES = {f.__name__: f for f in [
     malformed_yaml, unknown_key, misspelt_required_key, missing_mesh_file, unknown_mesh_parameter, missing_group,
     material_nu, material_E, negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map,
     bad_set, unknown_option, missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin,
     capability_mismatch, unknown_strategy, inverted_element, plugin_without_contact, mesh_order, old_minor_plugin,
-    conflicting_displacements]}
+    conflicting_displacements, body_plugin_refusal_position]}
 
 if __name__ == "__main__":
     main(CASES)

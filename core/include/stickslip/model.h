@@ -44,6 +44,8 @@ typedef struct {
   const sk_plugin *plugin; /* a body plugin (kind "body"), or NULL */
   int strategy;            /* index into plugin->strategies */
   const void *params;      /* the scene node of its `parameters` (sk_cfg), or NULL */
+  const void *plugin_node; /* the scene node of its `plugin` key (sk_cfg), or NULL: where messages point without
+                              `parameters` */
   /* the whole body's counts, and each node's index in its sorted node list (per model node, -1: not of the body;
    * NULL before the mesh is distributed, when the group is whole) */
   int n_elems_global, n_nodes_global;
@@ -87,6 +89,8 @@ typedef struct {
   int self_contact;        /* slave and master are the same surface (master then copies slave) */
   int strategy;            /* index into plugin->strategies */
   const void *params;      /* the scene node of the pair's `parameters` (sk_cfg), or NULL */
+  const void *plugin_node; /* the scene node of the entry's `plugin` key (sk_cfg), or NULL: where messages point
+                              without `parameters` */
   int entry;               /* index of the scene's `contact` entry that gives it */
   int obstacle_column;     /* with an obstacle: its reaction's columns in history.csv (the pairs an entry with
                               `bodies:` creates against one obstacle share them), else -1 */
