@@ -66,10 +66,14 @@ void build_epetra(sk_linear_system *sys) {
   sys->epetra_problem = rcp(new Epetra_LinearProblem(sys->epetra_matrix.get(), sys->epetra_x.get(), sys->epetra_b.get()));
 }
 
+// STICKSLIP_MUMPS_STATS: the CPU time of a MUMPS solve (a forward and backward substitution)
+void mumps_solve_stats(const sk_linear_system *sys, double seconds);
+
 }  // namespace
 
 // (linear_system.hpp)
 sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
+  const double start = cpu_seconds();
   std::copy(b, b + sys->n_owned, sys->epetra_b->Values());
   int code = sys->amesos->Solve(), worst = 0;
   code = code < 0 ? code : -code;
@@ -80,6 +84,7 @@ sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk
                         amesos_backend_name(sys->amesos_kind), worst);
   }
   std::copy(sys->epetra_x->Values(), sys->epetra_x->Values() + sys->n_owned, x);
+  mumps_solve_stats(sys, cpu_seconds() - start);
   return SK_OK;
 }
 
@@ -153,6 +158,11 @@ bool mumps_stats_on() {
     return value && *value && std::strcmp(value, "0") != 0;
   }();
   return on;
+}
+
+void mumps_solve_stats(const sk_linear_system *sys, double seconds) {
+  if (mumps_stats_on() && sys->amesos_kind == SK_LINEAR_DIRECT_MUMPS)
+    std::fprintf(stderr, "mumps solve rank %d: %.3f ms CPU\n", sys->rank, 1e3 * seconds);
 }
 
 }  // namespace
@@ -302,14 +312,16 @@ const char *mumps_meaning(int info) {
 // resident memory — and rank 0's global figures: INFOG(7) ordering used, INFOG(32) analysis type (1 sequential),
 // INFOG(20)/(29) estimated / effective factor entries, INFOG(16)/(17) and (18)/(19) MB of the largest rank / all ranks
 // estimated and allocated, RINFOG(3) flops of the elimination.
-void mumps_stats(sk_linear_system *sys, const char *phase) {
+void mumps_stats(sk_linear_system *sys, const char *phase, double seconds) {
   auto *mumps = mumps_stats_on() ? dynamic_cast<Amesos_Mumps *>(sys->amesos.get()) : nullptr;
   if (!mumps) return;
   const int *info = mumps->GetINFO(), *infog = mumps->GetINFOG();
   long peak = 0, now = 0;
   resident_kib(&peak, &now);
-  std::fprintf(stderr, "mumps %s rank %d: INFO(15) %d MB, INFO(16) %d MB, INFO(9) %d, peak RSS %ld KiB, RSS %ld KiB\n",
-               phase, sys->rank, info[14], info[15], info[8], peak, now);
+  std::fprintf(stderr,
+               "mumps %s rank %d: %.3f ms CPU, INFO(15) %d MB, INFO(16) %d MB, INFO(9) %d, peak RSS %ld KiB, RSS %ld "
+               "KiB\n",
+               phase, sys->rank, 1e3 * seconds, info[14], info[15], info[8], peak, now);
   if (sys->rank == 0)
     std::fprintf(stderr,
                  "mumps %s: n %d, INFOG(7) %d, INFOG(32) %d, INFOG(20) %d, INFOG(29) %d, INFOG(16) %d, INFOG(17) %d, "
@@ -360,8 +372,9 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
     }
     report->refactored_symbolic = 1;
     sys->setup_cpu_seconds = cpu_seconds() - setup_start;
-    mumps_stats(sys, "analysis");
+    mumps_stats(sys, "analysis", sys->setup_cpu_seconds);
   }
+  const double start = cpu_seconds();
   if (const int code = failed(sys->amesos->NumericFactorization())) {
     describe(*info = mumps_info(sys, kind));
     sys->amesos = Teuchos::null;  // start afresh (symbolic included) next time
@@ -370,7 +383,7 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
                         code, mumps[0] ? mumps : ", singular matrix");
   }
   ++report->factorisations;
-  mumps_stats(sys, "factorisation");
+  mumps_stats(sys, "factorisation", cpu_seconds() - start);
   return SK_OK;
 }
 
