@@ -1,5 +1,6 @@
-// stickslip — the direct solvers: Amesos v1 MUMPS / KLU on an Epetra copy of the distributed matrix, Amesos2 KLU2
-// (gathered to rank 0 on more than one rank: Debian's KLU2 is wrong on distributed matrices, docs/linear-solvers.md).
+// stickslip — the direct solvers: MUMPS on the owned rows themselves (mumps_solver.cpp), Amesos v1 KLU on an Epetra
+// copy of the distributed matrix, Amesos2 KLU2 (gathered to rank 0 on more than one rank: Debian's KLU2 is wrong on
+// distributed matrices, docs/linear-solvers.md).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,13 +13,13 @@
 #include <stdexcept>
 
 #include <Amesos.h>
-#include <Amesos_Mumps.h>
 #include <Epetra_CrsGraph.h>
 #include <Epetra_Object.h>
 #include <Teuchos_DefaultMpiComm.hpp>
 
 #include "bridge_internal.hpp"
 #include "linear_system.hpp"
+#include "mumps_solver.hpp"
 
 namespace stickslip::bridge {
 
@@ -29,7 +30,7 @@ constexpr double kDirectResidualLimit = 1e-6;
 
 const char *amesos_backend_name(sk_linear_solver_kind kind) { return kind == SK_LINEAR_DIRECT_MUMPS ? "MUMPS" : "KLU"; }
 
-// The Epetra copy of the pattern for Amesos v1: same map (contiguous row blocks of sys->row_offsets), a static
+// The Epetra copy of the pattern for Amesos v1 (KLU): same map (contiguous row blocks of sys->row_offsets), a static
 // graph, and the table from owned CSR entries to Epetra's (column-map ordered) value storage.
 void build_epetra(sk_linear_system *sys) {
   if (sys->epetra_comm.is_null()) sys->epetra_comm = rcp(new Epetra_MpiComm(sys->comm));
@@ -74,8 +75,9 @@ void mumps_solve_stats(const sk_linear_system *sys, double seconds);
 // (linear_system.hpp)
 sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report) {
   const double start = cpu_seconds();
-  std::copy(b, b + sys->n_owned, sys->epetra_b->Values());
-  int code = sys->amesos->Solve(), worst = 0;
+  auto *mumps = dynamic_cast<MumpsSolver *>(sys->amesos.get());
+  if (!mumps) std::copy(b, b + sys->n_owned, sys->epetra_b->Values());
+  int code = mumps ? mumps->solve(b, x) : sys->amesos->Solve(), worst = 0;
   code = code < 0 ? code : -code;
   MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MIN, sys->comm);  // MUMPS's codes are global; agree anyway
   if (worst != 0) {
@@ -83,7 +85,7 @@ sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk
     return sk_error_set(SK_ERR_LINEAR_SOLVER, "direct solve (%s): solve failed (error %d)",
                         amesos_backend_name(sys->amesos_kind), worst);
   }
-  std::copy(sys->epetra_x->Values(), sys->epetra_x->Values() + sys->n_owned, x);
+  if (!mumps) std::copy(sys->epetra_x->Values(), sys->epetra_x->Values() + sys->n_owned, x);
   mumps_solve_stats(sys, cpu_seconds() - start);
   return SK_OK;
 }
@@ -287,7 +289,7 @@ namespace {
 int mumps_info(sk_linear_system *sys, sk_linear_solver_kind kind) {
   int info = 0, worst = 0;
   if (kind == SK_LINEAR_DIRECT_MUMPS && !sys->amesos.is_null())
-    if (auto *mumps = dynamic_cast<Amesos_Mumps *>(sys->amesos.get())) info = mumps->GetINFO()[0];
+    if (auto *mumps = dynamic_cast<MumpsSolver *>(sys->amesos.get())) info = mumps->info()[0];
   MPI_Allreduce(&info, &worst, 1, MPI_INT, MPI_MIN, sys->comm);
   return worst;
 }
@@ -313,9 +315,9 @@ const char *mumps_meaning(int info) {
 // INFOG(20)/(29) estimated / effective factor entries, INFOG(16)/(17) and (18)/(19) MB of the largest rank / all ranks
 // estimated and allocated, RINFOG(3) flops of the elimination.
 void mumps_stats(sk_linear_system *sys, const char *phase, double seconds) {
-  auto *mumps = mumps_stats_on() ? dynamic_cast<Amesos_Mumps *>(sys->amesos.get()) : nullptr;
+  auto *mumps = mumps_stats_on() ? dynamic_cast<MumpsSolver *>(sys->amesos.get()) : nullptr;
   if (!mumps) return;
-  const int *info = mumps->GetINFO(), *infog = mumps->GetINFOG();
+  const int *info = mumps->info(), *infog = mumps->infog();
   long peak = 0, now = 0;
   resident_kib(&peak, &now);
   std::fprintf(stderr,
@@ -327,10 +329,11 @@ void mumps_stats(sk_linear_system *sys, const char *phase, double seconds) {
                  "mumps %s: n %d, INFOG(7) %d, INFOG(32) %d, INFOG(20) %d, INFOG(29) %d, INFOG(16) %d, INFOG(17) %d, "
                  "INFOG(18) %d, INFOG(19) %d, RINFOG(3) %.3g, ICNTL(14) %d\n",
                  phase, sys->n, infog[6], infog[31], infog[19], infog[28], infog[15], infog[16], infog[17], infog[18],
-                 mumps->GetRINFOG()[2], sys->mumps_workspace_percent);
+                 mumps->rinfog()[2], sys->mumps_workspace_percent);
 }
 
-// The symbolic (once per pattern and backend) and numeric factorisation of the values in sys->epetra_matrix; *info:
+// The symbolic (once per pattern and backend) and numeric factorisation of the current values (MUMPS reads
+// sys->owned_values, KLU sys->epetra_matrix); *info:
 // MUMPS's INFO(1) when it failed (mumps_info), else 0.
 sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk_linear_report *report, int *info) {
   *info = 0;
@@ -350,19 +353,21 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
   };
   if (sys->amesos.is_null() || sys->amesos_kind != kind) {
     const double setup_start = cpu_seconds();
-    Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
-    Amesos factory;
-    sys->amesos = rcp(factory.Create(kind == SK_LINEAR_DIRECT_MUMPS ? "Amesos_Mumps" : "Amesos_Klu",
-                                     *sys->epetra_problem));
-    if (sys->amesos.is_null())
-      return sk_error_set(SK_ERR_INTERNAL, "direct solve (%s): Amesos has no such solver", backend);
+    if (kind == SK_LINEAR_DIRECT_MUMPS) {
+      sys->amesos = rcp(new MumpsSolver(sys, sys->mumps_workspace_percent));
+    } else {
+      Epetra_Object::SetTracebackMode(sys->options.verbose ? 1 : 0);  // Amesos prints every error code otherwise
+      Amesos factory;
+      sys->amesos = rcp(factory.Create("Amesos_Klu", *sys->epetra_problem));
+      if (sys->amesos.is_null())
+        return sk_error_set(SK_ERR_INTERNAL, "direct solve (%s): Amesos has no such solver", backend);
+      Teuchos::ParameterList params;
+      params.set("OutputLevel", sys->options.verbose ? 1 : 0);
+      params.set("ComputeTrueResidual", false);
+      params.set("ComputeVectorNorms", false);
+      sys->amesos->SetParameters(params);
+    }
     sys->amesos_kind = kind;
-    Teuchos::ParameterList params;
-    params.set("OutputLevel", sys->options.verbose ? 1 : 0);
-    params.set("ComputeTrueResidual", false);
-    params.set("ComputeVectorNorms", false);
-    sys->amesos->SetParameters(params);
-    if (auto *mumps = dynamic_cast<Amesos_Mumps *>(sys->amesos.get())) mumps->SetICNTL(14, sys->mumps_workspace_percent);
     if (const int code = failed(sys->amesos->SymbolicFactorization())) {
       describe(*info = mumps_info(sys, kind));
       sys->amesos = Teuchos::null;
@@ -396,15 +401,15 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
 sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                        sk_linear_report *report) {
   const char *backend = amesos_backend_name(kind);
-  if (sys->epetra_matrix.is_null()) build_epetra(sys);
-  {
+  if (kind != SK_LINEAR_DIRECT_MUMPS) {  // KLU: the Epetra copy (MUMPS reads the owned rows themselves)
+    if (sys->epetra_matrix.is_null()) build_epetra(sys);
     int *offsets = nullptr, *indices = nullptr;
     double *values = nullptr;
     sys->epetra_matrix->ExtractCrsDataPointers(offsets, indices, values);
     for (size_t k = 0; k < sys->owned_values.size(); ++k) values[sys->epetra_slots[k]] = sys->owned_values[k];
   }
-  // Amesos_Mumps reports every MUMPS error (a singular matrix: INFOG(1) = -10) on std::cerr itself; the status and
-  // message returned here say it once, so its report is muted unless verbose
+  // Amesos reports errors on std::cerr itself; the status and message returned here say it once, so its report is
+  // muted unless verbose
   struct MuteCerr {
     std::streambuf *saved = nullptr;
     explicit MuteCerr(bool mute) : saved(mute ? std::cerr.rdbuf(nullptr) : nullptr) {}
