@@ -93,8 +93,9 @@ sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk
 namespace {
 
 // Iterative refinement with the factors at hand (Wilkinson; MUMPS's ICNTL(10) does the same inside): x += A^-1 (b - A x)
-// while it lowers the residual. The pivot order comes from the analysis at the pattern's first values; contact rows
-// that changed since (an active-set flip, a multiplier row at 1e-9 beside stiffness at 1e9) can leave the factors
+// while it lowers the residual. The pivot order comes from the analysis of the pattern (MUMPS's, which sees no
+// values) and the factorisation's threshold pivoting; contact rows (an active-set flip, a multiplier row at 1e-9
+// beside stiffness at 1e9) can leave the factors
 // accurate to 1e-6 only, which two or three corrections bring back to round-off. Runs only above kRefineAbove, so a
 // solve that is already at round-off stays bit for bit what it was. Sets report->relative_residual.
 constexpr double kRefineAbove = 1e-10;
@@ -311,9 +312,9 @@ const char *mumps_meaning(int info) {
 // STICKSLIP_MUMPS_STATS=1 (a measuring aid, docs/linear-solvers.md) prints to stderr, after each MUMPS analysis and
 // factorisation, every rank's memory — INFO(15)/(16), the MB MUMPS estimated / allocated for the factorisation (its
 // workspace, mostly never touched), INFO(9), the real entries of the rank's factors, and the rank's peak and current
-// resident memory — and rank 0's global figures: INFOG(7) ordering used, INFOG(32) analysis type (1 sequential),
-// INFOG(20)/(29) estimated / effective factor entries, INFOG(16)/(17) and (18)/(19) MB of the largest rank / all ranks
-// estimated and allocated, RINFOG(3) flops of the elimination.
+// resident memory — and rank 0's global figures: INFOG(7) ordering used, INFOG(23) column permutation used (0: none),
+// INFOG(32) analysis type (1 sequential), INFOG(20)/(29) estimated / effective factor entries, INFOG(16)/(17) and
+// (18)/(19) MB of the largest rank / all ranks estimated and allocated, RINFOG(3) flops of the elimination.
 void mumps_stats(sk_linear_system *sys, const char *phase, double seconds) {
   auto *mumps = mumps_stats_on() ? dynamic_cast<MumpsSolver *>(sys->amesos.get()) : nullptr;
   if (!mumps) return;
@@ -326,10 +327,10 @@ void mumps_stats(sk_linear_system *sys, const char *phase, double seconds) {
                phase, sys->rank, 1e3 * seconds, info[14], info[15], info[8], peak, now);
   if (sys->rank == 0)
     std::fprintf(stderr,
-                 "mumps %s: n %d, INFOG(7) %d, INFOG(32) %d, INFOG(20) %d, INFOG(29) %d, INFOG(16) %d, INFOG(17) %d, "
-                 "INFOG(18) %d, INFOG(19) %d, RINFOG(3) %.3g, ICNTL(14) %d\n",
-                 phase, sys->n, infog[6], infog[31], infog[19], infog[28], infog[15], infog[16], infog[17], infog[18],
-                 mumps->rinfog()[2], sys->mumps_workspace_percent);
+                 "mumps %s: n %d, INFOG(7) %d, INFOG(23) %d, INFOG(32) %d, INFOG(20) %d, INFOG(29) %d, INFOG(16) %d, "
+                 "INFOG(17) %d, INFOG(18) %d, INFOG(19) %d, RINFOG(3) %.3g, ICNTL(14) %d\n",
+                 phase, sys->n, infog[6], infog[22], infog[31], infog[19], infog[28], infog[15], infog[16], infog[17],
+                 infog[18], mumps->rinfog()[2], sys->mumps_workspace_percent);
 }
 
 // The symbolic (once per pattern and backend) and numeric factorisation of the current values (MUMPS reads
@@ -394,10 +395,10 @@ sk_status factorise_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, sk
 
 }  // namespace
 
-// Direct solve by Amesos v1 (MUMPS or KLU) on the distributed Epetra matrix: both are correct on several ranks
-// (MUMPS factorises in parallel; Amesos_Klu gathers to rank 0 itself). The symbolic factorisation is computed once
-// per pattern (with the first values: MUMPS's analysis uses them for its scaling / zero-free-diagonal permutation,
-// which matters for the multiplier rows of contact); every solve redoes the numeric factorisation only.
+// Direct solve by MUMPS on the owned rows (mumps_solver.cpp) or Amesos v1 KLU on the distributed Epetra matrix: both
+// are correct on several ranks (MUMPS factorises in parallel; Amesos_Klu gathers to rank 0 itself). The symbolic
+// factorisation is computed once per pattern — MUMPS's on the pattern alone: as under Amesos_Mumps, which gave it no
+// values at the analysis (no column permutation, INFOG(23) = 0) — and every solve redoes the numeric one only.
 sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                        sk_linear_report *report) {
   const char *backend = amesos_backend_name(kind);
@@ -418,7 +419,7 @@ sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const 
     }
   } mute(!sys->options.verbose);
 
-  // MUMPS sizes its workspace at the analysis, from the first values; pivots delayed by values that changed since (a
+  // MUMPS sizes its workspace at the analysis, from the pattern; pivots the factorisation delays for the values (a
   // contact constraint switching on) can need more: INFO(1) -8, -9, -11, -12, -14, -15, -17 or -20. The analysis is
   // then redone with ICNTL(14), the workspace's relaxation in percent, five times larger (up to 2500 %), and the
   // larger value kept for the run.
