@@ -1,9 +1,9 @@
 // stickslip — the linear system behind sk_linsys_* (internal to the bridge, not installed).
 //
-// Layout of the sources: linear_system.cpp (pattern, assembly, the C entry points), direct_solvers.cpp (Amesos v1
-// MUMPS / KLU, Amesos2 KLU2), iterative_solvers.cpp (Belos GMRES with MueLu or ILU on the nodal block),
-// constraint_block.cpp (the Schur complement of the constraint rows), auto_choice.cpp (what `auto` runs),
-// system_dump.cpp (STICKSLIP_DUMP_SYSTEMS).
+// Layout of the sources: linear_system.cpp (pattern, assembly, the C entry points), direct_solvers.cpp (MUMPS on the
+// owned rows through mumps_solver.cpp, Amesos v1 KLU, Amesos2 KLU2), iterative_solvers.cpp (Belos GMRES with MueLu
+// or ILU on the nodal block), constraint_block.cpp (the Schur complement of the constraint rows), auto_choice.cpp
+// (what `auto` runs), system_dump.cpp (STICKSLIP_DUMP_SYSTEMS).
 #ifndef STICKSLIP_LINEAR_SYSTEM_HPP
 #define STICKSLIP_LINEAR_SYSTEM_HPP
 
@@ -209,7 +209,8 @@ struct sk_linear_system {
   bool gathered_pattern = false;
   RCP<stickslip::bridge::DirectSolver> direct;
 
-  // Amesos v1 (Epetra) direct solvers, MUMPS or KLU: on the same contiguous row blocks as the Tpetra matrix.
+  // The Amesos v1 interface's direct solvers: KLU on an Epetra copy with the same contiguous row blocks as the Tpetra
+  // matrix, or MUMPS on the owned rows themselves (mumps_solver.hpp: no Epetra matrix, map or vectors).
   // Destroyed in reverse order of construction (solver, problem, vectors, matrix, map, comm).
   RCP<Epetra_MpiComm> epetra_comm;
   RCP<Epetra_Map> epetra_map;
@@ -279,7 +280,8 @@ sk_status solve_klu2(sk_linear_system *sys, const double *b, double *x, sk_linea
 sk_status solve_amesos(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                        sk_linear_report *report);
 void release_direct(sk_linear_system *sys);
-// Forward and backward substitution with the current Amesos v1 factorisation (collective); b and x over the owned rows.
+// Forward and backward substitution with the current MUMPS or KLU factorisation (collective); b and x over the
+// owned rows.
 sk_status solve_factorised(sk_linear_system *sys, const double *b, double *x, sk_linear_report *report);
 bool solve_amesos_again(sk_linear_system *sys, sk_linear_solver_kind kind, const double *b, double *x,
                         sk_linear_report *report, sk_status *status);
