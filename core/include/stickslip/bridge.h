@@ -27,7 +27,7 @@ typedef enum {
   SK_LINEAR_GMRES_ILU,    /* the same with Ifpack2 ILU(k) in place of AMG */
   SK_LINEAR_AUTO,         /* the default: MUMPS, the lagged LU, GMRES + MueLu, + SGS or + Jacobi from measurements
                              (docs/linear-solvers.md) */
-  SK_LINEAR_DIRECT_MUMPS, /* Amesos (v1, Epetra) MUMPS: multifrontal LU, factorised in parallel on the distributed matrix */
+  SK_LINEAR_DIRECT_MUMPS, /* MUMPS (dmumps_c): multifrontal LU, factorised in parallel on the distributed matrix */
   SK_LINEAR_DIRECT_KLU2,  /* Amesos2 KLU2; on more than one rank the matrix is gathered and factorised on rank 0
                              (Debian's Trilinos 13.2 KLU2 gives wrong answers on distributed matrices) */
   SK_LINEAR_DIRECT_KLU,   /* Amesos (v1, Epetra) KLU (gathers to rank 0 itself) */
