@@ -95,9 +95,9 @@ namespace {
 // Iterative refinement with the factors at hand (Wilkinson; MUMPS's ICNTL(10) does the same inside): x += A^-1 (b - A x)
 // while it lowers the residual. The pivot order comes from the analysis of the pattern (MUMPS's, which sees no
 // values) and the factorisation's threshold pivoting; contact rows (an active-set flip, a multiplier row at 1e-9
-// beside stiffness at 1e9) can leave the factors
-// accurate to 1e-6 only, which two or three corrections bring back to round-off. Runs only above kRefineAbove, so a
-// solve that is already at round-off stays bit for bit what it was. Sets report->relative_residual.
+// beside stiffness at 1e9) can leave the factors accurate to 1e-6 only, which two or three corrections bring back to
+// round-off. Runs only above kRefineAbove, so a solve that is already at round-off stays bit for bit what it was.
+// Sets report->relative_residual.
 constexpr double kRefineAbove = 1e-10;
 constexpr int kMaxRefinements = 4;
 
