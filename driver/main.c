@@ -24,6 +24,21 @@
 #endif
 
 
+/* "results: DIR/ (history.csv, contact.csv, ...)": the result files the run wrote, those that are there */
+static void print_results_line(const char *dir) {
+  static const char *const files[] = {"history.csv", "contact.csv", "summary.json", "scene.yaml",
+                                      "results.pvd", "contact.pvd", "obstacles.pvd"};
+  printf("results: %s/ (", dir);
+  const char *separator = "";
+  for (size_t k = 0; k < sizeof files / sizeof files[0]; ++k) {
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s/%s", dir, files[k]) >= (int)sizeof path || access(path, F_OK) != 0) continue;
+    printf("%s%s", separator, files[k]);
+    separator = ", ";
+  }
+  printf(")\n");
+}
+
 static int rank_of_world(void) { return sk_driver_rank(); }
 
 static void usage_main(FILE *out) {
@@ -428,7 +443,7 @@ static int command_scene(int argc, char **argv, scene_command command) {
                args.scene, summary.steps, summary.final_time, summary.newton_iterations, summary.linear_solves,
                summary.linear_factorisations, (long long)summary.krylov_iterations, summary.wall_seconds,
                summary.assembly_seconds, summary.contact_seconds, largest, summary.solve_seconds);
-        if (summary.results_dir[0]) printf("results: %s/ (history.csv, summary.json, results.pvd)\n", summary.results_dir);
+        if (summary.results_dir[0]) print_results_line(summary.results_dir);
       }
     } else if (status != SK_OK) {
       code = 1;

@@ -279,7 +279,8 @@ static sk_status cb_residual(void *ctx, const double *x, double *F) {
     const sk_clock t0 = sk_system_contact_clock(sys);
     status = term->ops->residual(term, sys);
     if (status == SK_OK && sys->sink.failed) status = sk_error_set(SK_ERR_PLUGIN, "%s", sys->sink.message);
-    if (status != SK_OK) sk_error_prefix(status, "%s: ", term->name);
+    if (status != SK_OK && strncmp(sk_error_message(), term->name, strlen(term->name)) != 0) /* named once */
+      sk_error_prefix(status, "%s: ", term->name);
     if (is_plugin(term)) sk_system_charge_contact(sys, SK_CONTACT_RESIDUAL, t0);
     else sys->t_assembly += now_seconds() - t0.wall;
   }

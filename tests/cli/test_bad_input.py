@@ -210,6 +210,22 @@ def inverted_element(c):
         c.check(os.path.exists(os.path.join(c.out, "history.csv")), "history.csv written (initial row)")
 
 
+def inverted_by_prescribed_displacement(c):
+    """A top pushed through the block by a prescribed displacement against a frictionless multiplier contact (which
+    holds the base): the elements invert at the first Newton point. The message names the body and the element once
+    (it said "body 'block': body 'block', element 0: ..."), exit 1, and the results up to the last converged step."""
+    text = replace(CONTACT, "displacement: [0, 0, -0.01]}", "displacement: [0, 0, -1.2], history: [[0, 0], [0.5, 0], "
+                   "[1, 1]]}")
+    text = replace(text, "plugin: penalty-nts", "plugin: nts-augmented")
+    text = replace(replace(text, "parameters: {penalty: 1.0e4}", "parameters: {mu: 0}"), "model: hooke", "model: svk")
+    c.run_scene(text, "--set", "time.max_cuts=2")
+    c.expect_failure(r"step \d+ from t = ", r"body 'block', element \d+: hex8 element inverted: det F = ",
+                     out_created=True)
+    c.check(c.proc.stderr.count("body 'block'") == 1, "the body named once (stderr: %r)" % c.proc.stderr)
+    c.check(os.path.exists(os.path.join(c.out, "history.csv")) and read_summary(c.out).get("status") == "failed",
+            "results up to the last converged step, status failed")
+
+
 SPINNING = """\
 description: a spinning block integrated by a body plugin
 mesh:
@@ -240,7 +256,8 @@ CASES = {f.__name__: f for f in [
     material_nu, material_E, negative_dt, unknown_scheme, unknown_plugin, unknown_linear_solver, section_not_a_map,
     bad_set, unknown_option, missing_scene, check_good, check_bad, plugins_list, bad_abi_plugin,
     capability_mismatch, unknown_strategy, inverted_element, plugin_without_contact, mesh_order, old_minor_plugin,
-    conflicting_displacements, body_plugin_refusal_position]}
+    conflicting_displacements, body_plugin_refusal_position,
+    inverted_by_prescribed_displacement]}
 
 if __name__ == "__main__":
     main(CASES)

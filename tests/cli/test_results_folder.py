@@ -11,7 +11,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cli_case import BIN, BLOCK, ROOT, main, read_summary, replace, signal_run  # noqa: E402
+from cli_case import BIN, BLOCK, CONTACT, ROOT, main, read_summary, replace, signal_run  # noqa: E402
 
 DISK = os.path.join(ROOT, "scenes", "free-flight-disk.yaml")
 
@@ -179,8 +179,25 @@ def interrupted_run(c):
         c.check(not glob.glob(out + ".partial-*"), "no staging folder left")
 
 
+def results_line_names_files(c):
+    """The run's last line names the files it wrote into --out: with a contact pair on a rigid plane contact.csv, and
+    with VTU output contact.pvd and obstacles.pvd; without VTU output no .pvd (it said "(history.csv, summary.json,
+    results.pvd)" whatever was written)."""
+    scene = c.write(CONTACT)
+    for vtu, expected in (("true", ["history.csv", "contact.csv", "summary.json", "scene.yaml", "results.pvd",
+                                    "contact.pvd", "obstacles.pvd"]),
+                          ("false", ["history.csv", "contact.csv", "summary.json", "scene.yaml"])):
+        out = os.path.join(c.dir, "out-" + vtu)
+        c.run("run", scene, "--out", out, "--quiet", "--set", "output.vtu=" + vtu)
+        line = re.search(r"^results: .*$", c.proc.stdout, re.M)
+        named = re.findall(r"[\w-]+\.(?:csv|json|yaml|pvd)", line.group(0).partition("(")[2]) if line else []
+        c.check(c.proc.returncode == 0 and named == expected, "output.vtu %s: the results line names %s (got %r)" % (
+            vtu, expected, line.group(0) if line else None))
+        c.check(all(os.path.exists(os.path.join(out, name)) for name in named), "each file named is there")
+
+
 CASES = {f.__name__: f for f in [failed_run_keeps_results, foreign_files, out_dot, full_disk, killed_run,
-                                 interrupted_run]}
+                                 interrupted_run, results_line_names_files]}
 
 if __name__ == "__main__":
     main(CASES)

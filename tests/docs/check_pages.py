@@ -6,6 +6,7 @@ The truth comes from the program (`stickslip plugins`, `stickslip check`) and th
 - formulation_table: README's formulation table has one row per formulation plugin, and its capability columns
   (dimensions, friction, obstacles, element orders, energy-consistent scheme, multipliers, strategies) say what the
   plugin declares (`stickslip plugins`) or what `stickslip check` accepts (second-order faces);
+- face_types: a plugin `stickslip check` lets run QUAD8 (hex20) slave faces has them in README's element orders;
 - abi_formulations: plugin-abi.md section 11's dimensions and strategy names of each plugin are the program's;
 - strategy_names: every strategy the docs and scene files name (`strategy: X`, `strategy=X`, `plugin/X`) is one its
   plugin accepts, and a deprecated alias (the program warns about it at `check`) appears only where the text says
@@ -233,6 +234,37 @@ def formulation_table(c):
             (sorted(listed), formulations))
 
 
+QUAD8_SCENE = """\
+mesh: {file: %s, parameters: {nx: 1, ny: 1, nz: 1}, order: 2, serendipity: true}
+bodies: [{name: block, group: body, material: {model: svk, E: 1000, nu: 0.3}}]
+boundary: [{name: top, group: zmax, displacement: [0, 0, -0.01]}]
+contact: [{name: floor, plugin: penalty-nts, slave: zmin, obstacle: {type: plane}}]
+time: {scheme: quasi-static, dt: 1, end: 1}
+"""
+
+
+def face_types(c):
+    """README's element orders of a plugin that `stickslip check` lets run QUAD8 (hex20) slave faces (one hex20 on a
+    rigid plane, the plugin's default strategy) name quad8, and do not say it cannot."""
+    import tempfile
+    rows = readme_table("Choosing a formulation")
+    header = [h.lower() for h in readme_table_header("Choosing a formulation")]
+    name_col, orders_col = header.index("formulation (plugin)"), next(
+        i for i, h in enumerate(header) if h.startswith("element orders"))
+    with tempfile.TemporaryDirectory() as folder:
+        scene = os.path.join(folder, "quad8.yaml")
+        with open(scene, "w") as f:
+            f.write(QUAD8_SCENE % os.path.join(ROOT, "meshes", "block.geo"))
+        for row in rows:
+            name, cell = re.findall(r"`([^`]+)`", row[name_col])[0], row[orders_col].lower()
+            proc = subprocess.run([BINARY, "check", scene, "--plugin", name], capture_output=True, text=True)
+            runs = proc.returncode == 0 and "quad8 faces" in proc.stdout
+            print("%s: QUAD8 slave faces %s" % (name, "accepted" if runs else "refused: " + proc.stderr.strip()[:160]))
+            if runs:
+                c.check("quad8" in cell and "not quad8" not in cell, "%s: `check` accepts QUAD8 (hex20) slave "
+                        "faces, so README's element orders '%s' name quad8 as run" % (name, cell))
+
+
 def readme_table_header(heading):
     """Header cells of the first table under `## heading` of README.md."""
     current = None
@@ -435,4 +467,5 @@ def no_narration(c):
 
 
 if __name__ == "__main__":
-    main([links, scene_list, formulation_table, abi_formulations, strategy_names, commands, no_narration])
+    main([links, scene_list, formulation_table, face_types, abi_formulations, strategy_names, commands,
+          no_narration])
