@@ -113,12 +113,10 @@ void copy_from(const Vector &v, double *owned) {
 void gather_to_root(sk_linear_system *sys) {
   if (!sys->gathered_pattern) {
     const int size = sys->size;
-    sys->row_counts.assign(size, 0);
     sys->gather_counts.assign(size, 0);
     sys->gather_displs.assign(size, 0);
     const int entries = static_cast<int>(sys->cols.size());
     MPI_Gather(&entries, 1, MPI_INT, sys->gather_counts.data(), 1, MPI_INT, 0, sys->comm);
-    for (int r = 0; r < size; ++r) sys->row_counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
     for (int r = 1; r < size; ++r) sys->gather_displs[r] = sys->gather_displs[r - 1] + sys->gather_counts[r - 1];
     std::vector<int> lengths(static_cast<size_t>(sys->n_owned));
     for (int i = 0; i < sys->n_owned; ++i) lengths[i] = static_cast<int>(sys->row_ptr[i + 1] - sys->row_ptr[i]);
@@ -140,16 +138,15 @@ void gather_to_root(sk_linear_system *sys) {
               sys->comm);
 }
 
+// Per solve: the counts come with the layout (sk_linsys_set_pattern), so nothing is allocated here.
 void gather_vector(const sk_linear_system *sys, const double *owned, double *whole) {
-  std::vector<int> counts(sys->size);
-  for (int r = 0; r < sys->size; ++r) counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
-  MPI_Gatherv(owned, sys->n_owned, MPI_DOUBLE, whole, counts.data(), sys->row_offsets.data(), MPI_DOUBLE, 0, sys->comm);
+  MPI_Gatherv(owned, sys->n_owned, MPI_DOUBLE, whole, sys->row_counts.data(), sys->row_offsets.data(), MPI_DOUBLE, 0,
+              sys->comm);
 }
 
 void scatter_vector(const sk_linear_system *sys, const double *whole, double *owned) {
-  std::vector<int> counts(sys->size);
-  for (int r = 0; r < sys->size; ++r) counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
-  MPI_Scatterv(whole, counts.data(), sys->row_offsets.data(), MPI_DOUBLE, owned, sys->n_owned, MPI_DOUBLE, 0, sys->comm);
+  MPI_Scatterv(whole, sys->row_counts.data(), sys->row_offsets.data(), MPI_DOUBLE, owned, sys->n_owned, MPI_DOUBLE, 0,
+               sys->comm);
 }
 
 double relative_residual(sk_linear_system *sys, const Vector &b, const Vector &x) {

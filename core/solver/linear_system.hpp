@@ -202,7 +202,7 @@ struct sk_linear_system {
   RCP<Matrix> serial_matrix;
   std::vector<LocalOrdinal> serial_slots;
   std::vector<int> gather_counts, gather_displs;  // values per rank (their owned entries)
-  std::vector<int> row_counts;                     // rows per rank
+  std::vector<int> row_counts;                     // rows per rank (with row_offsets)
   std::vector<int64_t> full_row_ptr;               // rank 0: the whole pattern
   std::vector<int> full_cols;
   std::vector<double> gathered_values;

@@ -210,6 +210,8 @@ sk_status sk_linsys_set_pattern(sk_linear_system *sys, int n_nodal_owned, int n_
     sys->row_offsets.assign(sys->size + 1, 0);
     for (int r = 0; r < sys->size; ++r) sys->row_offsets[r + 1] = sys->row_offsets[r] + nodal_counts[r];
     sys->row_offsets[sys->size] = sys->n;
+    sys->row_counts.assign(sys->size, 0);
+    for (int r = 0; r < sys->size; ++r) sys->row_counts[r] = sys->row_offsets[r + 1] - sys->row_offsets[r];
     sys->first_row = sys->row_offsets[sys->rank];
     sys->n_owned = sys->row_offsets[sys->rank + 1] - sys->first_row;
     sys->local_rows.assign(rows, rows + n_rows);
