@@ -140,6 +140,9 @@ sk_status sk_term_plugin_scheme_energy(sk_term *term, sk_system *sys, int initia
 /* The parameters a plugin term computed from the scene (stickslip.scene.v1), one line each into `out` (--explain;
  * NULL: none); returns how many. */
 int sk_term_plugin_explain_defaults(const sk_term *term, FILE *out);
+/* The k-th parameter a plugin term computed from the scene: its key path in the scene ("contact[0].parameters.penalty",
+ * the pair's entry for a pair created by `bodies:`), value and reason; 0 past the last (or for another term). */
+int sk_term_plugin_computed(const sk_term *term, int k, char *path, size_t size, double *value, const char **reason);
 /* A contact pair created by `bodies:`: one line with its surfaces and what the broad phase does with it (1), or 0
  * for other terms (nothing printed; out NULL only counts). */
 int sk_term_plugin_explain_pair(const sk_term *term, FILE *out);
