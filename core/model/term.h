@@ -12,6 +12,7 @@
 #include <stdio.h>
 
 #include "stickslip/plugin.h"
+#include "stickslip/model.h"
 
 typedef struct sk_system sk_system;
 typedef struct sk_term sk_term;
@@ -146,5 +147,9 @@ int sk_term_plugin_computed(const sk_term *term, int k, char *path, size_t size,
 /* A contact pair created by `bodies:`: one line with its surfaces and what the broad phase does with it (1), or 0
  * for other terms (nothing printed; out NULL only counts). */
 int sk_term_plugin_explain_pair(const sk_term *term, FILE *out);
+/* A contact pair whose plugin regularises the constraint by a penalty (no multipliers, SK_CAP_MULTIPLIERS unset), so
+ * that its report's constraint_norm is a penetration: the pair, with *h the mean corner-to-corner edge of its slave
+ * surface (the whole surface's); NULL for other terms. */
+const sk_contact_pair *sk_term_plugin_penalty_pair(const sk_term *term, double *h);
 
 #endif

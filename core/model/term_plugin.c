@@ -538,6 +538,14 @@ int sk_term_plugin_computed(const sk_term *base, int k, char *path, size_t size,
   return 1;
 }
 
+const sk_contact_pair *sk_term_plugin_penalty_pair(const sk_term *base, double *h) {
+  if (base->ops != &plugin_ops) return NULL;
+  const plugin_term *term = (const plugin_term *)base;
+  if (term->pair < 0 || (term->table.caps & SK_CAP_MULTIPLIERS)) return NULL;
+  *h = term->scene.slave.h_mean;
+  return &term->host.sys->model->pairs[term->pair];
+}
+
 int sk_term_plugin_explain_pair(const sk_term *base, FILE *out) {
   if (base->ops != &plugin_ops) return 0;
   const plugin_term *term = (const plugin_term *)base;
