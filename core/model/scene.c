@@ -538,4 +538,5 @@ void sk_scene_explain(const sk_scene *scene, const char *out_dir, int progress, 
   else
     fprintf(out, "  %-16s computed: the contact points of the initial state and the last step (output.vtu_every: "
             "0)\n", "contact.csv");
+  sk_scene_keys(scene, out); /* every key a scene can have: its value and where it came from */
 }

@@ -151,39 +151,54 @@ static int cannot_run(const sk_plugin *plugin, const sk_scene_info *info, uint64
 }
 
 typedef struct {
-  const sk_scene_info *info; /* with strategy 0: each plugin's default */
+  const sk_scene_info *info; /* the scene's; each probe changes its strategy */
   uint64_t needed;
-  const char *except;
-  char list[1024];
+  const sk_plugin *refused; /* the plugin the scene names, with its strategy info->strategy */
+  char list[2048];
 } alternatives;
 
-/* 1 when `name` is an entry of the ", "-separated `list`. */
+/* 1 when `name` is the name of an entry of the ", "-separated `list` (an entry may go on " with strategy: ..."). */
 static int listed(const char *list, const char *name) {
   const size_t n = strlen(name);
   for (const char *at = list; *at; at += strcspn(at, ",") + (at[strcspn(at, ",")] ? 2 : 0))
-    if (strncmp(at, name, n) == 0 && (at[n] == ',' || at[n] == '\0')) return 1;
+    if (strncmp(at, name, n) == 0 && (at[n] == ',' || at[n] == ' ' || at[n] == '\0')) return 1;
   return 0;
+}
+
+/* The first strategy of `plugin` that can run the attachment (the default first), or -1. The refused plugin is
+ * tried with its other strategies only; a strategy past the first needs the condensation capability. */
+static int strategy_that_can(const alternatives *a, const sk_plugin *plugin) {
+  sk_scene_info probe = *a->info; /* the sides stay the scene's */
+  probe.probe = 1;
+  char reason[512];
+  for (int s = 0; plugin->strategies && plugin->strategies[s]; ++s) {
+    if (strcmp(plugin->name, a->refused->name) == 0 && s == a->info->strategy) continue;
+    probe.strategy = s;
+    if (!cannot_run(plugin, &probe, a->needed | (s > 0 ? SK_CAP_CONDENSATION : 0), reason, sizeof reason)) return s;
+  }
+  return -1;
 }
 
 static void consider(void *ctx, const sk_plugin *plugin, const char *path) {
   (void)path;
   alternatives *a = ctx;
-  char reason[512];
-  if (strcmp(plugin->name, a->except) == 0 || listed(a->list, plugin->name) || /* a shadowed library: once */
-      cannot_run(plugin, a->info, a->needed, reason, sizeof reason))
-    return;
+  if (listed(a->list, plugin->name)) return; /* a shadowed library: once */
+  const int s = strategy_that_can(a, plugin);
+  if (s < 0) return;
   const size_t used = strlen(a->list);
-  snprintf(a->list + used, sizeof a->list - used, "%s%s", used ? ", " : "", plugin->name);
+  /* the setting it needs: a strategy other than its default, or any other than the one the scene names */
+  if (s > 0 || strcmp(plugin->name, a->refused->name) == 0)
+    snprintf(a->list + used, sizeof a->list - used, "%s%s with strategy: %s", used ? ", " : "", plugin->name,
+             plugin->strategies[s]);
+  else
+    snprintf(a->list + used, sizeof a->list - used, "%s%s", used ? ", " : "", plugin->name);
 }
 
 sk_status sk_check_attachment(const sk_plugin *plugin, const sk_scene_description *d, uint64_t needed,
                               const char *where) {
   char reason[512];
   if (!cannot_run(plugin, &d->info, needed, reason, sizeof reason)) return SK_OK;
-  sk_scene_info probe = d->info; /* the sides stay d's */
-  probe.strategy = 0;
-  probe.probe = 1;
-  alternatives a = {.info = &probe, .needed = needed, .except = plugin->name, .list = ""};
+  alternatives a = {.info = &d->info, .needed = needed, .refused = plugin, .list = ""};
   sk_plugin_each(consider, NULL, &a);
   return sk_error_set(SK_ERR_PLUGIN, "%s: plugin '%s' cannot run it: %s. %s%s%s", where, plugin->name, reason,
                       a.list[0] ? "Plugins that can: " : "No plugin on the search path can run it",

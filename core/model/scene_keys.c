@@ -8,6 +8,7 @@
 
 #include "stickslip/plugins.h"
 #include "stickslip/scene.h"
+#include "system.h"
 
 /* Units of the quantities, by key path without indices. The scene has no unit system of its own: any consistent
  * one (N, mm, s, t/mm³ gives force/area in MPa). */
@@ -79,9 +80,18 @@ typedef struct {
   char *path, *value, *unit, *origin;
 } row;
 
+/* A default a plugin computed from the scene (stickslip.scene.v1), shown as its number in place of the rule. */
+typedef struct {
+  char path[160];
+  double value;
+  const char *reason;
+} computed_default;
+
 typedef struct {
   row *rows;
   int n, cap;
+  const computed_default *computed;
+  int n_computed;
 } listing;
 
 static char *copy(const char *s) {
@@ -99,14 +109,21 @@ static void collect(void *ctx, const sk_cfg_entry *entry) {
     list->rows = rows;
     list->cap = cap;
   }
-  char origin[1024];
-  if (entry->given)
+  char origin[1024], value[1024];
+  const computed_default *computed = NULL;
+  for (int k = 0; k < list->n_computed && !entry->given && !computed; ++k)
+    if (strcmp(list->computed[k].path, entry->path) == 0) computed = &list->computed[k];
+  if (computed) {
+    snprintf(origin, sizeof origin, "computed from the scene: %s%s%s", computed->reason, entry->meaning ? "; " : "",
+             entry->meaning ? entry->meaning : "");
+    snprintf(value, sizeof value, "%.6g", computed->value);
+  } else if (entry->given)
     snprintf(origin, sizeof origin, "%s%s%s", entry->where, entry->meaning ? "; " : "",
              entry->meaning ? entry->meaning : "");
   else
     snprintf(origin, sizeof origin, "default%s%s", entry->meaning ? "; " : "", entry->meaning ? entry->meaning : "");
-  char value[1024];
-  snprintf(value, sizeof value, !entry->literal ? "(%s)" : entry->value[0] ? "%s" : "\"\"", entry->value);
+  if (!computed)
+    snprintf(value, sizeof value, !entry->literal ? "(%s)" : entry->value[0] ? "%s" : "\"\"", entry->value);
   row r = {copy(entry->path), copy(value), copy(unit_of(entry)), copy(origin)};
   if (!r.path || !r.value || !r.unit || !r.origin) {
     free(r.path);
@@ -167,9 +184,11 @@ static void print_row(FILE *out, const int width[3], const char *const cells[4])
   fprintf(out, "\n");
 }
 
-/* The listing of the keys of `root` (sk_cfg_each), in aligned columns after a heading naming `source`. */
-static void print_keys(const sk_cfg *root, const char *source, FILE *out) {
-  listing list = {0};
+/* The listing of the keys of `root` (sk_cfg_each), in aligned columns after a heading naming `source`; the defaults
+ * of `computed` by their numbers. */
+static void print_keys(const sk_cfg *root, const char *source, const computed_default *computed, int n_computed,
+                       FILE *out) {
+  listing list = {.computed = computed, .n_computed = n_computed};
   sk_cfg_each(root, collect, &list);
   int width[3] = {3, 5, 4};
   for (int i = 0; i < list.n; ++i) {
@@ -195,6 +214,23 @@ static void print_keys(const sk_cfg *root, const char *source, FILE *out) {
   free(list.rows);
 }
 
+/* Every default the plugins computed from the scene, the first report of a key path (a `bodies:` entry's pairs share
+ * one path); scene->system is NULL before the system exists (then none). */
+static int gather_computed(const sk_scene *scene, computed_default *computed, int capacity) {
+  int n = 0;
+  const sk_system *sys = scene->system;
+  for (int t = 0; sys && t < sys->n_terms; ++t) {
+    computed_default c;
+    for (int k = 0; n < capacity && sk_term_plugin_computed(sys->terms[t], k, c.path, sizeof c.path, &c.value,
+                                                            &c.reason); ++k) {
+      int seen = 0;
+      for (int i = 0; i < n && !seen; ++i) seen = strcmp(computed[i].path, c.path) == 0;
+      if (!seen) computed[n++] = c;
+    }
+  }
+  return n;
+}
+
 void sk_scene_keys(const sk_scene *scene, FILE *out) {
   const sk_model *m = &scene->model;
   const sk_cfg *contact = sk_cfg_get(scene->cfg, "contact");
@@ -203,7 +239,8 @@ void sk_scene_keys(const sk_scene *scene, FILE *out) {
   const sk_cfg *bodies = sk_cfg_get(scene->cfg, "bodies");
   for (int b = 0; b < m->n_bodies; ++b)
     if (m->bodies[b].plugin) note_plugin_parameters(sk_cfg_at(bodies, b), m->bodies[b].plugin, SK_KIND_BODY);
-  print_keys(scene->cfg, scene->path, out);
+  computed_default computed[256];
+  print_keys(scene->cfg, scene->path, computed, gather_computed(scene, computed, 256), out);
 }
 
 sk_status sk_plugin_keys(const sk_plugin *plugin, FILE *out) {
@@ -217,7 +254,7 @@ sk_status sk_plugin_keys(const sk_plugin *plugin, FILE *out) {
     note_plugin_parameters(both ? sk_cfg_section(root, "body") : root, plugin, SK_KIND_BODY);
   char source[160];
   snprintf(source, sizeof source, "plugin %s", plugin->name);
-  print_keys(root, source, out);
+  print_keys(root, source, NULL, 0, out);
   sk_cfg_free(root);
   return SK_OK;
 }

@@ -265,6 +265,10 @@ typedef struct {
   double active_local;     /* this rank's active points (not summed) */
   double dissipated;       /* this step's increment */
   double constraint;       /* max over ranks */
+  /* the deepest penetration of a penalty pair (sk_term_plugin_penalty_pair) against its slave surface's mean edge:
+   * penetration / h, the same on every rank, and the index in sys->terms of that pair's term (-1: none) */
+  double penetration_ratio;
+  int penetration_term;
   int n_obstacles;
   double *obstacle_force;  /* 3 per obstacle pair (caller's array) */
 } sk_contact_totals;

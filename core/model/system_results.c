@@ -31,6 +31,10 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
   sk_status status = SK_OK;
   const int n_obstacles = sys->model->n_obstacle_columns;
   if (obstacle_force) memset(obstacle_force, 0, sizeof(double) * 3 * (size_t)n_obstacles);
+  struct ratio_at {
+    double ratio;
+    int term;
+  } deepest = {0.0, -1}; /* MPI_DOUBLE_INT */
   int n_live; /* after a step a sleeping pair reports nothing (zeros); at the start every term reports */
   sk_term *const *live = initial ? sys->terms : sk_system_live_terms(sys, &n_live);
   if (initial) n_live = sys->n_terms;
@@ -53,6 +57,10 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
     sums[8] += (double)r.slip;
     sums[9] += r.dissipated;
     totals->constraint = fmax(totals->constraint, r.constraint_norm);
+    double h = 0.0;
+    if (sk_term_plugin_penalty_pair(term, &h) && h > 0.0 && r.constraint_norm / h > deepest.ratio)
+      for (int t = 0; t < sys->n_terms; ++t)
+        if (sys->terms[t] == term) deepest = (struct ratio_at){r.constraint_norm / h, t};
     const int column = sk_term_plugin_obstacle_column(term);
     if (obstacle_force && column >= 0)
       for (int i = 0; i < 3; ++i) obstacle_force[3 * column + i] -= r.force[i];
@@ -64,6 +72,9 @@ sk_status sk_system_contact_totals(sk_system *sys, int initial, sk_contact_total
     MPI_Allreduce(MPI_IN_PLACE, obstacle_force, 3 * n_obstacles, MPI_DOUBLE, MPI_SUM, sys->comm);
   double constraint = totals->constraint;
   MPI_Allreduce(&constraint, &totals->constraint, 1, MPI_DOUBLE, MPI_MAX, sys->comm);
+  MPI_Allreduce(MPI_IN_PLACE, &deepest, 1, MPI_DOUBLE_INT, MPI_MAXLOC, sys->comm);
+  totals->penetration_ratio = deepest.ratio;
+  totals->penetration_term = deepest.ratio > 0.0 ? deepest.term : -1;
   for (int i = 0; i < 3; ++i) {
     totals->force[i] = sums[i];
     totals->moment[i] = sums[3 + i];

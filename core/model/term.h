@@ -12,6 +12,7 @@
 #include <stdio.h>
 
 #include "stickslip/plugin.h"
+#include "stickslip/model.h"
 
 typedef struct sk_system sk_system;
 typedef struct sk_term sk_term;
@@ -140,8 +141,15 @@ sk_status sk_term_plugin_scheme_energy(sk_term *term, sk_system *sys, int initia
 /* The parameters a plugin term computed from the scene (stickslip.scene.v1), one line each into `out` (--explain;
  * NULL: none); returns how many. */
 int sk_term_plugin_explain_defaults(const sk_term *term, FILE *out);
+/* The k-th parameter a plugin term computed from the scene: its key path in the scene ("contact[0].parameters.penalty",
+ * the pair's entry for a pair created by `bodies:`), value and reason; 0 past the last (or for another term). */
+int sk_term_plugin_computed(const sk_term *term, int k, char *path, size_t size, double *value, const char **reason);
 /* A contact pair created by `bodies:`: one line with its surfaces and what the broad phase does with it (1), or 0
  * for other terms (nothing printed; out NULL only counts). */
 int sk_term_plugin_explain_pair(const sk_term *term, FILE *out);
+/* A contact pair whose plugin regularises the constraint by a penalty (no multipliers, SK_CAP_MULTIPLIERS unset), so
+ * that its report's constraint_norm is a penetration: the pair, with *h the mean corner-to-corner edge of its slave
+ * surface (the whole surface's); NULL for other terms. */
+const sk_contact_pair *sk_term_plugin_penalty_pair(const sk_term *term, double *h);
 
 #endif

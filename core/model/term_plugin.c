@@ -526,6 +526,26 @@ int sk_term_plugin_explain_defaults(const sk_term *base, FILE *out) {
   return term->n_computed;
 }
 
+int sk_term_plugin_computed(const sk_term *base, int k, char *path, size_t size, double *value, const char **reason) {
+  if (base->ops != &plugin_ops) return 0;
+  const plugin_term *term = (const plugin_term *)base;
+  if (k < 0 || k >= term->n_computed) return 0;
+  const sk_contact_pair *pair = term->pair >= 0 ? &term->host.sys->model->pairs[term->pair] : NULL;
+  snprintf(path, size, "%s[%d].parameters.%s", pair ? "contact" : "bodies", pair ? pair->entry : term->body,
+           term->computed[k].key);
+  *value = term->computed[k].value;
+  *reason = term->computed[k].reason;
+  return 1;
+}
+
+const sk_contact_pair *sk_term_plugin_penalty_pair(const sk_term *base, double *h) {
+  if (base->ops != &plugin_ops) return NULL;
+  const plugin_term *term = (const plugin_term *)base;
+  if (term->pair < 0 || (term->table.caps & SK_CAP_MULTIPLIERS)) return NULL;
+  *h = term->scene.slave.h_mean;
+  return &term->host.sys->model->pairs[term->pair];
+}
+
 int sk_term_plugin_explain_pair(const sk_term *base, FILE *out) {
   if (base->ops != &plugin_ops) return 0;
   const plugin_term *term = (const plugin_term *)base;

@@ -17,6 +17,7 @@
 #include "checkpoint.h"
 #include "contact_balance.h"
 #include "contact_output.h"
+#include "penetration.h"
 #include "stickslip/output.h"
 #include "vtu_pieces.h"
 
@@ -66,6 +67,7 @@ struct sk_recorder {
   unsigned range_solvers;  /* of the open range, steps range_first .. range_last */
   int range_first, range_last;
   sk_contact_balance balance; /* contact work per rank (summary.json, --verbose) */
+  sk_penetration_watch penetration; /* a penalty pair's deepest penetration (summary.json, one warning) */
 };
 
 static double now_seconds(void) {
@@ -471,6 +473,7 @@ sk_status sk_recorder_step(sk_recorder *rec, int64_t scheduled, int substep, int
   note_solvers(rec, (int)sys->step);
   sk_contact_totals contact = {.obstacle_force = rec->obstacle_force};
   SK_TRY(sk_system_contact_totals(sys, 0, &contact));
+  sk_penetration_watch_step(&rec->penetration, sys, &contact);
   double load_work = 0.0;
   SK_TRY(sk_system_load_work(sys, rec->load_scratch, &load_work));
   rec->external_work += load_work;
@@ -538,6 +541,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_number(json, "solve_seconds", sum->solve_seconds);
   sk_json_number(json, "pattern_seconds", rec->sys->t_pattern[0]); /* rank 0's settling of the pattern (system.h) */
   sk_contact_balance_write(&rec->balance, json);
+  sk_penetration_watch_write(&rec->penetration, json);
   return sk_json_close(json);
 }
 

@@ -75,6 +75,17 @@ sk_status sk_defaults_param(const sk_host_api *api, sk_host *host, const sk_scen
   return SK_OK;
 }
 
+sk_status sk_defaults_length(const sk_host_api *api, sk_host *host, const char *key, double computed,
+                             const char *reason, double *out) {
+  SK_TRY(api->param_double(host, key, 0, NAN, out));
+  if (isnan(*out)) {
+    *out = computed;
+    const sk_scene_ext *scene = sk_defaults_scene(api, host);
+    if (scene) scene->computed(host, key, computed, "%s", reason);
+  }
+  return SK_OK;
+}
+
 sk_status sk_defaults_follow(const sk_host_api *api, sk_host *host, const sk_scene_ext *scene, const char *key,
                              double value, const char *other, int report, double *out) {
   SK_TRY(api->param_double(host, key, 0, NAN, out));

@@ -30,6 +30,11 @@ double sk_defaults_stiffness(const sk_scene_info *info, double c, int nodal, cha
 sk_status sk_defaults_param(const sk_host_api *api, sk_host *host, const sk_scene_ext *scene, const char *key,
                             double computed, const char *reason, double *out);
 
+/* A length parameter `key` >= 0 (a search margin): the scene's value, or `computed` (>= 0; 0 is a value here), which
+ * is reported to the host with `reason` (stickslip.scene.v1), so that `check --explain` prints its number. */
+sk_status sk_defaults_length(const sk_host_api *api, sk_host *host, const char *key, double computed,
+                             const char *reason, double *out);
+
 /* Parameter `key` whose default is another parameter's value (`other` names it, e.g. "the normal penalty"): the
  * scene's value (checked > 0), else `value`, reported to the host when `report` (a parameter in use) and the host
  * has the extension. Never required. */

@@ -26,6 +26,12 @@ sk_status self_contact_exclusion(const sk_host_api *api, sk_host *host, const sk
   return sk_defaults_param(api, host, sk_defaults_scene(api, host), "self_exclusion", largest, why, out);
 }
 
+void self_contact_exclusion_unused(const sk_host_api *api, sk_host *host) {
+  const sk_scene_ext *scene = sk_defaults_scene(api, host);
+  if (scene) /* not read: a pair that is not self contact refuses the key as unknown */
+    scene->computed(host, "self_exclusion", 0.0, "unused: the pair is not self contact (its master is not its slave)");
+}
+
 /* A body's boundary is closed and its normals point out of the material, so the faces a point can meet face it:
  * one-sided normals suffice. A face it lies behind in the reference configuration has the body's material in
  * between (e.g. the other side of a thin wall); the undeformed body does not penetrate itself, so the point reaches

@@ -16,6 +16,9 @@
 /* The parameter `self_exclusion` of a self-contact pair on `surface`: the scene's value (checked > 0), else the
  * diagonal of the reference box of the surface's largest face (this rank's faces), reported to the host. */
 sk_status self_contact_exclusion(const sk_host_api *api, sk_host *host, const sk_view *surface, double *out);
+/* A pair that is not self contact does not use `self_exclusion`: reported to the host as 0, "unused", so that
+ * `check --explain` says so in place of the rule. */
+void self_contact_exclusion_unused(const sk_host_api *api, sk_host *host);
 
 /* Filters the candidate faces of a point of `surface` at reference position X (dim coordinates) in place: drops the
  * faces with a node within `exclusion` of X (its own faces and their neighbours) and those X lies behind in the

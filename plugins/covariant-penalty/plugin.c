@@ -31,7 +31,8 @@ static const char *const cp_parameters[] = {
     "tangent_form: exact (the derivative of the residual) or paper (the printed matrices, symmetric in stick) [exact]",
     "area_weighted: nts: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
     "stiffnesses [1]",
-    "search_margin: inflation of the search boxes (length) [half the mean master face size]",
+    "search_margin: inflation of the search boxes (length) [computed from the scene: half the mean master face size; "
+    "0 against an obstacle]",
     "master_extension: a point up to this fraction of a face beyond the master's border stays in contact with the "
     "extrapolated face, 0 switches it off [0.1]",
     NULL};
@@ -121,8 +122,13 @@ static sk_status read_parameters(sk_instance *in) {
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'area_weighted' must be 0 or 1, got %d",
                       in->area_weighted);
   SK_TRY(read_penalties(in));
-  SK_TRY(api->param_double(in->host, "search_margin", 0, in->master ? 0.5 * mean_face_size(in->master) : 0.0,
-                           &in->margin));
+  char why[200];
+  if (in->master)
+    snprintf(why, sizeof why, "half the mean face size of master surface '%s'", in->master->name);
+  else
+    snprintf(why, sizeof why, "0: a rigid obstacle has no master faces to search");
+  SK_TRY(sk_defaults_length(api, in->host, "search_margin", in->master ? 0.5 * mean_face_size(in->master) : 0.0, why,
+                            &in->margin));
   if (!(in->margin >= 0.0) || !isfinite(in->margin))
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'search_margin' must be a finite number "
                       ">= 0, got %g", in->margin);

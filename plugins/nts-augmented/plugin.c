@@ -29,7 +29,8 @@ static const char *const parameters[] = {
     "area per node of the slave surface)]",
     "c_n: weight of the gap in the active-set test -lambda_n - c_n g > 0, force per length [computed from the "
     "scene: E*/h A]",
-    "search_margin: inflation of the search boxes (length) [half the mean master edge length]",
+    "search_margin: inflation of the search boxes (length) [computed from the scene: half the mean master edge length; "
+    "of the slave surface against an obstacle]",
     MASTER_EXTENSION_HELP,
     "max_flips: active-set changes of one node per step before its state is frozen [4]",
     "slide_search: 1 moves a node that slid beyond its facet into the master onto that face at the converged point "
@@ -207,7 +208,11 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
              inst->name, strategies[attach->strategy], strategies[inst->strategy]);
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->friction.mu));
   SK_TRY(read_stiffnesses(inst));
-  SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_edge(master ? master : slave), &inst->search_margin));
+  char why[200];
+  snprintf(why, sizeof why, "half the mean edge of %s surface '%s'", master ? "master" : "slave",
+           (master ? master : slave)->name);
+  SK_TRY(sk_defaults_length(api, host, "search_margin", 0.5 * mean_edge(master ? master : slave), why,
+                            &inst->search_margin));
   SK_TRY(api->param_double(host, "master_extension", 0, 0.1, &inst->master_extension));
   SK_TRY(api->param_int(host, "max_flips", 0, 4, &inst->max_flips));
   SK_TRY(api->param_int(host, "slide_search", 0, 0, &inst->slide_search));
@@ -215,6 +220,8 @@ static sk_status create_checked(sk_instance *inst, const sk_attach *attach) {
   if (inst->self) {
     SK_TRY(self_contact_exclusion(api, host, master, &inst->self_exclusion));
     SK_TRY(nts_self_setup(inst));
+  } else {
+    self_contact_exclusion_unused(api, host);
   }
   if (inst->friction.mu < 0.0 || (inst->friction.mu > 0.0 && inst->friction.epsilon_t <= 0.0) || inst->c_n <= 0.0 ||
       inst->search_margin < 0.0 || !(inst->master_extension >= 0.0 && inst->master_extension <= 0.5))

@@ -17,7 +17,8 @@ const char *const pnts_parameters[] = {
     "penalty_tangential: tangential penalty eps_t > 0, same units as penalty [computed from the scene: penalty]",
     "area_weighted: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
     "stiffnesses [1]",
-    "search_margin: inflation of the search boxes (length); default half the mean master face size",
+    "search_margin: inflation of the search boxes (length) [computed from the scene: half the mean master face "
+    "size; 0 against an obstacle]",
     MASTER_EXTENSION_HELP,
     SELF_EXCLUSION_HELP,
     NULL};
@@ -234,8 +235,17 @@ static sk_status pnts_create_checked(sk_instance *in, const sk_attach *attach) {
     mean_size /= master->n_cells;
   }
   in->self = attach->self_contact;
-  if (in->self) SK_TRY(self_contact_exclusion(api, host, master, &in->self_exclusion));
-  SK_TRY(api->param_double(host, "search_margin", 0, 0.5 * mean_size, &in->margin));
+  if (in->self)
+    SK_TRY(self_contact_exclusion(api, host, master, &in->self_exclusion));
+  else
+    self_contact_exclusion_unused(api, host);
+  char why[200];
+  if (master)
+    snprintf(why, sizeof why, "half the mean face size (diagonal of the reference box) of master surface '%s'",
+             master->name);
+  else
+    snprintf(why, sizeof why, "0: a rigid obstacle has no master faces to search");
+  SK_TRY(sk_defaults_length(api, host, "search_margin", 0.5 * mean_size, why, &in->margin));
   /* Round-off scale of gaps: 1e-10 of the mean slave face size (of the faces this rank sees). */
   double slave_size = 0.0;
   for (int f = 0; f < slave->n_cells; ++f) {

@@ -13,21 +13,28 @@ ALL_3D = ["covariant-penalty", "mortar-dual", "nts-augmented", "penalty-nts"]
 
 
 def alternatives(c):
-    """The plugin names after 'Plugins that can: ' in the error (empty when none can)."""
-    match = re.search(r"Plugins that can: ([\w, -]+?) \(", c.proc.stderr)
-    return match.group(1).split(", ") if match else []
+    """{plugin: the strategy the list names for it, or None for its default} from 'Plugins that can: ' in the error
+    (empty when none can)."""
+    match = re.search(r"Plugins that can: ([^(]+?) \(", c.proc.stderr)
+    entries = match.group(1).split(", ") if match else []
+    return {e.split(" with strategy: ")[0]: (e.split(" with strategy: ") + [None])[1] for e in entries}
 
 
-def refused(c, plugin, reason, can, cannot=(), pair=PAIR):
+def refused(c, plugin, reason, can, cannot=(), pair=PAIR, itself=None):
     """The run or check failed with one message naming the pair, the plugin, the reason and exactly the plugins of
-    `can` among those listed (and none of `cannot`)."""
+    `can` among those listed (and none of `cannot`); the refused plugin is listed only with its other strategy
+    `itself` when one can run the pair."""
     c.expect_failure(pair, r"plugin '%s' cannot run it: " % re.escape(plugin), reason)
     listed = alternatives(c)
     for name in can:
         c.check(name in listed, "'%s' is listed among the plugins that can (%s)" % (name, listed))
-    for name in list(cannot) + [plugin]:
+    for name in cannot:
         c.check(name not in listed, "'%s' is not listed (%s)" % (name, listed))
-    if not can:
+    if itself:
+        c.check(listed.get(plugin) == itself, "'%s with strategy: %s' is listed (%s)" % (plugin, itself, listed))
+    else:
+        c.check(plugin not in listed, "'%s' is not listed (%s)" % (plugin, listed))
+    if not can and not itself:
         c.check("No plugin on the search path can run it" in c.proc.stderr, "says that no plugin can")
 
 
@@ -55,7 +62,21 @@ def mortar_quadratic(c):
     c.run_scene(CONTACT, "--plugin", "mortar-dual", "--set", "mesh.order=2", "--set", "mesh.serendipity=true",
                 "--set", "contact.0.strategy=condensed", command="check")
     refused(c, "mortar-dual", r"strategy 'condensed'.*slave surface's QUAD8 faces D = diag\(int Phi_j\) T\^-T is not "
-            r"diagonal.*use strategy: saddle-point", [], ALL_3D)
+            r"diagonal.*use strategy: saddle-point", [], ["covariant-penalty", "nts-augmented", "penalty-nts"],
+            itself="saddle-point")
+    # tet10 (TRI6 faces): the same refusal lists mortar-dual with the strategy that runs them, and penalty-nts
+    tet10 = replace(replace(CONTACT, "block.geo", "box-tet.geo"), "parameters: {nx: 2, ny: 2, nz: 2}",
+                    "parameters: {h: 0.5}\n  order: 2")
+    c.run_scene(tet10, "--plugin", "mortar-dual", "--set", "contact.0.strategy=condensed", command="check")
+    refused(c, "mortar-dual", r"strategy 'condensed'.*TRI6 faces.*use strategy: saddle-point", ["penalty-nts"],
+            ["covariant-penalty", "nts-augmented"], itself="saddle-point")
+    c.check(re.search(r"Plugins that can: mortar-dual with strategy: saddle-point, penalty-nts \(", c.proc.stderr)
+            is not None, "the list names the setting mortar-dual needs")
+    # another plugin refused there names mortar-dual without a setting: its default strategy runs TRI6 faces
+    c.run_scene(tet10, "--plugin", "nts-augmented", command="check")
+    refused(c, "nts-augmented", r"TRI6 faces", ["penalty-nts", "mortar-dual"], ["covariant-penalty"])
+    c.check(alternatives(c).get("mortar-dual", "") is None, "mortar-dual's default needs no setting (%s)"
+            % alternatives(c))
 
 
 def nts_curved_obstacle(c):

@@ -3,9 +3,10 @@ each with its value and reason, the value is the plugin's rule on the scene's nu
 `stickslip plugins` states the rules, and a scene giving only mu runs with every plugin that takes it.
 
   python3 test_defaults.py CASE"""
+import os
 import re
 
-from cli_case import CONTACT, main, replace
+from cli_case import CONTACT, ROOT, main, replace
 
 ONLY_MU = replace(CONTACT, "parameters: {penalty: 1.0e4}", "parameters: {mu: 0.3}")
 # the block of CONTACT: E 1000, nu 0.3 on a rigid plane; its zmin face is 2 x 2 quad4 of edge 0.5 (9 nodes)
@@ -23,6 +24,13 @@ RULES = {
     "nts-augmented": {"epsilon_t": (10 * E_STAR / H * AREA, "10 E*/h A"), "c_n": (E_STAR / H * AREA, "1 E*/h A")},
     "mortar-dual": {"c_n": (10 * E_STAR / H, "10 E*/h"), "c_t": (10 * E_STAR / H, "c_n")},
 }
+# lengths computed from the scene: no master faces against an obstacle; self_exclusion unused on a pair that is not
+# self contact; nts-augmented's margin is half the slave surface's mean edge there
+RULES["penalty-nts"].update({"search_margin": (0.0, "rigid obstacle has no master faces"),
+                             "self_exclusion": (0.0, "unused: the pair is not self contact")})
+RULES["covariant-penalty"]["search_margin"] = (0.0, "rigid obstacle has no master faces")
+RULES["nts-augmented"].update({"search_margin": (0.5 * H, "half the mean edge of slave surface 'zmin'"),
+                               "self_exclusion": (0.0, "unused: the pair is not self contact")})
 
 
 def computed(c):
@@ -59,7 +67,8 @@ def given_value_wins(c):
     c.check(got.get("penalty_tangential", (0,))[0] == 123, "the tangential penalty follows the given one (%s)" % got)
     # frictionless: the tangential penalty is unused and not reported
     c.run_scene(replace(ONLY_MU, "{mu: 0.3}", "{}"), "--explain", command="check")
-    c.check(set(computed(c)) == {"penalty"}, "frictionless: only the penalty is computed (%s)" % computed(c))
+    c.check(set(computed(c)) == {"penalty", "search_margin", "self_exclusion"},
+            "frictionless: the penalty and the lengths are computed, not the tangential penalty (%s)" % computed(c))
 
 
 def run_explain(c):
@@ -111,6 +120,65 @@ def explain_newton_defaults(c):
     c.check(lines["given"] and lines["given"][0].split()[1] == "true:",
             "quasi-static with predicted_update=true given: true (%s)" % lines["given"])
 
+def reference_keys():
+    """Every key of docs/scene-reference.md's key tables, as `keys` spells it for the first body, boundary condition
+    and contact pair."""
+    prefixes = {"Top level": "", "mesh": "mesh.", "bodies": "bodies[0].", "boundary": "boundary[0].",
+                "contact": "contact[0].", "time": "time.", "solver": "solver.", "output": "output.",
+                "contact_balance": "contact_balance."}
+    keys, prefix = [], None
+    with open(os.path.join(ROOT, "docs", "scene-reference.md")) as f:
+        for line in f:
+            if line.startswith("## "):
+                prefix = prefixes.get(line[3:].strip())
+            elif line.startswith("### "):
+                prefix = None  # the subsections' tables are not keys (plugins, rules)
+            elif line.startswith("Obstacle keys:") and prefix == "contact[0].":
+                prefix = "contact[0].obstacle."
+            elif prefix is not None:
+                match = re.match(r"^\| `([\w.]+)` \|", line)
+                if match:
+                    keys.append(prefix + match.group(1))
+    return keys
+
+
+# Keys the scene cannot have together with those it has: the pair has an obstacle (not `master`, nor `bodies:` with
+# its `obstacles` and `self`), the boundary condition a displacement (not a traction or resultant with its `area`),
+# the body no body plugin (whose `strategy` and `parameters` need one).
+EXCLUSIVE = {"contact[0].master", "contact[0].bodies", "contact[0].obstacles", "contact[0].self",
+             "boundary[0].traction", "boundary[0].resultant", "boundary[0].area", "bodies[0].strategy",
+             "bodies[0].parameters"}
+KEY_LINE = re.compile(r"^([\w.\[\]]+)  +(\S.*?)  +(?:\S.*?  +)?(default|computed from the scene: |[^ ]*\.yaml:\d+:\d+)",
+                      re.M)
+
+
+def explain_every_key(c):
+    # every key of the scene reference appears in --explain with its value and where it came from (given, default,
+    # computed from the scene), and every plugin parameter of the pair with a value, not "(not stated)"
+    keys = reference_keys()
+    c.check(len(keys) > 60, "the scene reference lists %d keys" % len(keys))
+    for plugin in RULES:
+        c.run_scene(ONLY_MU, "--plugin", plugin, "--explain", command="check")
+        c.no_crash()
+        lines = {m.group(1): (m.group(2), m.group(3)) for m in KEY_LINE.finditer(c.proc.stdout)}
+        if plugin == "penalty-nts":
+            for key in keys:
+                if key in EXCLUSIVE:
+                    continue
+                c.check(key in lines or any(k.startswith(key + ".") or k.startswith(key + "[") for k in lines),
+                        "%s: --explain prints %s with its value and origin" % (plugin, key))
+            for key in ("time.max_cuts", "output.vtu", "output.vtu_every", "output.contact_csv"):
+                c.check(lines.get(key, ("", ""))[1] == "default", "%s is a default (%s)" % (key, lines.get(key)))
+        params = {k: v for k, v in lines.items() if k.startswith("contact[0].parameters.")}
+        c.check(len(params) > 3, "%s: its parameters are printed (%d)" % (plugin, len(params)))
+        for key, (value, origin) in params.items():
+            c.check(value != "(not stated)", "%s: %s has a value (%s)" % (plugin, key, value))
+        for key, (value, _) in RULES[plugin].items():
+            got = params.get("contact[0].parameters." + key)
+            c.check(got is not None and got[1] == "computed from the scene: " and abs(float(got[0]) - value) <= 1e-5 *
+                    value, "%s: %s printed as its computed number %g (%s)" % (plugin, key, value, got))
+
+
 if __name__ == "__main__":
     main({f.__name__: f for f in [explain_defaults, second_order_faces, given_value_wins, run_explain,
-                                  plugins_state_rules, only_mu_runs, explain_newton_defaults]})
+                                  plugins_state_rules, only_mu_runs, explain_newton_defaults, explain_every_key]})

@@ -222,8 +222,52 @@ def verbose_active_set(c):
                 "history.csv's active_points (%d)" % (r["step"], points[-1][0], r["active_points"]))
 
 
+# the contact block (1 x 1 x 1, 2 x 2 x 2 hex8, neo-Hooke: slave faces of mean edge H = 0.5) crushed to 20 % of its
+# height against the floor with the default penalty 10 E*/h: the floor takes pressures above E*; measured penetration
+# 0.061 (12 % of H) at step 3 (t = 0.75, 5 % at step 2), 0.13 (26 %) at t = 1
+DEEP = replace(replace(replace(CONTACT, "parameters: {penalty: 1.0e4}", "parameters: {}"), "[0, 0, -0.01]",
+                       "[0, 0, -0.8], history: [[0, 0], [1, 1]]"), "model: hooke", "model: neo-hooke-bonet")
+DEEP_H = 0.5
+WARNING = re.compile(r"warning: contact pair 'floor' \(plugin penalty-nts\): at step (\d+) \(t = [\d.]+\) the "
+                     r"slave surface 'zmin' penetrates [\d.]+, (\d+) % of its faces' mean edge 0\.5 \(more than "
+                     r"10 %\).*Raise the pair's penalty.*nts-augmented, mortar-dual")
+
+
+def deep_penetration(c):
+    """A penalty pair penetrating more than 10 % of its slave faces' mean edge is warned about once (stderr, naming the
+    pair, the step and what to do) and recorded in summary.json; a stiff enough penalty or a multiplier plugin is
+    not."""
+    c.run_scene(DEEP, "--set", "time.dt=0.25")
+    c.no_crash()
+    summary = read_summary(c.out)
+    rows = read_history(c.out)
+    deepest = max(r["constraint_violation"] for r in rows)
+    warnings = WARNING.findall(c.proc.stderr)
+    print("stderr: %s\nconstraint_violation max %g, summary %s / %s" % (
+        c.proc.stderr.strip(), deepest, summary.get("penetration_ratio_max"), summary.get("penetration_warning")))
+    c.check(c.proc.returncode == 0 and len(warnings) == 1, "one warning, the run goes on (exit %d, %d warnings)" %
+            (c.proc.returncode, len(warnings)))
+    if warnings:
+        step = int(warnings[0][0])
+        first = [r for r in rows if r["constraint_violation"] > 0.1 * DEEP_H]
+        c.check(first and first[0]["step"] == step, "the warning names the first step above 10 %% (%d)" % step)
+    c.check(abs(summary.get("penetration_ratio_max", 0) - deepest / DEEP_H) <= 1e-12 * deepest / DEEP_H and
+            deepest / DEEP_H > 0.1, "summary.json: the largest penetration / h is history.csv's (%g)" %
+            (deepest / DEEP_H))
+    c.check(str(summary.get("penetration_warning", "")).startswith("contact pair 'floor': penetration "),
+            "summary.json names the pair (%s)" % summary.get("penetration_warning"))
+    # 100 times the default penalty keeps the penetration at a few % of h; nts-augmented has no penalty at all
+    for label, extra in (("stiff penalty", ("--set", "contact.0.parameters.penalty=2.2e6")),
+                         ("nts-augmented", ("--plugin", "nts-augmented"))):
+        c.run_scene(DEEP, "--set", "time.dt=0.25", *extra)
+        summary = read_summary(c.out)
+        c.check(c.proc.returncode == 0 and "penetrates" not in c.proc.stderr and
+                summary.get("penetration_warning") == "none" and summary.get("penetration_ratio_max", 1) < 0.1,
+                "%s: no warning (exit %d, ratio %s)" % (label, c.proc.returncode, summary.get("penetration_ratio_max")))
+
+
 CASES = {f.__name__: f for f in [contact_columns, schedule_after_cut, diverging_step, misbehaving_plugin,
-                                 smallest_step, plugin_points_layouts, verbose_active_set]}
+                                 smallest_step, plugin_points_layouts, verbose_active_set, deep_penetration]}
 
 if __name__ == "__main__":
     main(CASES)

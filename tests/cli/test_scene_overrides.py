@@ -341,7 +341,7 @@ def keys_listing(c):
     # rule holds whatever the paths in the value column (a checkout's location changes their length).
     misplaced = []
     for key, line in rows.items():
-        found = re.search(r"  (default|\S*scene\.yaml:\d+:\d+|--set )", line[len(key):])
+        found = re.search(r"  (default|computed from the scene|\S*scene\.yaml:\d+:\d+|--set )", line[len(key):])
         if found is None:
             misplaced.append(key)
             continue

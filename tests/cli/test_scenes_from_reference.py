@@ -45,7 +45,7 @@ ENERGY_MOMENTUM = {"nts-augmented", "corotational"}
 # full Newton step and solves a step whose Newton fails again with backtracking before cutting it
 # (docs/linear-solvers.md, "Line search"). Only the VTU output is off (time).
 RUN = ["--set", "output.vtu=false", "--set", "output.vtu_every=1"]  # contact.csv at every step, no VTU
-REFUSED = re.compile(r"contact pair '\w+': plugin '([\w-]+)' cannot run it: (.+)\. Plugins that can: ([\w, -]+) \(")
+REFUSED = re.compile(r"contact pair '\w+': plugin '([\w-]+)' cannot run it: (.+)\. Plugins that can: ([^(]+) \(")
 
 
 def plugins_on_the_path(c):
@@ -73,7 +73,9 @@ def checked(c, scene):
         c.check(c.proc.returncode == 1 and refusal is not None,
                 "%s: refused by check with the reason and the plugins that can (exit %d)" % (plugin, c.proc.returncode))
         if refusal:
-            accepted.setdefault("can, as %s says" % plugin, set(refusal.group(3).split(", ")))
+            # those listed without a setting run with their defaults, as check accepts them; the others name a strategy
+            accepted.setdefault("can, as %s says" % plugin,
+                                {e for e in refusal.group(3).split(", ") if " with strategy: " not in e})
     return accepted
 
 

@@ -376,15 +376,15 @@ typedef struct sk_scene_info {
   double alpha;                /* forces balance at t_n + alpha dt (sk_state.alpha) */
   int dynamic;                 /* 1 with inertia */
   int n_ranks;                 /* MPI ranks of the run */
-  int strategy;                /* index into sk_plugin.strategies: the scene's `strategy`; 0 (the plugin's default)
-                                  when the host asks a plugin the scene does not name */
+  int strategy;                /* index into sk_plugin.strategies: the scene's `strategy`; when the host looks for
+                                  alternatives (probe = 1), each of the plugin's strategies in turn */
   int friction;                /* 1 when the parameters give mu > 0 */
   int self_contact;            /* 1 when slave and master are the same surface */
   const sk_scene_side *slave;  /* a pair's slave surface; a body: the body */
   const sk_scene_side *master; /* a pair's master surface or rigid obstacle; NULL for a body */
-  int probe;                   /* 1 when the host asks a plugin the scene does not name, in its search for the plugins
-                                  that can run what the named one cannot: a plugin that is no contact formulation (a
-                                  teaching example) declines then */
+  int probe;                   /* 1 when the host asks a plugin (or the named one with another strategy) in its
+                                  search for the plugins that can run what the named one cannot: a plugin that is no
+                                  contact formulation (a teaching example) declines then */
 } sk_scene_info;
 
 #ifdef __cplusplus
