@@ -192,7 +192,7 @@ def stops_after_sliding(c, folder, plugin, facts):
     # Newton iterations of the 50 steps: mortar-dual's full step made no progress in some steps (||F|| and the
     # correction flat) and ran out its 25 iterations before the backtracking retry: 334 iterations, 3 cuts, 5
     # retries at 71eff4f; measured 122, no cut, no retry, since the full step goes on with backtracking when it makes
-    # no progress (docs/stability.md, finding 27). penalty-nts: 95.
+    # no progress (docs/stability.md, finding 28). penalty-nts: 95.
     if plugin in NEWTON_BOUND:
         iterations = read_summary(folder)["newton_iterations"]
         c.check(iterations <= NEWTON_BOUND[plugin], "%s: %d Newton iterations <= %d" % (
