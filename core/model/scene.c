@@ -467,7 +467,8 @@ static void explain_newton(const sk_solver_settings *solver, FILE *out) {
   fprintf(out, "Newton (solver.newton):\n");
   if (solver->backtrack_retry)
     fprintf(out, "  %-16s %s: full Newton steps; a step whose Newton fails is solved again from its start with the "
-            "backtracking line search, and cut only if that fails too\n", "line_search",
+            "backtracking line search, and cut only if that fails too; a full step that makes no progress for 4 "
+            "iterations goes on with backtracking at once (docs/stability.md, finding 28)\n", "line_search",
             line_search_names[FULL_STEP_THEN_BACKTRACK]);
   else
     fprintf(out, "  %-16s %s in every iteration; a step whose Newton fails is cut\n", "line_search",
