@@ -155,7 +155,7 @@ class StagnationTest : public NOX::StatusTest::Generic {
 // wanders keeps both. The solve then goes on from the current iterate with the backtracking line search
 // (sk_newton_options.backtrack_on_no_progress) instead of running out its max_iterations first. Measured on the
 // half cylinder (quad9, mortar-dual, mu 0.2) pressed on a slab, step 1: ||F|| = 0.1437 / 0.1432 alternating from
-// iteration 6, corrections 2e-4, until iteration 25 (docs/stability.md, "No progress under the full step").
+// iteration 6, corrections 2e-4, until iteration 25 (docs/stability.md, finding 28).
 class NoProgressTest : public NOX::StatusTest::Generic {
  public:
   static constexpr int kIterations = 4;
@@ -245,8 +245,8 @@ class IterationObserver : public NOX::Observer {
     const double norm_f = group.getNormF();
     if (report_->n_history < SK_NEWTON_HISTORY_MAX) report_->residual_history[report_->n_history++] = norm_f;
     if (state_->callbacks.after_iteration && state_->callback_failure == SK_OK && !group.residualFailed()) {
-      const sk_status status = state_->callbacks.after_iteration(state_->callbacks.ctx, offset_ + solver.getNumIterations(),
-                                                                 group.x().data(), norm_f);
+      const sk_status status = state_->callbacks.after_iteration(
+          state_->callbacks.ctx, offset_ + solver.getNumIterations(), group.x().data(), norm_f);
       if (status != SK_OK) state_->record_callback_failure(status, "after_iteration");
     }
   }
@@ -371,7 +371,8 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     tests->addStatusTest(callbacks_ok);
     tests->addStatusTest(converged);  // before stagnation: a converged iterate is never reported as stagnated
     tests->addStatusTest(stagnation);
-    auto no_progress = rcp(new NoProgressTest(opts.backtrack_on_no_progress && opts.line_search == SK_LINE_SEARCH_FULL_STEP));
+    auto no_progress =
+        rcp(new NoProgressTest(opts.backtrack_on_no_progress && opts.line_search == SK_LINE_SEARCH_FULL_STEP));
     tests->addStatusTest(no_progress);
     tests->addStatusTest(max_iterations);
 

@@ -393,9 +393,9 @@ static void check_linear_solver_failure(void) {
 }
 
 /* A scalar residual on which the full Newton step makes no progress: F(x) = x (1 + x^2)^(-0.3) grows like
- * sign(x) |x|^0.4, whose Newton step overshoots the root by 1.5 x: the Newton map here is x -> -0.6 x^3 / (1 + 0.4 x^2),
- * so from x0 = 10 the iterates alternate in sign and grow (-14.6, 21.6, ...), and so do ||F|| and the correction.
- * A shortened step lands near the root, where F ~ x and Newton converges quadratically. */
+ * sign(x) |x|^0.4, whose Newton step overshoots the root by 1.5 x: the Newton map here is
+ * x -> -0.6 x^3 / (1 + 0.4 x^2), so from x0 = 10 the iterates alternate in sign and grow (-14.6, 21.6, ...), and so
+ * do ||F|| and the correction. A shortened step lands near the root, where F ~ x and Newton converges quadratically. */
 typedef struct {
   double slope;
   int after_calls, after_last_iteration, after_in_order;
