@@ -359,6 +359,7 @@ static sk_status read_solver(const sk_cfg *root, sk_solver_settings *solver) {
     return sk_scene_fail_at(sk_cfg_get(node, "pattern_margin"), "%s", "must be 0..3");
   solver->backtrack_retry = line_search == FULL_STEP_THEN_BACKTRACK;
   solver->newton.line_search = solver->backtrack_retry ? SK_LINE_SEARCH_FULL_STEP : (sk_line_search)line_search;
+  solver->newton.backtrack_on_no_progress = solver->backtrack_retry;
   SK_TRY(sk_cfg_choice(linear, "solver", 0, linear_names, kind, &kind));
   solver->linear.kind = (sk_linear_solver_kind)kind;
   solver->linear.log = log_linear_decision;
@@ -466,7 +467,8 @@ static void explain_newton(const sk_solver_settings *solver, FILE *out) {
   fprintf(out, "Newton (solver.newton):\n");
   if (solver->backtrack_retry)
     fprintf(out, "  %-16s %s: full Newton steps; a step whose Newton fails is solved again from its start with the "
-            "backtracking line search, and cut only if that fails too\n", "line_search",
+            "backtracking line search, and cut only if that fails too; a full step that makes no progress for 4 "
+            "iterations goes on with backtracking at once (docs/stability.md, finding 28)\n", "line_search",
             line_search_names[FULL_STEP_THEN_BACKTRACK]);
   else
     fprintf(out, "  %-16s %s in every iteration; a step whose Newton fails is cut\n", "line_search",

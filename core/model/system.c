@@ -504,6 +504,9 @@ sk_status sk_system_solve(sk_system *sys) {
     if (status != SK_OK && sys->fatal != SK_OK) status = sk_error_set(sys->fatal, "%s", sys->fatal_message);
     const int iterations = sys->newton.iterations + report.iterations;
     const int solves = sys->newton.linear_solves + report.linear_solves;
+    if (report.switched_to_backtrack && sys->verbose && sys->rank == 0)
+      fprintf(stderr, "  step %lld: no progress under the full step: Newton went on with backtracking\n",
+              (long long)sys->step);
     sys->newton = report;
     sys->newton.iterations = iterations;
     sys->newton.linear_solves = solves;

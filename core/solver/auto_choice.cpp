@@ -12,7 +12,8 @@
 //    solver's measurement: it comes back only through a capped trial, never on the cost it had measured before.
 // 2. Not GMRES with a nodal preconditioner when the nodal block has a zero diagonal (a saddle point given without
 //    coordinates, so without a constraint block to take the multiplier rows): MUMPS and the lagged LU only.
-// 3. The size rule of the elasticity benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
+// 3. Up to kAutoDirectOutrightUnknowns (800) unknowns MUMPS outright. Above, the size rule of the elasticity
+//    benchmark (docs/linear-solvers.md): direct up to 10 000 unknowns at <= 40
 //    entries per row (2D-like), up to 2 000 above (3D-like). Within kContestedBand of that crossover it is only a
 //    first guess and the direct solver competes with the iterative ones; beyond it only the iterative ones and the
 //    lagged LU do (up to kLaggedBand x the crossover); below it MUMPS alone (factorisations cost milliseconds there).
@@ -55,6 +56,12 @@ constexpr int kAutoSparseRowEntries = 40;
 constexpr int kAutoDirectMaxUnknownsSparse = 10000;
 constexpr int kAutoDirectMaxUnknownsDense = 2000;
 constexpr double kContestedBand = 4.0;
+// Up to this many unknowns the direct solver outright, whatever the contested band says: no trial, no lagged LU.
+// Measured (docs/linear-solvers.md, "Tiny systems"): on two crossing hex8 bars (nts-augmented, 3D, 8 steps, 1 rank)
+// every candidate costs 2.6-4.9 ms per solve at 513 unknowns and MUMPS is within the switch margin of the cheapest
+// at 741 (10.6 ms against gmres-lu's 9.0), while `auto`'s trials and lagged-LU windows made it the dearest: 8.5 and
+// 16.4 ms per solve. At 969 unknowns GMRES + SGS is 1.35x cheaper than MUMPS (6.8 against 9.2 ms).
+constexpr int kAutoDirectOutrightUnknowns = 800;
 // Growth of the cost per solve with the size (docs/linear-solvers.md): MUMPS n^1.6 on hex8, GMRES + MueLu n^1.1.
 constexpr double kDirectExponent = 1.6;
 constexpr double kIterativeExponent = 1.1;
@@ -269,13 +276,14 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
   // the size rule, and where it is only a first guess
   const int limit = per_row <= kAutoSparseRowEntries ? kAutoDirectMaxUnknownsSparse : kAutoDirectMaxUnknownsDense;
   const sk_linear_solver_kind by_size = sys->n <= limit ? kDirectBackend : kIterativeBackend;
-  const bool contested = sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
+  const bool tiny = sys->n <= kAutoDirectOutrightUnknowns;
+  const bool contested = !tiny && sys->n * kContestedBand >= limit && sys->n <= limit * kContestedBand;
   const bool direct_only = deficient || !any_iterative;
   // the candidates to compare: MUMPS below and near the crossover, the iterative ones near and above it, the lagged
   // LU from the band's lower edge up to kLaggedBand x the crossover (below the band a factorisation costs
   // milliseconds, and a choice by timing there would make the results of small runs vary at round-off from run to
   // run: two-elements' histories digit for digit); MUMPS and the lagged LU alone where no iterative solver may run
-  const bool lagged_size = sys->n * kContestedBand >= limit && sys->n <= limit * kLaggedBand;
+  const bool lagged_size = !tiny && sys->n * kContestedBand >= limit && sys->n <= limit * kLaggedBand;
   bool eligible[kAutoCandidates];
   for (int c = 0; c < kAutoCandidates; ++c) {
     const sk_linear_solver_kind kind = kAutoCandidateKinds[c];
@@ -294,8 +302,10 @@ sk_linear_solver_kind auto_choose(sk_linear_system *sys) {
       return decide(sys, kDirectBackend, failed_here ? "failed" : "backoff", excluded);
     }
     const std::string size_reason =
-        format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)", sys->n,
-               per_row, limit);
+        tiny ? format("%d unknowns (up to %d: the direct solver outright, a solve costs milliseconds)", sys->n,
+                      kAutoDirectOutrightUnknowns)
+             : format("%d unknowns, %.0f entries per row (the size rule: direct up to %d unknowns at this sparsity)",
+                      sys->n, per_row, limit);
     // on elasticity (coordinates given: the dimension is known) the lagged LU first where the direct solver would
     // be, in 2D and on saddle points (multiplier rows): the best fixed solver on the 2D Hertz ladder and with
     // mortar-dual (docs/linear-solvers.md); its first solve measures MUMPS as well. GMRES + MueLu first in 3D above

@@ -129,6 +129,7 @@ class StagnationTest : public NOX::StatusTest::Generic {
     return status_;
   }
   NOX::StatusTest::StatusType getStatus() const override { return status_; }
+  void reset() { stalled_ = at_floor_ = 0; }
   bool at_floor() const { return status_ == NOX::StatusTest::Converged; }
   double norm_f() const { return norm_f_; }
   double previous_norm_f() const { return previous_norm_f_; }
@@ -145,6 +146,70 @@ class StagnationTest : public NOX::StatusTest::Generic {
   double roundoff_scale_;
   int stalled_ = 0, at_floor_ = 0;
   double norm_f_ = 0, previous_norm_f_ = 0, correction_ = 0, floor_ = 0;
+  NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
+};
+
+// No progress under the full step: over the last kIterations iterations ||F|| has not fallen below kRatio of its
+// value before them, and the full Newton corrections have not shrunk below kRatio of the one before them either.
+// A full-step Newton that converges cuts both by orders of magnitude in that many iterations; one that cycles or
+// wanders keeps both. The solve then goes on from the current iterate with the backtracking line search
+// (sk_newton_options.backtrack_on_no_progress) instead of running out its max_iterations first. Measured on the
+// half cylinder (quad9, mortar-dual, mu 0.2) pressed on a slab, step 1: ||F|| = 0.1437 / 0.1432 alternating from
+// iteration 6, corrections 2e-4, until iteration 25 (docs/stability.md, finding 28).
+class NoProgressTest : public NOX::StatusTest::Generic {
+ public:
+  static constexpr int kIterations = 4;
+  static constexpr double kRatio = 0.5;
+  explicit NoProgressTest(bool enabled) : enabled_(enabled) {}
+  void disable() {
+    enabled_ = false;
+    status_ = NOX::StatusTest::Unconverged;
+  }
+  NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic &solver, NOX::StatusTest::CheckType) override {
+    status_ = NOX::StatusTest::Unconverged;
+    const int i = solver.getNumIterations();
+    if (!enabled_ || i == 0) return status_;
+    const auto &previous = solver.getPreviousSolutionGroup();
+    // the ring holds ||F_j|| and ||d_{j-1}|| (the correction that led to x_j) for j = i - kIterations ... i
+    if (i == 1) norm_f_[0] = previous.getNormF();
+    norm_f_[i % kRing] = solver.getSolutionGroup().getNormF();
+    correction_[i % kRing] = previous.isNewton() ? previous.getNewton().norm() : 0.0;
+    if (i <= kIterations) return status_;  // d_{i-1-kIterations} is needed: x_0 has none before it
+    const double f_before = norm_f_[(i - kIterations) % kRing], d_before = correction_[(i - kIterations) % kRing];
+    double f_least = norm_f_[i % kRing], d_least = correction_[i % kRing];
+    for (int j = i - kIterations + 1; j < i; ++j) {
+      f_least = std::min(f_least, norm_f_[j % kRing]);
+      d_least = std::min(d_least, correction_[j % kRing]);
+    }
+    if (f_least > kRatio * f_before && d_least > kRatio * d_before) {
+      status_ = NOX::StatusTest::Failed;
+      iteration_ = i;
+      f_before_ = f_before;
+      f_least_ = f_least;
+      d_before_ = d_before;
+      d_least_ = d_least;
+    }
+    return status_;
+  }
+  NOX::StatusTest::StatusType getStatus() const override { return status_; }
+  bool fired() const { return status_ == NOX::StatusTest::Failed; }
+  std::string describe() const {
+    return format("no progress under the full step in iterations %d-%d (least ||F|| %.4g against %.4g before "
+                  "them, least ||dx|| %.3g against %.3g)",
+                  iteration_ - kIterations + 1, iteration_, f_least_, f_before_, d_least_, d_before_);
+  }
+  std::ostream &print(std::ostream &stream, int indent) const override {
+    stream << std::string(indent, ' ') << status_ << "progress of ||F|| and ||dx|| over " << kIterations
+           << " full steps\n";
+    return stream;
+  }
+
+ private:
+  static constexpr int kRing = kIterations + 1;
+  bool enabled_;
+  double norm_f_[kRing] = {}, correction_[kRing] = {};
+  int iteration_ = 0;
+  double f_before_ = 0, f_least_ = 0, d_before_ = 0, d_least_ = 0;
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
 
@@ -173,15 +238,15 @@ class CallbackFailureTest : public NOX::StatusTest::Generic {
 // Records ||F|| after each iteration and runs the driver's after_iteration callback on the accepted iterate.
 class IterationObserver : public NOX::Observer {
  public:
-  IterationObserver(std::shared_ptr<NewtonState> state, sk_newton_report *report)
-      : state_(std::move(state)), report_(report) {}
+  IterationObserver(std::shared_ptr<NewtonState> state, sk_newton_report *report, int offset)
+      : state_(std::move(state)), report_(report), offset_(offset) {}
   void runPostIterate(const NOX::Solver::Generic &solver) override {
     const auto &group = dynamic_cast<const CallbackGroup &>(solver.getSolutionGroup());
     const double norm_f = group.getNormF();
     if (report_->n_history < SK_NEWTON_HISTORY_MAX) report_->residual_history[report_->n_history++] = norm_f;
     if (state_->callbacks.after_iteration && state_->callback_failure == SK_OK && !group.residualFailed()) {
-      const sk_status status = state_->callbacks.after_iteration(state_->callbacks.ctx, solver.getNumIterations(),
-                                                                 group.x().data(), norm_f);
+      const sk_status status = state_->callbacks.after_iteration(
+          state_->callbacks.ctx, offset_ + solver.getNumIterations(), group.x().data(), norm_f);
       if (status != SK_OK) state_->record_callback_failure(status, "after_iteration");
     }
   }
@@ -189,6 +254,7 @@ class IterationObserver : public NOX::Observer {
  private:
   std::shared_ptr<NewtonState> state_;
   sk_newton_report *report_;
+  int offset_;  // iterations of an earlier phase of the same solve (the full step before a switch)
 };
 
 const char *line_search_method(sk_line_search ls) {
@@ -227,6 +293,7 @@ void sk_newton_options_default(sk_newton_options *options) {
   options->verbose = 0;
   options->predicted_update = 0;
   options->roundoff_scale = 0;
+  options->backtrack_on_no_progress = 0;
 }
 
 sk_status sk_line_search_from_name(const char *name, sk_line_search *ls) {
@@ -304,6 +371,9 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     tests->addStatusTest(callbacks_ok);
     tests->addStatusTest(converged);  // before stagnation: a converged iterate is never reported as stagnated
     tests->addStatusTest(stagnation);
+    auto no_progress =
+        rcp(new NoProgressTest(opts.backtrack_on_no_progress && opts.line_search == SK_LINE_SEARCH_FULL_STEP));
+    tests->addStatusTest(no_progress);
     tests->addStatusTest(max_iterations);
 
     auto params = rcp(new Teuchos::ParameterList);
@@ -323,22 +393,44 @@ sk_status sk_newton_solve(MPI_Comm comm, const sk_newton_options *options, const
     params->sublist("Direction").set("Method", "Newton");
     // a failed linear solve stops the solve instead of stepping along a wrong direction
     params->sublist("Direction").sublist("Newton").set("Rescue Bad Newton Solve", false);
-    params->sublist("Solver Options").set("Observer", RCP<NOX::Observer>(rcp(new IterationObserver(state, report))));
+    params->sublist("Solver Options").set("Observer", RCP<NOX::Observer>(rcp(new IterationObserver(state, report, 0))));
 
     auto solver = NOX::Solver::buildSolver(group, tests, params);
     NOX::StatusTest::StatusType status = NOX::StatusTest::Unconverged;
     std::string exception_text;
-    try {
-      status = solver->solve();
-    } catch (...) {
-      // NOX throws (`throw "NOX Error"`) when a direction or line search step fails; the reason is recorded below
-      status_from_exception(SK_ERR_DIVERGED, "NOX", std::current_exception());
-      exception_text = sk_error_message();
-      status = NOX::StatusTest::Failed;
+    const auto run = [&]() {
+      try {
+        status = solver->solve();
+      } catch (...) {
+        // NOX throws (`throw "NOX Error"`) when a direction or line search step fails; the reason is recorded below
+        status_from_exception(SK_ERR_DIVERGED, "NOX", std::current_exception());
+        exception_text = sk_error_message();
+        status = NOX::StatusTest::Failed;
+      }
+    };
+    run();
+    // no progress under the full step (NoProgressTest): on from the current iterate with the backtracking line
+    // search, with a budget of max_iterations of its own (what a retry of the step would have)
+    int earlier_iterations = 0;
+    if (status == NOX::StatusTest::Failed && no_progress->fired() && exception_text.empty() &&
+        state->callback_failure == SK_OK &&
+        !dynamic_cast<const CallbackGroup &>(solver->getSolutionGroup()).residualFailed()) {
+      earlier_iterations = solver->getNumIterations();
+      if (opts.verbose && rank == 0)
+        std::fprintf(stderr, "sk_newton_solve: %s: on with the backtracking line search\n",
+                     no_progress->describe().c_str());
+      no_progress->disable();
+      stagnation->reset();
+      params->sublist("Line Search").set("Method", line_search_method(SK_LINE_SEARCH_BACKTRACK));
+      params->sublist("Solver Options")
+          .set("Observer", RCP<NOX::Observer>(rcp(new IterationObserver(state, report, earlier_iterations))));
+      solver = NOX::Solver::buildSolver(solver->getSolutionGroup().clone(NOX::DeepCopy), tests, params);
+      run();
     }
 
     const auto &solution = dynamic_cast<const CallbackGroup &>(solver->getSolutionGroup());
-    report->iterations = solver->getNumIterations();
+    report->iterations = earlier_iterations + solver->getNumIterations();
+    report->switched_to_backtrack = earlier_iterations > 0;
     report->linear_solves = state->linear_solves;
     // the best iterate NOX has (the last accepted one), also on failure: the caller decides what to do with it
     if (!solution.residualFailed()) std::copy(solution.x().begin(), solution.x().end(), x);

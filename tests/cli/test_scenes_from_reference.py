@@ -169,6 +169,9 @@ def energy_not_created(c, history, plugin, facts):
         c.check(growth <= ENERGY_TOLERANCE, "%s: no energy created, max (E + D) / E0 - 1 = %.3e" % (plugin, growth))
 
 
+NEWTON_BOUND = {"mortar-dual": 130}
+
+
 def stops_after_sliding(c, folder, plugin, facts):
     """wedge-slides-2d: a wedge of mass m = 60 thrown at v0 = 1 along a rigid floor under g = 9.81 slides with the
     deceleration mu g while it slips and stops at v0 / (mu g) = 0.3398, after v0^2 / (2 mu g) = 0.1699. Backward
@@ -189,6 +192,14 @@ def stops_after_sliding(c, folder, plugin, facts):
     slid = history[-1]["dissipated_energy"] / (mu * m * g)
     c.check(abs(slid / discrete - 1) < 1e-3, "%s: slid %.6f from the dissipation, backward Euler's %.6f "
             "(v0^2 / (2 mu g) = %.6f)" % (plugin, slid, discrete, v0 * v0 / (2 * mu * g)))
+    # Newton iterations of the 50 steps: mortar-dual's full step made no progress in some steps (||F|| and the
+    # correction flat) and ran out its 25 iterations before the backtracking retry: 334 iterations, 3 cuts, 5
+    # retries at 71eff4f; measured 122, no cut, no retry, since the full step goes on with backtracking when it makes
+    # no progress (docs/stability.md, finding 28). penalty-nts: 95.
+    if plugin in NEWTON_BOUND:
+        iterations = read_summary(folder)["newton_iterations"]
+        c.check(iterations <= NEWTON_BOUND[plugin], "%s: %d Newton iterations <= %d" % (
+            plugin, iterations, NEWTON_BOUND[plugin]))
 
 
 def forces_balance(c, folder, plugin, facts):

@@ -82,10 +82,13 @@ def line_search_choice(c):
     d = read_summary(default_out)
     c.check(d["status"] == "ok" and d["final_time"] == 2,
             "default: the punch runs to t = 2 (got %s at t = %s)" % (d["status"], d["final_time"]))
-    c.check(d.get("backtrack_retries", 0) >= 1 and d.get("backtrack_rescues") == d.get("backtrack_retries")
-            and d["step_cuts"] == 0, "default: the failed full steps are solved with backtracking, no step cut "
-            "(retries %s, rescued %s, cuts %s)" % (d.get("backtrack_retries"), d.get("backtrack_rescues"),
-                                                   d["step_cuts"]))
+    # the full step stalls in step 1 (it fails there alone, above): it goes on with backtracking in the same solve
+    # (docs/stability.md, finding 28) instead of a retry of the step. Measured: 144 Newton iterations, no retry, no
+    # cut; at 71eff4f, before that, the step's retry with backtracking: 175 iterations, 1 retry (rescued), no cut.
+    c.check(d.get("backtrack_retries", 0) == 0 and d["step_cuts"] == 0 and d["newton_iterations"] <= 150,
+            "default: the stalled full step goes on with backtracking, no retry, no step cut, <= 150 Newton "
+            "iterations (retries %s, cuts %s, iterations %s)" % (d.get("backtrack_retries"), d["step_cuts"],
+                                                                 d["newton_iterations"]))
     print("punch-2d nts-augmented: backtrack %d iterations / %d cuts; default %d / %d (%d retries)" % (
         s["newton_iterations"], s["step_cuts"], d["newton_iterations"], d["step_cuts"], d["backtrack_retries"]))
     scene = os.path.join(ROOT, "scenes", "two-elements.yaml")

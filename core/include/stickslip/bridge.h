@@ -193,6 +193,11 @@ typedef struct {
    * displacement unknowns; 0 for none): a Newton correction is at round-off when ||dx||_2 <= SK_NEWTON_ROUNDOFF_ULPS
    * machine epsilons times ||x||_2 + roundoff_scale (the positions' rounding reaches the residual, not only x's). */
   double roundoff_scale;
+  /* 1: a full-step Newton that makes no progress (over 4 iterations neither ||F|| nor the Newton correction falls
+   * below half its value before them: a cycle, newton.cpp's NoProgressTest) goes on from its current iterate with
+   * the backtracking line search instead of running out max_iterations. Default 0 here; the scene reader sets it
+   * with its default line search (full-step-then-backtrack), docs/stability.md. */
+  int backtrack_on_no_progress;
 } sk_newton_options;
 
 enum { SK_NEWTON_ROUNDOFF_ULPS = 1000 };
@@ -237,6 +242,7 @@ typedef struct {
   sk_newton_outcome outcome;
   int iterations;
   int linear_solves;
+  int switched_to_backtrack; /* the full step made no progress and the solve went on with backtracking */
   int n_history;
   double residual_history[SK_NEWTON_HISTORY_MAX]; /* ||F|| at the start and after each iteration */
   char reason[384]; /* why it failed, or why it was accepted at the round-off floor, with the numbers */

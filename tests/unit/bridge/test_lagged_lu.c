@@ -177,6 +177,59 @@ static void check_auto_budget(void) {
   SK_CHECK(not_tried == 0);
 }
 
+/* A banded matrix as dense as 3D elasticity: n rows, 2 half_band + 1 entries per row (-1 off the diagonal, 2 half_band
+ * + 2 on it: diagonally dominant). */
+static test_csr banded_system(int n, int half_band) {
+  test_csr a;
+  a.n = n;
+  a.row_ptr = malloc(sizeof(int64_t) * (size_t)(n + 1));
+  a.cols = malloc(sizeof(int) * (size_t)n * (size_t)(2 * half_band + 1));
+  a.values = malloc(sizeof(double) * (size_t)n * (size_t)(2 * half_band + 1));
+  int64_t k = 0;
+  for (int i = 0; i < n; ++i) {
+    a.row_ptr[i] = k;
+    for (int j = i - half_band; j <= i + half_band; ++j) {
+      if (j < 0 || j >= n) continue;
+      a.cols[k] = j;
+      a.values[k++] = j == i ? 2.0 * half_band + 2.0 : -1.0;
+    }
+  }
+  a.row_ptr[n] = k;
+  return a;
+}
+
+/* `auto` on a tiny system as dense as 3D elasticity (663 unknowns, 45 entries per row: inside the contested band of
+ * the 3D size rule, 500 ... 8 000 unknowns): MUMPS outright in every solve, no trial of an iterative candidate or of
+ * the lagged LU (without the rule, kAutoDirectOutrightUnknowns in auto_choice.cpp, its second solve already was a
+ * trial), and the first decision says why. */
+static void check_auto_tiny(void) {
+  test_csr a = banded_system(663, 22);
+  double *x_ref = malloc(sizeof(double) * (size_t)a.n), *b = malloc(sizeof(double) * (size_t)a.n);
+  double *x = malloc(sizeof(double) * (size_t)a.n);
+  test_reference_solution(a.n, x_ref);
+  test_csr_multiply(&a, x_ref, b);
+  sk_linear_system *sys = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_AUTO);
+  SK_CHECK(sys && set_pattern(sys, &a) == SK_OK);
+  int mumps = 0, outright = 0;
+  for (int solve = 0; sys && solve < 10; ++solve) {
+    sk_linear_report report;
+    SK_CHECK(load(sys, &a) == SK_OK && sk_linsys_solve(sys, b, x, &report) == SK_OK);
+    SK_CHECK(test_max_difference(a.n, x, x_ref) <= 1e-8);
+    mumps += report.solver == SK_LINEAR_DIRECT_MUMPS;
+    outright += report.decision != NULL && strstr(report.decision, "the direct solver outright") != NULL;
+    printf("tiny (%d unknowns), solve %d: %s%s%s\n", a.n, solve, sk_linear_solver_name(report.solver),
+           report.decision ? " - " : "", report.decision ? report.decision : "");
+  }
+  SK_CHECK(a.n == 663);
+  SK_CHECK(mumps == 10);
+  SK_CHECK(outright == 1);
+  sk_linsys_destroy(sys);
+  test_csr_free(&a);
+  free(x_ref);
+  free(b);
+  free(x);
+}
+
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
   sk_linear_system *lagged = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_GMRES_LU), *fresh = test_linear_system(MPI_COMM_WORLD, SK_LINEAR_DIRECT_MUMPS);
@@ -211,6 +264,7 @@ int main(int argc, char **argv) {
   sk_linsys_destroy(fresh);
   check_auto_learns();
   check_auto_budget();
+  check_auto_tiny();
   const int result = sk_test_finish("bridge gmres-lu");
   MPI_Finalize();
   return result;

@@ -392,6 +392,74 @@ static void check_linear_solver_failure(void) {
   sk_linsys_destroy(p.sys);
 }
 
+/* A scalar residual on which the full Newton step makes no progress: F(x) = x (1 + x^2)^(-0.3) grows like
+ * sign(x) |x|^0.4, whose Newton step overshoots the root by 1.5 x: the Newton map here is
+ * x -> -0.6 x^3 / (1 + 0.4 x^2), so from x0 = 10 the iterates alternate in sign and grow (-14.6, 21.6, ...), and so
+ * do ||F|| and the correction. A shortened step lands near the root, where F ~ x and Newton converges quadratically. */
+typedef struct {
+  double slope;
+  int after_calls, after_last_iteration, after_in_order;
+} wander;
+
+static sk_status wander_residual(void *ctx, const double *x, double *F) {
+  (void)ctx;
+  F[0] = x[0] * pow(1.0 + x[0] * x[0], -0.3);
+  return SK_OK;
+}
+
+static sk_status wander_jacobian(void *ctx, const double *x) {
+  wander *w = ctx;
+  w->slope = pow(1.0 + x[0] * x[0], -1.3) * (1.0 + 0.4 * x[0] * x[0]);
+  return SK_OK;
+}
+
+static sk_status wander_solve(void *ctx, const double *x, const double *F, double *dx) {
+  (void)x;
+  dx[0] = -F[0] / ((wander *)ctx)->slope;
+  return SK_OK;
+}
+
+static sk_status wander_after(void *ctx, int iteration, const double *x, double residual_norm) {
+  wander *w = ctx;
+  (void)x;
+  (void)residual_norm;
+  w->after_in_order = w->after_in_order && iteration == w->after_last_iteration + 1;
+  w->after_last_iteration = iteration;
+  ++w->after_calls;
+  return SK_OK;
+}
+
+/* Without backtrack_on_no_progress the full step runs out max_iterations (25); with it the solve goes on from its
+ * iterate with the backtracking line search after the 4 iterations of the test's window (plus the one before it)
+ * and converges, iterations counted on and after_iteration numbered on across the switch. Measured: 13 iterations
+ * (5 full steps with ||F|| = 2.50 ... 5.55, then 8 with backtracking down to ||F|| = 0). */
+static void check_no_progress_switch(void) {
+  for (int on = 0; on <= 1; ++on) {
+    wander w = {.after_in_order = 1};
+    const sk_newton_callbacks cb = {.ctx = &w, .residual = wander_residual, .jacobian = wander_jacobian,
+                                    .solve = wander_solve, .after_iteration = wander_after};
+    sk_newton_options options;
+    sk_newton_options_default(&options);
+    SK_CHECK(options.backtrack_on_no_progress == 0);
+    options.backtrack_on_no_progress = on;
+    double x = 10.0;
+    sk_newton_report report;
+    const sk_status status = sk_newton_solve(MPI_COMM_WORLD, &options, &cb, 1, &x, &report);
+    if (!on) {
+      SK_CHECK(status == SK_ERR_DIVERGED);
+      SK_CHECK(report.outcome == SK_NEWTON_MAX_ITERATIONS);
+      SK_CHECK(report.iterations == 25 && report.switched_to_backtrack == 0);
+      continue;
+    }
+    SK_CHECK(status == SK_OK && report.converged == 1 && report.outcome == SK_NEWTON_CONVERGED);
+    SK_CHECK(report.switched_to_backtrack == 1);
+    SK_CHECK(report.iterations == 13);
+    SK_CHECK(fabs(x) < 1e-8);
+    SK_CHECK(w.after_in_order && w.after_calls == report.iterations && w.after_last_iteration == report.iterations);
+    SK_CHECK(report.n_history == report.iterations + 1);
+  }
+}
+
 static void check_names_and_defaults(void) {
   const char *names[] = {"full-step", "backtrack", "polynomial"};
   for (int i = 0; i < 3; ++i) {
@@ -421,6 +489,7 @@ int main(int argc, char **argv) {
   check_roundoff_floor();
   check_forcing_terms();
   check_linear_solver_failure();
+  check_no_progress_switch();
   const int result = sk_test_finish("bridge newton");
   MPI_Finalize();
   return result;
