@@ -435,14 +435,18 @@ static int command_scene(int argc, char **argv, scene_command command) {
       } else {
         /* on several ranks the phases are rank 0's; the contact work may sit on another rank, whose wait shows in
          * rank 0's solve (a collective follows the contact phase): its figure is given beside */
-        char largest[64] = "";
+        char largest[64] = "", switches[96] = "";
         if (summary.contact_seconds_largest > summary.contact_seconds)
           snprintf(largest, sizeof largest, " (largest rank %.2f)", summary.contact_seconds_largest);
-        printf("%s: %d steps to t = %g, %d Newton iterations, %d linear solves (%d LU factorisations, %lld Krylov "
+        /* solves that made no progress under the full step and went on with backtracking (docs/stability.md, 28) */
+        if (summary.newton_backtrack_switches > 0)
+          snprintf(switches, sizeof switches, " (%d solve%s switched to backtracking)",
+                   summary.newton_backtrack_switches, summary.newton_backtrack_switches == 1 ? "" : "s");
+        printf("%s: %d steps to t = %g, %d Newton iterations%s, %d linear solves (%d LU factorisations, %lld Krylov "
                "iterations), %.2f s (rank 0: assembly %.2f, contact %.2f%s, solve %.2f)\n",
-               args.scene, summary.steps, summary.final_time, summary.newton_iterations, summary.linear_solves,
-               summary.linear_factorisations, (long long)summary.krylov_iterations, summary.wall_seconds,
-               summary.assembly_seconds, summary.contact_seconds, largest, summary.solve_seconds);
+               args.scene, summary.steps, summary.final_time, summary.newton_iterations, switches,
+               summary.linear_solves, summary.linear_factorisations, (long long)summary.krylov_iterations,
+               summary.wall_seconds, summary.assembly_seconds, summary.contact_seconds, largest, summary.solve_seconds);
         if (summary.results_dir[0]) print_results_line(summary.results_dir);
       }
     } else if (status != SK_OK) {

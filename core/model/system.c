@@ -504,12 +504,15 @@ sk_status sk_system_solve(sk_system *sys) {
     if (status != SK_OK && sys->fatal != SK_OK) status = sk_error_set(sys->fatal, "%s", sys->fatal_message);
     const int iterations = sys->newton.iterations + report.iterations;
     const int solves = sys->newton.linear_solves + report.linear_solves;
+    /* the attempt's solves that went on with backtracking (a count over the loops, where the report has a flag) */
+    const int switches = sys->newton.switched_to_backtrack + report.switched_to_backtrack;
     if (report.switched_to_backtrack && sys->verbose && sys->rank == 0)
       fprintf(stderr, "  step %lld: no progress under the full step: Newton went on with backtracking\n",
               (long long)sys->step);
     sys->newton = report;
     sys->newton.iterations = iterations;
     sys->newton.linear_solves = solves;
+    sys->newton.switched_to_backtrack = switches;
     for (int64_t k = 0; k < sys->n_owned; ++k) sys->x[sys->owned[k]] = owned[k];
     refresh_iterate(sys);
     if (status != SK_OK) return status;

@@ -510,6 +510,7 @@ static sk_status write_summary(sk_recorder *rec, const sk_run_summary *sum) {
   sk_json_int(json, "roundoff_floor_steps", sum->roundoff_floor_steps);
   sk_json_int(json, "backtrack_retries", sum->backtrack_retries);
   sk_json_int(json, "backtrack_rescues", sum->backtrack_rescues);
+  sk_json_int(json, "newton_backtrack_switches", sum->newton_backtrack_switches);
   sk_json_int(json, "dofs", (int)m->n_dofs_global);
   sk_json_int(json, "unknowns", (int)sum->unknowns_max);
   sk_json_int(json, "linear_system_size", (int)sum->linear_size_max);

@@ -136,6 +136,12 @@ static sk_status interrupted(const sk_system *sys, int steps) {
                       sk_interrupt_name(signal_number), steps, sys->t_n);
 }
 
+/* The Newton work of the attempt just made, into the run's counts. */
+static void count_attempt(const sk_system *sys, sk_run_summary *summary) {
+  summary->newton_iterations += sys->newton.iterations;
+  summary->newton_backtrack_switches += sys->newton.switched_to_backtrack;
+}
+
 /* The failed attempt of `step` solved again from its start with the backtracking line search. A linear solver that
  * fails on the retry's iterates (a singular matrix on a shortened step) is no reason to stop a run the full step's
  * failure would have cut: it returns SK_ERR_DIVERGED with both reasons, and the stepper cuts. */
@@ -148,7 +154,7 @@ static sk_status retry_backtracking(sk_system *sys, double dt, int64_t step, int
     fprintf(stderr, "step %lld at t = %.6g: %s — solving it again with the backtracking line search\n",
             (long long)step, sys->t_n, first);
   sk_status status = attempt(sys, dt, step, 1);
-  summary->newton_iterations += sys->newton.iterations;
+  count_attempt(sys, summary);
   if (status == SK_OK) summary->backtrack_rescues++;
   if (status == SK_ERR_LINEAR_SOLVER)
     status = sk_error_set(SK_ERR_DIVERGED, "%s; with backtracking: %s", first, sk_error_message());
@@ -210,7 +216,7 @@ sk_status sk_run(sk_scene *scene, const sk_run_options *options, sk_run_summary 
       sk_linsys_set_steps_left(sys->linsys, (int)fmax(1.0, fmin(left, 1e9)));
     }
     status = attempt(sys, step_dt, step, 0);
-    summary->newton_iterations += sys->newton.iterations;
+    count_attempt(sys, summary);
     if ((status == SK_ERR_DIVERGED || status == SK_ERR_INVERTED) && scene->solver.backtrack_retry)
       status = retry_backtracking(sys, step_dt, step, options->verbose, summary);
     if (status == SK_OK) {

@@ -1,6 +1,7 @@
 /* Ingredients of the defaults computed from the scene (defaults.h). */
 #include "defaults.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 
@@ -86,12 +87,29 @@ sk_status sk_defaults_length(const sk_host_api *api, sk_host *host, const char *
   return SK_OK;
 }
 
+sk_status sk_defaults_count(const sk_host_api *api, sk_host *host, const char *key, int computed, int use,
+                            const char *reason, int *out) {
+  SK_TRY(api->param_int(host, key, 0, INT_MIN, out)); /* INT_MIN: not given (no count is) */
+  if (*out == INT_MIN) {
+    *out = computed;
+    const sk_scene_ext *scene = sk_defaults_scene(api, host);
+    if (scene) scene->computed(host, key, use ? computed : 0, "%s", reason);
+  }
+  return SK_OK;
+}
+
+void sk_defaults_unused(const sk_host_api *api, sk_host *host, const char *key, const char *reason) {
+  const sk_scene_ext *scene = sk_defaults_scene(api, host);
+  if (scene) scene->computed(host, key, 0.0, "%s", reason);
+}
+
 sk_status sk_defaults_follow(const sk_host_api *api, sk_host *host, const sk_scene_ext *scene, const char *key,
-                             double value, const char *other, int report, double *out) {
+                             double value, const char *other, int friction, double *out) {
   SK_TRY(api->param_double(host, key, 0, NAN, out));
   if (isnan(*out)) {
     *out = value;
-    if (scene && report) scene->computed(host, key, value, "%s", other);
+    if (!friction) sk_defaults_unused(api, host, key, "unused: the pair is frictionless (mu 0)");
+    else if (scene) scene->computed(host, key, value, "%s", other);
   } else if (!(*out > 0.0) || !isfinite(*out)) {
     return api->error(host, SK_ERR_INPUT, "parameter '%s' must be a finite number > 0, got %g", key, *out);
   }

@@ -35,11 +35,21 @@ sk_status sk_defaults_param(const sk_host_api *api, sk_host *host, const sk_scen
 sk_status sk_defaults_length(const sk_host_api *api, sk_host *host, const char *key, double computed,
                              const char *reason, double *out);
 
-/* Parameter `key` whose default is another parameter's value (`other` names it, e.g. "the normal penalty"): the
- * scene's value (checked > 0), else `value`, reported to the host when `report` (a parameter in use) and the host
- * has the extension. Never required. */
+/* A count parameter `key` (Gauss points, a rule's points): the scene's value, or `computed`, which is reported to the
+ * host with `reason` (stickslip.scene.v1), so that `check --explain` prints the number the pair uses; a pair that
+ * does not `use` it reports it as unused (0, `reason` saying why). */
+sk_status sk_defaults_count(const sk_host_api *api, sk_host *host, const char *key, int computed, int use,
+                            const char *reason, int *out);
+
+/* A parameter this pair does not use (`reason` says why, starting "unused: "): reported to the host as 0, so that
+ * `check --explain` says so in place of the rule. */
+void sk_defaults_unused(const sk_host_api *api, sk_host *host, const char *key, const char *reason);
+
+/* A tangential parameter `key` whose default is another parameter's value (`other` names it, e.g. "the normal
+ * penalty"): the scene's value (checked > 0), else `value`, reported to the host when `friction` (the pair has
+ * mu > 0), else reported as unused (sk_defaults_unused). Never required. */
 sk_status sk_defaults_follow(const sk_host_api *api, sk_host *host, const sk_scene_ext *scene, const char *key,
-                             double value, const char *other, int report, double *out);
+                             double value, const char *other, int friction, double *out);
 
 /* The penalties of a penalty formulation: `penalty` the scene's, or factor[order of the slave faces] E* / h (times A
  * when `nodal`: a nodal stiffness); `penalty_tangential` the scene's or the normal one, reported only with

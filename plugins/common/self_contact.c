@@ -27,9 +27,8 @@ sk_status self_contact_exclusion(const sk_host_api *api, sk_host *host, const sk
 }
 
 void self_contact_exclusion_unused(const sk_host_api *api, sk_host *host) {
-  const sk_scene_ext *scene = sk_defaults_scene(api, host);
-  if (scene) /* not read: a pair that is not self contact refuses the key as unknown */
-    scene->computed(host, "self_exclusion", 0.0, "unused: the pair is not self contact (its master is not its slave)");
+  /* not read: a pair that is not self contact refuses the key as unknown */
+  sk_defaults_unused(api, host, "self_exclusion", "unused: the pair is not self contact (its master is not its slave)");
 }
 
 /* A body's boundary is closed and its normals point out of the material, so the faces a point can meet face it:

@@ -26,7 +26,8 @@ static const char *const cp_parameters[] = {
     "mu: Coulomb friction coefficient >= 0 [0]",
     "variant: sts (Gauss points on the slave faces) or nts (slave nodes) against a deformable master; an obstacle "
     "always gives stas [sts]",
-    "gauss_points: Gauss points per face direction for sts and stas, 1..5 [2 on QUAD4/TRI3, 3 on QUAD9]",
+    "gauss_points: Gauss points per face direction for sts and stas, 1..5 [computed from the scene: 2 on QUAD4/TRI3, "
+    "3 on QUAD9]",
     "tangent: full, no-curvature, no-rotational or main-only [full]",
     "tangent_form: exact (the derivative of the residual) or paper (the printed matrices, symmetric in stick) [exact]",
     "area_weighted: nts: 1 scales the penalties by the slave node's tributary reference area, 0 uses them as nodal "
@@ -113,7 +114,12 @@ static sk_status read_parameters(sk_instance *in) {
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'tangent_form' must be exact or paper, "
                       "got '%s'", form);
   const int quadratic = in->slave->cell_type == SK_QUAD9;
-  SK_TRY(api->param_int(in->host, "gauss_points", 0, quadratic ? 3 : 2, &in->gauss));
+  char why[200];
+  if (in->variant == CP_NTS)
+    snprintf(why, sizeof why, "unused: variant nts puts its points at the slave nodes");
+  else
+    snprintf(why, sizeof why, "%s slave faces of surface '%s'", quadratic ? "QUAD9" : "first-order", in->slave->name);
+  SK_TRY(sk_defaults_count(api, in->host, "gauss_points", quadratic ? 3 : 2, in->variant != CP_NTS, why, &in->gauss));
   if (in->gauss < 1 || in->gauss > 5)
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'gauss_points' must be 1..5, got %d",
                       in->gauss);
@@ -122,7 +128,6 @@ static sk_status read_parameters(sk_instance *in) {
     return api->error(in->host, SK_ERR_INPUT, "covariant-penalty parameter 'area_weighted' must be 0 or 1, got %d",
                       in->area_weighted);
   SK_TRY(read_penalties(in));
-  char why[200];
   if (in->master)
     snprintf(why, sizeof why, "half the mean face size of master surface '%s'", in->master->name);
   else

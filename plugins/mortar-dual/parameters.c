@@ -6,6 +6,7 @@
 
 #include "defaults.h"
 #include "mortar.h"
+#include "self_contact.h"
 
 static int choice(const char *value, const char *const *options) {
   for (int i = 0; options[i]; ++i)
@@ -87,6 +88,10 @@ static sk_status read_transform_alpha(sk_instance *inst) {
       return inst->api->error(inst->host, SK_ERR_INPUT, "mortar-dual: transform_alpha applies to TRI6 and QUAD8 slave "
                               "faces (the transformed basis); slave surface '%s' has faces of another type",
                               inst->slave->name);
+    char why[200];
+    snprintf(why, sizeof why, "unused: slave surface '%s' has no TRI6 or QUAD8 faces (the transformed basis)",
+             inst->slave->name);
+    sk_defaults_unused(inst->api, inst->host, "transform_alpha", why);
     return SK_OK;
   }
   const double lowest = type == SK_QUAD8 ? 0.125 : 0.0, computed = type == SK_TRI6 ? TRI6_ALPHA : 0.2;
@@ -102,6 +107,38 @@ static sk_status read_transform_alpha(sk_instance *inst) {
                             lowest, face_name(type), alpha);
   inst->st.alpha = alpha;
   return SK_OK;
+}
+
+/* segment_gauss (2D) and cell_rule (3D): the rules integrating the pair's segments or clipped triangles, reported
+ * as the number in use; unused (reported so) by the other dimension, by integration: concentrated and by an obstacle
+ * (their Gauss points are face_gauss's). */
+static sk_status read_segment_rules(sk_instance *inst) {
+  const sk_view *s = inst->slave, *m = inst->master;
+  const int segments = inst->integration == INTEGRATION_SEGMENTS && m;
+  const char *unused = !m ? "unused: an obstacle pair integrates at face_gauss's points"
+                       : !segments ? "unused: integration concentrated integrates at face_gauss's points"
+                                   : NULL;
+  /* straight faces: Phi_j N_l of degree 2 (line2) or 4 (line3) on a segment; curved LINE3 faces are not polynomial */
+  const int curved = s->cell_type == SK_LINE3 || (m && m->cell_type == SK_LINE3);
+  const char *why = unused ? unused
+           : inst->dim == 3    ? "unused: a 3D pair integrates with cell_rule"
+           : curved            ? "a line3 face on the pair (Phi_j N_l of degree 4 on a straight face; curved ones are "
+                                 "not polynomial)"
+                               : "line2 faces on both sides (Phi_j N_l of degree 2 on a segment)";
+  SK_TRY(sk_defaults_count(inst->api, inst->host, "segment_gauss", curved ? 5 : 3, !unused && inst->dim == 2, why,
+                           &inst->segment_gauss));
+  /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
+  const int tri_only = s->cell_type == SK_TRI3 && (!m || m->cell_type == SK_TRI3);
+  /* quad9: Phi_j (degree 4 in the plane of a flat quarter) times the gap of a second-order face (degree 2); quad8:
+   * Phi_j times N_l, both of degree 3 */
+  const int quad9 = quadratic_quad(s->cell_type) || (m && quadratic_quad(m->cell_type));
+  why = unused ? unused
+           : inst->dim == 2 ? "unused: a 2D pair integrates with segment_gauss"
+           : tri_only       ? "tri3 faces on both sides (degree 2 in the plane: exact)"
+           : quad9          ? "a quad8 or quad9 face on the pair (degree 6 in the plane of a flat quarter)"
+                            : "exact on parallelograms and flat tri6 faces (degree 4 in the plane)";
+  return sk_defaults_count(inst->api, inst->host, "cell_rule", tri_only ? 3 : quad9 ? 12 : 6, !unused && inst->dim == 3,
+                           why, &inst->cell_rule);
 }
 
 sk_status mortar_read_parameters(sk_instance *inst) {
@@ -123,21 +160,19 @@ sk_status mortar_read_parameters(sk_instance *inst) {
   SK_TRY(api->param_double(host, "mu", 0, 0.0, &inst->ncp.mu));
   SK_TRY(read_complementarity(inst));
   SK_TRY(read_transform_alpha(inst));
-  /* straight faces: Phi_j N_l of degree 2 (line2) or 4 (line3) on a segment; curved LINE3 faces are not polynomial */
-  const int curved = inst->slave->cell_type == SK_LINE3 || (inst->master && inst->master->cell_type == SK_LINE3);
-  SK_TRY(api->param_int(host, "segment_gauss", 0, curved ? 5 : 3, &inst->segment_gauss));
-  /* flat faces make the integrands polynomials in the plane: Phi_j N_l of degree 2 (tri3/tri3) or 4 (quad4) */
-  const int tri_only = inst->slave->cell_type == SK_TRI3 && (!inst->master || inst->master->cell_type == SK_TRI3);
-  /* quad9: Phi_j (degree 4 in the plane of a flat quarter) times the gap of a second-order face (degree 2); quad8:
-   * Phi_j times N_l, both of degree 3 */
-  const int quad9 = quadratic_quad(inst->slave->cell_type) || (inst->master && quadratic_quad(inst->master->cell_type));
-  SK_TRY(api->param_int(host, "cell_rule", 0, tri_only ? 3 : quad9 ? 12 : 6, &inst->cell_rule));
+  SK_TRY(read_segment_rules(inst));
   SK_TRY(api->param_int(host, "face_gauss", 0, 5, &inst->face_gauss));
   SK_TRY(api->param_double(host, "frozen_band", 0, 0.1, &inst->frozen_band));
   SK_TRY(api->param_int(host, "max_flips", 0, 8, &inst->max_flips));
   SK_TRY(api->param_double(host, "min_cover", 0, 0.5, &inst->min_cover));
   const double edge = inst->master ? mean_edge(inst->master) : mean_edge(inst->slave);
-  SK_TRY(api->param_double(host, "search_margin", 0, edge, &inst->search_margin));
+  char why[200];
+  snprintf(why, sizeof why, "the mean edge of %s surface '%s'%s", inst->master ? "master" : "slave",
+           inst->master ? inst->master->name : inst->slave->name,
+           inst->master ? "" : " (a rigid obstacle has no master faces)");
+  SK_TRY(sk_defaults_length(api, host, "search_margin", edge, why, &inst->search_margin));
+  /* read by self.c on a self-contact pair; a pair that is not self contact refuses the key as unknown */
+  if (!inst->attach->self_contact) self_contact_exclusion_unused(api, host);
   const double *dummy_xi, *dummy_w;
   if (inst->ncp.mu < 0.0 || !(inst->ncp.c_n > 0.0) || !(inst->ncp.c_t > 0.0) || inst->search_margin < 0.0 ||
       inst->segment_gauss < 1 || inst->segment_gauss > MORTAR_MAX_RULE || inst->face_gauss < 1 ||

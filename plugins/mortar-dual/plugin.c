@@ -21,18 +21,20 @@ static const char *const parameters[] = {
     "c_n: complementarity parameter of the normal condition, traction per length [computed from the scene: 10 E*/h "
     "(E*: contact modulus of the pair, h: mean edge of the slave surface)]",
     "c_t: complementarity parameter of the tangential condition, traction per length [computed from the scene: c_n]",
-    "segment_gauss: Gauss points per 2D integration segment [3; 5 with line3 faces]",
-    "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [3 on tri3/tri3 pairs, exact "
-    "there; 12 with quad9 faces; else 6, exact on parallelograms and flat tri6 faces]",
+    "segment_gauss: Gauss points per 2D integration segment [computed from the scene: 3; 5 with line3 faces]",
+    "cell_rule: points per 3D integration triangle: 3, 6, 7 or 12 (degree 2, 4, 5, 6) [computed from the scene: 3 on "
+    "tri3/tri3 pairs, exact there; 12 with quad9 faces; else 6, exact on parallelograms and flat tri6 faces]",
     "face_gauss: Gauss points per direction on a slave face (concentrated integration, obstacles) [5]",
     "frozen_band: concentrated integration: how far beyond its edge, in face parameters, a Gauss point keeps the "
     "master face chosen at the step's start (0.1: 5 % of an edge); 0 chooses again whenever it leaves the face, "
     "path-independent to round-off at the cost of more Newton runs [0.1]",
     "max_flips: active-set changes of a node within a step before its branch is frozen (semismooth) [8]",
     "transform_alpha: TRI6 and QUAD8 slave faces: alpha of the transformed functions the dual basis is built on, "
-    "N~_vertex = N_vertex + alpha (N_edge1 + N_edge2), N~_edge = (1 - 2 alpha) N_edge [0.1 on TRI6, 0.2 on QUAD8]",
+    "N~_vertex = N_vertex + alpha (N_edge1 + N_edge2), N~_edge = (1 - 2 alpha) N_edge [computed from the scene: "
+    "0.1 on TRI6, 0.2 on QUAD8]",
     "min_cover: share of a node's support the master must cover for it to enter contact [0.5]",
-    "search_margin: inflation of the search boxes (length) [the mean master edge length]",
+    "search_margin: inflation of the search boxes (length) [computed from the scene: the mean master edge length; "
+    "the slave's against an obstacle]",
     "self_exclusion: self contact only: faces with nodes within this distance of each other in the reference "
     "configuration never meet [computed from the scene: the surface's largest face (diagonal of its reference box)]",
     NULL};

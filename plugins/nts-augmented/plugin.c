@@ -177,8 +177,12 @@ static sk_status read_stiffnesses(sk_instance *inst) {
   if (inst->friction.mu > 0.0) {
     const double computed = info ? sk_defaults_stiffness(info, EPSILON_T_FACTOR, 1, reason, sizeof reason) : 0.0;
     SK_TRY(sk_defaults_param(inst->api, inst->host, scene, "epsilon_t", computed, reason, &inst->friction.epsilon_t));
-  } else { /* frictionless: unused, so neither required nor reported */
-    SK_TRY(inst->api->param_double(inst->host, "epsilon_t", 0, 0.0, &inst->friction.epsilon_t));
+  } else { /* frictionless: unused, so not required; reported as unused */
+    SK_TRY(inst->api->param_double(inst->host, "epsilon_t", 0, NAN, &inst->friction.epsilon_t));
+    if (isnan(inst->friction.epsilon_t)) {
+      inst->friction.epsilon_t = 0.0;
+      sk_defaults_unused(inst->api, inst->host, "epsilon_t", "unused: the pair is frictionless (mu 0)");
+    }
   }
   const double computed = info ? sk_defaults_stiffness(info, C_N_FACTOR, 1, reason, sizeof reason) : 0.0;
   return sk_defaults_param(inst->api, inst->host, scene, "c_n", computed, reason, &inst->c_n);

@@ -6,7 +6,7 @@ each with its value and reason, the value is the plugin's rule on the scene's nu
 import os
 import re
 
-from cli_case import CONTACT, ROOT, main, replace
+from cli_case import CONTACT, ROOT, main, replace, scene_text
 
 ONLY_MU = replace(CONTACT, "parameters: {penalty: 1.0e4}", "parameters: {mu: 0.3}")
 # the block of CONTACT: E 1000, nu 0.3 on a rigid plane; its zmin face is 2 x 2 quad4 of edge 0.5 (9 nodes)
@@ -31,6 +31,32 @@ RULES["penalty-nts"].update({"search_margin": (0.0, "rigid obstacle has no maste
 RULES["covariant-penalty"]["search_margin"] = (0.0, "rigid obstacle has no master faces")
 RULES["nts-augmented"].update({"search_margin": (0.5 * H, "half the mean edge of slave surface 'zmin'"),
                                "self_exclusion": (0.0, "unused: the pair is not self contact")})
+# mortar-dual against an obstacle searches by the slave's mean edge and integrates at face_gauss's points (its
+# segment and cell rules unused); covariant-penalty's Gauss points follow the order of the slave faces
+RULES["mortar-dual"].update({"search_margin": (H, "the mean edge of slave surface 'zmin' (a rigid obstacle has no "
+                                                  "master faces)"),
+                             "self_exclusion": (0.0, "unused: the pair is not self contact"),
+                             "transform_alpha": (0.0, "unused: slave surface 'zmin' has no TRI6 or QUAD8 faces"),
+                             "segment_gauss": (0.0, "unused: an obstacle pair integrates at face_gauss's points"),
+                             "cell_rule": (0.0, "unused: an obstacle pair integrates at face_gauss's points")})
+RULES["covariant-penalty"]["gauss_points"] = (2.0, "first-order slave faces of surface 'zmin'")
+# pairs with a deformable master (scenes/patch-test-*.yaml, frictionless: the tangential parameters unused): the
+# 2D one's master lower-top has 4 line2 edges of 0.25, the 3D one's 4 x 4 quad4 of edge 0.25 (diagonal 0.3536)
+PAIR_SCENES = [
+    ("patch-test-2d.yaml", "mortar-dual", {
+        "segment_gauss": (3.0, "line2 faces on both sides"), "cell_rule": (0.0, "unused: a 2D pair"),
+        "search_margin": (0.25, "the mean edge of master surface 'lower-top'"),
+        "c_t": (0.0, "unused: the pair is frictionless (mu 0)")}),
+    ("patch-test-3d.yaml", "mortar-dual", {
+        "cell_rule": (6.0, "exact on parallelograms"), "segment_gauss": (0.0, "unused: a 3D pair"),
+        "search_margin": (0.25, "the mean edge of master surface 'lower-top'")}),
+    ("patch-test-3d.yaml", "covariant-penalty", {
+        "gauss_points": (2.0, "first-order slave faces of surface 'upper-bottom'"),
+        "search_margin": (0.125 * 2 ** 0.5, "half the mean face size of master surface 'lower-top'"),
+        "penalty_tangential": (0.0, "unused: the pair is frictionless (mu 0)")}),
+    ("patch-test-3d.yaml", "penalty-nts", {}), ("patch-test-3d.yaml", "nts-augmented", {
+        "epsilon_t": (0.0, "unused: the pair is frictionless (mu 0)")}),
+]
 
 
 def computed(c):
@@ -65,10 +91,13 @@ def given_value_wins(c):
     got = computed(c)
     c.check("penalty" not in got, "a penalty the scene gives is not computed")
     c.check(got.get("penalty_tangential", (0,))[0] == 123, "the tangential penalty follows the given one (%s)" % got)
-    # frictionless: the tangential penalty is unused and not reported
+    # frictionless: the tangential penalty is unused and reported so (0), not computed from the normal one
     c.run_scene(replace(ONLY_MU, "{mu: 0.3}", "{}"), "--explain", command="check")
-    c.check(set(computed(c)) == {"penalty", "search_margin", "self_exclusion"},
-            "frictionless: the penalty and the lengths are computed, not the tangential penalty (%s)" % computed(c))
+    got = computed(c)
+    c.check(set(got) == {"penalty", "penalty_tangential", "search_margin", "self_exclusion"},
+            "frictionless: the penalty, the lengths and the unused tangential penalty are reported (%s)" % got)
+    c.check(got.get("penalty_tangential") == (0.0, "unused: the pair is frictionless (mu 0)"),
+            "frictionless: the tangential penalty is unused (%s)" % (got.get("penalty_tangential"),))
 
 
 def run_explain(c):
@@ -152,16 +181,32 @@ KEY_LINE = re.compile(r"^([\w.\[\]]+)  +(\S.*?)  +(?:\S.*?  +)?(default|computed
                       re.M)
 
 
+# a plugin parameter's value in the listing: a number, or one word of its choices in parentheses ("(dual)"); a rule
+# in words ("(the mean master edge length)", "(3; 5 with line3 faces)") is not a value
+PARAMETER_VALUE = re.compile(r"^(-?\d+(\.\d*)?(e[+-]?\d+)?|\([\w-]+\))$")
+
+
+def number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
 def explain_every_key(c):
     # every key of the scene reference appears in --explain with its value and where it came from (given, default,
-    # computed from the scene), and every plugin parameter of the pair with a value, not "(not stated)"
+    # computed from the scene), and every plugin parameter of the pair as a number (or a choice), the one in use for
+    # this pair: against an obstacle for every plugin, and on the pairs with a master of PAIR_SCENES
     keys = reference_keys()
     c.check(len(keys) > 60, "the scene reference lists %d keys" % len(keys))
-    for plugin in RULES:
-        c.run_scene(ONLY_MU, "--plugin", plugin, "--explain", command="check")
+    runs = [("obstacle", ONLY_MU, plugin, RULES[plugin]) for plugin in RULES]
+    runs += [(name, scene_text(name), plugin, rules) for name, plugin, rules in PAIR_SCENES]
+    for name, scene, plugin, rules in runs:
+        c.run_scene(scene, "--plugin", plugin, "--explain", command="check")
         c.no_crash()
+        c.check(c.proc.returncode == 0, "%s on %s: check passes (exit %d)" % (plugin, name, c.proc.returncode))
         lines = {m.group(1): (m.group(2), m.group(3)) for m in KEY_LINE.finditer(c.proc.stdout)}
-        if plugin == "penalty-nts":
+        if plugin == "penalty-nts" and name == "obstacle":
             for key in keys:
                 if key in EXCLUSIVE:
                     continue
@@ -170,13 +215,19 @@ def explain_every_key(c):
             for key in ("time.max_cuts", "output.vtu", "output.vtu_every", "output.contact_csv"):
                 c.check(lines.get(key, ("", ""))[1] == "default", "%s is a default (%s)" % (key, lines.get(key)))
         params = {k: v for k, v in lines.items() if k.startswith("contact[0].parameters.")}
-        c.check(len(params) > 3, "%s: its parameters are printed (%d)" % (plugin, len(params)))
+        c.check(len(params) > 3, "%s on %s: its parameters are printed (%d)" % (plugin, name, len(params)))
         for key, (value, origin) in params.items():
-            c.check(value != "(not stated)", "%s: %s has a value (%s)" % (plugin, key, value))
-        for key, (value, _) in RULES[plugin].items():
+            c.check(PARAMETER_VALUE.match(value) is not None, "%s on %s: %s is printed as a number or a choice, not "
+                    "a rule (%s; %s)" % (plugin, name, key, value, origin))
+        reasons = computed(c)
+        for key, (value, reason) in rules.items():
             got = params.get("contact[0].parameters." + key)
-            c.check(got is not None and got[1] == "computed from the scene: " and abs(float(got[0]) - value) <= 1e-5 *
-                    value, "%s: %s printed as its computed number %g (%s)" % (plugin, key, value, got))
+            got_value = number(got[0]) if got else None
+            c.check(got is not None and got[1] == "computed from the scene: " and got_value is not None and
+                    abs(got_value - value) <= 1e-5 * value, "%s on %s: %s printed as the number in use %g (%s)" % (
+                        plugin, name, key, value, got))
+            c.check(reason in reasons.get(key, (0, ""))[1], "%s on %s: %s's reason has '%s' (%s)" % (
+                plugin, name, key, reason, reasons.get(key)))
 
 
 if __name__ == "__main__":

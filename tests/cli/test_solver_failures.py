@@ -15,7 +15,11 @@
   tests/bench/line-search/punch-2d.yaml) to the end, where the full step fails in step 1; the default
   (full-step-then-backtrack) runs it too, solving the steps whose full-step Newton fails again with backtracking
   (counted in summary.json) without a step cut; where the full step converges the default is the full step (two-elements,
-  25 midpoint steps: the history of `full-step`, digit for digit) (docs/linear-solvers.md, "Line search").
+  25 midpoint steps: the history of `full-step`, digit for digit) (docs/linear-solvers.md, "Line search");
+- backtrack_switch_count: summary.json's `newton_backtrack_switches` counts the solves whose full step made no
+  progress and went on with backtracking (docs/stability.md, finding 28), as many as `--verbose` reports, and the
+  run's last line says so only when there were any: wedge-slides-2d with mortar-dual switches, with the explicit
+  `full-step` or with penalty-nts it never does.
 Usage: python3 test_solver_failures.py CASE."""
 import os
 import re
@@ -158,8 +162,37 @@ def muelu_nullspace(c):
             "the same contact force: %.1e relative" % (worst / scale))
 
 
+SWITCHED = re.compile(r"Newton iterations \((\d+) solves? switched to backtracking\)")
+
+
+def backtrack_switch_count(c):
+    wedge = os.path.join(ROOT, "tests", "scenes-from-reference", "wedge-slides-2d.yaml")
+    base = ("--set", "output.vtu_every=0", "--out")
+    # mortar-dual: c_t s outweighs the friction bound and the slip direction cycles under the full step (finding 28);
+    # measured: 1 switch in 50 steps, 122 Newton iterations, no retry (0.15 s)
+    c.run("run", wedge, "--plugin", "mortar-dual", "--verbose", *base, c.out)
+    s = read_summary(c.out)
+    said = c.proc.stderr.count("no progress under the full step: Newton went on with backtracking")
+    switches = s.get("newton_backtrack_switches")
+    c.check(s["status"] == "ok" and switches is not None and switches > 0 and switches == said,
+            "mortar-dual: summary.json counts the switches --verbose reports (%s, %d reported)" % (switches, said))
+    line = SWITCHED.search(c.proc.stdout)
+    c.check(line is not None and int(line.group(1)) == switches,
+            "mortar-dual: the last line gives the count (%s)" % (line.group(0) if line else c.proc.stdout[-300:]))
+    # never with the explicit full step (no switch there), nor where the full step converges (penalty-nts)
+    for label, args in (("full-step", ("--plugin", "mortar-dual", "--set", "solver.newton.line_search=full-step")),
+                         ("penalty-nts", ("--plugin", "penalty-nts"))):
+        out = os.path.join(c.dir, label)
+        c.run("run", wedge, "--quiet", *args, *base, out)
+        s = read_summary(out)
+        c.check(s["status"] == "ok" and s.get("newton_backtrack_switches") == 0,
+                "%s: no switch (%s)" % (label, s.get("newton_backtrack_switches")))
+        c.check("switched to backtracking" not in c.proc.stdout and "Newton iterations, " in c.proc.stdout,
+                "%s: the last line has no count (%s)" % (label, c.proc.stdout.strip()[-200:]))
+
+
 CASES = {f.__name__: f for f in [roundoff_floor, iterative_fallback, iterative_equals_direct, muelu_nullspace,
-                                 line_search_choice]}
+                                 line_search_choice, backtrack_switch_count]}
 
 if __name__ == "__main__":
     main(CASES)

@@ -44,6 +44,8 @@ typedef struct {
   int backtrack_retries;   /* failed steps solved again with the backtracking line search before a cut
                               (line_search full-step-then-backtrack) */
   int backtrack_rescues;   /* of those, the ones that converged (no cut needed) */
+  int newton_backtrack_switches; /* Newton solves that made no progress under the full step and went on with the
+                                    backtracking line search (newton.cpp: NoProgressTest) */
   double final_time;
   double wall_seconds, assembly_seconds, contact_seconds, solve_seconds; /* rank 0's */
   double contact_seconds_largest; /* the largest rank's contact seconds (0 when no results were written) */

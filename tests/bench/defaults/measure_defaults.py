@@ -87,7 +87,7 @@ def computed_defaults(case, plugin, extra):
     out = {}
     for line in proc.stdout.splitlines():
         match = COMPUTED.match(line)
-        if match:
+        if match and not match.group(3).startswith("unused:"):  # a parameter the pair does not use is reported as 0
             out[match.group(1)] = (float(match.group(2)), match.group(3))
     return out
 

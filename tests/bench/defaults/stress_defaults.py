@@ -94,7 +94,7 @@ def explain(run, binary):
     import subprocess
     scene = os.path.join(dec.ROOT, run.scene) if not os.path.isabs(run.scene) else run.scene
     proc = subprocess.run([binary, "check", scene] + run.args + ["--explain"], capture_output=True, text=True)
-    found = re.findall(r"parameters\.(\w+) = (\S+) \(computed", proc.stdout)
+    found = re.findall(r"parameters\.(\w+) = (\S+) \(computed: (?!unused:)", proc.stdout)  # not the unused ones (0)
     return "; ".join("%s=%s" % kv for kv in found)
 
 
